@@ -1,0 +1,426 @@
+"""The MuJoCo engine: builds the seated human from the tables and parameters, settles it, runs it.
+
+This is the only module that imports :mod:`mujoco`.
+
+How the paper's model maps onto MuJoCo (measured in the project's feasibility study and re-checked by
+the tests):
+
+* Segments are bodies whose frames sit at their parent joint, axes parallel to the global axes in the
+  reference posture, so every joint angle is zero in that posture.  The pelvis has a free joint.
+* Spherical joints are three hinges (roll x, pitch y, yaw z), the universal lower neck two (roll, pitch),
+  T12 a vertical slide plus three hinges, knees and ankles one hinge about y.  A locked joint is left out:
+  its child is welded to its parent.
+* Every degree of freedom has a linear spring and damper (MuJoCo joint stiffness and damping: the P and
+  D of the paper's PID posture control).  The I part is MuJoCo's PID actuator with zero P and D gains
+  (ki = k / Ti) on the open-chain joints named in ``posture.integral_joints``.
+* Contacts are explicit ellipsoid-plane pairs with a linear spring and damper on penetration (direct
+  solref scaled by the pair's inverse weight, tiny constant impedance), elliptic friction cones and
+  the NoSlip solver; seat and backrest ellipsoids ride on soft-tissue pads (two tangential slide
+  springs) so that friction neither creeps nor locks.
+* Seat translation is applied as a d'Alembert load: the seat stays put and gravity becomes
+  ``g0 - a_seat(t)``.  Absolute accelerations are then ``framelinacc + g0``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from .errors import DivergenceError, InputError
+from .params import Parameters
+from .tables import Body
+
+G0 = np.array([0.0, 0.0, -9.81])  #: Standard gravity in the seat frame [m/s^2].
+POINTS = {"pelvis": "pelvis", "trunk": "upper_torso", "head": "head"}  #: Output point -> segment.
+SURFACES = ("seat_pan", "backrest_lower", "backrest_upper", "floor")
+SUPPORT_GROUPS = {"seat_pan": ("seat_pan",), "backrest": ("backrest_lower", "backrest_upper"), "floor": ("floor",)}
+
+
+def _quat_pitch(angle_rad: float) -> np.ndarray:
+    """Quaternion (w, x, y, z) of a rotation about y."""
+    return np.array([math.cos(angle_rad / 2), 0.0, math.sin(angle_rad / 2), 0.0])
+
+
+def _quat_z_to(normal: np.ndarray) -> np.ndarray:
+    """Quaternion rotating +z onto ``normal`` (unit vector)."""
+    z = np.array([0.0, 0.0, 1.0])
+    axis = np.cross(z, normal)
+    s, c = np.linalg.norm(axis), float(np.dot(z, normal))
+    if s < 1e-12:
+        return np.array([1.0, 0.0, 0.0, 0.0]) if c > 0 else np.array([0.0, 1.0, 0.0, 0.0])
+    angle = math.atan2(s, c)
+    axis = axis / s
+    return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis])
+
+
+@dataclass(frozen=True)
+class SeatGeometry:
+    """Seat surfaces as planes in body axes of the reference posture: name -> (point [m], unit normal)."""
+
+    planes: dict
+
+    @classmethod
+    def from_params(cls, params: Parameters) -> "SeatGeometry":
+        s = params.section("seat")
+        a = math.radians(s["pan_angle_deg"])
+        b = math.radians(s["backrest_angle_deg"])
+        pan_n = np.array([-math.sin(a), 0.0, math.cos(a)])
+        back_n = np.array([math.cos(b), 0.0, math.sin(b)])
+        planes = {
+            "seat_pan": (np.array([0.0, 0.0, s["pan_height_m"]]), pan_n),
+            "floor": (np.array([0.0, 0.0, s["floor_height_m"]]), np.array([0.0, 0.0, 1.0])),
+        }
+        for pad in ("lower", "upper"):
+            h = s[f"{pad}_pad_height_m"]
+            point = np.array([s["backrest_x_m"] - math.tan(b) * h, 0.0, h]) + s[f"{pad}_pad_thickness_m"] * back_n
+            planes[f"backrest_{pad}"] = (point, back_n)
+        return cls(planes)
+
+    def tangents(self, surface: str) -> tuple[np.ndarray, np.ndarray]:
+        """Two unit tangents of a surface: the first in the x-z plane, the second along y."""
+        n = self.planes[surface][1]
+        t2 = np.array([0.0, 1.0, 0.0])
+        t1 = np.cross(t2, n)
+        return t1 / np.linalg.norm(t1), t2
+
+
+@dataclass
+class Model:
+    """A compiled seated human on its seat, with names for everything a user addresses.
+
+    Attributes
+    ----------
+    mj : mujoco.MjModel
+    body : Body
+    params : Parameters
+    locked : frozenset of str
+        Joints left out (welded).
+    dof_names : list of str
+        ``<joint>.<dof>`` for every human degree of freedom (pelvis: ``pelvis.x`` ... ``pelvis.yaw``).
+    """
+
+    mj: mujoco.MjModel
+    body: Body
+    params: Parameters
+    locked: frozenset
+    dof_names: list
+    point_sites: dict
+    surface_bodies: dict
+    segment_bodies: dict
+    settled: dict | None = field(default=None, repr=False)
+
+    @property
+    def dof(self) -> int:
+        """Degrees of freedom of the human (pelvis 6 + unlocked joints; tissue pads not counted)."""
+        return len(self.dof_names)
+
+    @property
+    def mass_kg(self) -> float:
+        """Total mass of the human as compiled [kg] (segments plus their tissue pads)."""
+        return float(self.mj.body_subtreemass[self.segment_bodies["pelvis"][0]])
+
+
+def build(body: Body, params: Parameters, locked: frozenset | set = frozenset()) -> Model:
+    """Compile the seated human.
+
+    Parameters
+    ----------
+    body : Body
+        Segments, joints and contact ellipsoids.
+    params : Parameters
+        Joint, contact, posture, seat and solver parameters.
+    locked : set of str
+        Names of joints to weld (the complete set: include ``waist`` to keep the paper's default).
+    """
+    params.check_against(body)
+    known = {j.name for j in body.joints}
+    for name in locked:
+        if name not in known:
+            raise InputError(f"unknown joint {name!r}; joints are {', '.join(j.name for j in body.joints)}.")
+    locked = frozenset(locked)
+    sim = params.section("simulation")
+    posture = params.section("posture")
+    seat = SeatGeometry.from_params(params)
+
+    spec = mujoco.MjSpec()
+    spec.modelname = "ehm_seated_human"
+    spec.compiler.degree = False
+    opt = spec.option
+    opt.timestep = float(sim["dt_s"])
+    opt.gravity = G0
+    opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    opt.solver = mujoco.mjtSolver.mjSOL_NEWTON
+    opt.iterations = int(sim["solver_iterations"])
+    opt.noslip_iterations = int(sim["noslip_iterations"])
+
+    # Seat surfaces: static bodies, one per surface, so their contact forces can be read by body.
+    plane_size = {"seat_pan": [0.25, 0.25, 0.05], "floor": [0.5, 0.4, 0.1],
+                  "backrest_lower": [0.08, 0.18, 0.05], "backrest_upper": [0.10, 0.20, 0.05]}
+    for surface, (point, normal) in seat.planes.items():
+        sb = spec.worldbody.add_body(name=surface, pos=point, quat=_quat_z_to(normal))
+        sb.add_geom(name=surface, type=mujoco.mjtGeom.mjGEOM_PLANE, size=plane_size[surface],
+                    contype=0, conaffinity=0, rgba=[0.55, 0.55, 0.6, 1.0])
+
+    # Pads take their mass from their segment: keep each segment's total mass, centre of gravity and
+    # inertia exactly as in the table.
+    pads = {s.name: [c for c in body.contacts if c.segment == s.name and c.tissue_pad] for s in body.segments}
+    pad_mass = {c.name: float(params.value(f"contacts.{c.name}.pad_mass_kg")) for c in body.contacts if c.tissue_pad}
+
+    children: dict[str, list] = {}
+    for j in body.joints:
+        children.setdefault(j.parent, []).append(j)
+
+    dof_names: list[str] = ["pelvis.x", "pelvis.y", "pelvis.z", "pelvis.roll", "pelvis.pitch", "pelvis.yaw"]
+    segment_bodies: dict[str, list[int]] = {}
+    integral_joints = set(posture["integral_joints"])
+    ti = float(posture["integral_time_s"])
+    actuated: list[tuple[str, float]] = []
+    axes = {"roll": [1, 0, 0], "pitch": [0, 1, 0], "yaw": [0, 0, 1]}
+
+    def add_segment(parent_body, seg_name: str, frame_pos: np.ndarray, parent_frame: np.ndarray, joint=None):
+        seg = body.segment(seg_name)
+        b = parent_body.add_body(name=seg_name, pos=frame_pos - parent_frame)
+        if joint is None:
+            b.add_freejoint(name="pelvis")
+        elif joint.name not in locked:
+            for dof in joint.dofs:
+                k, c = params.joint_dof(joint.name, dof)
+                jn = f"{joint.name}.{dof}"
+                if dof == "z":
+                    b.add_joint(name=jn, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1], stiffness=k, damping=c)
+                else:
+                    b.add_joint(name=jn, type=mujoco.mjtJoint.mjJNT_HINGE, axis=axes[dof], stiffness=k, damping=c)
+                dof_names.append(jn)
+                if joint.name in integral_joints and k > 0:
+                    actuated.append((jn, k / ti))
+        # Mass properties: table values minus the pads riding on this segment.
+        m_pads = sum(pad_mass[c.name] for c in pads[seg_name])
+        m_body = seg.mass_kg - m_pads
+        if m_body <= 0:
+            raise InputError(f"the tissue pads on segment {seg_name!r} weigh more than the segment ({seg.mass_kg} kg).")
+        c_body = (seg.mass_kg * seg.com_m - sum(pad_mass[c.name] * c.center_m for c in pads[seg_name])) / m_body
+        inertia = np.diag(seg.inertia_kgm2).astype(float)
+
+        def shift(mass, r):
+            return mass * (np.dot(r, r) * np.eye(3) - np.outer(r, r))
+
+        inertia -= shift(m_body, c_body - seg.com_m)
+        for c in pads[seg_name]:
+            inertia -= shift(pad_mass[c.name], c.center_m - seg.com_m)
+        b.explicitinertial = True
+        b.mass = m_body
+        b.ipos = c_body - frame_pos
+        b.fullinertia = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2], inertia[1, 2]]
+        b.add_geom(name=f"{seg_name}_shape", type=mujoco.mjtGeom.mjGEOM_ELLIPSOID, size=seg.shape_m,
+                   pos=seg.com_m - frame_pos, quat=_quat_pitch(seg.shape_pitch_rad), contype=0, conaffinity=0,
+                   group=1, rgba=[0.85, 0.65, 0.5, 0.5])
+        segment_bodies.setdefault(seg_name, []).append(seg_name)
+        if seg_name in POINTS.values():
+            point = [p for p, s in POINTS.items() if s == seg_name][0]
+            b.add_site(name=point, pos=seg.com_m - frame_pos, size=[0.01, 0, 0])
+        for c in body.contacts:
+            if c.segment != seg_name:
+                continue
+            holder = b
+            if c.tissue_pad:
+                holder = b.add_body(name=f"pad_{c.name}", pos=c.center_m - frame_pos)
+                holder.explicitinertial = True
+                holder.mass = pad_mass[c.name]
+                holder.inertia = [1e-6, 1e-6, 1e-6]
+                ks = float(params.value(f"contacts.{c.name}.shear_stiffness_N_per_m"))
+                cs = float(params.value(f"contacts.{c.name}.shear_damping_Ns_per_m"))
+                for i, t in enumerate(seat.tangents(c.surface)):
+                    holder.add_joint(name=f"pad_{c.name}.t{i + 1}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=t,
+                                     stiffness=ks, damping=cs)
+                segment_bodies[seg_name].append(f"pad_{c.name}")
+                gpos = np.zeros(3)
+            else:
+                gpos = c.center_m - frame_pos
+            holder.add_geom(name=c.name, type=mujoco.mjtGeom.mjGEOM_ELLIPSOID, size=c.semi_axes_m, pos=gpos,
+                            quat=_quat_pitch(c.pitch_rad), contype=0, conaffinity=0, group=2,
+                            rgba=[0.3, 0.5, 0.8, 0.4])
+        for j in children.get(seg_name, []):
+            add_segment(b, j.child, j.pos_m, frame_pos, j)
+
+    add_segment(spec.worldbody, "pelvis", np.zeros(3), np.zeros(3))
+
+    # Contact pairs, with placeholder solref: the linear spring needs the compiled inverse weights.
+    d_imp = float(sim["contact_impedance"])
+    for c in body.contacts:
+        mu = float(params.value(f"contacts.{c.name}.friction"))
+        spec.add_pair(name=c.name, geomname1=c.surface, geomname2=c.name, condim=3 if mu > 0 else 1,
+                      friction=[mu, mu, 0.005, 1e-4, 1e-4], solimp=[d_imp, d_imp, 0.001, 0.5, 2.0])
+    for jn, ki in actuated:
+        a = spec.add_actuator(name=f"integral_{jn}", target=jn, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        a.set_to_pid(kp=0.0, kv=0.0, ki=ki)
+    for point in POINTS:
+        for stype in ("FRAMELINACC", "FRAMEPOS", "FRAMEQUAT"):
+            spec.add_sensor(name=f"{point}_{stype.lower()}", type=getattr(mujoco.mjtSensor, f"mjSENS_{stype}"),
+                            objtype=mujoco.mjtObj.mjOBJ_SITE, objname=point)
+    try:
+        mj = spec.compile()
+    except ValueError as exc:
+        raise InputError(f"the model could not be built: {exc}") from None
+
+    # Linear contact spring K and damper B on penetration (feasibility notes): with constant impedance d,
+    # solref = (-K (1-d) A, -B (1-d) A), A = the pair's inverse weight in the normal direction.
+    for i, c in enumerate(body.contacts):
+        g1, g2 = mj.pair_geom1[i], mj.pair_geom2[i]
+        a0 = mj.body_invweight0[mj.geom_bodyid[g1], 0] + mj.body_invweight0[mj.geom_bodyid[g2], 0]
+        k = float(params.value(f"contacts.{c.name}.stiffness_N_per_m"))
+        bdamp = float(params.value(f"contacts.{c.name}.damping_Ns_per_m"))
+        mj.pair_solref[i] = [-k * (1 - d_imp) * a0, -bdamp * (1 - d_imp) * a0]
+        # Friction rows: a tiny damping rate (d / dt, feasibility notes) keeps the soft friction from
+        # chattering at the Nyquist frequency; the NoSlip solver then enforces sticking.
+        mj.pair_solreffriction[i] = [0.0, -d_imp / mj.opt.timestep]
+
+    point_sites = {p: mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SITE, p) for p in POINTS}
+    surface_bodies = {s: mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, s) for s in SURFACES}
+    seg_ids = {s: [mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, n) for n in names]
+               for s, names in segment_bodies.items()}
+    return Model(mj=mj, body=body, params=params, locked=locked, dof_names=dof_names,
+                 point_sites=point_sites, surface_bodies=surface_bodies, segment_bodies=seg_ids)
+
+
+_DIVERGED_M = 0.5  #: A point further than this from its settled position means the run has diverged [m].
+_CHECK_EVERY = 50  #: Steps between divergence checks.
+
+
+def _instability(model: Model, d: mujoco.MjData) -> str | None:
+    """A reason why the state is no longer a seated person, or None."""
+    if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
+        return "the accelerations became infinite or NaN"
+    if not np.isfinite(d.qpos).all() or not np.isfinite(d.qvel).all():
+        return "the state became infinite or NaN"
+    if abs(d.qpos[2]) > _DIVERGED_M or abs(d.qpos[0]) > _DIVERGED_M or abs(d.qpos[1]) > _DIVERGED_M:
+        return f"the pelvis moved {np.linalg.norm(d.qpos[:3]):.3g} m from its seated position"
+    return None
+
+
+def _diverged(model: Model, t: float, why: str) -> DivergenceError:
+    dt = model.mj.opt.timestep
+    return DivergenceError(
+        f"the simulation diverged at t = {t:.3f} s ({why}); try a smaller time step than dt = {dt:g} s "
+        "or check the stiffness and damping parameters."
+    )
+
+
+def new_data(model: Model) -> mujoco.MjData:
+    """A fresh MjData at the reference posture."""
+    return mujoco.MjData(model.mj)
+
+
+def settle(model: Model, duration_s: float | None = None) -> dict:
+    """Let the person sink into the seat under gravity until the posture controller has converged.
+
+    Starts from the reference posture; the integral action of the posture control pulls the open-chain
+    joints back to it.  The settled state (``qpos``, ``qvel``, ``act``) is stored on the model and returned.
+    Raises :class:`DivergenceError` if the model does not stay seated.
+    """
+    if duration_s is None:
+        duration_s = float(model.params.value("simulation.settle_s"))
+    mj = model.mj
+    d = new_data(model)
+    mj.opt.gravity[:] = G0
+    n = int(round(duration_s / mj.opt.timestep))
+    for i in range(n):
+        mujoco.mj_step(mj, d)
+        if i % _CHECK_EVERY == 0:
+            why = _instability(model, d)
+            if why:
+                raise _diverged(model, d.time, why)
+    why = _instability(model, d)
+    if why:
+        raise _diverged(model, d.time, why)
+    model.settled = {"qpos": d.qpos.copy(), "qvel": d.qvel.copy(), "act": d.act.copy(), "settle_s": duration_s}
+    return model.settled
+
+
+def settled_data(model: Model) -> mujoco.MjData:
+    """A fresh MjData in the settled state (settling first if needed), time reset to 0."""
+    if model.settled is None:
+        settle(model)
+    d = new_data(model)
+    d.qpos[:] = model.settled["qpos"]
+    d.qvel[:] = model.settled["qvel"]
+    d.act[:] = model.settled["act"]
+    mujoco.mj_forward(model.mj, d)
+    return d
+
+
+def support_forces(model: Model, d: mujoco.MjData) -> dict:
+    """Force [N] that each seat surface exerts on the body now, world axes, by surface."""
+    out = {}
+    for s, b in model.surface_bodies.items():
+        # cfrc_ext holds the contact force on each body as (torque, force); a surface receives minus
+        # the force it exerts on the body.
+        out[s] = -d.cfrc_ext[b, 3:].copy()
+    return out
+
+
+@dataclass(frozen=True)
+class RawRun:
+    """Engine output of one run, sampled at every step (before integration).
+
+    Attributes
+    ----------
+    time_s : (n,) array
+    sensors : dict
+        ``<point>_framelinacc`` (proper acceleration in the seat frame, [m/s^2]), ``<point>_framepos`` [m],
+        ``<point>_framequat`` (w, x, y, z), each (n, 3) or (n, 4).
+    support_N : dict
+        Force of each seat surface on the body, (n, 3) [N].
+    """
+
+    time_s: np.ndarray
+    sensors: dict
+    support_N: dict
+
+
+def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None) -> RawRun:
+    """Run the settled model with a seat acceleration history, one row per time step.
+
+    Parameters
+    ----------
+    seat_acc_mps2 : (n, 3) array
+        Seat translational acceleration [m/s^2] at t = 0, dt, 2 dt, ... in seat axes.
+    d : MjData, optional
+        Start state (default: the settled state).
+    """
+    mj = model.mj
+    if d is None:
+        d = settled_data(model)
+    acc = np.asarray(seat_acc_mps2, dtype=float)
+    n = acc.shape[0]
+    sens = np.empty((n, mj.nsensordata))
+    bodies = np.array(list(model.surface_bodies.values()))
+    forces = np.empty((n, len(bodies), 3))
+    gravity = G0[None, :] - acc
+    t0 = d.time
+    try:
+        for i in range(n):
+            mj.opt.gravity[:] = gravity[i]
+            mujoco.mj_step(mj, d)
+            sens[i] = d.sensordata
+            forces[i] = d.cfrc_ext[bodies, 3:]
+            if i % _CHECK_EVERY == 0:
+                why = _instability(model, d)
+                if why:
+                    raise _diverged(model, d.time - t0, why)
+        why = _instability(model, d)
+        if why:
+            raise _diverged(model, d.time - t0, why)
+    finally:
+        mj.opt.gravity[:] = G0
+    sensors = {}
+    for point in POINTS:
+        for kind in ("framelinacc", "framepos", "framequat"):
+            sid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"{point}_{kind}")
+            adr, dim = mj.sensor_adr[sid], mj.sensor_dim[sid]
+            sensors[f"{point}_{kind}"] = sens[:, adr:adr + dim]
+    support = {s: -forces[:, k, :] for k, s in enumerate(model.surface_bodies)}
+    return RawRun(time_s=np.arange(n) * mj.opt.timestep, sensors=sensors, support_N=support)

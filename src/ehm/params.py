@@ -1,0 +1,265 @@
+"""Model parameters: joint springs and dampers, posture control, contacts, seat geometry, solver options.
+
+A parameter file is TOML (see the shipped ``data/default_params.toml``).  Every entry carries its values
+with the unit in the key name, plus ``grade`` (``literature``, ``assumed`` or ``identified``) and
+``source`` (a key of the file's ``[sources]`` table).  Values are addressed by dotted paths, e.g.
+``joints.upper_neck.pitch.stiffness_Nm_per_rad`` or ``contacts.buttock.stiffness_N_per_m.value``-style
+entries shortened to ``contacts.buttock.stiffness_N_per_m``.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any, Iterator, Mapping
+
+from .errors import InputError
+from .tables import JOINT_NAMES, Body
+
+GRADES = ("literature", "assumed", "identified")
+_META = ("grade", "source", "bounds")
+
+#: Numeric keys allowed in each section, with the check they must pass.
+_SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "noslip_iterations": "count",
+               "solver_iterations": "count", "contact_impedance": "fraction"}
+_POSTURE = {"integral_time_s": "positive", "integral_joints": "joints"}
+_SEAT = {"pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
+         "backrest_x_m": "finite", "lower_pad_height_m": "finite", "lower_pad_thickness_m": "nonnegative",
+         "upper_pad_height_m": "finite", "upper_pad_thickness_m": "nonnegative", "floor_height_m": "finite"}
+_CONTACT = {"stiffness_N_per_m": "positive", "damping_Ns_per_m": "nonnegative", "friction": "nonnegative",
+            "shear_stiffness_N_per_m": "positive", "shear_damping_Ns_per_m": "nonnegative",
+            "pad_mass_kg": "positive"}
+_ROT = {"stiffness_Nm_per_rad": "nonnegative", "damping_Nms_per_rad": "nonnegative"}
+_TRANS = {"stiffness_N_per_m": "nonnegative", "damping_Ns_per_m": "nonnegative"}
+
+
+def default_params_path() -> Path:
+    """Path of the shipped default parameter file."""
+    return Path(str(resources.files("ehm") / "data" / "default_params.toml"))
+
+
+@dataclass(frozen=True)
+class Parameters:
+    """A checked parameter set.
+
+    Use :meth:`load` to read one, :meth:`value` to read a value by dotted path, :meth:`with_values` to
+    derive a changed copy and :meth:`export` to write it as TOML.
+    """
+
+    data: dict = field(repr=False)
+    origin: str = "default"
+
+    # ----------------------------------------------------------------- reading
+    @classmethod
+    def load(cls, path: Path | str | None = None) -> "Parameters":
+        """Read and check a parameter file (default: the shipped one)."""
+        p = Path(path) if path is not None else default_params_path()
+        label = p.name if path is None else str(path)
+        try:
+            raw = p.read_bytes()
+        except OSError as exc:
+            raise InputError(f"{label}: cannot read the parameter file ({exc.strerror or exc}).") from None
+        try:
+            data = tomllib.loads(raw.decode("utf-8"))
+        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+            raise InputError(f"{label}: not a valid TOML file ({exc}).") from None
+        params = cls(data, "default" if path is None else str(path))
+        params._check(label)
+        return params
+
+    def value(self, path: str) -> Any:
+        """The value at a dotted path, e.g. ``joints.t12.z.stiffness_N_per_m`` or ``seat.pan_angle_deg``."""
+        node, key = self._locate(path)
+        v = node[key]
+        return v["value"] if isinstance(v, dict) and "value" in v else v
+
+    def with_values(self, updates: Mapping[str, Any], grade: str | None = None,
+                    source: str | None = None) -> "Parameters":
+        """A copy with the values at the given dotted paths replaced (and re-checked).
+
+        ``grade`` and ``source``, when given, are recorded on every changed entry.
+        """
+        data = copy.deepcopy(self.data)
+        new = Parameters(data, self.origin)
+        for path, v in updates.items():
+            node, key = new._locate(path)
+            entry = node[key]
+            if isinstance(entry, dict) and "value" in entry:
+                entry["value"] = v
+                target = entry
+            else:
+                node[key] = v
+                target = node
+            if grade is not None:
+                target["grade"] = grade
+            if source is not None:
+                target["source"] = source
+        new._check("changed parameters")
+        return new
+
+    def numeric_paths(self) -> Iterator[str]:
+        """Dotted paths of all numeric values (the candidates for fitting and sweeps)."""
+        def walk(node: dict, prefix: str):
+            for k, v in node.items():
+                if k in _META or k in ("about", "sources"):
+                    continue
+                p = f"{prefix}.{k}" if prefix else k
+                if isinstance(v, dict):
+                    if "value" in v:
+                        if isinstance(v["value"], (int, float)) and not isinstance(v["value"], bool):
+                            yield p
+                    else:
+                        yield from walk(v, p)
+                elif isinstance(v, (int, float)) and not isinstance(v, bool):
+                    yield p
+        yield from walk(self.data, "")
+
+    def joint_dof(self, joint: str, dof: str) -> tuple[float, float]:
+        """(stiffness, damping) of one joint degree of freedom, SI units.
+
+        Rotational: [N m/rad], [N m s/rad]; the t12 ``z`` slide: [N/m], [N s/m].
+        """
+        entry = self.data["joints"][joint][dof]
+        keys = _TRANS if dof == "z" else _ROT
+        k, c = (float(entry[key]) for key in keys)
+        return k, c
+
+    def section(self, name: str) -> dict[str, Any]:
+        """The plain values of a section (``simulation``, ``posture``, ``seat``, ``contacts.<name>``)."""
+        node = self.data
+        for part in name.split("."):
+            node = node[part]
+        return {k: (v["value"] if isinstance(v, dict) and "value" in v else v)
+                for k, v in node.items() if k not in _META}
+
+    # ----------------------------------------------------------------- writing
+    def to_toml(self) -> str:
+        """The parameter set as TOML text."""
+        import tomli_w
+
+        header = ("# ehm parameter file (exported). Units are in the key names; every entry has a grade\n"
+                  "# (literature, assumed, identified) and a source (a key of [sources]).\n")
+        return header + tomli_w.dumps(self.data)
+
+    def export(self, path: Path | str) -> None:
+        """Write the parameter set as a TOML file (written whole or not at all)."""
+        from .io import write_text_atomic
+
+        write_text_atomic(path, self.to_toml())
+
+    # ----------------------------------------------------------------- checks
+    def check_against(self, body: Body) -> None:
+        """Check that every joint degree of freedom and contact of ``body`` has parameters."""
+        for j in body.joints:
+            entries = self.data.get("joints", {}).get(j.name)
+            if entries is None:
+                raise InputError(f"{self.origin}: no [joints.{j.name}] entry for joint {j.name!r}.")
+            for dof in j.dofs:
+                if dof not in entries:
+                    raise InputError(f"{self.origin}: joint {j.name!r} needs an entry {dof!r} in [joints.{j.name}].")
+        for c in body.contacts:
+            entry = self.data.get("contacts", {}).get(c.name)
+            if entry is None:
+                raise InputError(f"{self.origin}: no [contacts.{c.name}] entry for contact {c.name!r}.")
+            need = [k for k in _CONTACT if c.tissue_pad or not k.startswith(("shear", "pad"))]
+            for k in need:
+                if k not in entry:
+                    raise InputError(f"{self.origin}: contact {c.name!r} needs {k!r} in [contacts.{c.name}].")
+
+    def _locate(self, path: str) -> tuple[dict, str]:
+        parts = path.split(".")
+        node = self.data
+        for i, part in enumerate(parts[:-1]):
+            nxt = node.get(part) if isinstance(node, dict) else None
+            if not isinstance(nxt, dict):
+                raise InputError(f"unknown parameter {path!r} (no {'.'.join(parts[:i + 1])!r}).")
+            node = nxt
+        if not isinstance(node, dict) or parts[-1] not in node or parts[-1] in _META:
+            raise InputError(f"unknown parameter {path!r}.")
+        return node, parts[-1]
+
+    def _check(self, label: str) -> None:
+        d = self.data
+        sources = d.get("sources", {})
+        if not isinstance(sources, dict):
+            raise InputError(f"{label}: [sources] must be a table of source names and citations.")
+        for section in ("simulation", "posture", "seat", "joints", "contacts"):
+            if not isinstance(d.get(section), dict):
+                raise InputError(f"{label}: missing section [{section}].")
+        unknown = set(d) - {"about", "sources", "simulation", "posture", "seat", "joints", "contacts"}
+        if unknown:
+            raise InputError(f"{label}: unknown section [{sorted(unknown)[0]}].")
+
+        def check_entry(where: str, entry: Any, allowed: dict[str, str], inline_value: bool) -> None:
+            if not isinstance(entry, dict):
+                raise InputError(f"{label}: {where} must be a table with its value, grade and source.")
+            grade = entry.get("grade")
+            if grade not in GRADES:
+                raise InputError(f"{label}: {where} has grade {grade!r}; use one of {', '.join(GRADES)}.")
+            src = entry.get("source")
+            if src not in sources:
+                raise InputError(f"{label}: {where} names source {src!r}, which is not in [sources].")
+            keys = {"value": allowed} if inline_value else allowed
+            for key in entry:
+                if key not in _META and key not in keys:
+                    raise InputError(f"{label}: unknown key {key!r} in {where}.")
+            if inline_value:
+                if "value" not in entry:
+                    raise InputError(f"{label}: {where} has no 'value'.")
+                _check_value(label, where, entry["value"], allowed)
+            else:
+                for key, rule in allowed.items():
+                    if key in entry:
+                        _check_value(label, f"{where}.{key}", entry[key], rule)
+
+        for section, allowed in (("simulation", _SIMULATION), ("posture", _POSTURE), ("seat", _SEAT)):
+            for key, entry in d[section].items():
+                if key not in allowed:
+                    raise InputError(f"{label}: unknown key {key!r} in [{section}].")
+                check_entry(f"{section}.{key}", entry, allowed[key], True)
+            for key in allowed:
+                if key not in d[section]:
+                    raise InputError(f"{label}: [{section}] needs {key!r}.")
+        for jname, dofs in d["joints"].items():
+            if jname not in JOINT_NAMES:
+                raise InputError(f"{label}: unknown joint {jname!r} in [joints]; joints are {', '.join(JOINT_NAMES)}.")
+            for dof, entry in dofs.items():
+                if dof not in ("z", "roll", "pitch", "yaw"):
+                    raise InputError(f"{label}: unknown degree of freedom {dof!r} in [joints.{jname}].")
+                allowed = _TRANS if dof == "z" else _ROT
+                check_entry(f"joints.{jname}.{dof}", entry, allowed, False)
+                for key in allowed:
+                    if key not in entry:
+                        raise InputError(f"{label}: joints.{jname}.{dof} needs {key!r}.")
+        for cname, entries in d["contacts"].items():
+            if not isinstance(entries, dict):
+                raise InputError(f"{label}: [contacts.{cname}] must be a table.")
+            for key, entry in entries.items():
+                if key not in _CONTACT:
+                    raise InputError(f"{label}: unknown key {key!r} in [contacts.{cname}].")
+                check_entry(f"contacts.{cname}.{key}", entry, _CONTACT[key], True)
+
+
+def _check_value(label: str, where: str, value: Any, rule: Any) -> None:
+    if isinstance(rule, dict):  # inline value of a multi-key entry cannot happen; kept for symmetry
+        return
+    if rule == "joints":
+        if not isinstance(value, list) or any(v not in JOINT_NAMES for v in value):
+            raise InputError(f"{label}: {where} must be a list of joint names from {', '.join(JOINT_NAMES)}.")
+        return
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"{label}: {where} = {value!r} is not a number.")
+    if not math.isfinite(value):
+        raise InputError(f"{label}: {where} = {value!r} is not a finite number.")
+    if rule == "positive" and value <= 0:
+        raise InputError(f"{label}: {where} = {value!r} must be positive.")
+    if rule == "nonnegative" and value < 0:
+        raise InputError(f"{label}: {where} = {value!r} must not be negative.")
+    if rule == "count" and (value != int(value) or value < 0):
+        raise InputError(f"{label}: {where} = {value!r} must be a whole number >= 0.")
+    if rule == "fraction" and not 0 < value < 1:
+        raise InputError(f"{label}: {where} = {value!r} must lie between 0 and 1.")
