@@ -352,6 +352,15 @@ def settled_data(model: Model) -> mujoco.MjData:
     return d
 
 
+def settled_point_pose(model: Model, point: str) -> tuple[np.ndarray, np.ndarray]:
+    """Position [m] and orientation quaternion (w, x, y, z) of an output point in the settled state."""
+    d = settled_data(model)
+    sid = model.point_sites[point]
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, d.site_xmat[sid])
+    return d.site_xpos[sid].copy(), quat
+
+
 def support_forces(model: Model, d: mujoco.MjData) -> dict:
     """Force [N] that each seat surface exerts on the body now, world axes, by surface."""
     out = {}

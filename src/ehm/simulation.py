@@ -1,0 +1,241 @@
+"""The seated human as a Python object: build it, ask about it, shake it, read the results by name.
+
+>>> from ehm import SeatedHuman, random_vibration
+>>> human = SeatedHuman()                       # the paper's default person and seat
+>>> run = human.simulate(random_vibration("z", duration_s=10, rms_mps2=0.3, seed=0))
+>>> run.point("head").acc_mps2[:, 2]            # absolute vertical head acceleration [m/s^2]
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from . import engine
+from .errors import InputError
+from .io import write_csv_atomic, write_json_atomic
+from .motion import SeatMotion
+from .params import Parameters
+from .tables import Body, load_body
+
+POINT_NAMES = tuple(engine.POINTS)  #: ``pelvis``, ``trunk`` (upper torso centre of gravity, T8 level), ``head``.
+SUPPORT_NAMES = ("seat_pan", "backrest", "floor")
+
+
+@dataclass(frozen=True)
+class PointMotion:
+    """Motion of one output point (a segment's centre of gravity).
+
+    Attributes
+    ----------
+    name : str
+        ``pelvis``, ``trunk`` or ``head``.
+    acc_mps2 : (n, 3) array
+        Absolute translational acceleration in seat axes (x, y, z) [m/s^2].
+    disp_m : (n, 3) array
+        Displacement relative to the settled posture, seat axes [m].
+    rot_rad : (n, 3) array
+        Rotation relative to the settled posture as roll, pitch, yaw (intrinsic z-y-x angles of
+        R(t) R(0)^T, seat axes) [rad].
+    """
+
+    name: str
+    acc_mps2: np.ndarray
+    disp_m: np.ndarray
+    rot_rad: np.ndarray
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """Result of one simulation, sampled every time step from t = 0.
+
+    Attributes
+    ----------
+    time_s : (n,) array
+    seat_acc_mps2 : (n, 3) array
+        Seat acceleration input [m/s^2].
+    points : dict of str -> PointMotion
+    support_N : dict of str -> (n, 3) array
+        Force that the seat pan, backrest (both pads) and floor exert on the body, seat axes [N].
+    mass_kg, dof, dt_s, wall_s : float / int
+    description : str
+        What the input was.
+    locked : tuple of str
+        Joints that were locked.
+    """
+
+    time_s: np.ndarray
+    seat_acc_mps2: np.ndarray
+    points: dict
+    support_N: dict
+    mass_kg: float
+    dof: int
+    dt_s: float
+    wall_s: float
+    description: str
+    locked: tuple
+    params_origin: str = "default"
+    extra: dict = field(default_factory=dict)
+
+    def point(self, name: str) -> PointMotion:
+        """The motion of ``pelvis``, ``trunk`` or ``head``."""
+        if name not in self.points:
+            raise InputError(f"unknown point {name!r}; points are {', '.join(self.points)}.")
+        return self.points[name]
+
+    @property
+    def duration_s(self) -> float:
+        """Simulated time [s]."""
+        return float(len(self.time_s) * self.dt_s)
+
+    @property
+    def realtime_factor(self) -> float:
+        """Simulated time per wall-clock time of the run (settling excluded)."""
+        return self.duration_s / self.wall_s if self.wall_s > 0 else float("inf")
+
+    def support_total_N(self) -> np.ndarray:
+        """Total force of all supports on the body, (n, 3) [N]."""
+        return sum(self.support_N.values())
+
+    def summary(self) -> dict:
+        """Scalars describing the run (what ``summary.json`` holds)."""
+        out = {
+            "mass_kg": self.mass_kg,
+            "dof": self.dof,
+            "locked": list(self.locked),
+            "duration_s": self.duration_s,
+            "dt_s": self.dt_s,
+            "wall_s": self.wall_s,
+            "realtime_factor": self.realtime_factor,
+            "input": self.description,
+            "params": self.params_origin,
+            "support_force_mean_N": self.support_total_N().mean(axis=0).tolist(),
+            "support_force_mean_by_surface_N": {k: v.mean(axis=0).tolist() for k, v in self.support_N.items()},
+            "body_weight_N": self.mass_kg * -engine.G0[2],
+            "seat_acc_rms_mps2": np.sqrt(np.mean(self.seat_acc_mps2 ** 2, axis=0)).tolist(),
+        }
+        for p, m in self.points.items():
+            out[f"{p}_acc_rms_mps2"] = np.sqrt(np.mean(m.acc_mps2 ** 2, axis=0)).tolist()
+            out[f"{p}_rot_rms_rad"] = np.sqrt(np.mean(m.rot_rad ** 2, axis=0)).tolist()
+        out.update(self.extra)
+        return out
+
+    def columns(self) -> tuple[list[str], np.ndarray]:
+        """Header and (n, k) data of ``timeseries.csv``."""
+        header = ["time_s", "seat_ax_mps2", "seat_ay_mps2", "seat_az_mps2"]
+        cols = [self.time_s[:, None], self.seat_acc_mps2]
+        for p, m in self.points.items():
+            header += [f"{p}_a{a}_mps2" for a in "xyz"] + [f"{p}_{a}_m" for a in "xyz"]
+            header += [f"{p}_{r}_rad" for r in ("roll", "pitch", "yaw")]
+            cols += [m.acc_mps2, m.disp_m, m.rot_rad]
+        for s, f in self.support_N.items():
+            header += [f"{s}_f{a}_N" for a in "xyz"]
+            cols.append(f)
+        return header, np.hstack(cols)
+
+    def write(self, out_dir: Path | str) -> dict:
+        """Write ``timeseries.csv`` and ``summary.json`` into ``out_dir``; return the file paths."""
+        out = Path(out_dir)
+        header, data = self.columns()
+        paths = {"timeseries": out / "timeseries.csv", "summary": out / "summary.json"}
+        write_csv_atomic(paths["timeseries"], header, data)
+        write_json_atomic(paths["summary"], self.summary())
+        return paths
+
+
+class SeatedHuman:
+    """One person on one seat, ready to simulate.
+
+    Parameters
+    ----------
+    params : Parameters, path or None
+        Parameter set or TOML file (default: the shipped defaults).
+    lock, unlock : iterable of str
+        Joints to lock or unlock on top of the body table's defaults (the waist is locked by default).
+    body : Body, optional
+        Body tables (default: the paper's Tables 1 and 2 and the shipped contact ellipsoids).
+    """
+
+    def __init__(self, params: Parameters | str | Path | None = None, lock=(), unlock=(),
+                 body: Body | None = None):
+        self.body = body if body is not None else load_body()
+        self.params = params if isinstance(params, Parameters) else Parameters.load(params)
+        names = [j.name for j in self.body.joints]
+        for name in list(lock) + list(unlock):
+            if name not in names:
+                raise InputError(f"unknown joint {name!r}; joints are {', '.join(names)}.")
+        both = set(lock) & set(unlock)
+        if both:
+            raise InputError(f"joint {sorted(both)[0]!r} is asked to be both locked and unlocked.")
+        locked = {j.name for j in self.body.joints if j.locked}
+        self.locked = frozenset((locked | set(lock)) - set(unlock))
+        self.model = engine.build(self.body, self.params, self.locked)
+
+    @property
+    def dof(self) -> int:
+        """Degrees of freedom of the person (28 by default, 31 with the waist unlocked)."""
+        return self.model.dof
+
+    @property
+    def mass_kg(self) -> float:
+        """Total body mass as built [kg]."""
+        return self.model.mass_kg
+
+    def info(self) -> dict:
+        """Segments, joints and totals as plain data (what ``ehm info --json`` prints)."""
+        return {
+            "mass_kg": self.mass_kg,
+            "dof": self.dof,
+            "locked": sorted(self.locked),
+            "dt_s": float(self.params.value("simulation.dt_s")),
+            "params": self.params.origin,
+            "segments": [{"name": s.name, "mass_kg": s.mass_kg, "com_m": s.com_m.tolist(),
+                          "inertia_kgm2": s.inertia_kgm2.tolist()} for s in self.body.segments],
+            "joints": [{"name": j.name, "parent": j.parent, "child": j.child, "type": j.type,
+                        "dof": 0 if j.name in self.locked else len(j.dofs), "dofs": list(j.dofs),
+                        "locked": j.name in self.locked, "pos_m": j.pos_m.tolist()} for j in self.body.joints],
+            "contacts": [{"name": c.name, "segment": c.segment, "surface": c.surface} for c in self.body.contacts],
+            "points": {p: engine.POINTS[p] for p in POINT_NAMES},
+        }
+
+    def settle(self) -> None:
+        """Let the person sink into the seat (done automatically before the first run)."""
+        engine.settle(self.model)
+
+    def simulate(self, motion: SeatMotion) -> RunResult:
+        """Run the settled person with a seat motion (resampled to the model's time step)."""
+        if not isinstance(motion, SeatMotion):
+            raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
+        dt = float(self.model.mj.opt.timestep)
+        if self.model.settled is None:
+            engine.settle(self.model)
+        m = motion.resample(dt)
+        acc = m.acc_mps2
+        t0 = time.perf_counter()
+        raw = engine.run(self.model, acc)
+        wall = time.perf_counter() - t0
+        points = {}
+        for p in POINT_NAMES:
+            pos = raw.sensors[f"{p}_framepos"]
+            quat = raw.sensors[f"{p}_framequat"]
+            settled_pos, settled_quat = engine.settled_point_pose(self.model, p)
+            rot0 = Rotation.from_quat(settled_quat, scalar_first=True)
+            rel = Rotation.from_quat(quat, scalar_first=True) * rot0.inv()
+            points[p] = PointMotion(
+                name=p,
+                acc_mps2=raw.sensors[f"{p}_framelinacc"] + engine.G0[None, :],
+                disp_m=pos - settled_pos,
+                rot_rad=rel.as_euler("ZYX")[:, ::-1].copy(),
+            )
+        support = {
+            "seat_pan": raw.support_N["seat_pan"],
+            "backrest": raw.support_N["backrest_lower"] + raw.support_N["backrest_upper"],
+            "floor": raw.support_N["floor"],
+        }
+        return RunResult(time_s=raw.time_s, seat_acc_mps2=acc, points=points, support_N=support,
+                         mass_kg=self.mass_kg, dof=self.dof, dt_s=dt, wall_s=wall, description=m.description,
+                         locked=tuple(sorted(self.locked)), params_origin=self.params.origin)

@@ -1,0 +1,84 @@
+"""Seat-to-body transfer functions estimated from time histories (paper Eq. 1).
+
+Pure array functions: no engine, no plotting.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import signal
+
+from .errors import InputError
+
+
+@dataclass(frozen=True)
+class TransferEstimate:
+    """H1 estimate of a transfer function from input to output.
+
+    Attributes
+    ----------
+    freq_hz : (m,) array
+    gain : (m,) array
+        |H1| (output units per input unit).
+    phase_deg : (m,) array
+    coherence : (m,) array
+        Magnitude-squared coherence, 0 to 1.
+    """
+
+    freq_hz: np.ndarray
+    gain: np.ndarray
+    phase_deg: np.ndarray
+    coherence: np.ndarray
+
+    def peak(self, band_hz: tuple[float, float] = (0.5, 12.0)) -> tuple[float, float]:
+        """(frequency [Hz], gain) of the largest gain within a band."""
+        sel = (self.freq_hz >= band_hz[0]) & (self.freq_hz <= band_hz[1])
+        if not sel.any():
+            raise InputError(f"no estimate frequencies lie in {band_hz[0]}-{band_hz[1]} Hz.")
+        i = np.argmax(np.where(sel, self.gain, -np.inf))
+        return float(self.freq_hz[i]), float(self.gain[i])
+
+    def at(self, freq_hz: float) -> float:
+        """Gain linearly interpolated at one frequency."""
+        return float(np.interp(freq_hz, self.freq_hz, self.gain))
+
+
+def h1_estimate(x: np.ndarray, y: np.ndarray, fs_hz: float, segment_s: float = 10.0,
+                lowpass_hz: float | None = 12.0) -> TransferEstimate:
+    """H1 transfer-function estimate y/x with Welch averaging (Hann windows, 50 % overlap).
+
+    Parameters
+    ----------
+    x, y : (n,) arrays
+        Input and output time histories sampled at ``fs_hz``.
+    segment_s : float
+        Welch segment length [s]; the frequency resolution is 1 / segment_s.
+    lowpass_hz : float or None
+        Cut-off of the paper's Butterworth filter (4th order, zero phase) applied to input and output alike
+        before estimation; None skips it.
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if x.shape != y.shape or x.ndim != 1:
+        raise InputError("input and output must be 1-D arrays of the same length.")
+    nper = int(round(segment_s * fs_hz))
+    if nper < 8 or nper > x.size:
+        raise InputError(
+            f"a {segment_s:g} s estimation segment needs at least {segment_s:g} s of data; the record is "
+            f"{x.size / fs_hz:.3g} s long."
+        )
+    if lowpass_hz is not None and lowpass_hz < fs_hz / 2:
+        sos = signal.butter(4, lowpass_hz, btype="low", fs=fs_hz, output="sos")
+        x = signal.sosfiltfilt(sos, x)
+        y = signal.sosfiltfilt(sos, y)
+    f, pxx = signal.welch(x, fs=fs_hz, nperseg=nper)
+    _, pxy = signal.csd(x, y, fs=fs_hz, nperseg=nper)
+    _, pyy = signal.welch(y, fs=fs_hz, nperseg=nper)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        h = pxy / pxx
+        coh = np.abs(pxy) ** 2 / (pxx * pyy)
+    ok = pxx > 0
+    return TransferEstimate(freq_hz=f[ok], gain=np.abs(h[ok]), phase_deg=np.degrees(np.angle(h[ok])),
+                            coherence=np.nan_to_num(coh[ok]))
