@@ -1,0 +1,229 @@
+"""The ``ehm`` command: a thin layer over the library.
+
+Every subcommand maps onto library calls; problems with input end in one sentence on stderr and exit
+code 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from .errors import EhmError, InputError
+from .io import write_csv_atomic, write_json_atomic
+from .motion import load_motion_csv, random_vibration, sine, sweep
+from .params import Parameters
+from .simulation import POINT_NAMES, SeatedHuman
+from .transfer import h1_estimate
+
+EXIT_ERROR = 2
+
+
+def _joint_list(values: list[str] | None) -> list[str]:
+    out: list[str] = []
+    for v in values or []:
+        out += [x.strip() for x in v.split(",") if x.strip()]
+    return out
+
+
+def _human(args) -> SeatedHuman:
+    params = Parameters.load(args.params)
+    if getattr(args, "dt", None) is not None:
+        if not args.dt > 0:
+            raise InputError(f"--dt must be a positive time step in seconds, not {args.dt}.")
+        params = params.with_values({"simulation.dt_s": args.dt})
+    return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock))
+
+
+def _model_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
+    p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
+    p.add_argument("--unlock", action="append", metavar="JOINT", help="unlock a joint, e.g. waist")
+
+
+def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
+    p.add_argument("--duration", type=float, default=duration, help=f"simulated time [s] (default {duration:g})")
+    p.add_argument("--rms", type=float, default=0.3, help="rms seat acceleration of random input [m/s^2] (default 0.3)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"),
+                   help="band of the random input [Hz] (default 0.1 12)")
+    p.add_argument("--dt", type=float, help="time step [s] (default from the parameter file: 0.001)")
+
+
+def _transmissibility_rows(run, axis: str) -> list[dict]:
+    k = "xyz".index(axis)
+    fs = 1.0 / run.dt_s
+    rows = []
+    for p in POINT_NAMES:
+        for j, dof in enumerate("xyz"):
+            e = h1_estimate(run.seat_acc_mps2[:, k], run.point(p).acc_mps2[:, j], fs,
+                            segment_s=min(10.0, run.duration_s / 4))
+            rows.append({"input_axis": axis, "point": p, "dof": dof, "freq_hz": e.freq_hz, "gain": e.gain,
+                         "phase_deg": e.phase_deg, "coherence": e.coherence})
+    return rows
+
+
+def _write_transmissibility(rows: list[dict], path: Path, band_hz=(0.1, 12.0)) -> None:
+    header = ["input_axis", "point", "dof", "freq_hz", "gain", "phase_deg", "coherence"]
+    lines = [",".join(header)]
+    for r in rows:
+        sel = (r["freq_hz"] >= band_hz[0]) & (r["freq_hz"] <= band_hz[1])
+        for f, g, ph, c in zip(r["freq_hz"][sel], r["gain"][sel], r["phase_deg"][sel], r["coherence"][sel]):
+            lines.append(f"{r['input_axis']},{r['point']},{r['dof']},{f:.6g},{g:.6g},{ph:.6g},{c:.6g}")
+    from .io import write_text_atomic
+
+    write_text_atomic(path, "\n".join(lines) + "\n")
+
+
+def cmd_info(args) -> int:
+    human = _human(args)
+    info = human.info()
+    if args.json:
+        print(json.dumps(info, indent=2))
+        return 0
+    print(f"ehm {__version__}: seated human, {info['mass_kg']:.3f} kg, {info['dof']} degrees of freedom, "
+          f"time step {info['dt_s'] * 1000:g} ms, parameters: {info['params']}")
+    print("segments (centre of gravity in m, x forward, y left, z up):")
+    for s in info["segments"]:
+        x, y, z = s["com_m"]
+        print(f"  {s['name']:<13} {s['mass_kg']:7.3f} kg  ({x:+.4f}, {y:+.4f}, {z:+.4f})")
+    print("joints:")
+    for j in info["joints"]:
+        state = "locked" if j["locked"] else f"{j['dof']} dof ({', '.join(j['dofs'])})"
+        print(f"  {j['name']:<11} {j['type']:<19} {j['parent']} -> {j['child']}: {state}")
+    return 0
+
+
+def _motion(args, dt: float):
+    if args.motion:
+        return load_motion_csv(args.motion)
+    if args.signal == "random":
+        return random_vibration(args.axis, args.duration, args.rms, seed=args.seed, dt_s=dt, band_hz=tuple(args.band))
+    if args.signal == "sine":
+        return sine(args.axis, args.duration, args.amplitude, args.freq, dt_s=dt)
+    return sweep(args.axis, args.duration, args.amplitude, args.f0, args.f1, dt_s=dt)
+
+
+def cmd_simulate(args) -> int:
+    human = _human(args)
+    dt = float(human.params.value("simulation.dt_s"))
+    motion = _motion(args, dt)
+    run = human.simulate(motion)
+    paths = run.write(args.out)
+    if args.plot:
+        from .plotting import plot_time_histories
+
+        plot_time_histories(run, Path(args.out) / "time_histories.png")
+    s = run.summary()
+    print(f"simulated {s['duration_s']:.3g} s of '{s['input']}' in {s['wall_s']:.2f} s "
+          f"({s['realtime_factor']:.0f}x real time); wrote {paths['timeseries']} and {paths['summary']}")
+    return 0
+
+
+def cmd_demo(args) -> int:
+    from .plotting import plot_time_histories, plot_transmissibility
+
+    out = Path(args.out)
+    human = _human(args)
+    dt = float(human.params.value("simulation.dt_s"))
+    print(f"ehm demo: default person ({human.mass_kg:.3f} kg, {human.dof} dof) on the validation seat; "
+          f"{args.duration:g} s of {args.rms:g} m/s^2 rms random vibration per axis; output in {out}/")
+    human.settle()
+    rows, summaries = [], {}
+    for axis in args.axes:
+        run = human.simulate(random_vibration(axis, args.duration, args.rms, seed=args.seed, dt_s=dt,
+                                              band_hz=tuple(args.band)))
+        run.write(out / axis)
+        plot_time_histories(run, out / axis / "time_histories.png",
+                            title=f"seat {axis}: {run.description}")
+        rows += _transmissibility_rows(run, axis)
+        summaries[axis] = run.summary()
+        print(f"  {axis}: {run.duration_s:.0f} s simulated in {run.wall_s:.2f} s ({run.realtime_factor:.0f}x real time)")
+    _write_transmissibility(rows, out / "transmissibility.csv")
+    plot_transmissibility(rows, out / "transmissibility.png",
+                          title="Seat-to-body transmissibility of the default model (H1 estimate; synthetic input)")
+    peaks = {}
+    for r in rows:
+        if r["dof"] == r["input_axis"]:
+            sel = (r["freq_hz"] >= 0.5) & (r["freq_hz"] <= 12)
+            i = int(np.argmax(np.where(sel, r["gain"], -np.inf)))
+            peaks[f"{r['input_axis']}->{r['point']}"] = {"peak_hz": float(r["freq_hz"][i]), "peak_gain": float(r["gain"][i]),
+                                                        "gain_at_0.5_hz": float(np.interp(0.5, r["freq_hz"], r["gain"]))}
+    write_json_atomic(out / "demo_summary.json", {"runs": summaries, "transmissibility_peaks": peaks})
+    print("  transmissibility peaks (seat axis -> same axis at the point):")
+    for k, v in peaks.items():
+        print(f"    {k:<12} {v['peak_gain']:.2f} at {v['peak_hz']:.1f} Hz (gain {v['gain_at_0.5_hz']:.2f} at 0.5 Hz)")
+    print(f"wrote {out}/transmissibility.csv, transmissibility.png, demo_summary.json and per-axis "
+          "timeseries.csv, summary.json, time_histories.png")
+    return 0
+
+
+def cmd_params(args) -> int:
+    params = Parameters.load(args.params)
+    if args.export:
+        params.export(args.export)
+        print(f"wrote {args.export}")
+    else:
+        sys.stdout.write(params.to_toml())
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="ehm", description="Efficient seated human model on MuJoCo.")
+    parser.add_argument("--version", action="version", version=f"ehm {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p = sub.add_parser("info", help="describe the model (segments, joints, degrees of freedom)")
+    _model_options(p)
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_info)
+
+    p = sub.add_parser("simulate", help="run the model with a seat motion and write timeseries.csv, summary.json")
+    _model_options(p)
+    _excitation_options(p, 35.0)
+    p.add_argument("--axis", default="z", help="excited seat axes: x, y, z or a combination (default z)")
+    p.add_argument("--signal", choices=("random", "sine", "sweep"), default="random", help="generated input (default random)")
+    p.add_argument("--amplitude", type=float, default=0.5, help="sine or sweep peak acceleration [m/s^2]")
+    p.add_argument("--freq", type=float, default=4.0, help="sine frequency [Hz]")
+    p.add_argument("--f0", type=float, default=0.5, help="sweep start frequency [Hz]")
+    p.add_argument("--f1", type=float, default=12.0, help="sweep end frequency [Hz]")
+    p.add_argument("--motion", metavar="FILE.csv", help="seat acceleration file (time_s, ax_mps2, ay_mps2, az_mps2)")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    p.add_argument("--plot", action="store_true", help="also draw time_histories.png")
+    p.set_defaults(func=cmd_simulate)
+
+    p = sub.add_parser("demo", help="x, y and z random vibration of the default model, with plots")
+    _model_options(p)
+    _excitation_options(p, 60.0)
+    p.add_argument("--axes", nargs="+", default=["x", "y", "z"], choices=("x", "y", "z"))
+    p.add_argument("--out", default="ehm-demo", metavar="DIR", help="output folder (default ehm-demo)")
+    p.set_defaults(func=cmd_demo)
+
+    p = sub.add_parser("params", help="print or export the parameter file")
+    p.add_argument("--params", metavar="FILE.toml", help="parameter file to read (default: the shipped defaults)")
+    p.add_argument("--export", metavar="FILE.toml", help="write it to a file")
+    p.set_defaults(func=cmd_params)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the ``ehm`` command; returns the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except EhmError as exc:
+        print(f"ehm: error: {exc}", file=sys.stderr)
+        return EXIT_ERROR
+    except KeyboardInterrupt:
+        print("ehm: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
