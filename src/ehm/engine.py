@@ -301,10 +301,10 @@ def _instability(model: Model, d: mujoco.MjData) -> str | None:
     return None
 
 
-def _diverged(model: Model, t: float, why: str) -> DivergenceError:
+def _diverged(model: Model, t: float, why: str, phase: str = "") -> DivergenceError:
     dt = model.mj.opt.timestep
     return DivergenceError(
-        f"the simulation diverged at t = {t:.3f} s ({why}); try a smaller time step than dt = {dt:g} s "
+        f"the simulation diverged at t = {t:.3f} s{phase} ({why}); try a smaller time step than dt = {dt:g} s "
         "or check the stiffness and damping parameters."
     )
 
@@ -332,10 +332,10 @@ def settle(model: Model, duration_s: float | None = None) -> dict:
         if i % _CHECK_EVERY == 0:
             why = _instability(model, d)
             if why:
-                raise _diverged(model, d.time, why)
+                raise _diverged(model, d.time, why, " while settling into the seat, before the run")
     why = _instability(model, d)
     if why:
-        raise _diverged(model, d.time, why)
+        raise _diverged(model, d.time, why, " while settling into the seat, before the run")
     model.settled = {"qpos": d.qpos.copy(), "qvel": d.qvel.copy(), "act": d.act.copy(), "settle_s": duration_s}
     return model.settled
 

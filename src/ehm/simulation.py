@@ -89,8 +89,8 @@ class RunResult:
 
     @property
     def duration_s(self) -> float:
-        """Simulated time [s]."""
-        return float(len(self.time_s) * self.dt_s)
+        """Simulated time span of the samples, t[-1] - t[0] [s] (as :attr:`SeatMotion.duration_s`)."""
+        return float((len(self.time_s) - 1) * self.dt_s)
 
     @property
     def realtime_factor(self) -> float:

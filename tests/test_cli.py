@@ -1,0 +1,134 @@
+"""The ``ehm`` command as a user meets it: outputs on disk, one-sentence errors, exit codes."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ehm.cli import main
+from ehm.params import default_params_path
+
+REQUIRED_COLUMNS = ["time_s", "seat_ax_mps2", "seat_ay_mps2", "seat_az_mps2"] + [
+    f"{p}_{q}" for p in ("pelvis", "trunk", "head")
+    for q in ("ax_mps2", "ay_mps2", "az_mps2", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad")
+]
+
+
+def _error_line(capsys) -> str:
+    err = capsys.readouterr().err.strip()
+    assert "Traceback" not in err
+    assert err.count("\n") == 0, f"expected one line, got: {err!r}"
+    assert err.startswith("ehm: error: ")
+    return err
+
+
+def test_info_json_counts_and_locks(capsys):
+    assert main(["info", "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["dof"] == 28 and abs(info["mass_kg"] - 70.882) < 1e-9
+    assert {s["name"] for s in info["segments"]} >= {"head", "pelvis", "foot_l"}
+    assert all(set(s) >= {"name", "mass_kg", "com_m"} for s in info["segments"])
+    waist = [j for j in info["joints"] if j["name"] == "waist"][0]
+    assert waist["locked"] and waist["dof"] == 0 and waist["type"] == "spherical"
+    assert main(["info", "--json", "--unlock", "waist", "--lock", "lower_neck"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    # 28 + 3 (waist spherical) - 2 (universal lower neck)
+    assert info["dof"] == 29
+    assert [j for j in info["joints"] if j["name"] == "lower_neck"][0]["locked"]
+
+
+def test_simulate_writes_timeseries_and_summary(tmp_path, capsys):
+    out = tmp_path / "z"
+    assert main(["simulate", "--axis", "z", "--duration", "3", "--rms", "0.3", "--seed", "0", "--out", str(out)]) == 0
+    with open(out / "timeseries.csv") as fh:
+        header = next(csv.reader(fh))
+    assert all(c in header for c in REQUIRED_COLUMNS)
+    data = np.loadtxt(out / "timeseries.csv", delimiter=",", skiprows=1)
+    assert data.shape[0] == 3001  # t = 0, 0.001, ..., 3.0 s
+    assert np.isfinite(data).all()
+    summary = json.loads((out / "summary.json").read_text())
+    for key in ("mass_kg", "dof", "duration_s", "dt_s", "wall_s", "realtime_factor", "support_force_mean_N"):
+        assert key in summary
+    assert summary["dof"] == 28 and summary["dt_s"] == 0.001 and summary["duration_s"] == pytest.approx(3.0)
+    # The seat input written is the input asked for: 0.3 m/s^2 rms on z only (before resampling it is exact).
+    seat = data[:, 1:4]
+    assert np.sqrt(np.mean(seat[:, 2] ** 2)) == pytest.approx(0.3, rel=0.02)
+    assert np.abs(seat[:, :2]).max() == 0.0
+
+
+def test_motion_csv_input(tmp_path, capsys):
+    t = np.arange(0, 2.0, 0.002)
+    path = tmp_path / "drive.csv"
+    rows = ["time_s,ax_mps2,ay_mps2,az_mps2"] + [f"{a},{0.2 * np.sin(2 * np.pi * 2 * a)},0,0" for a in t]
+    path.write_text("\n".join(rows) + "\n")
+    assert main(["simulate", "--motion", str(path), "--out", str(tmp_path / "run")]) == 0
+    data = np.loadtxt(tmp_path / "run" / "timeseries.csv", delimiter=",", skiprows=1)
+    assert np.abs(data[:, 1]).max() == pytest.approx(0.2, rel=0.01)
+
+
+@pytest.mark.parametrize("content, expected", [
+    ("time_s,ax_mps2,ay_mps2,az_mps2\n0,0,0,0\n0.1,abc,0,0\n", r"line 3.*ax_mps2.*abc"),
+    ("time_s,ax_mps2,ay_mps2\n0,0,0\n0.1,0,0\n", r"az_mps2"),
+    ("time_s,ax_mps2,ay_mps2,az_mps2\n0,0,0,0\n0.1,nan,0,0\n", r"line 3.*ax_mps2"),
+    ("time_s,ax_mps2,ay_mps2,az_mps2\n0,0,0,0\n0.1,inf,0,0\n", r"line 3.*ax_mps2"),
+])
+def test_bad_motion_csv_one_sentence_and_no_output(tmp_path, capsys, content, expected):
+    path = tmp_path / "bad.csv"
+    path.write_text(content)
+    out = tmp_path / "run"
+    assert main(["simulate", "--motion", str(path), "--out", str(out)]) == 2
+    err = _error_line(capsys)
+    assert "bad.csv" in err
+    import re
+    assert re.search(expected, err), err
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_unknown_joint(capsys):
+    assert main(["info", "--lock", "elbow"]) == 2
+    assert "elbow" in _error_line(capsys)
+
+
+def test_bad_segment_table_via_params_file(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    text = default_params_path().read_text().replace(
+        "stiffness_Nm_per_rad = 90.0", "stiffness_Nm_per_rad = -90.0", 1)
+    bad.write_text(text)
+    assert main(["info", "--params", str(bad)]) == 2
+    err = _error_line(capsys)
+    assert "bad.toml" in err and "upper_neck" in err and "-90" in err
+
+
+def test_divergence_is_reported_with_time_and_no_output(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["simulate", "--axis", "z", "--duration", "2", "--dt", "0.02", "--band", "0.1", "4",
+                 "--out", str(out)]) == 2
+    err = _error_line(capsys)
+    assert "diverged at t =" in err and "0.02" in err
+    assert not (out / "timeseries.csv").exists() and not (out / "summary.json").exists()
+
+
+def test_params_export_and_reuse(tmp_path, capsys):
+    exported = tmp_path / "mine.toml"
+    assert main(["params", "--export", str(exported)]) == 0
+    text = exported.read_text().replace("stiffness_N_per_m = 15000.0", "stiffness_N_per_m = 12000.0")
+    exported.write_text(text)
+    assert main(["info", "--json", "--params", str(exported)]) == 0
+    info = json.loads(capsys.readouterr().out.split("\n", 1)[1])
+    assert info["params"] == str(exported)
+
+
+def test_demo_writes_files(tmp_path, capsys):
+    out = tmp_path / "demo"
+    assert main(["demo", "--out", str(out), "--duration", "20", "--axes", "z"]) == 0
+    for name in ("transmissibility.csv", "transmissibility.png", "demo_summary.json",
+                 "z/timeseries.csv", "z/summary.json", "z/time_histories.png"):
+        assert (out / name).stat().st_size > 0, name
+    summary = json.loads((out / "demo_summary.json").read_text())
+    peak = summary["transmissibility_peaks"]["z->head"]
+    assert 0.5 <= peak["gain_at_0.5_hz"] <= 1.5
