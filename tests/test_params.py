@@ -1,0 +1,140 @@
+"""Parameter files: checks on bad files, export/load round trip, dotted-path updates.
+
+Every bad file is the shipped default_params.toml with exactly one edit, so each test checks that the one
+problem is reported (InputError naming the file and the entry) and that nothing else is.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from ehm.errors import InputError
+from ehm.params import Parameters, default_params_path
+
+DEFAULT_TEXT = default_params_path().read_text(encoding="utf-8")
+
+
+def _write(tmp_path, text: str, name: str = "my_params.toml"):
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _replace_once(old: str, new: str) -> str:
+    assert DEFAULT_TEXT.count(old) == 1, old
+    return DEFAULT_TEXT.replace(old, new)
+
+
+def _load_error(tmp_path, text: str) -> str:
+    path = _write(tmp_path, text)
+    with pytest.raises(InputError) as exc:
+        Parameters.load(path)
+    msg = str(exc.value)
+    assert str(path) in msg or path.name in msg, msg  # names the file
+    return msg
+
+
+def test_unedited_copy_loads(tmp_path):
+    # Control: a byte-for-byte copy loads, so every failure below is due to its one edit.
+    p = Parameters.load(_write(tmp_path, DEFAULT_TEXT))
+    assert p.value("simulation.dt_s") == 0.001  # paper section 3: 1 ms time step
+
+
+def test_bad_grade(tmp_path):
+    text = _replace_once('dt_s = { value = 0.001, grade = "literature"', 'dt_s = { value = 0.001, grade = "guessed"')
+    msg = _load_error(tmp_path, text)
+    assert "simulation.dt_s" in msg and "'guessed'" in msg and "grade" in msg
+
+
+def test_unknown_key(tmp_path):
+    text = _replace_once("[simulation]\n",
+                         '[simulation]\ndt_ms = { value = 1.0, grade = "assumed", source = "assumed" }\n')
+    msg = _load_error(tmp_path, text)
+    assert "'dt_ms'" in msg and "[simulation]" in msg and "unknown key" in msg
+
+
+def test_unknown_key_in_contact(tmp_path):
+    text = _replace_once("[contacts.buttock]\n",
+                         '[contacts.buttock]\nstifness_N_per_m = { value = 1.0, grade = "assumed", source = "assumed" }\n')
+    msg = _load_error(tmp_path, text)
+    assert "'stifness_N_per_m'" in msg and "contacts.buttock" in msg
+
+
+def test_negative_contact_stiffness(tmp_path):
+    text = _replace_once("stiffness_N_per_m = { value = 120000.0", "stiffness_N_per_m = { value = -120000.0")
+    msg = _load_error(tmp_path, text)
+    assert "contacts.buttock.stiffness_N_per_m" in msg and "-120000.0" in msg and "positive" in msg
+
+
+def test_negative_joint_stiffness(tmp_path):
+    text = _replace_once("roll = { stiffness_Nm_per_rad = 90.0,", "roll = { stiffness_Nm_per_rad = -90.0,")
+    msg = _load_error(tmp_path, text)
+    assert "joints.upper_neck.roll.stiffness_Nm_per_rad" in msg and "-90.0" in msg and "negative" in msg
+
+
+def test_unknown_source(tmp_path):
+    text = _replace_once('grade = "literature", source = "paper" }', 'grade = "literature", source = "nowhere" }')
+    msg = _load_error(tmp_path, text)
+    assert "simulation.dt_s" in msg and "'nowhere'" in msg and "[sources]" in msg
+
+
+def test_invalid_toml(tmp_path):
+    text = _replace_once('settle_s = { value = 10.0, grade = "assumed", source = "assumed" }',
+                         'settle_s = { value = 10.0, grade = "assumed", source = "assumed"')
+    msg = _load_error(tmp_path, text)
+    assert "TOML" in msg
+
+
+def test_missing_file_names_it(tmp_path):
+    path = tmp_path / "absent.toml"
+    with pytest.raises(InputError, match="absent.toml"):
+        Parameters.load(path)
+
+
+def test_export_load_round_trip_every_numeric_value(tmp_path):
+    p = Parameters.load()
+    paths = list(p.numeric_paths())
+    # The default file holds 5 simulation + 1 posture + 9 seat values, 25 joint DOFs x 2 (t12 z counts as one
+    # DOF), and 5 padded contacts x 6 + 2 feet x 3 contact values: 15 + 50 + 36 = 101.
+    assert len(paths) == 101
+    out = tmp_path / "exported.toml"
+    p.export(out)
+    q = Parameters.load(out)
+    assert list(q.numeric_paths()) == paths
+    for path in paths:
+        a, b = p.value(path), q.value(path)
+        assert type(a) is type(b), path
+        assert a == b, path  # exact: TOML floats round-trip bit for bit
+    assert q.value("posture.integral_joints") == p.value("posture.integral_joints")
+    assert q.data == p.data
+
+
+def test_with_values_changes_a_copy():
+    p = Parameters.load()
+    q = p.with_values({"contacts.buttock.stiffness_N_per_m": 60000.0,
+                       "joints.t12.z.stiffness_N_per_m": 12000.0}, grade="identified", source="tuned")
+    assert q.value("contacts.buttock.stiffness_N_per_m") == 60000.0
+    assert q.value("joints.t12.z.stiffness_N_per_m") == 12000.0
+    assert q.joint_dof("t12", "z") == (12000.0, 300.0)
+    assert q.data["contacts"]["buttock"]["stiffness_N_per_m"]["grade"] == "identified"
+    assert p.value("contacts.buttock.stiffness_N_per_m") == 120000.0  # original untouched
+
+
+@pytest.mark.parametrize("path", ["contacts.buttock.stifness_N_per_m", "joints.elbow.pitch.stiffness_Nm_per_rad",
+                                  "simulation.dt", "seat", "contacts.buttock.stiffness_N_per_m.grade"])
+def test_with_values_unknown_path(path):
+    with pytest.raises(InputError) as exc:
+        Parameters.load().with_values({path: 1.0})
+    assert "unknown parameter" in str(exc.value)
+    assert repr(path) in str(exc.value)
+
+
+def test_with_values_rechecks_values():
+    with pytest.raises(InputError, match="simulation.dt_s"):
+        Parameters.load().with_values({"simulation.dt_s": -0.001})
+    with pytest.raises(InputError, match="contact_impedance"):
+        Parameters.load().with_values({"simulation.contact_impedance": 1.5})
+    with pytest.raises(InputError, match="not a finite number"):
+        Parameters.load().with_values({"seat.pan_angle_deg": math.nan})
