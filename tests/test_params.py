@@ -123,12 +123,18 @@ def test_with_values_changes_a_copy():
 
 
 @pytest.mark.parametrize("path", ["contacts.buttock.stifness_N_per_m", "joints.elbow.pitch.stiffness_Nm_per_rad",
-                                  "simulation.dt", "seat", "contacts.buttock.stiffness_N_per_m.grade"])
+                                  "simulation.dt", "contacts.buttock.stiffness_N_per_m.grade"])
 def test_with_values_unknown_path(path):
     with pytest.raises(InputError) as exc:
         Parameters.load().with_values({path: 1.0})
     assert "unknown parameter" in str(exc.value)
     assert repr(path) in str(exc.value)
+
+
+def test_with_values_on_a_section_path_is_refused():
+    # A section is not a value: replacing [seat] by a number must not be accepted.
+    with pytest.raises(InputError, match="seat"):
+        Parameters.load().with_values({"seat": 1.0})
 
 
 def test_with_values_rechecks_values():

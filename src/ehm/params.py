@@ -3,8 +3,8 @@
 A parameter file is TOML (see the shipped ``data/default_params.toml``).  Every entry carries its values
 with the unit in the key name, plus ``grade`` (``literature``, ``assumed`` or ``identified``) and
 ``source`` (a key of the file's ``[sources]`` table).  Values are addressed by dotted paths, e.g.
-``joints.upper_neck.pitch.stiffness_Nm_per_rad`` or ``contacts.buttock.stiffness_N_per_m.value``-style
-entries shortened to ``contacts.buttock.stiffness_N_per_m``.
+``joints.upper_neck.pitch.stiffness_Nm_per_rad``, ``contacts.buttock.stiffness_N_per_m`` or
+``seat.pan_angle_deg``.
 """
 
 from __future__ import annotations
@@ -194,7 +194,8 @@ class Parameters:
         if unknown:
             raise InputError(f"{label}: unknown section [{sorted(unknown)[0]}].")
 
-        def check_entry(where: str, entry: Any, allowed: dict[str, str], inline_value: bool) -> None:
+        def check_entry(where: str, entry: Any, allowed: Any, inline_value: bool) -> None:
+            """``allowed``: the rule of the entry's ``value`` (inline) or a dict of key -> rule."""
             if not isinstance(entry, dict):
                 raise InputError(f"{label}: {where} must be a table with its value, grade and source.")
             grade = entry.get("grade")
@@ -203,7 +204,7 @@ class Parameters:
             src = entry.get("source")
             if src not in sources:
                 raise InputError(f"{label}: {where} names source {src!r}, which is not in [sources].")
-            keys = {"value": allowed} if inline_value else allowed
+            keys = ("value",) if inline_value else allowed
             for key in entry:
                 if key not in _META and key not in keys:
                     raise InputError(f"{label}: unknown key {key!r} in {where}.")
@@ -244,9 +245,7 @@ class Parameters:
                 check_entry(f"contacts.{cname}.{key}", entry, _CONTACT[key], True)
 
 
-def _check_value(label: str, where: str, value: Any, rule: Any) -> None:
-    if isinstance(rule, dict):  # inline value of a multi-key entry cannot happen; kept for symmetry
-        return
+def _check_value(label: str, where: str, value: Any, rule: str) -> None:
     if rule == "joints":
         if not isinstance(value, list) or any(v not in JOINT_NAMES for v in value):
             raise InputError(f"{label}: {where} must be a list of joint names from {', '.join(JOINT_NAMES)}.")
