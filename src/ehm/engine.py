@@ -33,6 +33,7 @@ from .errors import DivergenceError, InputError
 from .params import Parameters
 from .tables import Body
 
+_PAD_INERTIA = 1e-6  #: Moment of inertia of a soft-tissue pad about each axis [kg m^2] (nearly a point mass).
 G0 = np.array([0.0, 0.0, -9.81])  #: Standard gravity in the seat frame [m/s^2].
 POINTS = {"pelvis": "pelvis", "trunk": "upper_torso", "head": "head"}  #: Output point -> segment.
 SURFACES = ("seat_pan", "backrest_lower", "backrest_upper", "floor")
@@ -210,7 +211,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset())
 
         inertia -= shift(m_body, c_body - seg.com_m)
         for c in pads[seg_name]:
-            inertia -= shift(pad_mass[c.name], c.center_m - seg.com_m)
+            inertia -= shift(pad_mass[c.name], c.center_m - seg.com_m) + _PAD_INERTIA * np.eye(3)
         b.explicitinertial = True
         b.mass = m_body
         b.ipos = c_body - frame_pos
@@ -230,7 +231,9 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset())
                 holder = b.add_body(name=f"pad_{c.name}", pos=c.center_m - frame_pos)
                 holder.explicitinertial = True
                 holder.mass = pad_mass[c.name]
-                holder.inertia = [1e-6, 1e-6, 1e-6]
+                holder.ipos = [0.0, 0.0, 0.0]
+                holder.iquat = [1.0, 0.0, 0.0, 0.0]
+                holder.inertia = [_PAD_INERTIA, _PAD_INERTIA, _PAD_INERTIA]
                 ks = float(params.value(f"contacts.{c.name}.shear_stiffness_N_per_m"))
                 cs = float(params.value(f"contacts.{c.name}.shear_damping_Ns_per_m"))
                 for i, t in enumerate(seat.tangents(c.surface)):
@@ -268,7 +271,8 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset())
 
     # Linear contact spring K and damper B on penetration (feasibility notes): with constant impedance d,
     # solref = (-K (1-d) A, -B (1-d) A), A = the pair's inverse weight in the normal direction.
-    for i, c in enumerate(body.contacts):
+    for c in body.contacts:
+        i = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_PAIR, c.name)
         g1, g2 = mj.pair_geom1[i], mj.pair_geom2[i]
         a0 = mj.body_invweight0[mj.geom_bodyid[g1], 0] + mj.body_invweight0[mj.geom_bodyid[g2], 0]
         k = float(params.value(f"contacts.{c.name}.stiffness_N_per_m"))

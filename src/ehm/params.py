@@ -180,6 +180,9 @@ class Parameters:
             node = nxt
         if not isinstance(node, dict) or parts[-1] not in node or parts[-1] in _META:
             raise InputError(f"unknown parameter {path!r}.")
+        target = node[parts[-1]]
+        if isinstance(target, dict) and "value" not in target:
+            raise InputError(f"{path!r} is a section, not a parameter; name one of its values.")
         return node, parts[-1]
 
     def _check(self, label: str) -> None:

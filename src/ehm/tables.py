@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import csv
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
@@ -95,6 +95,7 @@ class Joint:
     type: str
     pos_m: np.ndarray
     locked: bool
+    where: str = field(default="", compare=False)  #: File and line it was read from.
 
     @property
     def dofs(self) -> tuple[str, ...]:
@@ -126,6 +127,7 @@ class ContactEllipsoid:
     semi_axes_m: np.ndarray
     pitch_rad: float
     tissue_pad: bool
+    where: str = field(default="", compare=False)  #: File and line it was read from.
 
 
 @dataclass(frozen=True)
@@ -283,6 +285,7 @@ def load_joints(path: Path | str | None = None) -> tuple[Joint, ...]:
         out.append(Joint(
             name=t.text(n, r, "name"), parent=t.text(n, r, "parent"), child=t.text(n, r, "child"), type=jtype,
             pos_m=t.vector(n, r, ("x", "y", "z"), "length"), locked=t.flag(n, r, "locked"),
+            where=f"{t.label}, line {n}",
         ))
     _unique(t.label, [j.name for j in out], "joint")
     return tuple(out)
@@ -303,6 +306,7 @@ def load_contacts(path: Path | str | None = None) -> tuple[ContactEllipsoid, ...
             center_m=t.vector(n, r, ("x", "y", "z"), "length"),
             semi_axes_m=t.vector(n, r, ("a", "b", "c"), "length", positive=True),
             pitch_rad=t.number(n, r, "pitch", "angle"), tissue_pad=t.flag(n, r, "tissue_pad"),
+            where=f"{t.label}, line {n}",
         ))
     _unique(t.label, [c.name for c in out], "contact")
     return tuple(out)
@@ -331,11 +335,12 @@ def load_body(segments: Path | str | None = None, joints: Path | str | None = No
         raise InputError("the segment table has no 'pelvis' (the root of the body).")
     children = set()
     for j in jnts:
-        for end in (j.parent, j.child):
+        for column, end in (("parent", j.parent), ("child", j.child)):
             if end not in names:
-                raise InputError(f"joint {j.name!r} names segment {end!r}, which is not in the segment table.")
+                raise InputError(f"{j.where}, column {column}: segment {end!r} is not in the segment table.")
         if j.child in children:
-            raise InputError(f"segment {j.child!r} is the child of two joints; the joints must form a tree.")
+            raise InputError(f"{j.where}, column child: segment {j.child!r} is the child of two joints; "
+                             "the joints must form a tree.")
         children.add(j.child)
     missing = names - children - {"pelvis"}
     if missing or "pelvis" in children:
@@ -356,5 +361,5 @@ def load_body(segments: Path | str | None = None, joints: Path | str | None = No
         )
     for c in cons:
         if c.segment not in names:
-            raise InputError(f"contact {c.name!r} names segment {c.segment!r}, which is not in the segment table.")
+            raise InputError(f"{c.where}, column segment: segment {c.segment!r} is not in the segment table.")
     return Body(segs, jnts, cons)
