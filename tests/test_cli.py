@@ -132,3 +132,25 @@ def test_demo_writes_files(tmp_path, capsys):
     summary = json.loads((out / "demo_summary.json").read_text())
     peak = summary["transmissibility_peaks"]["z->head"]
     assert 0.5 <= peak["gain_at_0.5_hz"] <= 1.5
+
+
+@pytest.mark.parametrize("column, value, expected", [
+    ("mass_kg", "-6.23", r"line \d+, column mass_kg: -6.23 must be positive"),
+    ("ixx_kgm2", "0", r"line \d+, column ixx_kgm2: 0 must be positive"),
+])
+def test_bad_segment_file_one_sentence(tmp_path, capsys, column, value, expected):
+    import re
+    from importlib import resources
+    src = Path(str(resources.files("ehm") / "data" / "segments.csv")).read_text().splitlines()
+    header_i = next(i for i, ln in enumerate(src) if ln.startswith("name,"))
+    col = src[header_i].split(",").index(column)
+    fields = src[header_i + 1].split(",")  # the head
+    fields[col] = value
+    src[header_i + 1] = ",".join(fields)
+    bad = tmp_path / "segments_bad.csv"
+    bad.write_text("\n".join(src) + "\n")
+    out = tmp_path / "run"
+    assert main(["simulate", "--segments", str(bad), "--duration", "1", "--out", str(out)]) == 2
+    err = _error_line(capsys)
+    assert "segments_bad.csv" in err and re.search(expected, err), err
+    assert not out.exists()

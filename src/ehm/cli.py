@@ -19,6 +19,7 @@ from .io import write_csv_atomic, write_json_atomic
 from .motion import load_motion_csv, random_vibration, sine, sweep
 from .params import Parameters
 from .simulation import POINT_NAMES, SeatedHuman
+from .tables import load_body
 from .transfer import h1_estimate
 
 EXIT_ERROR = 2
@@ -37,13 +38,17 @@ def _human(args) -> SeatedHuman:
         if not args.dt > 0:
             raise InputError(f"--dt must be a positive time step in seconds, not {args.dt}.")
         params = params.with_values({"simulation.dt_s": args.dt})
-    return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock))
+    body = load_body(args.segments, args.joints, args.contacts)
+    return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body)
 
 
 def _model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
     p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
     p.add_argument("--unlock", action="append", metavar="JOINT", help="unlock a joint, e.g. waist")
+    p.add_argument("--segments", metavar="FILE.csv", help="segment table (default: the paper's Table 2)")
+    p.add_argument("--joints", metavar="FILE.csv", help="joint table (default: the paper's Table 1)")
+    p.add_argument("--contacts", metavar="FILE.csv", help="contact ellipsoid table (default: shipped)")
 
 
 def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:

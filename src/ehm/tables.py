@@ -247,7 +247,7 @@ def load_segments(path: Path | str | None = None) -> tuple[Segment, ...]:
     Columns: ``name``, ``mass_kg``, ``ixx_kgm2``, ``iyy_kgm2``, ``izz_kgm2``, ``com_{x,y,z}_<m|cm|mm>``,
     ``shape_{a,b,c}_<m|cm|mm>``, ``shape_pitch_<deg|rad>``.
     """
-    t = _Table(path or _data_path("segments.csv"))
+    t = _Table(path or _data_path("segments.csv"), label=str(path) if path else None)
     out = []
     for n, r in t.rows:
         inertia = t.vector(n, r, ("ixx", "iyy", "izz"), "inertia", positive=True)
@@ -274,7 +274,7 @@ def load_joints(path: Path | str | None = None) -> tuple[Joint, ...]:
 
     Columns: ``name``, ``parent``, ``child``, ``type``, ``{x,y,z}_<m|cm|mm>``, ``locked`` (0 or 1).
     """
-    t = _Table(path or _data_path("joints.csv"))
+    t = _Table(path or _data_path("joints.csv"), label=str(path) if path else None)
     out = []
     for n, r in t.rows:
         jtype = t.text(n, r, "type")
@@ -293,7 +293,7 @@ def load_joints(path: Path | str | None = None) -> tuple[Joint, ...]:
 
 def load_contacts(path: Path | str | None = None) -> tuple[ContactEllipsoid, ...]:
     """Read a contact-ellipsoid table (default: the shipped ``contacts.csv``)."""
-    t = _Table(path or _data_path("contacts.csv"))
+    t = _Table(path or _data_path("contacts.csv"), label=str(path) if path else None)
     out = []
     for n, r in t.rows:
         surface = t.text(n, r, "surface")
