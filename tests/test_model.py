@@ -81,9 +81,9 @@ def test_degrees_of_freedom(lock, unlock, dof):
     locked = ({"waist"} | set(lock)) - set(unlock)
     assert expected_dof(locked) == dof
     assert h.dof == dof
-    # Independent route: MuJoCo's own count, minus the two tangential slides of each of the 5 tissue pads
-    # (contacts.csv: buttock, thigh_r, thigh_l, lower_back, upper_back have tissue_pad = 1).
-    assert h.model.mj.nv - 2 * 5 == dof
+    # Independent route: MuJoCo's own count, minus the two tangential slides of each of the 6 tissue pads
+    # (contacts.csv: buttock_r, buttock_l, thigh_r, thigh_l, lower_back, upper_back have tissue_pad = 1).
+    assert h.model.mj.nv - 2 * 6 == dof
     joints = {j["name"]: j for j in h.info()["joints"]}
     for name, jtype in PAPER_JOINT_TYPES.items():
         if name in locked:
@@ -164,23 +164,24 @@ def _spring_ratio(model, contact: str) -> tuple[float, float, float]:
 
 @pytest.mark.parametrize("stiffness", [None, 60000.0, 240000.0])
 def test_buttock_contact_is_a_linear_spring(human, stiffness):
+    # (the right buttock; the left one is its mirror image)
     # Paper section 2: contacts are "linear force-deflection characteristics with stiffness in N/m".  At rest
     # the damper carries nothing, so normal force / penetration must equal the configured stiffness
-    # (default 120 kN/m, then two other values in fresh builds).  Tolerance 2 %.
+    # (default 60 kN/m, then two other values in fresh builds).  Tolerance 2 %.
     if stiffness is None:
         model = human.model
-        stiffness = float(model.params.value("contacts.buttock.stiffness_N_per_m"))
+        stiffness = float(model.params.value("contacts.buttock_r.stiffness_N_per_m"))
     else:
-        params = Parameters.load().with_values({"contacts.buttock.stiffness_N_per_m": stiffness})
+        params = Parameters.load().with_values({"contacts.buttock_r.stiffness_N_per_m": stiffness})
         model = SeatedHuman(params).model
         engine.settle(model)
-    ratio, fn, damping_share = _spring_ratio(model, "buttock")
+    ratio, fn, damping_share = _spring_ratio(model, "buttock_r")
     assert damping_share < 0.002  # velocities ~ 0: the damper carries < 0.2 % of the force
     assert fn > 100.0  # the buttock carries a real share of the 695 N weight
     assert ratio == pytest.approx(stiffness, rel=0.02)
 
 
-@pytest.mark.parametrize("contact", ["buttock", "thigh_r", "thigh_l", "lower_back", "upper_back", "foot_r", "foot_l"])
+@pytest.mark.parametrize("contact", ["buttock_r", "buttock_l", "thigh_r", "thigh_l", "lower_back", "upper_back", "foot_r", "foot_l"])
 def test_every_contact_spring_has_its_configured_stiffness(human, contact):
     # Same law as above for every contact pair of the default model, each against ITS OWN entry in
     # default_params.toml (contacts.<name>.stiffness_N_per_m).  Tolerance 2 %.

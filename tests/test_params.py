@@ -56,16 +56,17 @@ def test_unknown_key(tmp_path):
 
 
 def test_unknown_key_in_contact(tmp_path):
-    text = _replace_once("[contacts.buttock]\n",
-                         '[contacts.buttock]\nstifness_N_per_m = { value = 1.0, grade = "assumed", source = "assumed" }\n')
+    text = _replace_once("[contacts.buttock_r]\n",
+                         '[contacts.buttock_r]\nstifness_N_per_m = { value = 1.0, grade = "assumed", source = "assumed" }\n')
     msg = _load_error(tmp_path, text)
-    assert "'stifness_N_per_m'" in msg and "contacts.buttock" in msg
+    assert "'stifness_N_per_m'" in msg and "contacts.buttock_r" in msg
 
 
 def test_negative_contact_stiffness(tmp_path):
-    text = _replace_once("stiffness_N_per_m = { value = 120000.0", "stiffness_N_per_m = { value = -120000.0")
+    text = _replace_once("[contacts.buttock_r]\nstiffness_N_per_m = { value = 60000.0",
+                         "[contacts.buttock_r]\nstiffness_N_per_m = { value = -60000.0")
     msg = _load_error(tmp_path, text)
-    assert "contacts.buttock.stiffness_N_per_m" in msg and "-120000.0" in msg and "positive" in msg
+    assert "contacts.buttock_r.stiffness_N_per_m" in msg and "-60000.0" in msg and "positive" in msg
 
 
 def test_negative_joint_stiffness(tmp_path):
@@ -97,8 +98,8 @@ def test_export_load_round_trip_every_numeric_value(tmp_path):
     p = Parameters.load()
     paths = list(p.numeric_paths())
     # The default file holds 5 simulation + 1 posture + 9 seat values, 25 joint DOFs x 2 (t12 z counts as one
-    # DOF), and 5 padded contacts x 6 + 2 feet x 3 contact values: 15 + 50 + 36 = 101.
-    assert len(paths) == 101
+    # DOF), and 6 padded contacts x 6 + 2 feet x 3 contact values: 15 + 50 + 42 = 107.
+    assert len(paths) == 107
     out = tmp_path / "exported.toml"
     p.export(out)
     q = Parameters.load(out)
@@ -113,17 +114,17 @@ def test_export_load_round_trip_every_numeric_value(tmp_path):
 
 def test_with_values_changes_a_copy():
     p = Parameters.load()
-    q = p.with_values({"contacts.buttock.stiffness_N_per_m": 60000.0,
+    q = p.with_values({"contacts.buttock_r.stiffness_N_per_m": 90000.0,
                        "joints.t12.z.stiffness_N_per_m": 12000.0}, grade="identified", source="tuned")
-    assert q.value("contacts.buttock.stiffness_N_per_m") == 60000.0
+    assert q.value("contacts.buttock_r.stiffness_N_per_m") == 90000.0
     assert q.value("joints.t12.z.stiffness_N_per_m") == 12000.0
     assert q.joint_dof("t12", "z") == (12000.0, 300.0)
-    assert q.data["contacts"]["buttock"]["stiffness_N_per_m"]["grade"] == "identified"
-    assert p.value("contacts.buttock.stiffness_N_per_m") == 120000.0  # original untouched
+    assert q.data["contacts"]["buttock_r"]["stiffness_N_per_m"]["grade"] == "identified"
+    assert p.value("contacts.buttock_r.stiffness_N_per_m") == 60000.0  # original untouched
 
 
-@pytest.mark.parametrize("path", ["contacts.buttock.stifness_N_per_m", "joints.elbow.pitch.stiffness_Nm_per_rad",
-                                  "simulation.dt", "contacts.buttock.stiffness_N_per_m.grade"])
+@pytest.mark.parametrize("path", ["contacts.buttock_r.stifness_N_per_m", "joints.elbow.pitch.stiffness_Nm_per_rad",
+                                  "simulation.dt", "contacts.buttock_r.stiffness_N_per_m.grade"])
 def test_with_values_unknown_path(path):
     with pytest.raises(InputError) as exc:
         Parameters.load().with_values({path: 1.0})

@@ -175,7 +175,7 @@ def test_compiled_segment_inertia_matches_paper_table2(human, compiled, segment)
     # Source: paper Table 2 moments of inertia about the segment's centre of gravity, axes parallel to the
     # global axes (so the tensor is diagonal).  Composite of segment body + pads built in world axes from
     # d.ximat, m.body_inertia and parallel-axis terms about the composite centre of mass at qpos0;
-    # tolerance 1e-9 kg m^2.  The pelvis carries two pads (buttock, lower back), the upper torso and each
+    # tolerance 1e-9 kg m^2.  The pelvis carries three pads (two buttocks, lower back), the upper torso and each
     # thigh one.
     m, d = compiled
     _, _, inertia = composite(m, d, human.model.segment_bodies[segment])
@@ -184,7 +184,8 @@ def test_compiled_segment_inertia_matches_paper_table2(human, compiled, segment)
 
 def test_pelvis_has_pads(human):
     # The composite checks above are only meaningful if some segments really are split into several bodies.
-    assert len(human.model.segment_bodies["pelvis"]) == 3
+    # pelvis + two buttock pads + the lower back pad (contacts.csv)
+    assert len(human.model.segment_bodies["pelvis"]) == 4
 
 
 @pytest.mark.parametrize("joint", list(PAPER_TABLE1))

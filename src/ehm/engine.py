@@ -443,3 +443,101 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None)
     order = {b: k for k, b in enumerate(range(lo, hi))}
     support = {s: -forces[:, order[b], :] for s, b in model.surface_bodies.items()}
     return RawRun(time_s=np.arange(n) * mj.opt.timestep, sensors=sensors, support_N=support)
+
+
+# ----------------------------------------------------------------------------------------- linearisation
+OUTPUT_DOFS = ("ax", "ay", "az", "x", "y", "z", "roll", "pitch", "yaw")  #: Per point, in output order.
+
+
+@dataclass(frozen=True)
+class LinearModel:
+    """Discrete-time linear model around the settled posture: x+ = A x + B u, y = C x + D u.
+
+    The state x is MuJoCo's tangent-space state (qpos tangent, qvel, act) relative to the settled state;
+    the input u is the seat acceleration (x, y, z) [m/s^2]; the outputs y are, for each point, the absolute
+    acceleration [m/s^2], displacement [m] and rotation (roll, pitch, yaw) [rad], named ``<point>.<dof>``
+    with dof in :data:`OUTPUT_DOFS`.  Contacts are linearised as they are at rest: all stuck.
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    dt_s: float
+    output_names: tuple
+    input_names: tuple = ("x", "y", "z")
+
+
+def _outputs(model: Model, d: mujoco.MjData, ref: dict) -> np.ndarray:
+    mj = model.mj
+    out = []
+    for p in POINTS:
+        vals = {}
+        for kind in ("framelinacc", "framepos", "framequat"):
+            sid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"{p}_{kind}")
+            vals[kind] = d.sensordata[mj.sensor_adr[sid]:mj.sensor_adr[sid] + mj.sensor_dim[sid]]
+        q0inv = np.empty(4)
+        mujoco.mju_negQuat(q0inv, ref[p][1])
+        qrel = np.empty(4)
+        mujoco.mju_mulQuat(qrel, vals["framequat"], q0inv)
+        rotvec = np.empty(3)
+        mujoco.mju_quat2Vel(rotvec, qrel, 1.0)
+        out += [vals["framelinacc"] + G0, vals["framepos"] - ref[p][0], rotvec]
+    return np.concatenate(out)
+
+
+def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
+    """Linearise the settled model by central finite differences of one time step.
+
+    Costs 2 (n_state + 3) time steps (a few milliseconds).
+    """
+    mj = model.mj
+    if model.settled is None:
+        settle(model)
+    s = model.settled
+    ref = {p: settled_point_pose(model, p) for p in POINTS}
+    d = new_data(model)
+    nv, na = mj.nv, mj.na
+    nx = 2 * nv + na
+    warm = settled_data(model).qacc_warmstart.copy()
+
+    def evaluate(dx: np.ndarray, du: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        mujoco.mj_resetData(mj, d)
+        qpos = s["qpos"].copy()
+        mujoco.mj_integratePos(mj, qpos, dx[:nv], 1.0)
+        d.qpos[:] = qpos
+        d.qvel[:] = s["qvel"] + dx[nv:2 * nv]
+        d.act[:] = s["act"] + dx[2 * nv:]
+        d.qacc_warmstart[:] = warm
+        mj.opt.gravity[:] = G0 - du
+        try:
+            mujoco.mj_step(mj, d)
+        finally:
+            mj.opt.gravity[:] = G0
+        y = _outputs(model, d, ref)
+        x_next = np.empty(nx)
+        mujoco.mj_differentiatePos(mj, x_next[:nv], 1.0, s["qpos"], d.qpos)
+        x_next[nv:2 * nv] = d.qvel - s["qvel"]
+        x_next[2 * nv:] = d.act - s["act"]
+        return x_next, y
+
+    x0, y0 = evaluate(np.zeros(nx), np.zeros(3))
+    ny = y0.size
+    A, C = np.empty((nx, nx)), np.empty((ny, nx))
+    B, D = np.empty((nx, 3)), np.empty((ny, 3))
+    for i in range(nx):
+        e = np.zeros(nx)
+        e[i] = eps
+        xp, yp = evaluate(e, np.zeros(3))
+        xm, ym = evaluate(-e, np.zeros(3))
+        A[:, i] = (xp - xm) / (2 * eps)
+        C[:, i] = (yp - ym) / (2 * eps)
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = eps * 1e3  # seat acceleration perturbation [m/s^2]
+        xp, yp = evaluate(np.zeros(nx), e)
+        xm, ym = evaluate(np.zeros(nx), -e)
+        B[:, k] = (xp - xm) / (2 * e[k])
+        D[:, k] = (yp - ym) / (2 * e[k])
+    names = tuple(f"{p}.{dof}" for p in POINTS for dof in OUTPUT_DOFS)
+    return LinearModel(A=A, B=B, C=C, D=D, dt_s=float(mj.opt.timestep), output_names=names)

@@ -82,3 +82,20 @@ def h1_estimate(x: np.ndarray, y: np.ndarray, fs_hz: float, segment_s: float = 1
     ok = pxx > 0
     return TransferEstimate(freq_hz=f[ok], gain=np.abs(h[ok]), phase_deg=np.degrees(np.angle(h[ok])),
                             coherence=np.nan_to_num(coh[ok]))
+
+
+def discrete_frequency_response(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, dt_s: float,
+                                freq_hz: np.ndarray) -> np.ndarray:
+    """Frequency response H(f) = C (z I - A)^-1 B + D, z = exp(j 2 pi f dt), of a discrete state-space model.
+
+    Returns a complex array of shape (n_freq, n_outputs, n_inputs).  Uses the eigen-decomposition of A, so
+    the cost is one decomposition plus O(n_freq n_state (n_out + n_in)).
+    """
+    freq_hz = np.asarray(freq_hz, dtype=float)
+    lam, V = np.linalg.eig(A)
+    CV = C @ V
+    VinvB = np.linalg.solve(V, B)
+    z = np.exp(2j * np.pi * freq_hz * dt_s)
+    inv = 1.0 / (z[:, None] - lam[None, :])  # (n_freq, n_state)
+    H = np.einsum("os,fs,si->foi", CV, inv, VinvB) + D[None, :, :]
+    return H
