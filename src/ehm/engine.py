@@ -261,7 +261,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset())
         a = spec.add_actuator(name=f"integral_{jn}", target=jn, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         a.set_to_pid(kp=0.0, kv=0.0, ki=ki)
     for point in POINTS:
-        for stype in ("FRAMELINACC", "FRAMEPOS", "FRAMEQUAT"):
+        for stype in ("FRAMELINACC", "FRAMEANGACC", "FRAMEPOS", "FRAMEQUAT"):
             spec.add_sensor(name=f"{point}_{stype.lower()}", type=getattr(mujoco.mjtSensor, f"mjSENS_{stype}"),
                             objtype=mujoco.mjtObj.mjOBJ_SITE, objname=point)
     try:
@@ -383,7 +383,8 @@ class RawRun:
     ----------
     time_s : (n,) array
     sensors : dict
-        ``<point>_framelinacc`` (proper acceleration in the seat frame, [m/s^2]), ``<point>_framepos`` [m],
+        ``<point>_framelinacc`` (proper acceleration in the seat frame, [m/s^2]), ``<point>_frameangacc``
+        (angular acceleration, seat axes [rad/s^2]), ``<point>_framepos`` [m],
         ``<point>_framequat`` (w, x, y, z), each (n, 3) or (n, 4).
     support_N : dict
         Force of each seat surface on the body, (n, 3) [N].
@@ -436,7 +437,7 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None)
         mj.opt.gravity[:] = G0
     sensors = {}
     for point in POINTS:
-        for kind in ("framelinacc", "framepos", "framequat"):
+        for kind in ("framelinacc", "frameangacc", "framepos", "framequat"):
             sid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"{point}_{kind}")
             adr, dim = mj.sensor_adr[sid], mj.sensor_dim[sid]
             sensors[f"{point}_{kind}"] = sens[:, adr:adr + dim]
@@ -446,7 +447,8 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None)
 
 
 # ----------------------------------------------------------------------------------------- linearisation
-OUTPUT_DOFS = ("ax", "ay", "az", "x", "y", "z", "roll", "pitch", "yaw")  #: Per point, in output order.
+#: Per point, in output order: absolute acceleration, displacement, rotation, angular acceleration.
+OUTPUT_DOFS = ("ax", "ay", "az", "x", "y", "z", "roll", "pitch", "yaw", "roll_acc", "pitch_acc", "yaw_acc")
 
 
 @dataclass(frozen=True)
@@ -455,7 +457,8 @@ class LinearModel:
 
     The state x is MuJoCo's tangent-space state (qpos tangent, qvel, act) relative to the settled state;
     the input u is the seat acceleration (x, y, z) [m/s^2]; the outputs y are, for each point, the absolute
-    acceleration [m/s^2], displacement [m] and rotation (roll, pitch, yaw) [rad], named ``<point>.<dof>``
+    acceleration [m/s^2], displacement [m], rotation (roll, pitch, yaw) [rad] and angular acceleration
+    [rad/s^2], named ``<point>.<dof>``
     with dof in :data:`OUTPUT_DOFS`.  Contacts are linearised as they are at rest: all stuck.
     """
 
@@ -473,7 +476,7 @@ def _outputs(model: Model, d: mujoco.MjData, ref: dict) -> np.ndarray:
     out = []
     for p in POINTS:
         vals = {}
-        for kind in ("framelinacc", "framepos", "framequat"):
+        for kind in ("framelinacc", "frameangacc", "framepos", "framequat"):
             sid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"{p}_{kind}")
             vals[kind] = d.sensordata[mj.sensor_adr[sid]:mj.sensor_adr[sid] + mj.sensor_dim[sid]]
         q0inv = np.empty(4)
@@ -482,7 +485,7 @@ def _outputs(model: Model, d: mujoco.MjData, ref: dict) -> np.ndarray:
         mujoco.mju_mulQuat(qrel, vals["framequat"], q0inv)
         rotvec = np.empty(3)
         mujoco.mju_quat2Vel(rotvec, qrel, 1.0)
-        out += [vals["framelinacc"] + G0, vals["framepos"] - ref[p][0], rotvec]
+        out += [vals["framelinacc"] + G0, vals["framepos"] - ref[p][0], rotvec, vals["frameangacc"]]
     return np.concatenate(out)
 
 

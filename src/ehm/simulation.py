@@ -41,12 +41,15 @@ class PointMotion:
     rot_rad : (n, 3) array
         Rotation relative to the settled posture as roll, pitch, yaw (intrinsic z-y-x angles of
         R(t) R(0)^T, seat axes) [rad].
+    angacc_radps2 : (n, 3) array
+        Angular acceleration about the seat's x, y, z axes (roll, pitch, yaw) [rad/s^2].
     """
 
     name: str
     acc_mps2: np.ndarray
     disp_m: np.ndarray
     rot_rad: np.ndarray
+    angacc_radps2: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -131,7 +134,8 @@ class RunResult:
         for p, m in self.points.items():
             header += [f"{p}_a{a}_mps2" for a in "xyz"] + [f"{p}_{a}_m" for a in "xyz"]
             header += [f"{p}_{r}_rad" for r in ("roll", "pitch", "yaw")]
-            cols += [m.acc_mps2, m.disp_m, m.rot_rad]
+            header += [f"{p}_{r}_acc_radps2" for r in ("roll", "pitch", "yaw")]
+            cols += [m.acc_mps2, m.disp_m, m.rot_rad, m.angacc_radps2]
         for s, f in self.support_N.items():
             header += [f"{s}_f{a}_N" for a in "xyz"]
             cols.append(f)
@@ -230,6 +234,7 @@ class SeatedHuman:
                 acc_mps2=raw.sensors[f"{p}_framelinacc"] + engine.G0[None, :],
                 disp_m=pos - settled_pos,
                 rot_rad=rel.as_euler("ZYX")[:, ::-1].copy(),
+                angacc_radps2=raw.sensors[f"{p}_frameangacc"],
             )
         support = {
             "seat_pan": raw.support_N["seat_pan"],
