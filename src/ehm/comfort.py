@@ -100,7 +100,8 @@ def _signal_1d(values, arg: str) -> np.ndarray:
     if out.size == 0:
         raise InputError(f"{arg} must hold at least one sample; got an empty array.")
     if not np.all(np.isfinite(out)):
-        raise InputError(f"{arg} must be finite; got a non-finite value at sample {int(np.argmin(np.isfinite(out)))}.")
+        bad = int(np.argmin(np.isfinite(out)))
+        raise InputError(f"{arg} must be finite; got a non-finite value at sample {bad}.")
     return out
 
 
@@ -393,10 +394,10 @@ def metrics(signal, fs_hz: float, weighting: str | None = "Wk", *, tau_s: float 
     -----
     Everything is evaluated over the whole record, including the weighting filter's start-up
     transient.  Integrals are sums times ``1/fs_hz``.  The running rms is the linear (rectangular)
-    integration of ISO 2631-1 6.3.1, Eq. (2),
+    integration of ISO 2631-1 6.3.1,
     ``a_w(t0) = sqrt(1/tau * integral_{t0-tau}^{t0} a_w(t)^2 dt)``, evaluated at every sample with
     the signal taken as zero before the record starts (the window holds ``round(tau_s * fs_hz)``
-    samples); the exponential form of the note to 6.3.1 is not used.  MTVV is its maximum.
+    samples); the exponential-averaging alternative of 6.3.1 is not used.  MTVV is its maximum.
     """
     x = _signal_1d(signal, "signal")
     fs = _positive_float(fs_hz, "fs_hz")
@@ -456,7 +457,9 @@ def total_value(ax, ay, az, fs_hz: float, purpose: str = "comfort", seated: bool
     if not isinstance(seated, (bool, np.bool_)):
         raise InputError(f"seated must be True or False; got {seated!r}.")
     if purpose == "health" and not seated:
-        raise InputError("purpose 'health' applies to seated persons only (ISO 2631-1 clause 7); got seated=False.")
+        raise InputError(
+            "purpose 'health' applies to seated persons only (ISO 2631-1 clause 7); got seated=False."
+        )
     axes = [_signal_1d(a, n) for a, n in ((ax, "ax"), (ay, "ay"), (az, "az"))]
     if not axes[0].size == axes[1].size == axes[2].size:
         raise InputError(

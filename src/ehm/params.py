@@ -101,6 +101,29 @@ class Parameters:
         new._check("changed parameters")
         return new
 
+    def bounds(self, path: str) -> tuple[float, float] | None:
+        """Fitting bounds of a value, from ``bounds`` in its entry, or None when the entry gives none.
+
+        An entry with one value gives ``bounds = [lo, hi]``; a joint degree of freedom gives
+        ``bounds = { stiffness_Nm_per_rad = [lo, hi], damping_Nms_per_rad = [lo, hi] }``.
+        """
+        node, key = self._locate(path)
+        entry = node[key]
+        b = entry.get("bounds") if isinstance(entry, dict) else node.get("bounds", {}).get(key)
+        return None if b is None else (float(b[0]), float(b[1]))
+
+    def with_source(self, key: str, text: str) -> "Parameters":
+        """A copy with one more entry in ``[sources]``."""
+        data = copy.deepcopy(self.data)
+        data.setdefault("sources", {})[key] = text
+        return Parameters(data, self.origin)
+
+    def with_about(self, info: Mapping[str, Any]) -> "Parameters":
+        """A copy with entries added to ``[about]`` (free-form provenance)."""
+        data = copy.deepcopy(self.data)
+        data.setdefault("about", {}).update(info)
+        return Parameters(data, self.origin)
+
     def numeric_paths(self) -> Iterator[str]:
         """Dotted paths of all numeric values (the candidates for fitting and sweeps)."""
         def walk(node: dict, prefix: str):
@@ -211,6 +234,8 @@ class Parameters:
             for key in entry:
                 if key not in _META and key not in keys:
                     raise InputError(f"{label}: unknown key {key!r} in {where}.")
+            if "bounds" in entry:
+                _check_bounds(label, where, entry["bounds"], None if inline_value else allowed)
             if inline_value:
                 if "value" not in entry:
                     raise InputError(f"{label}: {where} has no 'value'.")
@@ -246,6 +271,21 @@ class Parameters:
                 if key not in _CONTACT:
                     raise InputError(f"{label}: unknown key {key!r} in [contacts.{cname}].")
                 check_entry(f"contacts.{cname}.{key}", entry, _CONTACT[key], True)
+
+
+def _check_bounds(label: str, where: str, b: Any, keys: Any) -> None:
+    """``bounds``: [lo, hi] with 0 < lo <= hi, or for multi-value entries a table of such pairs."""
+    pairs = {"": b} if keys is None else b
+    if keys is not None and not isinstance(b, dict):
+        raise InputError(f"{label}: {where}.bounds must be a table such as {{ {next(iter(keys))} = [lo, hi] }}.")
+    for k, pair in pairs.items():
+        name = f"{where}.bounds" + (f".{k}" if k else "")
+        if keys is not None and k not in keys:
+            raise InputError(f"{label}: unknown key {k!r} in {where}.bounds.")
+        ok = (isinstance(pair, list) and len(pair) == 2
+              and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in pair))
+        if not ok or not 0 < pair[0] <= pair[1]:
+            raise InputError(f"{label}: {name} = {pair!r} must be [lo, hi] with 0 < lo <= hi.")
 
 
 def _check_value(label: str, where: str, value: Any, rule: str) -> None:

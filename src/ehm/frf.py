@@ -1,0 +1,251 @@
+"""Seat-to-body frequency response functions (paper Eq. 1), in the long format the tools exchange.
+
+A :class:`FrfTable` holds curves addressed by ``(input_axis, point, dof)``: input axis ``x``, ``y`` or
+``z``; point ``pelvis``, ``trunk`` or ``head``; dof ``x``, ``y``, ``z`` (translational gain,
+(m/s^2)/(m/s^2)) or ``roll``, ``pitch``, ``yaw`` (rotational gain, (rad/s^2)/(m/s^2)).  Its CSV form has
+the columns ``input_axis, point, dof, freq_hz, gain, phase_deg, coherence`` (plus ``gain_sd`` and
+``weight`` in measured data).
+
+Two routes compute a model's table: :func:`time_domain_frf` (random seat vibration, the paper's 0-12 Hz
+Butterworth filter on input and output, Welch H1 estimate) and :func:`linear_frf` (exact frequency
+response of the model linearised around its settled posture).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+from .io import write_text_atomic
+
+AXES = ("x", "y", "z")
+POINTS = ("pelvis", "trunk", "head")
+DOFS = ("x", "y", "z", "roll", "pitch", "yaw")
+COLUMNS = ("input_axis", "point", "dof", "freq_hz", "gain", "phase_deg", "coherence")
+#: Linear-model output holding each FRF dof.
+_LINEAR_OUTPUT = {"x": "ax", "y": "ay", "z": "az", "roll": "roll_acc", "pitch": "pitch_acc", "yaw": "yaw_acc"}
+
+
+@dataclass(frozen=True)
+class Curve:
+    """One frequency response curve.
+
+    Attributes
+    ----------
+    freq_hz, gain, phase_deg, coherence, gain_sd : arrays of equal length (NaN where not known)
+    weight : float
+        Weight of the curve in a total criterion.
+    """
+
+    freq_hz: np.ndarray
+    gain: np.ndarray
+    phase_deg: np.ndarray
+    coherence: np.ndarray
+    gain_sd: np.ndarray
+    weight: float = 1.0
+
+    def peak(self, band_hz: tuple[float, float] = (0.0, math.inf)) -> tuple[float, float]:
+        """(frequency [Hz], gain) of the largest gain within a band."""
+        sel = (self.freq_hz >= band_hz[0]) & (self.freq_hz <= band_hz[1])
+        if not sel.any():
+            raise InputError(f"the curve has no frequencies in {band_hz[0]:g}-{band_hz[1]:g} Hz.")
+        i = int(np.argmax(np.where(sel, self.gain, -np.inf)))
+        return float(self.freq_hz[i]), float(self.gain[i])
+
+    def mean_gain(self, band_hz: tuple[float, float]) -> float:
+        """Mean gain over a band (trapezoidal, per Hz)."""
+        sel = (self.freq_hz >= band_hz[0]) & (self.freq_hz <= band_hz[1])
+        if sel.sum() < 2:
+            raise InputError(f"the curve has fewer than 2 frequencies in {band_hz[0]:g}-{band_hz[1]:g} Hz.")
+        f, g = self.freq_hz[sel], self.gain[sel]
+        return float(np.trapezoid(g, f) / (f[-1] - f[0]))
+
+
+@dataclass(frozen=True)
+class FrfTable:
+    """Frequency response curves by ``(input_axis, point, dof)``.
+
+    Attributes
+    ----------
+    curves : dict
+        ``(input_axis, point, dof) -> Curve``.
+    method : str
+        ``time``, ``linear`` or ``measured``.
+    meta : dict
+        What produced it (input, locks, parameter file).
+    """
+
+    curves: dict
+    method: str = "measured"
+    meta: dict = field(default_factory=dict)
+
+    def curve(self, input_axis: str, point: str, dof: str) -> Curve:
+        """The curve of one path; :class:`InputError` if the table lacks it."""
+        key = (input_axis, point, dof)
+        if key not in self.curves:
+            raise InputError(f"no curve for seat {input_axis} -> {point} {dof} in this table.")
+        return self.curves[key]
+
+    def keys(self) -> list:
+        """Curve keys in the canonical order (axis, point, dof)."""
+        return sorted(self.curves, key=lambda k: (AXES.index(k[0]), POINTS.index(k[1]), DOFS.index(k[2])))
+
+    def to_csv(self, path: Path | str) -> None:
+        """Write the long-format CSV (whole or not at all)."""
+        lines = [",".join(COLUMNS)]
+        for key in self.keys():
+            c = self.curves[key]
+            for f, g, ph, coh in zip(c.freq_hz, c.gain, c.phase_deg, c.coherence):
+                lines.append(",".join([*key, f"{f:.6g}", f"{g:.8g}", _fmt(ph), _fmt(coh)]))
+        write_text_atomic(path, "\n".join(lines) + "\n")
+
+
+def _fmt(v: float) -> str:
+    return "" if not np.isfinite(v) else f"{v:.6g}"
+
+
+def read_frf_csv(path: Path | str, require_gain: bool = True) -> FrfTable:
+    """Read a long-format FRF or measured-gain CSV.
+
+    Required columns: ``input_axis``, ``point``, ``dof``, ``freq_hz``, ``gain``; optional: ``phase_deg``,
+    ``coherence``, ``gain_sd``, ``weight`` (per curve; the same on every row of a curve).  Lines starting with
+    ``#`` are comments.  Rejects, with file and line: unknown axis, point or dof, a non-positive or repeated
+    frequency, a NaN, infinite or negative gain, a non-numeric value, a missing column.
+    """
+    label = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8-sig")
+    except OSError as exc:
+        raise InputError(f"{label}: cannot read the file ({exc.strerror or exc}).") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{label}: not a UTF-8 text file.") from None
+    numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
+    if not numbered:
+        raise InputError(f"{label}: the file is empty.")
+    rows = list(csv.reader([ln for _, ln in numbered]))
+    header = [h.strip() for h in rows[0]]
+    for col in ("input_axis", "point", "dof", "freq_hz", "gain"):
+        if col not in header:
+            raise InputError(f"{label}: missing column {col!r} (the header is line {numbered[0][0]}).")
+    idx = {h: i for i, h in enumerate(header)}
+    data: dict = {}
+    weights: dict = {}
+    for (lineno, _), fields in zip(numbered[1:], rows[1:]):
+        if len(fields) != len(header):
+            raise InputError(f"{label}, line {lineno}: {len(fields)} fields where the header has {len(header)}.")
+        get = {h: fields[i].strip() for h, i in idx.items()}
+        for col, allowed in (("input_axis", AXES), ("point", POINTS), ("dof", DOFS)):
+            if get[col] not in allowed:
+                raise InputError(
+                    f"{label}, line {lineno}, column {col}: unknown {col.replace('_', ' ')} {get[col]!r}; "
+                    f"use one of {', '.join(allowed)}."
+                )
+
+        def number(col: str, optional: bool = False) -> float:
+            raw = get.get(col, "")
+            if raw == "" and optional:
+                return math.nan
+            try:
+                v = float(raw)
+            except ValueError:
+                raise InputError(f"{label}, line {lineno}, column {col}: {raw!r} is not a number.") from None
+            if not math.isfinite(v):
+                raise InputError(f"{label}, line {lineno}, column {col}: {raw!r} is not a finite number.")
+            return v
+
+        f = number("freq_hz")
+        if f <= 0:
+            raise InputError(f"{label}, line {lineno}, column freq_hz: frequency {f:g} Hz must be positive.")
+        g = number("gain", optional=not require_gain)
+        if g < 0:
+            raise InputError(f"{label}, line {lineno}, column gain: gain {g:g} must not be negative.")
+        key = (get["input_axis"], get["point"], get["dof"])
+        w = number("weight", optional=True) if "weight" in idx else 1.0
+        if math.isnan(w):
+            w = 1.0
+        if w < 0:
+            raise InputError(f"{label}, line {lineno}, column weight: weight {w:g} must not be negative.")
+        if key in weights and weights[key] != w:
+            raise InputError(f"{label}, line {lineno}, column weight: the curve {'/'.join(key)} has two weights.")
+        weights[key] = w
+        data.setdefault(key, []).append((lineno, f, g, number("phase_deg", True) if "phase_deg" in idx else math.nan,
+                                         number("coherence", True) if "coherence" in idx else math.nan,
+                                         number("gain_sd", True) if "gain_sd" in idx else math.nan))
+    if not data:
+        raise InputError(f"{label}: the file has a header but no data rows.")
+    curves = {}
+    for key, rows_ in data.items():
+        rows_.sort(key=lambda r: r[1])
+        arr = np.array([r[1:] for r in rows_], dtype=float)
+        dup = np.nonzero(np.diff(arr[:, 0]) == 0)[0]
+        if dup.size:
+            raise InputError(f"{label}, line {rows_[dup[0] + 1][0]}, column freq_hz: frequency {arr[dup[0], 0]:g} Hz "
+                             f"appears twice in the curve {'/'.join(key)}.")
+        curves[key] = Curve(freq_hz=arr[:, 0], gain=arr[:, 1], phase_deg=arr[:, 2], coherence=arr[:, 3],
+                            gain_sd=arr[:, 4], weight=weights[key])
+    return FrfTable(curves=curves, method="measured", meta={"file": label})
+
+
+def _axes(axis: str) -> tuple[str, ...]:
+    if axis == "all":
+        return AXES
+    if axis not in AXES:
+        raise InputError(f"unknown input axis {axis!r}; use x, y, z or all.")
+    return (axis,)
+
+
+def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2: float = 0.3, seed: int = 0,
+                    band_hz: tuple[float, float] = (0.1, 12.0), segment_s: float = 10.0) -> FrfTable:
+    """Transfer functions from random-vibration runs, one run per input axis (paper Eq. 1, H1 estimate).
+
+    Each run excites one seat axis with band-limited random acceleration (``band_hz``, ``rms_mps2``); input
+    and outputs pass the paper's 12 Hz Butterworth low-pass; gains are kept within ``band_hz``.
+    """
+    from .motion import random_vibration
+    from .transfer import h1_estimate
+
+    dt = float(human.params.value("simulation.dt_s"))
+    curves = {}
+    for axis_name in _axes(axis):
+        k = AXES.index(axis_name)
+        run = human.simulate(random_vibration(axis_name, duration_s, rms_mps2, seed=seed, dt_s=dt, band_hz=band_hz))
+        x = run.seat_acc_mps2[:, k]
+        for p in POINTS:
+            pm = run.point(p)
+            for j, dof in enumerate(DOFS):
+                y = pm.acc_mps2[:, j] if j < 3 else pm.angacc_radps2[:, j - 3]
+                e = h1_estimate(x, y, 1.0 / run.dt_s, segment_s=segment_s, lowpass_hz=12.0)
+                sel = (e.freq_hz >= band_hz[0]) & (e.freq_hz <= band_hz[1])
+                curves[(axis_name, p, dof)] = Curve(e.freq_hz[sel], e.gain[sel], e.phase_deg[sel], e.coherence[sel],
+                                                    np.full(sel.sum(), np.nan))
+    meta = {"duration_s": duration_s, "rms_mps2": rms_mps2, "seed": seed, "segment_s": segment_s}
+    return FrfTable(curves=curves, method="time", meta=meta)
+
+
+def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, linear_model=None) -> FrfTable:
+    """Exact frequency response of the model linearised around its settled posture.
+
+    ``freq_hz`` defaults to 0.1 to 12 Hz in 0.05 Hz steps.  Contacts are linearised as stuck.
+    """
+    from . import engine
+    from .transfer import discrete_frequency_response
+
+    f = np.arange(0.1, 12.0 + 1e-9, 0.05) if freq_hz is None else np.asarray(freq_hz, dtype=float)
+    lm = linear_model if linear_model is not None else engine.linearize(human.model)
+    names = list(lm.output_names)
+    axes = _axes(axis)
+    H = discrete_frequency_response(lm.A, lm.B[:, [AXES.index(a) for a in axes]], lm.C,
+                                    lm.D[:, [AXES.index(a) for a in axes]], lm.dt_s, f)
+    nan = np.full(f.size, np.nan)
+    curves = {}
+    for i, a in enumerate(axes):
+        for p in POINTS:
+            for dof in DOFS:
+                h = H[:, names.index(f"{p}.{_LINEAR_OUTPUT[dof]}"), i]
+                curves[(a, p, dof)] = Curve(f, np.abs(h), np.degrees(np.angle(h)), nan, nan)
+    return FrfTable(curves=curves, method="linear", meta={})

@@ -1,0 +1,231 @@
+"""Checks of the subjective vertical conflict (SVC) sickness model against published behaviour.
+
+Sources: Bos and Bles (1998) (conflict theory, Hill function, 720 s second-order lag, sickness peak
+near 0.2 Hz reproducing O'Hanlon and McCauley's seasickness data); Bos and Bles (2002) (vertical from
+otolith-canal interaction); Kamiji et al. (2007) and Wada et al. (2015) (6-DOF model, head tilt
+toward the centre of a curve lowers the MSI).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ehm.errors import InputError
+from ehm.sickness import SicknessResult, SvcParameters, hill_percent, subjective_vertical_conflict
+
+G = 9.81
+DT = 0.05  # s; coarse but resolves 1 Hz with 20 samples a cycle
+
+
+def _time(duration_s: float, dt: float = DT) -> np.ndarray:
+    return np.arange(0.0, duration_s + dt / 2, dt)
+
+
+def _translation(duration_s: float, freq_hz: float, axis: int, amp_mps2: float = 1.0):
+    """Upright head, sinusoidal linear acceleration along one head axis, no rotation."""
+    t = _time(duration_s)
+    gia = np.zeros((t.size, 3))
+    gia[:, 2] = G
+    gia[:, axis] += amp_mps2 * np.sin(2 * np.pi * freq_hz * t)
+    return t, gia, np.zeros_like(gia)
+
+
+@pytest.fixture(scope="module")
+def two_hours_vertical_0p2hz() -> SicknessResult:
+    return subjective_vertical_conflict(*_translation(7200.0, 0.2, axis=2))
+
+
+# --- rest ---------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("pitch_deg", [0.0, 30.0])
+def test_head_at_rest_has_no_conflict_and_no_sickness(pitch_deg):
+    # SVC theory: with the head still, the sensed and the subjective vertical coincide, so no
+    # conflict and no sickness arise, whatever the (constant) head orientation.
+    t = _time(600.0)
+    th = np.deg2rad(pitch_deg)
+    gia = np.tile([-G * np.sin(th), 0.0, G * np.cos(th)], (t.size, 1))
+    res = subjective_vertical_conflict(t, gia, np.zeros_like(gia))
+    assert res.conflict_mps2.shape == (t.size, 3)
+    assert np.max(np.abs(res.conflict_mps2)) < 1e-9
+    assert np.max(res.msi_percent) < 1e-9
+    assert res.final_msi_percent == pytest.approx(0.0, abs=1e-9)
+    np.testing.assert_allclose(res.subjective_vertical, gia, atol=1e-9)
+
+
+def test_rotation_about_the_earth_vertical_gives_no_conflict():
+    # Yaw rotation of an upright head about the gravity axis leaves the vertical unchanged in head
+    # axes: the canals' response (and its decay) does not tilt either vertical, so SVC predicts
+    # no sickness (Bos and Bles 2002).
+    t = _time(600.0)
+    gia = np.tile([0.0, 0.0, G], (t.size, 1))
+    omega = np.zeros_like(gia)
+    omega[:, 2] = np.clip(t / 5.0, 0.0, 1.0) * np.deg2rad(60.0)
+    res = subjective_vertical_conflict(t, gia, omega)
+    assert np.max(np.abs(res.conflict_mps2)) < 1e-9
+    assert res.final_msi_percent == pytest.approx(0.0, abs=1e-9)
+
+
+# --- frequency dependence -------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("axis", [2, 1], ids=["vertical", "lateral"])
+def test_0p2_hz_is_more_sickening_than_1_hz_at_equal_acceleration(axis):
+    # Bos and Bles (1998) reproduce O'Hanlon and McCauley's finding that, at equal acceleration
+    # amplitude, sickness peaks near 0.2 Hz and falls off steeply towards 1 Hz.  30 min exposure.
+    low = subjective_vertical_conflict(*_translation(1800.0, 0.2, axis)).final_msi_percent
+    high = subjective_vertical_conflict(*_translation(1800.0, 1.0, axis)).final_msi_percent
+    assert low > 10.0 * high, (low, high)
+    assert high > 0.0
+
+
+def test_sickness_peaks_near_0p2_hz():
+    # Same source: the frequency of maximum sickness lies near 0.2 Hz (O'Hanlon and McCauley's peak
+    # is at 0.167-0.2 Hz).  Octave-spaced sweep, 1 m/s^2, 30 min each.
+    freqs = [0.05, 0.1, 0.2, 0.4, 0.8]
+    msi = [subjective_vertical_conflict(*_translation(1800.0, f, axis=2)).final_msi_percent for f in freqs]
+    assert freqs[int(np.argmax(msi))] == 0.2, dict(zip(freqs, msi))
+
+
+# --- time course ------------------------------------------------------------------------------------
+
+
+def test_msi_grows_monotonically_and_stays_below_p(two_hours_vertical_0p2hz):
+    # The MSI is a second-order lag of a non-negative Hill output: under constant excitation it
+    # accumulates without decreasing and can never exceed the Hill maximum P = 85 %.
+    res = two_hours_vertical_0p2hz
+    assert np.all(np.diff(res.msi_percent) >= -1e-9)
+    assert res.final_msi_percent > 1.0
+    assert np.max(res.msi_percent) < SvcParameters().msi_max_percent
+
+
+def test_msi_approaches_hill_function_of_steady_conflict(two_hours_vertical_0p2hz):
+    # The lag 1 / (tau_I s + 1)^2 has unit DC gain, so after many tau_I (2 h = 10 tau_I) the MSI
+    # equals the time mean of P * Hill(|conflict|) over the steady (periodic) conflict.
+    res = two_hours_vertical_0p2hz
+    last = res.time_s > res.time_s[-1] - 100.0  # 20 periods of 5 s
+    asymptote = float(np.mean(hill_percent(res.conflict_magnitude_mps2[last])))
+    assert res.final_msi_percent == pytest.approx(asymptote, rel=2e-3)
+
+
+def test_msi_follows_the_second_order_lag_step_response(two_hours_vertical_0p2hz):
+    # For a steady Hill output H the second-order lag gives MSI(t) = H (1 - (1 + t/tau_I) exp(-t/tau_I)):
+    # 1 - 2/e = 26.4 % of the asymptote after one tau_I = 720 s (Bos and Bles 1998).
+    res = two_hours_vertical_0p2hz
+    asymptote = res.final_msi_percent
+    for t_s in (720.0, 1440.0, 3600.0):
+        x = t_s / 720.0
+        expected = asymptote * (1.0 - (1.0 + x) * np.exp(-x))
+        got = float(np.interp(t_s, res.time_s, res.msi_percent))
+        assert got == pytest.approx(expected, rel=0.02), (t_s, got, expected)
+
+
+# --- six degrees of freedom ---------------------------------------------------------------------------
+
+
+def _slalom_with_head_roll(tilt_fraction: float):
+    """0.2 Hz lateral (centripetal) acceleration of 2 m/s^2; the head rolls by tilt_fraction of the
+    GIA angle toward the centre of the curve (1: aligned with the GIA, negative: outward)."""
+    t = _time(1800.0)
+    ay = 2.0 * np.sin(2 * np.pi * 0.2 * t)  # +y (left) is the centre of the curve when ay > 0
+    phi = -tilt_fraction * np.arctan2(ay, G)  # roll about x; negative roll leans the head to +y
+    c, s = np.cos(phi), np.sin(phi)
+    gia = np.column_stack([np.zeros_like(t), c * ay + s * G, -s * ay + c * G])  # world GIA in head axes
+    omega = np.zeros_like(gia)
+    omega[:, 0] = np.gradient(phi, t)
+    return t, gia, omega
+
+
+def test_head_tilt_toward_the_curve_centre_lowers_msi():
+    # Kamiji et al. (2007), Wada et al. (2015): passengers who tilt the head toward the centripetal
+    # direction, as drivers do, get a lower predicted MSI than with the head upright, and tilting
+    # outward raises it.
+    outward, upright, inward = (subjective_vertical_conflict(*_slalom_with_head_roll(k)).final_msi_percent
+                                for k in (-0.5, 0.0, 1.0))
+    assert inward < upright < outward, (inward, upright, outward)
+
+
+def test_slow_static_head_tilt_leaves_no_lasting_conflict():
+    # A real tilt (GIA turning with the head, canals sensing the roll) is resolved by the
+    # otolith-canal interaction: once the head is still, both verticals agree again.
+    t = _time(300.0)
+    phi = np.deg2rad(20.0) * np.clip((t - 5.0) / 10.0, 0.0, 1.0)
+    gia = np.column_stack([np.zeros_like(t), G * np.sin(phi), G * np.cos(phi)])
+    omega = np.zeros_like(gia)
+    omega[:, 0] = np.gradient(phi, t)
+    res = subjective_vertical_conflict(t, gia, omega)
+    assert res.conflict_magnitude_mps2[-1] < 1e-3
+    np.testing.assert_allclose(res.subjective_vertical[-1], gia[-1], atol=1e-3)
+    assert res.final_msi_percent < 0.1
+
+
+# --- input checks ------------------------------------------------------------------------------------
+
+
+def _good(n: int = 50):
+    t = np.arange(n) * 0.05
+    gia = np.tile([0.0, 0.0, G], (n, 1))
+    return t, gia, np.zeros((n, 3))
+
+
+def test_small_timing_jitter_is_accepted():
+    t, gia, omega = _good()
+    t = t + 0.002 * 0.05 * np.sin(np.arange(t.size))  # 0.4 % jitter
+    assert subjective_vertical_conflict(t, gia, omega).msi_percent.shape == (t.size,)
+
+
+def _bad_cases():
+    t, gia, omega = _good()
+    nan_gia = gia.copy()
+    nan_gia[3, 1] = np.nan
+    inf_omega = omega.copy()
+    inf_omega[7, 2] = np.inf
+    t_back = t.copy()
+    t_back[10] = t_back[9]
+    t_uneven = t.copy()
+    t_uneven[20:] += 0.01
+    t_nan = t.copy()
+    t_nan[5] = np.nan
+    return {
+        "time 2-D": ((t[:, None], gia, omega), "time_s"),
+        "time too short": ((t[:1], gia[:1], omega[:1]), "time_s"),
+        "time not increasing": ((t_back, gia, omega), "time_s"),
+        "time not uniform": ((t_uneven, gia, omega), "time_s"),
+        "time NaN": ((t_nan, gia, omega), "time_s"),
+        "gia wrong shape": ((t, gia[:, :2], omega), "gia_mps2"),
+        "gia wrong length": ((t, gia[:-1], omega), "gia_mps2"),
+        "gia NaN": ((t, nan_gia, omega), "gia_mps2"),
+        "gia text": ((t, "up", omega), "gia_mps2"),
+        "omega wrong shape": ((t, gia, omega.T), "omega_radps"),
+        "omega inf": ((t, gia, inf_omega), "omega_radps"),
+        "sampling too coarse": ((np.arange(50) * 1.0, gia, omega), "time_s"),
+    }
+
+
+@pytest.mark.parametrize("case", list(_bad_cases()))
+def test_bad_inputs_raise_input_error_naming_the_argument(case):
+    args, name = _bad_cases()[case]
+    with pytest.raises(InputError, match=name):
+        subjective_vertical_conflict(*args)
+
+
+def test_fast_rotation_for_the_sample_interval_is_refused():
+    t, gia, omega = _good()
+    omega[:, 0] = 20.0  # 1 rad per 0.05 s sample
+    with pytest.raises(InputError, match="time_s"):
+        subjective_vertical_conflict(t, gia, omega)
+
+
+def test_bad_parameters_raise_input_error():
+    t, gia, omega = _good()
+    with pytest.raises(InputError, match="params"):
+        subjective_vertical_conflict(t, gia, omega, params={"k_a": 0.1})
+    with pytest.raises(InputError, match="hill_b_mps2"):
+        SvcParameters(hill_b_mps2=0.0)
+    with pytest.raises(InputError, match="k_vc_per_s"):
+        SvcParameters(k_vc_per_s=-1.0)
+    with pytest.raises(InputError, match="msi_max_percent"):
+        SvcParameters(msi_max_percent=120.0)
+    with pytest.raises(InputError, match="tau|time_constant"):
+        SvcParameters(msi_time_constant_s=float("nan"))
