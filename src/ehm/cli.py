@@ -168,6 +168,117 @@ def cmd_demo(args) -> int:
     return 0
 
 
+def cmd_frf(args) -> int:
+    from .frf import linear_frf, time_domain_frf
+
+    human = _human(args)
+    if args.method == "linear":
+        if not args.df > 0:
+            raise InputError(f"--df must be a positive frequency step in Hz, not {args.df}.")
+        table = linear_frf(human, args.axis, freq_hz=np.arange(args.band[0], args.band[1] + 1e-9, args.df))
+    else:
+        table = time_domain_frf(human, args.axis, duration_s=args.duration, rms_mps2=args.rms, seed=args.seed,
+                                band_hz=tuple(args.band))
+    table.to_csv(args.out)
+    print(f"wrote {args.out}: {len(table.curves)} curves ({args.method} method)")
+    return 0
+
+
+def cmd_compare(args) -> int:
+    from .criterion import compare
+    from .frf import read_frf_csv
+
+    result = compare(read_frf_csv(args.data), read_frf_csv(args.frf, require_gain=True), tuple(args.band))
+    if args.json:
+        print(json.dumps(result.as_dict(), indent=2))
+    else:
+        for c in result.curves:
+            print(f"seat {c.input_axis} -> {c.point:<6} {c.dof:<5} crit {c.crit:.5g} ({c.n_freq} frequencies)")
+        print(f"total criterion {result.total:.5g}")
+    return 0
+
+
+def cmd_fit(args) -> int:
+    from .fit import fit, print_progress, write_identified
+    from .frf import read_frf_csv
+
+    data = read_frf_csv(args.data)
+    params = Parameters.load(args.params)
+    body = load_body(args.segments, args.joints, args.contacts)
+    result = fit(data, params=params, free=args.free, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+                 body=body, band_hz=tuple(args.band), max_evals=args.max_evals, workers=args.workers,
+                 time_check=not args.no_time_check, progress=print_progress, data_label=str(args.data))
+    write_identified(result, args.data, args.out)
+    print(f"criterion {result.crit_before:.5g} -> {result.crit_after:.5g} (linear model)"
+          + (f", {result.crit_after_time:.5g} (time-domain check)" if result.crit_after_time is not None else "")
+          + f"; {result.n_eval} evaluations in {result.wall_s:.0f} s; {result.message}")
+    for p in result.free:
+        print(f"  {p}: {result.start[p]:.5g} -> {result.final[p]:.5g}")
+    print(f"wrote {args.out}")
+    return 0
+
+
+def cmd_plot_frf(args) -> int:
+    from .frf import AXES, read_frf_csv
+    from .plotting import plot_frf_grid
+
+    tables = []
+    for path in args.frf:
+        t = read_frf_csv(path)
+        tables.append((Path(path).stem, t.__class__(t.curves, method="model")))
+    if args.data:
+        tables.append(("measured", read_frf_csv(args.data)))
+    axes = [a for a in AXES if any(k[0] == a for _, t in tables for k in t.curves)]
+    out = Path(args.out)
+    written = []
+    for a in axes:
+        path = out if len(axes) == 1 else out.with_name(f"{out.stem}_{a}{out.suffix}")
+        plot_frf_grid(tables, a, path)
+        written.append(str(path))
+    print("wrote " + ", ".join(written))
+    return 0
+
+
+def cmd_study_locking(args) -> int:
+    from .plotting import plot_locking_study
+    from .study import PAPER_VARIANTS, locking_study, parse_variant
+
+    variants = dict(PAPER_VARIANTS)
+    for v in args.variant or []:
+        name, joints = parse_variant(v)
+        variants[name] = joints
+    params = Parameters.load(args.params)
+    study = locking_study(params=params, variants=variants, method=args.method, band_hz=tuple(args.band),
+                          duration_s=args.duration, progress=print)
+    out = Path(args.out)
+    header = ["variant", "locked", "input_axis", "point", "dof", "peak_hz", "peak_gain", "band_mean_gain",
+              "peak_hz_change_pct", "peak_gain_change_pct", "band_mean_change_pct"]
+    lines = [",".join(header)]
+    for r in study.rows:
+        lines.append(",".join([r.variant, "+".join(r.locked), r.input_axis, r.point, r.dof]
+                              + [f"{v:.6g}" for v in (r.peak_hz, r.peak_gain, r.band_mean_gain, r.peak_hz_change_pct,
+                                                     r.peak_gain_change_pct, r.band_mean_change_pct)]))
+    from .io import write_text_atomic
+
+    write_text_atomic(out / "locking.csv", "\n".join(lines) + "\n")
+    findings = study.findings()
+    write_json_atomic(out / "locking.json", {"method": study.method, "band_hz": list(study.band_hz),
+                                             "variants": {k: list(v) for k, v in variants.items()},
+                                             "findings": findings})
+    for name, table in study.tables.items():
+        table.to_csv(out / f"frf_{name}.csv")
+    plot_locking_study(study, out / "locking.png")
+    print("findings (baseline -> variant, or change from baseline):")
+    for k, v in findings.items():
+        if isinstance(v, list):
+            print(f"  {k}: {v[0]:.2f} -> {v[1]:.2f}")
+        else:
+            print(f"  {k}: peak {v['peak_gain_change_pct']:+.0f} %, mean over "
+                  f"{study.band_hz[0]:g}-{study.band_hz[1]:g} Hz {v['band_mean_gain_change_pct']:+.0f} %")
+    print(f"wrote {out}/locking.csv, locking.json, locking.png and frf_<variant>.csv")
+    return 0
+
+
 def cmd_params(args) -> int:
     params = Parameters.load(args.params)
     if args.export:
@@ -208,6 +319,52 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--axes", nargs="+", default=["x", "y", "z"], choices=("x", "y", "z"))
     p.add_argument("--out", default="ehm-demo", metavar="DIR", help="output folder (default ehm-demo)")
     p.set_defaults(func=cmd_demo)
+
+    p = sub.add_parser("frf", help="seat-to-body frequency responses (time-domain H1 or linearised model)")
+    _model_options(p)
+    _excitation_options(p, 60.0)
+    p.add_argument("--axis", default="all", choices=("x", "y", "z", "all"), help="input axis (default all)")
+    p.add_argument("--method", default="linear", choices=("time", "linear"), help="estimation route (default linear)")
+    p.add_argument("--df", type=float, default=0.05, help="frequency step of the linear method [Hz] (default 0.05)")
+    p.add_argument("--out", required=True, metavar="FRF.csv")
+    p.set_defaults(func=cmd_frf)
+
+    p = sub.add_parser("compare", help="the paper's criterion (Eqs. 2-3) of measured gains against model gains")
+    p.add_argument("--data", required=True, metavar="EXP.csv", help="measured gains (long format)")
+    p.add_argument("--frf", required=True, metavar="MODEL.csv", help="model gains from 'ehm frf'")
+    p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"))
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_compare)
+
+    p = sub.add_parser("fit", help="identify parameters from measured gains (writes a new parameter file)")
+    _model_options(p)
+    p.add_argument("--data", required=True, metavar="EXP.csv", help="measured gains (long format)")
+    p.add_argument("--free", nargs="+", metavar="PATTERN",
+                   help="parameters to fit, glob patterns of dotted names (default: neck and spine joints)")
+    p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"))
+    p.add_argument("--max-evals", type=int, default=400, help="most model evaluations (default 400)")
+    p.add_argument("--workers", type=int, help="processes for the finite differences (default: 2 or the cores)")
+    p.add_argument("--no-time-check", action="store_true", help="skip the time-domain check of the result")
+    p.add_argument("--out", required=True, metavar="FITTED.toml")
+    p.set_defaults(func=cmd_fit)
+
+    p = sub.add_parser("plot-frf", help="plot gains: one grid per input axis, model lines and measured markers")
+    p.add_argument("frf", nargs="+", metavar="FRF.csv")
+    p.add_argument("--data", metavar="EXP.csv")
+    p.add_argument("--out", required=True, metavar="FIG.png")
+    p.set_defaults(func=cmd_plot_frf)
+
+    p = sub.add_parser("study", help="studies: 'locking' (the paper's joint-locking study)")
+    ssub = p.add_subparsers(dest="study", required=True)
+    q = ssub.add_parser("locking", help="baseline, spine locked (SL), neck locked (NL) and named variants")
+    q.add_argument("--params", metavar="FILE.toml")
+    q.add_argument("--variant", action="append", metavar="NAME=J1,J2", help="another variant to run")
+    q.add_argument("--method", default="linear", choices=("linear", "time"))
+    q.add_argument("--band", type=float, nargs=2, default=(0.5, 4.0), metavar=("LOW_HZ", "HIGH_HZ"),
+                   help="band of the mean-gain comparison (default 0.5 4)")
+    q.add_argument("--duration", type=float, default=60.0, help="run length per axis of the time method [s]")
+    q.add_argument("--out", required=True, metavar="DIR")
+    q.set_defaults(func=cmd_study_locking)
 
     p = sub.add_parser("params", help="print or export the parameter file")
     p.add_argument("--params", metavar="FILE.toml", help="parameter file to read (default: the shipped defaults)")

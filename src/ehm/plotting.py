@@ -105,3 +105,68 @@ def plot_transmissibility(rows: list[dict], path: Path | str | None = None, band
     fig.suptitle(title)
     fig.tight_layout()
     return _save(fig, path)
+
+
+_DOF_UNITS = {"x": "(m/s²)/(m/s²)", "y": "(m/s²)/(m/s²)", "z": "(m/s²)/(m/s²)",
+              "roll": "(rad/s²)/(m/s²)", "pitch": "(rad/s²)/(m/s²)", "yaw": "(rad/s²)/(m/s²)"}
+_DOF_ORDER = ("x", "y", "z", "roll", "pitch", "yaw")
+_POINT_ORDER = ("head", "trunk", "pelvis")
+
+
+def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None, title: str | None = None,
+                  band_hz=(0.1, 12.0)):
+    """Gains of one input axis: rows head, trunk, pelvis; one column per output dof (as the paper's Figs. 3-5).
+
+    ``tables`` is a list of ``(label, FrfTable)``; a table whose method is ``measured`` is drawn as
+    markers (with gain_sd error bars when given), the others as lines.
+    """
+    dofs = [d for d in _DOF_ORDER if any((input_axis, p, d) in t.curves for _, t in tables for p in _POINT_ORDER)]
+    if not dofs:
+        raise ValueError(f"no curves for input axis {input_axis}")
+    fig, axes = plt.subplots(len(_POINT_ORDER), len(dofs), figsize=(3.3 * len(dofs), 7.5), squeeze=False, sharex=True)
+    for i, p in enumerate(_POINT_ORDER):
+        for j, d in enumerate(dofs):
+            ax = axes[i, j]
+            for k, (label, t) in enumerate(tables):
+                c = t.curves.get((input_axis, p, d))
+                if c is None:
+                    continue
+                sel = (c.freq_hz >= band_hz[0]) & (c.freq_hz <= band_hz[1])
+                if t.method == "measured":
+                    sd = c.gain_sd[sel] if np.isfinite(c.gain_sd[sel]).any() else None
+                    ax.errorbar(c.freq_hz[sel], c.gain[sel], yerr=sd, fmt="o", ms=3, color="k", lw=0.8, label=label)
+                else:
+                    ax.plot(c.freq_hz[sel], c.gain[sel], lw=1.3, label=label, color=f"C{k}")
+            ax.set_xscale("log")
+            ax.grid(alpha=0.3, which="both")
+            ax.set_title(f"{p} {d}", fontsize=9)
+            if j == 0:
+                ax.set_ylabel("gain")
+            if i == len(_POINT_ORDER) - 1:
+                ax.set_xlabel("frequency [Hz]")
+            if i == 0 and j == 0:
+                ax.legend(fontsize=7)
+    fig.suptitle(title or f"seat {input_axis} input: gains; translations {_DOF_UNITS['x']}, rotations {_DOF_UNITS['roll']}")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_locking_study(study, path: Path | str | None = None):
+    """The paper's locking findings: key paths for every variant."""
+    keys = [("z", "trunk", "z"), ("z", "head", "z"), ("z", "pelvis", "z"),
+            ("x", "head", "pitch"), ("z", "head", "pitch"), ("y", "head", "y"),
+            ("y", "head", "roll"), ("y", "head", "yaw"), ("y", "trunk", "roll")]
+    fig, axes = plt.subplots(3, 3, figsize=(12, 9))
+    for ax, key in zip(axes.flat, keys):
+        for k, (name, table) in enumerate(study.tables.items()):
+            c = table.curve(*key)
+            sel = (c.freq_hz >= 0.3) & (c.freq_hz <= 15)
+            ax.plot(c.freq_hz[sel], c.gain[sel], lw=1.3, color=f"C{k}", label=name)
+        ax.set_xscale("log")
+        ax.grid(alpha=0.3, which="both")
+        ax.set_title(f"seat {key[0]} → {key[1]} {key[2]} [{_DOF_UNITS[key[2]]}]", fontsize=9)
+        ax.set_xlabel("frequency [Hz]")
+    axes[0, 0].legend(fontsize=8)
+    fig.suptitle(f"Joint-locking study ({study.method} model): SL = T12 locked, NL = lower neck locked")
+    fig.tight_layout()
+    return _save(fig, path)
