@@ -14,6 +14,15 @@ random_vibration, sine, sweep, load_motion_csv    seat motions
 Parameters         a checked parameter file (``Parameters.load``, ``.with_values``, ``.export``)
 load_body          the body tables (segments, joints, contacts)
 h1_estimate        seat-to-body transfer function from time histories
+
+Modules
+-------
+ehm.frf            FRF tables: time_domain_frf, linear_frf, read_frf_csv
+ehm.criterion      the paper's criterion (Eqs. 2-3): compare, curve_criterion
+ehm.fit            parameter identification: fit, write_identified
+ehm.study          the joint-locking study: locking_study
+ehm.comfort        ISO 2631-1 weightings and metrics
+ehm.sickness       subjective vertical conflict motion sickness model
 EhmError, InputError, DivergenceError    what goes wrong, in one sentence
 
 Conventions: SI units, radians inside; axes x forward, y left, z up; origin at the pelvis centre of
