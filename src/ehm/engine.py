@@ -111,6 +111,8 @@ class Model:
     point_sites: dict
     surface_bodies: dict
     segment_bodies: dict
+    seat: dict | None = None  #: Rotating seat: body id, dof, qpos and ctrl addresses (None: static seat).
+    pelvis_qpos: int = 0  #: Address of the pelvis free joint in qpos.
     settled: dict | None = field(default=None, repr=False)
 
     @property
@@ -124,7 +126,12 @@ class Model:
         return float(self.mj.body_subtreemass[self.segment_bodies["pelvis"][0]])
 
 
-def build(body: Body, params: Parameters, locked: frozenset | set = frozenset()) -> Model:
+SEAT_DOFS = ("yaw", "pitch", "roll")  #: Hinges of a rotating seat, outermost first (intrinsic z-y-x).
+_SEAT_INERTIA = 1e5  #: Moment of inertia of a rotating seat about its pivot [kg m^2]: the person barely moves it.
+_SEAT_BANDWIDTH_HZ = 20.0  #: Bandwidth of the seat's tracking controller (on top of feed-forward).
+
+
+def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(), rotating_seat: bool = False) -> Model:
     """Compile the seated human.
 
     Parameters
@@ -135,6 +142,11 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset())
         Joint, contact, posture, seat and solver parameters.
     locked : set of str
         Names of joints to weld (the complete set: include ``waist`` to keep the paper's default).
+    rotating_seat : bool
+        Put seat pan, backrest and floor on a heavy seat body that rotates about a pivot at the seat pan
+        reference point (yaw, pitch and roll hinges driven by feed-forward plus stiff PD control), for
+        vehicle motion with rotation.  The surfaces are then thin boxes (MuJoCo allows planes only on
+        static bodies), which makes each step about 40 % slower.
     """
     params.check_against(body)
     known = {j.name for j in body.joints}
@@ -161,10 +173,24 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset())
     # Seat surfaces: static bodies, one per surface, so their contact forces can be read by body.
     plane_size = {"seat_pan": [0.25, 0.25, 0.05], "floor": [0.5, 0.4, 0.1],
                   "backrest_lower": [0.08, 0.18, 0.05], "backrest_upper": [0.10, 0.20, 0.05]}
+    parent, origin = spec.worldbody, np.zeros(3)
+    if rotating_seat:
+        origin = seat.planes["seat_pan"][0]
+        parent = spec.worldbody.add_body(name="seat_frame", pos=origin)
+        parent.explicitinertial = True
+        parent.mass = _SEAT_INERTIA
+        parent.inertia = [_SEAT_INERTIA] * 3
+        for dof, axis in zip(SEAT_DOFS, ([0, 0, 1], [0, 1, 0], [1, 0, 0])):
+            parent.add_joint(name=f"seat.{dof}", type=mujoco.mjtJoint.mjJNT_HINGE, axis=axis)
     for surface, (point, normal) in seat.planes.items():
-        sb = spec.worldbody.add_body(name=surface, pos=point, quat=_quat_z_to(normal))
-        sb.add_geom(name=surface, type=mujoco.mjtGeom.mjGEOM_PLANE, size=plane_size[surface],
-                    contype=0, conaffinity=0, rgba=[0.55, 0.55, 0.6, 1.0])
+        sb = parent.add_body(name=surface, pos=point - origin, quat=_quat_z_to(normal))
+        if rotating_seat:  # a thin box whose top face is the surface
+            thick = 0.02
+            sb.add_geom(name=surface, type=mujoco.mjtGeom.mjGEOM_BOX, size=plane_size[surface][:2] + [thick],
+                        pos=[0, 0, -thick], contype=0, conaffinity=0, rgba=[0.55, 0.55, 0.6, 1.0])
+        else:
+            sb.add_geom(name=surface, type=mujoco.mjtGeom.mjGEOM_PLANE, size=plane_size[surface],
+                        contype=0, conaffinity=0, rgba=[0.55, 0.55, 0.6, 1.0])
 
     # Pads take their mass from their segment: keep each segment's total mass, centre of gravity and
     # inertia exactly as in the table.
@@ -257,11 +283,16 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset())
         mu = float(params.value(f"contacts.{c.name}.friction"))
         spec.add_pair(name=c.name, geomname1=c.surface, geomname2=c.name, condim=3 if mu > 0 else 1,
                       friction=[mu, mu, 0.005, 1e-4, 1e-4], solimp=[d_imp, d_imp, 0.001, 0.5, 2.0])
+    if rotating_seat:  # tracking PD with position and velocity set-points (two controls each)
+        wn = 2 * math.pi * _SEAT_BANDWIDTH_HZ
+        for dof in SEAT_DOFS:
+            a = spec.add_actuator(name=f"seat_{dof}", target=f"seat.{dof}", trntype=mujoco.mjtTrn.mjTRN_JOINT)
+            a.set_to_pid(kp=_SEAT_INERTIA * wn ** 2, kv=2 * _SEAT_INERTIA * wn)
     for jn, ki in actuated:
         a = spec.add_actuator(name=f"integral_{jn}", target=jn, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         a.set_to_pid(kp=0.0, kv=0.0, ki=ki)
     for point in POINTS:
-        for stype in ("FRAMELINACC", "FRAMEANGACC", "FRAMEPOS", "FRAMEQUAT"):
+        for stype in ("FRAMELINACC", "FRAMEANGACC", "FRAMEPOS", "FRAMEQUAT", "FRAMEANGVEL"):
             spec.add_sensor(name=f"{point}_{stype.lower()}", type=getattr(mujoco.mjtSensor, f"mjSENS_{stype}"),
                             objtype=mujoco.mjtObj.mjOBJ_SITE, objname=point)
     try:
@@ -282,12 +313,21 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset())
         # chattering at the Nyquist frequency; the NoSlip solver then enforces sticking.
         mj.pair_solreffriction[i] = [0.0, -d_imp / mj.opt.timestep]
 
+    if rotating_seat:
+        spec_body = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, "seat_frame")
+        seat_dofs = [int(mj.jnt_dofadr[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_JOINT, f"seat.{d}")]) for d in SEAT_DOFS]
+        seat_qpos = [int(mj.jnt_qposadr[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_JOINT, f"seat.{d}")]) for d in SEAT_DOFS]
+        seat_ctrl = [int(mj.actuator_ctrladr[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_ACTUATOR, f"seat_{d}")]) for d in SEAT_DOFS]
+        seat_info = {"body": spec_body, "dofs": seat_dofs, "qpos": seat_qpos, "ctrl": seat_ctrl, "pivot": origin.copy()}
+    else:
+        seat_info = None
     point_sites = {p: mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SITE, p) for p in POINTS}
     surface_bodies = {s: mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, s) for s in SURFACES}
     seg_ids = {s: [mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, n) for n in names]
                for s, names in segment_bodies.items()}
     return Model(mj=mj, body=body, params=params, locked=locked, dof_names=dof_names,
-                 point_sites=point_sites, surface_bodies=surface_bodies, segment_bodies=seg_ids)
+                 point_sites=point_sites, surface_bodies=surface_bodies, segment_bodies=seg_ids, seat=seat_info,
+                 pelvis_qpos=int(mj.jnt_qposadr[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_JOINT, "pelvis")]))
 
 
 _DIVERGED_M = 0.5  #: A point further than this from its settled position means the run has diverged [m].
@@ -300,8 +340,9 @@ def _instability(model: Model, d: mujoco.MjData) -> str | None:
         return "the accelerations became infinite or NaN"
     if not np.isfinite(d.qpos).all() or not np.isfinite(d.qvel).all():
         return "the state became infinite or NaN"
-    if abs(d.qpos[2]) > _DIVERGED_M or abs(d.qpos[0]) > _DIVERGED_M or abs(d.qpos[1]) > _DIVERGED_M:
-        return f"the pelvis moved {np.linalg.norm(d.qpos[:3]):.3g} m from its seated position"
+    pelvis = d.qpos[model.pelvis_qpos:model.pelvis_qpos + 3]
+    if np.abs(pelvis).max() > _DIVERGED_M:
+        return f"the pelvis moved {np.linalg.norm(pelvis):.3g} m from its seated position"
     return None
 
 
@@ -395,15 +436,19 @@ class RawRun:
     support_N: dict
 
 
-def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None) -> RawRun:
+def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
+        seat_rotation: tuple | None = None) -> RawRun:
     """Run the settled model with a seat acceleration history, one row per time step.
 
     Parameters
     ----------
     seat_acc_mps2 : (n, 3) array
-        Seat translational acceleration [m/s^2] at t = 0, dt, 2 dt, ... in seat axes.
+        Translational acceleration of the seat pivot [m/s^2] at t = 0, dt, 2 dt, ... in world axes (equal
+        to seat axes when the seat does not rotate).
     d : MjData, optional
-        Start state (default: the settled state).
+        Start state (default: the settled state); advanced in place, so consecutive calls continue a run.
+    seat_rotation : (angles, rates, accelerations), each (n, 3) yaw-pitch-roll, optional
+        Prescribed seat orientation for a model built with ``rotating_seat=True``.
     """
     mj = model.mj
     if d is None:
@@ -418,11 +463,25 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None)
     forces = np.empty((n, len(bodies), 3))
     gravity = G0[None, :] - acc
     t0 = d.time
+    if (seat_rotation is not None) != (model.seat is not None):
+        raise InputError("a rotating seat needs a seat rotation, and a seat rotation needs a model built with "
+                         "rotating_seat=True.")
+    if seat_rotation is not None:
+        q_des, qd_des, qdd_des = (np.asarray(a, dtype=float) for a in seat_rotation)
+        ctrl_adr = np.array(model.seat["ctrl"])
+        ctrl = np.empty((n, 6))
+        ctrl[:, 0::2], ctrl[:, 1::2] = q_des, qd_des
+        ctrl_idx = np.column_stack([ctrl_adr, ctrl_adr + 1]).ravel()
+        ff = _SEAT_INERTIA * qdd_des  # feed-forward torque of the heavy seat
+        dof_idx = np.array(model.seat["dofs"])
     # Hot loop: views bound once, no allocation per step.
     g_view, s_view, f_view, step = mj.opt.gravity, d.sensordata, d.cfrc_ext[lo:hi, 3:], mujoco.mj_step
     try:
         for i in range(n):
             g_view[:] = gravity[i]
+            if seat_rotation is not None:
+                d.ctrl[ctrl_idx] = ctrl[i]
+                d.qfrc_applied[dof_idx] = ff[i]
             step(mj, d)
             sens[i] = s_view
             forces[i] = f_view
@@ -437,7 +496,7 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None)
         mj.opt.gravity[:] = G0
     sensors = {}
     for point in POINTS:
-        for kind in ("framelinacc", "frameangacc", "framepos", "framequat"):
+        for kind in ("framelinacc", "frameangacc", "framepos", "framequat", "frameangvel"):
             sid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"{point}_{kind}")
             adr, dim = mj.sensor_adr[sid], mj.sensor_dim[sid]
             sensors[f"{point}_{kind}"] = sens[:, adr:adr + dim]

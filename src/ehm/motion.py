@@ -46,6 +46,8 @@ AXIS_NAMES: tuple[str, str, str] = ("x", "y", "z")
 
 #: Columns required in a motion CSV file, in the order time, x, y, z.
 CSV_COLUMNS: tuple[str, str, str, str] = ("time_s", "ax_mps2", "ay_mps2", "az_mps2")
+#: Optional angular-velocity columns (all three or none): roll, pitch and yaw rates [rad/s].
+CSV_ROTATION_COLUMNS: tuple[str, str, str] = ("wx_radps", "wy_radps", "wz_radps")
 
 #: Largest number of samples a generated or resampled motion may have; it
 #: catches a mistyped time step before it exhausts memory.
@@ -79,6 +81,9 @@ class SeatMotion:
     description : str
         Human-readable summary, e.g.
         ``"band-limited random, z, 0.3 m/s^2 rms, 0.1-12 Hz, seed 0"``.
+    angvel_radps : numpy.ndarray, shape (n, 3), optional
+        Seat (vehicle) angular velocity about its own x, y, z axes (roll, pitch,
+        yaw rates) [rad/s]; None for a seat that only translates.
 
     Notes
     -----
@@ -90,6 +95,7 @@ class SeatMotion:
     time_s: np.ndarray
     acc_mps2: np.ndarray
     description: str
+    angvel_radps: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         try:
@@ -140,6 +146,20 @@ class SeatMotion:
             raise InputError(
                 f"SeatMotion: description must be a str, got {type(self.description).__name__}."
             )
+        if self.angvel_radps is not None:
+            w = np.array(self.angvel_radps, dtype=float)
+            if w.shape != (n, 3):
+                raise InputError(
+                    f"SeatMotion: angvel_radps must have shape ({n}, 3) to match time_s, got {w.shape}."
+                )
+            bad_rows, bad_cols = np.nonzero(~np.isfinite(w))
+            if bad_rows.size:
+                i, j = int(bad_rows[0]), int(bad_cols[0])
+                raise InputError(
+                    f"SeatMotion: angvel_radps[{i}, {j}] is {float(w[i, j])!r}, not a finite number."
+                )
+            w.flags.writeable = False
+            object.__setattr__(self, "angvel_radps", w)
         time_s.flags.writeable = False
         acc.flags.writeable = False
         object.__setattr__(self, "time_s", time_s)
@@ -215,7 +235,10 @@ class SeatMotion:
         acc = np.empty((n, 3))
         for j in range(3):
             acc[:, j] = np.interp(t_new, t_old, self.acc_mps2[:, j])
-        return SeatMotion(t_new, acc, f"{self.description}, resampled to dt {dt:g} s")
+        w = None
+        if self.angvel_radps is not None:
+            w = np.column_stack([np.interp(t_new, t_old, self.angvel_radps[:, j]) for j in range(3)])
+        return SeatMotion(t_new, acc, f"{self.description}, resampled to dt {dt:g} s", w)
 
 
 # --------------------------------------------------------------------------
@@ -587,7 +610,9 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
     The file is UTF-8 text (a byte-order mark is allowed).  Blank lines and
     lines whose first non-blank character is ``#`` are skipped.  The first
     other line is the header; it must contain the columns ``time_s``,
-    ``ax_mps2``, ``ay_mps2`` and ``az_mps2`` in any order; other columns are
+    ``ax_mps2``, ``ay_mps2`` and ``az_mps2`` in any order, and optionally all
+    three angular velocities ``wx_radps``, ``wy_radps``, ``wz_radps`` (roll,
+    pitch and yaw rates of the seat about its own axes); other columns are
     ignored.  Every following line is one sample with as many fields as the
     header.  Times [s] must be finite, >= 0 and strictly increasing; the
     sample interval may vary (use :meth:`SeatMotion.resample` to make it
@@ -679,7 +704,15 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
                     f"{name}, line {line_no}: header is missing column(s) {listed} "
                     f"(required: {', '.join(CSV_COLUMNS)})."
                 )
-            index = {column: header.index(column) for column in CSV_COLUMNS}
+            present = [column for column in CSV_ROTATION_COLUMNS if column in header]
+            if present and len(present) < 3:
+                absent = ", ".join(c for c in CSV_ROTATION_COLUMNS if c not in header)
+                raise InputError(
+                    f"{name}, line {line_no}: header has {', '.join(present)} but not {absent}; "
+                    "give all three angular velocities or none."
+                )
+            columns = CSV_COLUMNS + (CSV_ROTATION_COLUMNS if present else ())
+            index = {column: header.index(column) for column in columns}
             continue
 
         if len(fields) != len(header):
@@ -688,7 +721,7 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
                 f"header (line {header_line}), found {len(fields)}."
             )
         values = []
-        for column in CSV_COLUMNS:
+        for column in index:
             field = fields[index[column]]
             value = _parse_number(field)
             if value is None:
@@ -722,7 +755,7 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
             )
         times.append(time)
         time_texts.append(time_text)
-        rows.append((values[1], values[2], values[3]))
+        rows.append(tuple(values[1:]))
         row_lines.append(line_no)
 
     if header is None:
@@ -733,10 +766,76 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
             "the header; at least 2 are needed."
         )
     time_s = np.array(times)
-    acc = np.array(rows)
+    data = np.array(rows)
     description = (
         f"from {os.path.basename(name)}, {len(rows)} samples, "
         f"{float(time_s[-1] - time_s[0]):g} s"
     )
-    return SeatMotion(time_s, acc, description)
+    return SeatMotion(time_s, data[:, :3], description, data[:, 3:6] if data.shape[1] == 6 else None)
 
+
+
+# --------------------------------------------------------------------------
+# Seat rotation kinematics
+# --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class SeatKinematics:
+    """Seat orientation as intrinsic z-y-x (yaw, pitch, roll) angles, with their rates and accelerations.
+
+    All arrays have shape (n, 3) with columns yaw, pitch, roll, on the time grid ``time_s`` [s]; angles in
+    rad, rates in rad/s, accelerations in rad/s^2.  The seat starts level (all angles 0) at ``time_s[0]``.
+    """
+
+    time_s: np.ndarray
+    angles_rad: np.ndarray
+    rates_radps: np.ndarray
+    accs_radps2: np.ndarray
+
+    def at(self, t_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Angles, rates and accelerations linearly interpolated at times ``t_s`` (relative to the start)."""
+        t0 = self.time_s - self.time_s[0]
+        out = []
+        for arr in (self.angles_rad, self.rates_radps, self.accs_radps2):
+            out.append(np.column_stack([np.interp(t_s, t0, arr[:, j]) for j in range(3)]))
+        return out[0], out[1], out[2]
+
+
+def seat_kinematics(time_s: np.ndarray, angvel_radps: np.ndarray, iterations: int = 4) -> SeatKinematics:
+    """Integrate the seat's body-axis angular velocity (roll, pitch, yaw rates) into z-y-x Euler angles.
+
+    The Euler-angle rates follow from the body rates w = (wx, wy, wz) and the current roll phi and pitch
+    theta:  roll' = wx + tan(theta) (wy sin(phi) + wz cos(phi)),  pitch' = wy cos(phi) - wz sin(phi),
+    yaw' = (wy sin(phi) + wz cos(phi)) / cos(theta).  They are integrated by the trapezoidal rule, repeating
+    with the updated angles (a fixed-point iteration that converges quickly for the small roll and pitch of
+    vehicles); accelerations are the time derivatives of the rates.  Pitch must stay within +-80 deg.
+    """
+    t = np.asarray(time_s, dtype=float)
+    w = np.asarray(angvel_radps, dtype=float)
+    from scipy.integrate import cumulative_trapezoid
+
+    phi = np.zeros(t.size)
+    theta = np.zeros(t.size)
+    for _ in range(iterations):
+        s, c = np.sin(phi), np.cos(phi)
+        rates = np.column_stack([
+            (w[:, 1] * s + w[:, 2] * c) / np.cos(theta),            # yaw'
+            w[:, 1] * c - w[:, 2] * s,                              # pitch'
+            w[:, 0] + np.tan(theta) * (w[:, 1] * s + w[:, 2] * c),  # roll'
+        ])
+        angles = cumulative_trapezoid(rates, t, axis=0, initial=0.0)
+        phi, theta = angles[:, 2], angles[:, 1]
+        if np.abs(theta).max() > np.radians(80):
+            i = int(np.argmax(np.abs(theta) > np.radians(80)))
+            raise InputError(f"the seat pitch reaches {np.degrees(theta[i]):.0f} deg at t = {t[i] - t[0]:.2f} s; "
+                             "seat pitch must stay within +-80 deg.")
+    accs = np.gradient(rates, t, axis=0)
+    return SeatKinematics(t, angles, rates, accs)
+
+
+def seat_rotation_matrices(angles_rad: np.ndarray) -> np.ndarray:
+    """Rotation matrices (n, 3, 3) of z-y-x angles (yaw, pitch, roll): seat axes -> world axes."""
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_euler("ZYX", angles_rad).as_matrix()

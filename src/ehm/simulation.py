@@ -18,7 +18,7 @@ from scipy.spatial.transform import Rotation
 from . import engine
 from .errors import InputError
 from .io import write_csv_atomic, write_json_atomic
-from .motion import SeatMotion
+from .motion import SeatMotion, seat_kinematics, seat_rotation_matrices
 from .params import Parameters
 from .tables import Body, load_body
 
@@ -43,6 +43,11 @@ class PointMotion:
         R(t) R(0)^T, seat axes) [rad].
     angacc_radps2 : (n, 3) array
         Angular acceleration about the seat's x, y, z axes (roll, pitch, yaw) [rad/s^2].
+    angvel_radps : (n, 3) array
+        Angular velocity in the segment's own axes (what its vestibular organs sense, for the head) [rad/s].
+    gia_mps2 : (n, 3) array
+        Gravito-inertial acceleration (specific force a - g) in the segment's own axes [m/s^2]; +9.81 in z
+        for an upright segment at rest.
     """
 
     name: str
@@ -50,6 +55,11 @@ class PointMotion:
     disp_m: np.ndarray
     rot_rad: np.ndarray
     angacc_radps2: np.ndarray
+    angvel_radps: np.ndarray
+    gia_mps2: np.ndarray
+
+
+_POINT_FIELDS = ("acc_mps2", "disp_m", "rot_rad", "angacc_radps2", "angvel_radps", "gia_mps2")
 
 
 @dataclass(frozen=True)
@@ -64,6 +74,7 @@ class RunResult:
     points : dict of str -> PointMotion
     support_N : dict of str -> (n, 3) array
         Force that the seat pan, backrest (both pads) and floor exert on the body, seat axes [N].
+    seat_acc_mps2 is the seat's translational acceleration in its own axes.
     mass_kg, dof, dt_s, wall_s : float / int
     description : str
         What the input was.
@@ -82,6 +93,7 @@ class RunResult:
     description: str
     locked: tuple
     params_origin: str = "default"
+    seat_angles_rad: np.ndarray | None = None  #: Seat yaw, pitch, roll (n, 3) when the seat rotates.
     extra: dict = field(default_factory=dict)
 
     def point(self, name: str) -> PointMotion:
@@ -162,10 +174,12 @@ class SeatedHuman:
         Joints to lock or unlock on top of the body table's defaults (the waist is locked by default).
     body : Body, optional
         Body tables (default: the paper's Tables 1 and 2 and the shipped contact ellipsoids).
+    rotating_seat : bool
+        Build the seat so that it can rotate (for motions with angular velocity; about 40 % slower).
     """
 
     def __init__(self, params: Parameters | str | Path | None = None, lock=(), unlock=(),
-                 body: Body | None = None):
+                 body: Body | None = None, rotating_seat: bool = False):
         self.body = body if body is not None else load_body()
         self.params = params if isinstance(params, Parameters) else Parameters.load(params)
         names = [j.name for j in self.body.joints]
@@ -177,7 +191,7 @@ class SeatedHuman:
             raise InputError(f"joint {sorted(both)[0]!r} is asked to be both locked and unlocked.")
         locked = {j.name for j in self.body.joints if j.locked}
         self.locked = frozenset((locked | set(lock)) - set(unlock))
-        self.model = engine.build(self.body, self.params, self.locked)
+        self.model = engine.build(self.body, self.params, self.locked, rotating_seat=rotating_seat)
 
     @property
     def dof(self) -> int:
@@ -210,37 +224,89 @@ class SeatedHuman:
         """Let the person sink into the seat (done automatically before the first run)."""
         engine.settle(self.model)
 
-    def simulate(self, motion: SeatMotion) -> RunResult:
-        """Run the settled person with a seat motion (resampled to the model's time step)."""
+    def simulate(self, motion: SeatMotion, progress=None) -> RunResult:
+        """Run the settled person with a seat motion (resampled to the model's time step).
+
+        A motion with angular velocity needs a person built with ``rotating_seat=True``.  For long drives
+        use :meth:`stream`, which holds one chunk at a time.
+        """
+        chunks = list(self.stream(motion, progress=progress))
+        first = chunks[0]
+        cat = lambda get: np.concatenate([get(c) for c in chunks])  # noqa: E731
+        points = {p: PointMotion(p, *(cat(lambda c, f=f: getattr(c.points[p], f)) for f in _POINT_FIELDS))
+                  for p in POINT_NAMES}
+        return RunResult(time_s=cat(lambda c: c.time_s), seat_acc_mps2=cat(lambda c: c.seat_acc_mps2), points=points,
+                         support_N={k: cat(lambda c, k=k: c.support_N[k]) for k in first.support_N},
+                         mass_kg=self.mass_kg, dof=self.dof, dt_s=first.dt_s, wall_s=sum(c.wall_s for c in chunks),
+                         description=first.description, locked=first.locked, params_origin=self.params.origin,
+                         seat_angles_rad=None if first.seat_angles_rad is None else cat(lambda c: c.seat_angles_rad))
+
+    def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None):
+        """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
+
+        Memory stays constant whatever the motion's length: the motion is interpolated onto the model's time
+        step one chunk at a time.  ``progress(done_s, total_s)`` is called after every chunk.
+        """
         if not isinstance(motion, SeatMotion):
             raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
+        rotating = motion.angvel_radps is not None
+        if rotating and self.model.seat is None:
+            raise InputError("this motion rotates the seat (it has angular velocities); build the person with "
+                             "SeatedHuman(rotating_seat=True).")
         dt = float(self.model.mj.opt.timestep)
+        if dt > motion.duration_s:
+            raise InputError(f"the motion lasts {motion.duration_s:g} s, less than one time step ({dt:g} s).")
         if self.model.settled is None:
             engine.settle(self.model)
-        m = motion.resample(dt)
-        acc = m.acc_mps2
-        t0 = time.perf_counter()
-        raw = engine.run(self.model, acc)
-        wall = time.perf_counter() - t0
+        kin = seat_kinematics(motion.time_s, motion.angvel_radps) if rotating else None
+        t_rel = motion.time_s - motion.time_s[0]
+        n_total = int(np.floor(motion.duration_s / dt + 1e-9)) + 1
+        per_chunk = max(1, int(round(chunk_s / dt)))
+        d = engine.settled_data(self.model)
+        poses = {p: engine.settled_point_pose(self.model, p) for p in POINT_NAMES}
+        pivot = self.model.seat["pivot"] if rotating else np.zeros(3)
+        description = f"{motion.description}, at dt {dt:g} s"
+        for start in range(0, n_total, per_chunk):
+            t = np.arange(start, min(n_total, start + per_chunk)) * dt
+            acc_seat = np.column_stack([np.interp(t, t_rel, motion.acc_mps2[:, j]) for j in range(3)])
+            if rotating:
+                angles, rates, accs = kin.at(t)
+                R = seat_rotation_matrices(angles)
+                acc_world = np.einsum("nij,nj->ni", R, acc_seat)
+                rotation = (angles, rates, accs)
+            else:
+                R, acc_world, rotation, angles = None, acc_seat, None, None
+            t0 = time.perf_counter()
+            raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation)
+            wall = time.perf_counter() - t0
+            yield self._chunk_result(raw, t, acc_seat, R, angles, poses, pivot, wall, description)
+            if progress:
+                progress(min(t[-1] + dt, motion.duration_s), motion.duration_s)
+
+    def _chunk_result(self, raw, t, acc_seat, R, angles, poses, pivot, wall, description) -> RunResult:
+        """Engine output -> results in seat axes, relative to the settled posture."""
+        to_seat = (lambda v: v) if R is None else (lambda v: np.einsum("nji,nj->ni", R, v))  # R^T v
+        seat_rot = None if R is None else Rotation.from_matrix(R)
         points = {}
         for p in POINT_NAMES:
-            pos = raw.sensors[f"{p}_framepos"]
-            quat = raw.sensors[f"{p}_framequat"]
-            settled_pos, settled_quat = engine.settled_point_pose(self.model, p)
-            rot0 = Rotation.from_quat(settled_quat, scalar_first=True)
-            rel = Rotation.from_quat(quat, scalar_first=True) * rot0.inv()
+            settled_pos, settled_quat = poses[p]
+            world = Rotation.from_quat(raw.sensors[f"{p}_framequat"], scalar_first=True)
+            rel = (world if seat_rot is None else seat_rot.inv() * world) * Rotation.from_quat(settled_quat, scalar_first=True).inv()
+            acc_world = raw.sensors[f"{p}_framelinacc"] + engine.G0[None, :]
             points[p] = PointMotion(
                 name=p,
-                acc_mps2=raw.sensors[f"{p}_framelinacc"] + engine.G0[None, :],
-                disp_m=pos - settled_pos,
+                acc_mps2=to_seat(acc_world),
+                disp_m=to_seat(raw.sensors[f"{p}_framepos"] - pivot) - (settled_pos - pivot),
                 rot_rad=rel.as_euler("ZYX")[:, ::-1].copy(),
-                angacc_radps2=raw.sensors[f"{p}_frameangacc"],
+                angacc_radps2=to_seat(raw.sensors[f"{p}_frameangacc"]),
+                angvel_radps=world.inv().apply(raw.sensors[f"{p}_frameangvel"]),
+                gia_mps2=world.inv().apply(acc_world - engine.G0[None, :]),
             )
         support = {
-            "seat_pan": raw.support_N["seat_pan"],
-            "backrest": raw.support_N["backrest_lower"] + raw.support_N["backrest_upper"],
-            "floor": raw.support_N["floor"],
+            "seat_pan": to_seat(raw.support_N["seat_pan"]),
+            "backrest": to_seat(raw.support_N["backrest_lower"] + raw.support_N["backrest_upper"]),
+            "floor": to_seat(raw.support_N["floor"]),
         }
-        return RunResult(time_s=raw.time_s, seat_acc_mps2=acc, points=points, support_N=support,
-                         mass_kg=self.mass_kg, dof=self.dof, dt_s=dt, wall_s=wall, description=m.description,
-                         locked=tuple(sorted(self.locked)), params_origin=self.params.origin)
+        return RunResult(time_s=t, seat_acc_mps2=acc_seat, points=points, support_N=support, mass_kg=self.mass_kg,
+                         dof=self.dof, dt_s=float(self.model.mj.opt.timestep), wall_s=wall, description=description,
+                         locked=tuple(sorted(self.locked)), params_origin=self.params.origin, seat_angles_rad=angles)
