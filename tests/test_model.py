@@ -128,8 +128,12 @@ def test_contact_forces_by_hand_equal_support_forces(human):
     for surface in engine.SURFACES:
         by_hand = sum((v[3] for (s, _), v in forces.items() if s == surface), np.zeros(3))
         np.testing.assert_allclose(sf[surface], by_hand, rtol=0, atol=1e-6, err_msg=surface)
-    # And every surface carries something (all seven contacts are closed at rest).
-    assert {g2 for _, g2 in forces} == {c.name for c in human.body.contacts}
+    # At rest every contact is closed except the side bolsters, which sit a gap away from the body
+    # (contacts.csv: hip_side_*, back_side_*; [seat] bolster_gap_m) and carry load only in sustained
+    # lateral acceleration.
+    bolsters = {c.name for c in human.body.contacts if "bolster" in c.surface}
+    assert len(bolsters) == 4
+    assert {g2 for _, g2 in forces} == {c.name for c in human.body.contacts} - bolsters
     total = sum(sf.values())
     np.testing.assert_allclose(total, [0, 0, PAPER_TOTAL_MASS_KG * G], rtol=0, atol=0.01 * PAPER_TOTAL_MASS_KG * G)
 

@@ -36,13 +36,23 @@ from .tables import Body
 _PAD_INERTIA = 1e-6  #: Moment of inertia of a soft-tissue pad about each axis [kg m^2] (nearly a point mass).
 G0 = np.array([0.0, 0.0, -9.81])  #: Standard gravity in the seat frame [m/s^2].
 POINTS = {"pelvis": "pelvis", "trunk": "upper_torso", "head": "head"}  #: Output point -> segment.
-SURFACES = ("seat_pan", "backrest_lower", "backrest_upper", "floor")
-SUPPORT_GROUPS = {"seat_pan": ("seat_pan",), "backrest": ("backrest_lower", "backrest_upper"), "floor": ("floor",)}
+SURFACES = ("seat_pan", "backrest_lower", "backrest_upper", "floor",  #: Seat surfaces, by name.
+            "bolster_r", "bolster_l", "back_bolster_r", "back_bolster_l")
+#: Support force groups: the seat pan with its cushion bolsters, the backrest with its pads and bolsters, the floor.
+SUPPORT_GROUPS = {"seat_pan": ("seat_pan", "bolster_r", "bolster_l"),
+                  "backrest": ("backrest_lower", "backrest_upper", "back_bolster_r", "back_bolster_l"),
+                  "floor": ("floor",)}
 
 
 def _quat_pitch(angle_rad: float) -> np.ndarray:
     """Quaternion (w, x, y, z) of a rotation about y."""
     return np.array([math.cos(angle_rad / 2), 0.0, math.sin(angle_rad / 2), 0.0])
+
+
+def _rot_y(angle_rad: float) -> np.ndarray:
+    """Rotation matrix about y."""
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def _quat_z_to(normal: np.ndarray) -> np.ndarray:
@@ -64,7 +74,7 @@ class SeatGeometry:
     planes: dict
 
     @classmethod
-    def from_params(cls, params: Parameters) -> "SeatGeometry":
+    def from_params(cls, params: Parameters, body: Body) -> "SeatGeometry":
         s = params.section("seat")
         a = math.radians(s["pan_angle_deg"])
         b = math.radians(s["backrest_angle_deg"])
@@ -78,6 +88,19 @@ class SeatGeometry:
             h = s[f"{pad}_pad_height_m"]
             point = np.array([s["backrest_x_m"] - math.tan(b) * h, 0.0, h]) + s[f"{pad}_pad_thickness_m"] * back_n
             planes[f"backrest_{pad}"] = (point, back_n)
+        # Bolsters: planes facing the body's side ellipsoids, a gap beyond the ellipsoid's extreme point.
+        c_ang, b_ang = math.radians(s["bolster_angle_deg"]), math.radians(s["back_bolster_angle_deg"])
+        for c in body.contacts:
+            if not c.surface.startswith(("bolster", "back_bolster")) or c.surface in planes:
+                continue
+            inward = 1.0 if c.surface.endswith("_r") else -1.0  # the right bolster (at -y) faces +y
+            if c.surface.startswith("bolster"):  # cushion bolster: face rising outward at bolster_angle
+                n = np.array([0.0, inward * math.sin(c_ang), math.cos(c_ang)])
+            else:  # backrest bolster: face turned forward by back_bolster_angle
+                n = np.array([math.sin(b_ang), inward * math.cos(b_ang), 0.0])
+            local = _rot_y(c.pitch_rad).T @ n
+            support = c.center_m - _rot_y(c.pitch_rad) @ (c.semi_axes_m ** 2 * local / np.linalg.norm(c.semi_axes_m * local))
+            planes[c.surface] = (support - s["bolster_gap_m"] * n, n)
         return cls(planes)
 
     def tangents(self, surface: str) -> tuple[np.ndarray, np.ndarray]:
@@ -156,7 +179,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     locked = frozenset(locked)
     sim = params.section("simulation")
     posture = params.section("posture")
-    seat = SeatGeometry.from_params(params)
+    seat = SeatGeometry.from_params(params, body)
 
     spec = mujoco.MjSpec()
     spec.modelname = "ehm_seated_human"
@@ -172,7 +195,9 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
 
     # Seat surfaces: static bodies, one per surface, so their contact forces can be read by body.
     plane_size = {"seat_pan": [0.25, 0.25, 0.05], "floor": [0.5, 0.4, 0.1],
-                  "backrest_lower": [0.08, 0.18, 0.05], "backrest_upper": [0.10, 0.20, 0.05]}
+                  "backrest_lower": [0.08, 0.18, 0.05], "backrest_upper": [0.10, 0.20, 0.05],
+                  "bolster_r": [0.15, 0.04, 0.05], "bolster_l": [0.15, 0.04, 0.05],
+                  "back_bolster_r": [0.12, 0.04, 0.05], "back_bolster_l": [0.12, 0.04, 0.05]}
     parent, origin = spec.worldbody, np.zeros(3)
     if rotating_seat:
         origin = seat.planes["seat_pan"][0]
@@ -184,10 +209,10 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
             parent.add_joint(name=f"seat.{dof}", type=mujoco.mjtJoint.mjJNT_HINGE, axis=axis)
     for surface, (point, normal) in seat.planes.items():
         sb = parent.add_body(name=surface, pos=point - origin, quat=_quat_z_to(normal))
-        if rotating_seat:  # a thin box whose top face is the surface
-            thick = 0.02
-            sb.add_geom(name=surface, type=mujoco.mjtGeom.mjGEOM_BOX, size=plane_size[surface][:2] + [thick],
-                        pos=[0, 0, -thick], contype=0, conaffinity=0, rgba=[0.55, 0.55, 0.6, 1.0])
+        if rotating_seat:  # a box whose top face is the surface, large enough never to be run off
+            half = [1.0, 1.0, 0.05]
+            sb.add_geom(name=surface, type=mujoco.mjtGeom.mjGEOM_BOX, size=half, pos=[0, 0, -half[2]],
+                        contype=0, conaffinity=0, group=3, rgba=[0.55, 0.55, 0.6, 0.3])
         else:
             sb.add_geom(name=surface, type=mujoco.mjtGeom.mjGEOM_PLANE, size=plane_size[surface],
                         contype=0, conaffinity=0, rgba=[0.55, 0.55, 0.6, 1.0])
@@ -322,7 +347,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     else:
         seat_info = None
     point_sites = {p: mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SITE, p) for p in POINTS}
-    surface_bodies = {s: mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, s) for s in SURFACES}
+    surface_bodies = {s: mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, s) for s in seat.planes}
     seg_ids = {s: [mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, n) for n in names]
                for s, names in segment_bodies.items()}
     return Model(mj=mj, body=body, params=params, locked=locked, dof_names=dof_names,

@@ -29,7 +29,8 @@ _SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "noslip_iterations
 _POSTURE = {"integral_time_s": "positive", "integral_joints": "joints"}
 _SEAT = {"pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
          "backrest_x_m": "finite", "lower_pad_height_m": "finite", "lower_pad_thickness_m": "nonnegative",
-         "upper_pad_height_m": "finite", "upper_pad_thickness_m": "nonnegative", "floor_height_m": "finite"}
+         "upper_pad_height_m": "finite", "upper_pad_thickness_m": "nonnegative", "floor_height_m": "finite",
+         "bolster_angle_deg": "finite", "back_bolster_angle_deg": "finite", "bolster_gap_m": "nonnegative"}
 _CONTACT = {"stiffness_N_per_m": "positive", "damping_Ns_per_m": "nonnegative", "friction": "nonnegative",
             "shear_stiffness_N_per_m": "positive", "shear_damping_Ns_per_m": "nonnegative",
             "pad_mass_kg": "positive"}

@@ -302,11 +302,8 @@ class SeatedHuman:
                 angvel_radps=world.inv().apply(raw.sensors[f"{p}_frameangvel"]),
                 gia_mps2=world.inv().apply(acc_world - engine.G0[None, :]),
             )
-        support = {
-            "seat_pan": to_seat(raw.support_N["seat_pan"]),
-            "backrest": to_seat(raw.support_N["backrest_lower"] + raw.support_N["backrest_upper"]),
-            "floor": to_seat(raw.support_N["floor"]),
-        }
+        support = {group: to_seat(sum(raw.support_N[s] for s in surfaces if s in raw.support_N))
+                   for group, surfaces in engine.SUPPORT_GROUPS.items()}
         return RunResult(time_s=t, seat_acc_mps2=acc_seat, points=points, support_N=support, mass_kg=self.mass_kg,
                          dof=self.dof, dt_s=float(self.model.mj.opt.timestep), wall_s=wall, description=description,
                          locked=tuple(sorted(self.locked)), params_origin=self.params.origin, seat_angles_rad=angles)

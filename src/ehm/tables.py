@@ -41,7 +41,8 @@ JOINT_TYPE_DOFS: dict[str, tuple[str, ...]] = {
     "revolute": ("pitch",),
 }
 
-CONTACT_SURFACES = ("seat_pan", "backrest_lower", "backrest_upper", "floor")
+CONTACT_SURFACES = ("seat_pan", "backrest_lower", "backrest_upper", "floor",
+                    "bolster_r", "bolster_l", "back_bolster_r", "back_bolster_l")
 
 
 @dataclass(frozen=True)
