@@ -131,7 +131,10 @@ def test_demo_writes_files(tmp_path, capsys):
         assert (out / name).stat().st_size > 0, name
     summary = json.loads((out / "demo_summary.json").read_text())
     peak = summary["transmissibility_peaks"]["z->head"]
-    assert 0.5 <= peak["gain_at_0.5_hz"] <= 1.5
+    # Quasi-static limit: at 0.5 Hz, far below the 5 Hz vertical mode, the head follows the seat (gain 1;
+    # 10 % for the estimate from 20 s of data), and the peak lies in 4-6 Hz (README table: 5.3 Hz).
+    assert peak["gain_at_0.5_hz"] == pytest.approx(1.0, abs=0.1)
+    assert 4.0 <= peak["peak_hz"] <= 6.0
 
 
 @pytest.mark.parametrize("column, value, expected", [

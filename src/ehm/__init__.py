@@ -36,10 +36,10 @@ from .motion import SeatMotion, load_motion_csv, random_vibration, sine, sweep
 from .params import Parameters
 from .simulation import PointMotion, RunResult, SeatedHuman
 from .tables import load_body
-from .transfer import TransferEstimate, h1_estimate
+from .transfer import Curve, h1_estimate
 
 __all__ = [
     "DivergenceError", "EhmError", "InputError", "SeatMotion", "load_motion_csv", "random_vibration", "sine",
-    "sweep", "Parameters", "PointMotion", "RunResult", "SeatedHuman", "load_body", "TransferEstimate",
+    "sweep", "Parameters", "PointMotion", "RunResult", "SeatedHuman", "load_body", "Curve",
     "h1_estimate", "__version__",
 ]

@@ -42,6 +42,25 @@ def _human(args) -> SeatedHuman:
     return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body)
 
 
+def _band(values) -> tuple[float, float]:
+    lo, hi = values
+    if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi):
+        raise InputError(f"--band {lo:g} {hi:g}: the band needs two finite frequencies with 0 < low < high [Hz].")
+    return float(lo), float(hi)
+
+
+def _writable_dir(path: Path, what: str) -> None:
+    """Fail early, before long work, when results could not be written."""
+    import os
+
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot create the {what} folder ({exc.strerror or exc}).") from None
+    if not os.access(path, os.W_OK):
+        raise InputError(f"{path}: the {what} folder is not writable.")
+
+
 def _model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
     p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
@@ -58,31 +77,6 @@ def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
     p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"),
                    help="band of the random input [Hz] (default 0.1 12)")
     p.add_argument("--dt", type=float, help="time step [s] (default from the parameter file: 0.001)")
-
-
-def _transmissibility_rows(run, axis: str) -> list[dict]:
-    k = "xyz".index(axis)
-    fs = 1.0 / run.dt_s
-    rows = []
-    for p in POINT_NAMES:
-        for j, dof in enumerate("xyz"):
-            e = h1_estimate(run.seat_acc_mps2[:, k], run.point(p).acc_mps2[:, j], fs,
-                            segment_s=min(10.0, run.duration_s / 4))
-            rows.append({"input_axis": axis, "point": p, "dof": dof, "freq_hz": e.freq_hz, "gain": e.gain,
-                         "phase_deg": e.phase_deg, "coherence": e.coherence})
-    return rows
-
-
-def _write_transmissibility(rows: list[dict], path: Path, band_hz=(0.1, 12.0)) -> None:
-    header = ["input_axis", "point", "dof", "freq_hz", "gain", "phase_deg", "coherence"]
-    lines = [",".join(header)]
-    for r in rows:
-        sel = (r["freq_hz"] >= band_hz[0]) & (r["freq_hz"] <= band_hz[1])
-        for f, g, ph, c in zip(r["freq_hz"][sel], r["gain"][sel], r["phase_deg"][sel], r["coherence"][sel]):
-            lines.append(f"{r['input_axis']},{r['point']},{r['dof']},{f:.6g},{g:.6g},{ph:.6g},{c:.6g}")
-    from .io import write_text_atomic
-
-    write_text_atomic(path, "\n".join(lines) + "\n")
 
 
 def cmd_info(args) -> int:
@@ -131,6 +125,7 @@ def cmd_simulate(args) -> int:
 
 
 def cmd_demo(args) -> int:
+    from .frf import FrfTable, run_curves
     from .plotting import plot_time_histories, plot_transmissibility
 
     out = Path(args.out)
@@ -139,26 +134,24 @@ def cmd_demo(args) -> int:
     print(f"ehm demo: default person ({human.mass_kg:.3f} kg, {human.dof} dof) on the validation seat; "
           f"{args.duration:g} s of {args.rms:g} m/s^2 rms random vibration per axis; output in {out}/")
     human.settle()
-    rows, summaries = [], {}
+    curves, summaries = {}, {}
     for axis in args.axes:
         run = human.simulate(random_vibration(axis, args.duration, args.rms, seed=args.seed, dt_s=dt,
                                               band_hz=tuple(args.band)))
         run.write(out / axis)
-        plot_time_histories(run, out / axis / "time_histories.png",
-                            title=f"seat {axis}: {run.description}")
-        rows += _transmissibility_rows(run, axis)
+        plot_time_histories(run, out / axis / "time_histories.png", title=f"seat {axis}: {run.description}")
+        curves.update(run_curves(run, axis, tuple(args.band), segment_s=min(10.0, run.duration_s / 4)))
         summaries[axis] = run.summary()
         print(f"  {axis}: {run.duration_s:.0f} s simulated in {run.wall_s:.2f} s ({run.realtime_factor:.0f}x real time)")
-    _write_transmissibility(rows, out / "transmissibility.csv")
-    plot_transmissibility(rows, out / "transmissibility.png",
+    table = FrfTable(curves, method="time", meta={"input": "synthetic random vibration"})
+    table.to_csv(out / "transmissibility.csv")
+    plot_transmissibility(table, out / "transmissibility.png",
                           title="Seat-to-body transmissibility of the default model (H1 estimate; synthetic input)")
     peaks = {}
-    for r in rows:
-        if r["dof"] == r["input_axis"]:
-            sel = (r["freq_hz"] >= 0.5) & (r["freq_hz"] <= 12)
-            i = int(np.argmax(np.where(sel, r["gain"], -np.inf)))
-            peaks[f"{r['input_axis']}->{r['point']}"] = {"peak_hz": float(r["freq_hz"][i]), "peak_gain": float(r["gain"][i]),
-                                                        "gain_at_0.5_hz": float(np.interp(0.5, r["freq_hz"], r["gain"]))}
+    for (a, p, dof), c in table.curves.items():
+        if dof == a:
+            f_pk, g_pk = c.peak((0.5, 12.0))
+            peaks[f"{a}->{p}"] = {"peak_hz": f_pk, "peak_gain": g_pk, "gain_at_0.5_hz": c.at(0.5)}
     write_json_atomic(out / "demo_summary.json", {"runs": summaries, "transmissibility_peaks": peaks})
     print("  transmissibility peaks (seat axis -> same axis at the point):")
     for k, v in peaks.items():
@@ -171,14 +164,16 @@ def cmd_demo(args) -> int:
 def cmd_frf(args) -> int:
     from .frf import linear_frf, time_domain_frf
 
+    band = _band(args.band)
     human = _human(args)
     if args.method == "linear":
-        if not args.df > 0:
-            raise InputError(f"--df must be a positive frequency step in Hz, not {args.df}.")
-        table = linear_frf(human, args.axis, freq_hz=np.arange(args.band[0], args.band[1] + 1e-9, args.df))
+        if not (np.isfinite(args.df) and args.df > 0) or (band[1] - band[0]) / args.df > 1e5:
+            raise InputError(f"--df {args.df:g}: the frequency step must be positive and give at most 100000 "
+                             "frequencies in the band.")
+        table = linear_frf(human, args.axis, freq_hz=np.arange(band[0], band[1] + 1e-9, args.df))
     else:
         table = time_domain_frf(human, args.axis, duration_s=args.duration, rms_mps2=args.rms, seed=args.seed,
-                                band_hz=tuple(args.band))
+                                band_hz=band)
     table.to_csv(args.out)
     print(f"wrote {args.out}: {len(table.curves)} curves ({args.method} method)")
     return 0
@@ -188,7 +183,7 @@ def cmd_compare(args) -> int:
     from .criterion import compare
     from .frf import read_frf_csv
 
-    result = compare(read_frf_csv(args.data), read_frf_csv(args.frf, require_gain=True), tuple(args.band))
+    result = compare(read_frf_csv(args.data), read_frf_csv(args.frf), _band(args.band))
     if args.json:
         print(json.dumps(result.as_dict(), indent=2))
     else:
@@ -202,12 +197,16 @@ def cmd_fit(args) -> int:
     from .fit import fit, print_progress, write_identified
     from .frf import read_frf_csv
 
+    band = _band(args.band)
     data = read_frf_csv(args.data)
     params = Parameters.load(args.params)
     body = load_body(args.segments, args.joints, args.contacts)
+    _writable_dir(Path(args.out).resolve().parent, "output")
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers {args.workers}: use 1 or more processes.")
     result = fit(data, params=params, free=args.free, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
-                 body=body, band_hz=tuple(args.band), max_evals=args.max_evals, workers=args.workers,
-                 time_check=not args.no_time_check, progress=print_progress, data_label=str(args.data))
+                 body=body, band_hz=band, max_evals=args.max_evals, workers=args.workers,
+                 time_check=not args.no_time_check, progress=print_progress)
     write_identified(result, args.data, args.out)
     print(f"criterion {result.crit_before:.5g} -> {result.crit_after:.5g} (linear model)"
           + (f", {result.crit_after_time:.5g} (time-domain check)" if result.crit_after_time is not None else "")
@@ -247,10 +246,12 @@ def cmd_study_locking(args) -> int:
     for v in args.variant or []:
         name, joints = parse_variant(v)
         variants[name] = joints
+    band = _band(args.band)
     params = Parameters.load(args.params)
-    study = locking_study(params=params, variants=variants, method=args.method, band_hz=tuple(args.band),
-                          duration_s=args.duration, progress=print)
     out = Path(args.out)
+    _writable_dir(out, "output")
+    study = locking_study(params=params, variants=variants, method=args.method, band_hz=band,
+                          duration_s=args.duration, progress=print)
     header = ["variant", "locked", "input_axis", "point", "dof", "peak_hz", "peak_gain", "band_mean_gain",
               "peak_hz_change_pct", "peak_gain_change_pct", "band_mean_change_pct"]
     lines = [",".join(header)]

@@ -56,19 +56,20 @@ def relative_gain(gain_exp: np.ndarray) -> np.ndarray:
     return g + 0.05 * g.mean()
 
 
-def residuals(freq_hz: np.ndarray, gain_exp: np.ndarray, gain_model: np.ndarray) -> np.ndarray:
+def residuals(freq_hz: np.ndarray, gain_exp: np.ndarray, gain_model: np.ndarray, label: str = "a measured curve") -> np.ndarray:
     """Eq. 3's terms (G_exp - G_model) / (Rel_Gain f^2), one per frequency."""
     f = np.asarray(freq_hz, dtype=float)
     g = np.asarray(gain_exp, dtype=float)
     rel = relative_gain(g)
     if np.any(rel <= 0):
-        raise InputError("a measured curve has zero gain everywhere; the relative gain (Eq. 2) would be zero.")
+        raise InputError(f"{label} has zero gain at every frequency; the relative gain (Eq. 2) would be zero.")
     return (g - np.asarray(gain_model, dtype=float)) / (rel * f ** 2)
 
 
-def curve_criterion(freq_hz: np.ndarray, gain_exp: np.ndarray, gain_model: np.ndarray) -> float:
+def curve_criterion(freq_hz: np.ndarray, gain_exp: np.ndarray, gain_model: np.ndarray,
+                    label: str = "a measured curve") -> float:
     """Eq. 3 for one curve: the RMS of :func:`residuals`."""
-    r = residuals(freq_hz, gain_exp, gain_model)
+    r = residuals(freq_hz, gain_exp, gain_model, label)
     return float(np.sqrt(np.mean(r ** 2)))
 
 
@@ -96,7 +97,8 @@ def compare(measured: FrfTable, model: FrfTable, band_hz: tuple[float, float] = 
                 f"but the measured one needs {f[0]:g}-{f[-1]:g} Hz."
             )
         g_model = np.interp(f, mod.freq_hz, mod.gain)
-        out.append(CurveCriterion(*key, crit=curve_criterion(f, m.gain[sel], g_model), n_freq=int(f.size),
+        label = f"the measured curve seat {key[0]} -> {key[1]} {key[2]}"
+        out.append(CurveCriterion(*key, crit=curve_criterion(f, m.gain[sel], g_model, label), n_freq=int(f.size),
                                   weight=m.weight))
     if not out:
         raise InputError(f"no measured frequencies lie in {band_hz[0]:g}-{band_hz[1]:g} Hz.")

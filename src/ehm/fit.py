@@ -28,8 +28,8 @@ from scipy.optimize import least_squares
 from .criterion import DEFAULT_BAND_HZ, band_select, compare, residuals
 from .errors import EhmError, InputError
 from .frf import AXES, FrfTable, linear_frf, time_domain_frf
-from .params import Parameters, default_params_path
-from .tables import Body, load_body
+from .params import Parameters
+from .tables import Body, load_body, resolve_locks
 
 #: Sections whose numeric values may be fitted.
 FITTABLE = ("joints.*", "contacts.*", "posture.integral_time_s")
@@ -37,15 +37,19 @@ DEFAULT_BOUND_FACTOR = 10.0  #: Without explicit bounds a value may move by this
 _FAILED = 1e3  #: Residual given to a candidate that cannot be simulated.
 
 
-def free_parameters(params: Parameters, patterns: list[str]) -> list[str]:
-    """Dotted paths matching the glob patterns (e.g. ``joints.t12.*.stiffness_*``), fittable ones only."""
-    candidates = [p for p in params.numeric_paths() if any(fnmatch.fnmatch(p, f) for f in FITTABLE)]
+def free_parameters(params: Parameters, patterns: list[str], locked=frozenset()) -> list[str]:
+    """Dotted paths matching the glob patterns (e.g. ``joints.t12.*.stiffness_*``), fittable ones only.
+
+    Parameters of ``locked`` joints are left out (a welded joint has no spring to fit).
+    """
+    candidates = [p for p in params.numeric_paths() if any(fnmatch.fnmatch(p, f) for f in FITTABLE)
+                  and not (p.startswith("joints.") and p.split(".")[1] in locked)]
     chosen: list[str] = []
     for pat in patterns:
         hits = [p for p in candidates if fnmatch.fnmatch(p, pat)]
         if not hits:
-            raise InputError(f"--free {pat!r} matches no fittable parameter (joints.*, contacts.*, "
-                             "posture.integral_time_s); see 'ehm params' for the names.")
+            raise InputError(f"--free {pat!r} matches no fittable parameter (joints.* of unlocked joints, "
+                             "contacts.*, posture.integral_time_s); see 'ehm params' for the names.")
         chosen += [h for h in hits if h not in chosen]
     for p in chosen:
         if params.value(p) <= 0:
@@ -79,7 +83,8 @@ class FitResult:
     crit_after_time : float or None
         Total criterion of the fitted model from time-domain runs.
     trace : list of float
-        Total criterion of every evaluated candidate, in order.
+        Least-squares objective sqrt(sum of squared weighted residuals) of every candidate the optimiser
+        evaluated (finite-difference columns excluded), in order.
     status, message : int, str
         From :func:`scipy.optimize.least_squares`.
     n_eval : int
@@ -103,13 +108,16 @@ class FitResult:
 class _Objective:
     """Residuals of one candidate: build, settle, linearise, compare at the measured frequencies."""
 
-    def __init__(self, data: FrfTable, base: Parameters, free: list[str], locked: frozenset, body: Body,
+    def __init__(self, data: FrfTable, base: Parameters, free: list[str], lock, unlock, body: Body,
                  band_hz: tuple[float, float]):
-        self.data, self.base, self.free, self.locked, self.body, self.band = data, base, free, locked, body, band_hz
+        self.data, self.base, self.free, self.body, self.band = data, base, free, body, band_hz
+        self.lock, self.unlock = tuple(lock), tuple(unlock)
         self.keys = [k for k in data.keys() if band_select(data.curves[k].freq_hz, band_hz).any()]
         if not self.keys:
             raise InputError(f"no measured frequencies lie in {band_hz[0]:g}-{band_hz[1]:g} Hz.")
         w = np.array([data.curves[k].weight for k in self.keys])
+        if w.sum() <= 0:
+            raise InputError("all curve weights of the measured data are zero.")
         self.scale = [math.sqrt(wi / w.sum() / band_select(data.curves[k].freq_hz, band_hz).sum())
                       for k, wi in zip(self.keys, w)]
         self.freqs = np.unique(np.concatenate([data.curves[k].freq_hz for k in self.keys]))
@@ -120,8 +128,7 @@ class _Objective:
     def model_table(self, log_x: np.ndarray) -> FrfTable:
         from .simulation import SeatedHuman
 
-        human = SeatedHuman(params=self.params_at(log_x), body=self.body, lock=self.locked,
-                            unlock={j.name for j in self.body.joints if j.locked} - self.locked)
+        human = SeatedHuman(params=self.params_at(log_x), body=self.body, lock=self.lock, unlock=self.unlock)
         human.settle()
         axes = sorted({k[0] for k in self.keys}, key=AXES.index)
         return linear_frf(human, "all" if len(axes) > 1 else axes[0], freq_hz=self.freqs)
@@ -157,7 +164,7 @@ def _worker_eval(log_x: np.ndarray) -> np.ndarray:
 
 def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None = None, lock=(), unlock=(),
         body: Body | None = None, band_hz: tuple[float, float] = DEFAULT_BAND_HZ, max_evals: int = 400,
-        workers: int | None = None, time_check: bool = True, progress=None, data_label: str = "data") -> FitResult:
+        workers: int | None = None, time_check: bool = True, progress=None) -> FitResult:
     """Identify the free parameters that minimise the criterion against measured gains.
 
     Parameters
@@ -169,25 +176,25 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     free : list of str
         Glob patterns of the parameters to fit (default: every joint stiffness and damping of the spine and
         neck).
+    max_evals : int
+        Budget of model evaluations, finite-difference columns included (the optimiser's iteration limit
+        is derived from it: max_evals / (n_free + 1)).
     workers : int
-        Processes evaluating finite-difference columns in parallel (default: the number of cores, at most 2
-        per core pair is useful on small machines).
+        Processes evaluating finite-difference columns in parallel (default: min(2, number of cores)).
     progress : callable(str) or None
         Receives one line per optimiser iteration.
     """
     t0 = time.perf_counter()
     base = params if params is not None else Parameters.load()
     body = body if body is not None else load_body()
-    names = [j.name for j in body.joints]
-    for n in list(lock) + list(unlock):
-        if n not in names:
-            raise InputError(f"unknown joint {n!r}; joints are {', '.join(names)}.")
-    locked = frozenset(({j.name for j in body.joints if j.locked} | set(lock)) - set(unlock))
+    locked = resolve_locks(body, lock, unlock)
+    if not isinstance(max_evals, int) or max_evals < 1:
+        raise InputError(f"the evaluation budget must be a whole number >= 1, not {max_evals!r}.")
     patterns = free or ["joints.upper_neck.*", "joints.lower_neck.*", "joints.t12.*", "joints.l4_l5.*"]
-    free_paths = free_parameters(base, patterns)
+    free_paths = free_parameters(base, patterns, locked)
     lohi = np.log(np.array([bounds(base, p) for p in free_paths]))
     x0 = np.log(np.array([float(base.value(p)) for p in free_paths]))
-    objective = _Objective(data, base, free_paths, locked, body, band_hz)
+    objective = _Objective(data, base, free_paths, lock, unlock, body, band_hz)
     trace: list[float] = []
     n_evals = [0]
     say = progress or (lambda line: None)
@@ -222,7 +229,7 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
         crit_before = objective.total(x0)
         say(f"start: criterion {crit_before:.5g} with {len(free_paths)} free parameters")
         sol = least_squares(fun, x0, jac=jac, bounds=(lohi[:, 0], lohi[:, 1]), method="trf", x_scale=1.0,
-                            max_nfev=max_evals, xtol=1e-4, ftol=1e-6, gtol=1e-8)
+                            max_nfev=max(1, max_evals // (len(free_paths) + 1)), xtol=1e-4, ftol=1e-6, gtol=1e-8)
     finally:
         if pool:
             pool.shutdown()
@@ -232,9 +239,11 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     if time_check:
         from .simulation import SeatedHuman
 
-        human = SeatedHuman(params=fitted, body=body, lock=locked, unlock={j.name for j in body.joints if j.locked} - locked)
+        human = SeatedHuman(params=fitted, body=body, lock=lock, unlock=unlock)
         axes = sorted({k[0] for k in objective.keys}, key=AXES.index)
-        table = time_domain_frf(human, "all" if len(axes) > 1 else axes[0])
+        # excite the fitting band, starting one estimate bin (0.1 Hz) lower so that its edge is covered
+        table = time_domain_frf(human, "all" if len(axes) > 1 else axes[0],
+                                band_hz=(max(band_hz[0] - 0.1, 0.05), band_hz[1] + 0.1))
         crit_time = compare(data, table, band_hz).total
     start = {p: float(math.exp(v)) for p, v in zip(free_paths, x0)}
     final = {p: float(math.exp(v)) for p, v in zip(free_paths, sol.x)}
@@ -270,8 +279,6 @@ def identified_parameters(result: FitResult, data_path: Path | str) -> Parameter
 
 def write_identified(result: FitResult, data_path: Path | str, out: Path | str) -> Parameters:
     """Write the identified parameter file; refuses to overwrite the shipped defaults."""
-    if Path(out).resolve() == default_params_path().resolve():
-        raise InputError(f"{out} is the shipped default parameter file; write the fit to another file.")
     p = identified_parameters(result, data_path)
     p.export(out)
     return p

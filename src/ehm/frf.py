@@ -22,6 +22,7 @@ import numpy as np
 
 from .errors import InputError
 from .io import write_text_atomic
+from .transfer import Curve
 
 AXES = ("x", "y", "z")
 POINTS = ("pelvis", "trunk", "head")
@@ -29,41 +30,6 @@ DOFS = ("x", "y", "z", "roll", "pitch", "yaw")
 COLUMNS = ("input_axis", "point", "dof", "freq_hz", "gain", "phase_deg", "coherence")
 #: Linear-model output holding each FRF dof.
 _LINEAR_OUTPUT = {"x": "ax", "y": "ay", "z": "az", "roll": "roll_acc", "pitch": "pitch_acc", "yaw": "yaw_acc"}
-
-
-@dataclass(frozen=True)
-class Curve:
-    """One frequency response curve.
-
-    Attributes
-    ----------
-    freq_hz, gain, phase_deg, coherence, gain_sd : arrays of equal length (NaN where not known)
-    weight : float
-        Weight of the curve in a total criterion.
-    """
-
-    freq_hz: np.ndarray
-    gain: np.ndarray
-    phase_deg: np.ndarray
-    coherence: np.ndarray
-    gain_sd: np.ndarray
-    weight: float = 1.0
-
-    def peak(self, band_hz: tuple[float, float] = (0.0, math.inf)) -> tuple[float, float]:
-        """(frequency [Hz], gain) of the largest gain within a band."""
-        sel = (self.freq_hz >= band_hz[0]) & (self.freq_hz <= band_hz[1])
-        if not sel.any():
-            raise InputError(f"the curve has no frequencies in {band_hz[0]:g}-{band_hz[1]:g} Hz.")
-        i = int(np.argmax(np.where(sel, self.gain, -np.inf)))
-        return float(self.freq_hz[i]), float(self.gain[i])
-
-    def mean_gain(self, band_hz: tuple[float, float]) -> float:
-        """Mean gain over a band (trapezoidal, per Hz)."""
-        sel = (self.freq_hz >= band_hz[0]) & (self.freq_hz <= band_hz[1])
-        if sel.sum() < 2:
-            raise InputError(f"the curve has fewer than 2 frequencies in {band_hz[0]:g}-{band_hz[1]:g} Hz.")
-        f, g = self.freq_hz[sel], self.gain[sel]
-        return float(np.trapezoid(g, f) / (f[-1] - f[0]))
 
 
 @dataclass(frozen=True)
@@ -88,7 +54,8 @@ class FrfTable:
         """The curve of one path; :class:`InputError` if the table lacks it."""
         key = (input_axis, point, dof)
         if key not in self.curves:
-            raise InputError(f"no curve for seat {input_axis} -> {point} {dof} in this table.")
+            where = self.meta.get("file", f"the {self.method} table")
+            raise InputError(f"{where} has no curve for seat {input_axis} -> {point} {dof}.")
         return self.curves[key]
 
     def keys(self) -> list:
@@ -96,12 +63,16 @@ class FrfTable:
         return sorted(self.curves, key=lambda k: (AXES.index(k[0]), POINTS.index(k[1]), DOFS.index(k[2])))
 
     def to_csv(self, path: Path | str) -> None:
-        """Write the long-format CSV (whole or not at all)."""
-        lines = [",".join(COLUMNS)]
-        for key in self.keys():
-            c = self.curves[key]
-            for f, g, ph, coh in zip(c.freq_hz, c.gain, c.phase_deg, c.coherence):
-                lines.append(",".join([*key, f"{f:.6g}", f"{g:.8g}", _fmt(ph), _fmt(coh)]))
+        """Write the long-format CSV (whole or not at all); ``gain_sd`` and ``weight`` only when they carry data."""
+        curves = [self.curves[k] for k in self.keys()]
+        with_sd = any(np.isfinite(c.gain_sd).any() for c in curves)
+        with_w = any(c.weight != 1.0 for c in curves)
+        lines = [",".join(COLUMNS + ("gain_sd",) * with_sd + ("weight",) * with_w)]
+        for key, c in zip(self.keys(), curves):
+            for f, g, ph, coh, sd in zip(c.freq_hz, c.gain, c.phase_deg, c.coherence, c.gain_sd):
+                row = [*key, f"{f:.6g}", f"{g:.8g}", _fmt(ph), _fmt(coh)]
+                row += [_fmt(sd)] * with_sd + [f"{c.weight:g}"] * with_w
+                lines.append(",".join(row))
         write_text_atomic(path, "\n".join(lines) + "\n")
 
 
@@ -109,7 +80,7 @@ def _fmt(v: float) -> str:
     return "" if not np.isfinite(v) else f"{v:.6g}"
 
 
-def read_frf_csv(path: Path | str, require_gain: bool = True) -> FrfTable:
+def read_frf_csv(path: Path | str) -> FrfTable:
     """Read a long-format FRF or measured-gain CSV.
 
     Required columns: ``input_axis``, ``point``, ``dof``, ``freq_hz``, ``gain``; optional: ``phase_deg``,
@@ -161,7 +132,7 @@ def read_frf_csv(path: Path | str, require_gain: bool = True) -> FrfTable:
         f = number("freq_hz")
         if f <= 0:
             raise InputError(f"{label}, line {lineno}, column freq_hz: frequency {f:g} Hz must be positive.")
-        g = number("gain", optional=not require_gain)
+        g = number("gain")
         if g < 0:
             raise InputError(f"{label}, line {lineno}, column gain: gain {g:g} must not be negative.")
         key = (get["input_axis"], get["point"], get["dof"])
@@ -199,30 +170,39 @@ def _axes(axis: str) -> tuple[str, ...]:
     return (axis,)
 
 
+def run_curves(run, axis: str, band_hz: tuple[float, float] = (0.1, 12.0), segment_s: float = 10.0) -> dict:
+    """Curves of one run that excited seat axis ``axis``: H1 estimates of every point and dof (Eq. 1).
+
+    Input and outputs pass the paper's 12 Hz Butterworth low-pass; gains are kept within ``band_hz``.
+    """
+    from .transfer import h1_estimate
+
+    k = AXES.index(axis)
+    x = run.seat_acc_mps2[:, k]
+    curves = {}
+    for p in POINTS:
+        pm = run.point(p)
+        for j, dof in enumerate(DOFS):
+            y = pm.acc_mps2[:, j] if j < 3 else pm.angacc_radps2[:, j - 3]
+            e = h1_estimate(x, y, 1.0 / run.dt_s, segment_s=segment_s, lowpass_hz=12.0)
+            sel = (e.freq_hz >= band_hz[0]) & (e.freq_hz <= band_hz[1])
+            curves[(axis, p, dof)] = Curve(e.freq_hz[sel], e.gain[sel], e.phase_deg[sel], e.coherence[sel])
+    return curves
+
+
 def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2: float = 0.3, seed: int = 0,
                     band_hz: tuple[float, float] = (0.1, 12.0), segment_s: float = 10.0) -> FrfTable:
     """Transfer functions from random-vibration runs, one run per input axis (paper Eq. 1, H1 estimate).
 
-    Each run excites one seat axis with band-limited random acceleration (``band_hz``, ``rms_mps2``); input
-    and outputs pass the paper's 12 Hz Butterworth low-pass; gains are kept within ``band_hz``.
+    Each run excites one seat axis with band-limited random acceleration (``band_hz``, ``rms_mps2``).
     """
     from .motion import random_vibration
-    from .transfer import h1_estimate
 
     dt = float(human.params.value("simulation.dt_s"))
     curves = {}
     for axis_name in _axes(axis):
-        k = AXES.index(axis_name)
         run = human.simulate(random_vibration(axis_name, duration_s, rms_mps2, seed=seed, dt_s=dt, band_hz=band_hz))
-        x = run.seat_acc_mps2[:, k]
-        for p in POINTS:
-            pm = run.point(p)
-            for j, dof in enumerate(DOFS):
-                y = pm.acc_mps2[:, j] if j < 3 else pm.angacc_radps2[:, j - 3]
-                e = h1_estimate(x, y, 1.0 / run.dt_s, segment_s=segment_s, lowpass_hz=12.0)
-                sel = (e.freq_hz >= band_hz[0]) & (e.freq_hz <= band_hz[1])
-                curves[(axis_name, p, dof)] = Curve(e.freq_hz[sel], e.gain[sel], e.phase_deg[sel], e.coherence[sel],
-                                                    np.full(sel.sum(), np.nan))
+        curves.update(run_curves(run, axis_name, band_hz, segment_s))
     meta = {"duration_s": duration_s, "rms_mps2": rms_mps2, "seed": seed, "segment_s": segment_s}
     return FrfTable(curves=curves, method="time", meta=meta)
 
@@ -247,5 +227,5 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
         for p in POINTS:
             for dof in DOFS:
                 h = H[:, names.index(f"{p}.{_LINEAR_OUTPUT[dof]}"), i]
-                curves[(a, p, dof)] = Curve(f, np.abs(h), np.degrees(np.angle(h)), nan, nan)
+                curves[(a, p, dof)] = Curve(f, np.abs(h), np.degrees(np.angle(h)), nan)
     return FrfTable(curves=curves, method="linear", meta={})

@@ -21,7 +21,7 @@ from .errors import InputError
 from .tables import JOINT_NAMES, Body
 
 GRADES = ("literature", "assumed", "identified")
-_META = ("grade", "source", "bounds")
+_META = ("grade", "source", "bounds", "grades", "sources")
 
 #: Numeric keys allowed in each section, with the check they must pass.
 _SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "noslip_iterations": "count",
@@ -91,14 +91,16 @@ class Parameters:
             entry = node[key]
             if isinstance(entry, dict) and "value" in entry:
                 entry["value"] = v
-                target = entry
-            else:
+                if grade is not None:
+                    entry["grade"] = grade
+                if source is not None:
+                    entry["source"] = source
+            else:  # one of several values of an entry (a joint degree of freedom): provenance per value
                 node[key] = v
-                target = node
-            if grade is not None:
-                target["grade"] = grade
-            if source is not None:
-                target["source"] = source
+                if grade is not None:
+                    node.setdefault("grades", {})[key] = grade
+                if source is not None:
+                    node.setdefault("sources", {})[key] = source
         new._check("changed parameters")
         return new
 
@@ -124,6 +126,14 @@ class Parameters:
         data = copy.deepcopy(self.data)
         data.setdefault("about", {}).update(info)
         return Parameters(data, self.origin)
+
+    def provenance(self, path: str) -> tuple[str, str]:
+        """(grade, source) of the value at a dotted path."""
+        node, key = self._locate(path)
+        entry = node[key]
+        if isinstance(entry, dict):
+            return entry["grade"], entry["source"]
+        return node.get("grades", {}).get(key, node["grade"]), node.get("sources", {}).get(key, node["source"])
 
     def numeric_paths(self) -> Iterator[str]:
         """Dotted paths of all numeric values (the candidates for fitting and sweeps)."""
@@ -170,9 +180,11 @@ class Parameters:
         return header + tomli_w.dumps(self.data)
 
     def export(self, path: Path | str) -> None:
-        """Write the parameter set as a TOML file (written whole or not at all)."""
+        """Write the parameter set as a TOML file (written whole or not at all); never onto the shipped defaults."""
         from .io import write_text_atomic
 
+        if Path(path).resolve() == default_params_path().resolve():
+            raise InputError(f"{path} is the shipped default parameter file; write to another file.")
         write_text_atomic(path, self.to_toml())
 
     # ----------------------------------------------------------------- checks
@@ -231,6 +243,15 @@ class Parameters:
             src = entry.get("source")
             if src not in sources:
                 raise InputError(f"{label}: {where} names source {src!r}, which is not in [sources].")
+            for sub, allowed_values in (("grades", GRADES), ("sources", tuple(sources))):
+                per_value = entry.get(sub, {})
+                if sub in entry and (inline_value or not isinstance(per_value, dict)):
+                    raise InputError(f"{label}: {where}.{sub} is only allowed as a table in a joint entry.")
+                for k, v in per_value.items():
+                    if k not in allowed:
+                        raise InputError(f"{label}: unknown key {k!r} in {where}.{sub}.")
+                    if v not in allowed_values:
+                        raise InputError(f"{label}: {where}.{sub}.{k} = {v!r} is not one of {', '.join(allowed_values)}.")
             keys = ("value",) if inline_value else allowed
             for key in entry:
                 if key not in _META and key not in keys:
@@ -257,6 +278,8 @@ class Parameters:
         for jname, dofs in d["joints"].items():
             if jname not in JOINT_NAMES:
                 raise InputError(f"{label}: unknown joint {jname!r} in [joints]; joints are {', '.join(JOINT_NAMES)}.")
+            if not isinstance(dofs, dict):
+                raise InputError(f"{label}: [joints.{jname}] must be a table of degrees of freedom, not {dofs!r}.")
             for dof, entry in dofs.items():
                 if dof not in ("z", "roll", "pitch", "yaw"):
                     raise InputError(f"{label}: unknown degree of freedom {dof!r} in [joints.{jname}].")

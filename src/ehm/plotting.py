@@ -17,23 +17,31 @@ if "MPLBACKEND" not in os.environ:  # draw to files; no display is needed
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .errors import InputError  # noqa: E402
 from .simulation import RunResult  # noqa: E402
 
 _AXIS_COLORS = {"x": "tab:blue", "y": "tab:orange", "z": "tab:green"}
 
 
 def _save(fig, path: Path | str | None):
+    """Save whole or not at all (temporary file, then rename); problems become one InputError sentence."""
     if path is None:
         return fig
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
+    fmt = path.suffix.lstrip(".").lower()
+    tmp = None
     try:
-        fig.savefig(tmp, dpi=110)
+        if fmt not in fig.canvas.get_supported_filetypes():
+            raise InputError(f"{path}: cannot draw a .{fmt} file; use .png, .pdf or .svg.")
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
+        os.close(fd)
+        fig.savefig(tmp, dpi=110, format=fmt)
         os.replace(tmp, path)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write the figure ({exc.strerror or exc}).") from None
     finally:
-        if os.path.exists(tmp):
+        if tmp and os.path.exists(tmp):
             os.unlink(tmp)
         plt.close(fig)
     return fig
@@ -71,30 +79,28 @@ def plot_time_histories(run: RunResult, path: Path | str | None = None, title: s
     return _save(fig, path)
 
 
-def plot_transmissibility(rows: list[dict], path: Path | str | None = None, band_hz=(0.2, 12.0),
+def plot_transmissibility(table, path: Path | str | None = None, band_hz=(0.2, 12.0),
                           title: str = "Seat-to-body transmissibility (H1 estimate)"):
-    """Grid of gains: one row per input axis, one column per point, the input-axis translation.
+    """Grid of same-axis gains with coherence: one row per input axis, one column per point.
 
-    ``rows`` are dicts with ``input_axis``, ``point``, ``dof``, ``freq_hz``, ``gain``, ``coherence``
-    (arrays), e.g. from :func:`ehm.cli` demo's estimates.
+    ``table`` is an :class:`ehm.frf.FrfTable` (e.g. the demo's time-domain estimates).
     """
-    axes_in = sorted({r["input_axis"] for r in rows}, key="xyz".index)
-    points = list(dict.fromkeys(r["point"] for r in rows))
+    axes_in = sorted({k[0] for k in table.curves}, key="xyz".index)
+    points = list(dict.fromkeys(k[1] for k in table.keys()))
     fig, axes = plt.subplots(len(axes_in), len(points), figsize=(4 * len(points), 3 * len(axes_in)),
                              squeeze=False, sharex=True)
     for i, a in enumerate(axes_in):
         for j, p in enumerate(points):
             ax = axes[i, j]
-            for r in rows:
-                if r["input_axis"] == a and r["point"] == p and r["dof"] == a:
-                    f = r["freq_hz"]
-                    sel = (f >= band_hz[0]) & (f <= band_hz[1])
-                    ax.plot(f[sel], r["gain"][sel], color=_AXIS_COLORS[a], label="gain")
-                    ax2 = ax.twinx()
-                    ax2.plot(f[sel], r["coherence"][sel], color="0.6", lw=0.8, ls="--", label="coherence")
-                    ax2.set_ylim(0, 1.05)
-                    if j == len(points) - 1:
-                        ax2.set_ylabel("coherence", color="0.4")
+            c = table.curves.get((a, p, a))
+            if c is not None:
+                sel = (c.freq_hz >= band_hz[0]) & (c.freq_hz <= band_hz[1])
+                ax.plot(c.freq_hz[sel], c.gain[sel], color=_AXIS_COLORS[a], label="gain")
+                ax2 = ax.twinx()
+                ax2.plot(c.freq_hz[sel], c.coherence[sel], color="0.6", lw=0.8, ls="--", label="coherence")
+                ax2.set_ylim(0, 1.05)
+                if j == len(points) - 1:
+                    ax2.set_ylabel("coherence", color="0.4")
             ax.set_title(f"seat {a} → {p} {a}", fontsize=10)
             ax.set_xscale("log")
             ax.grid(alpha=0.3, which="both")

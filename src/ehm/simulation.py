@@ -20,7 +20,7 @@ from .errors import InputError
 from .io import write_csv_atomic, write_json_atomic
 from .motion import SeatMotion, seat_kinematics, seat_rotation_matrices
 from .params import Parameters
-from .tables import Body, load_body
+from .tables import Body, load_body, resolve_locks
 
 POINT_NAMES = tuple(engine.POINTS)  #: ``pelvis``, ``trunk`` (upper torso centre of gravity, T8 level), ``head``.
 SUPPORT_NAMES = ("seat_pan", "backrest", "floor")
@@ -182,15 +182,7 @@ class SeatedHuman:
                  body: Body | None = None, rotating_seat: bool = False):
         self.body = body if body is not None else load_body()
         self.params = params if isinstance(params, Parameters) else Parameters.load(params)
-        names = [j.name for j in self.body.joints]
-        for name in list(lock) + list(unlock):
-            if name not in names:
-                raise InputError(f"unknown joint {name!r}; joints are {', '.join(names)}.")
-        both = set(lock) & set(unlock)
-        if both:
-            raise InputError(f"joint {sorted(both)[0]!r} is asked to be both locked and unlocked.")
-        locked = {j.name for j in self.body.joints if j.locked}
-        self.locked = frozenset((locked | set(lock)) - set(unlock))
+        self.locked = resolve_locks(self.body, lock, unlock)
         self.model = engine.build(self.body, self.params, self.locked, rotating_seat=rotating_seat)
 
     @property

@@ -90,6 +90,8 @@ def parse_variant(text: str) -> tuple[str, tuple]:
     js = tuple(j.strip() for j in joints.split(",") if j.strip())
     if not name.strip() or not js:
         raise InputError(f"variant {text!r} must read NAME=JOINT[,JOINT...].")
+    if name.strip() == "baseline":
+        raise InputError("'baseline' is the unlocked reference of the study; give the variant another name.")
     return name.strip(), js
 
 
@@ -110,10 +112,12 @@ def locking_study(params=None, variants: dict | None = None, method: str = "line
     if method not in ("linear", "time"):
         raise InputError(f"unknown method {method!r}; use linear or time.")
     variants = dict(variants or PAPER_VARIANTS)
+    if variants.get("baseline", ()) != ():
+        raise InputError("'baseline' is the unlocked reference of the study; give the variant another name.")
     variants = {"baseline": (), **{k: v for k, v in variants.items() if k != "baseline"}}
+    humans = {name: SeatedHuman(params=params, lock=locks) for name, locks in variants.items()}  # checks names first
     tables: dict[str, FrfTable] = {}
-    for name, locks in variants.items():
-        human = SeatedHuman(params=params, lock=locks)
+    for name, human in humans.items():
         if progress:
             progress(f"  {name}: locked {', '.join(sorted(human.locked))}, {human.dof} dof")
         tables[name] = (linear_frf(human, "all", freq_hz=np.arange(0.2, 15.0 + 1e-9, 0.02)) if method == "linear"

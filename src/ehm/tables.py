@@ -166,9 +166,11 @@ class _Table:
         self.path = Path(path)
         self.label = label or self.path.name
         try:
-            text = self.path.read_text(encoding="utf-8")
+            text = self.path.read_text(encoding="utf-8-sig")
         except OSError as exc:
             raise InputError(f"{self.label}: cannot read the file ({exc.strerror or exc}).") from None
+        except UnicodeDecodeError:
+            raise InputError(f"{self.label}: not a UTF-8 text file.") from None
         lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
         if not lines:
             raise InputError(f"{self.label}: the file has no header row.")
@@ -364,3 +366,15 @@ def load_body(segments: Path | str | None = None, joints: Path | str | None = No
         if c.segment not in names:
             raise InputError(f"{c.where}, column segment: segment {c.segment!r} is not in the segment table.")
     return Body(segs, jnts, cons)
+
+
+def resolve_locks(body: Body, lock=(), unlock=()) -> frozenset:
+    """The complete set of locked joints: the table's defaults (the waist), plus ``lock``, minus ``unlock``."""
+    names = [j.name for j in body.joints]
+    for name in list(lock) + list(unlock):
+        if name not in names:
+            raise InputError(f"unknown joint {name!r}; joints are {', '.join(names)}.")
+    both = set(lock) & set(unlock)
+    if both:
+        raise InputError(f"joint {sorted(both)[0]!r} is asked to be both locked and unlocked.")
+    return frozenset(({j.name for j in body.joints if j.locked} | set(lock)) - set(unlock))

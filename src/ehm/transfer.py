@@ -14,31 +14,52 @@ from .errors import InputError
 
 
 @dataclass(frozen=True)
-class TransferEstimate:
-    """H1 estimate of a transfer function from input to output.
+class Curve:
+    """One frequency response curve (an estimate, an exact response or measured gains).
 
     Attributes
     ----------
     freq_hz : (m,) array
     gain : (m,) array
-        |H1| (output units per input unit).
+        |H| (output units per input unit).
     phase_deg : (m,) array
+        Phase [deg] (NaN where not known).
     coherence : (m,) array
-        Magnitude-squared coherence, 0 to 1.
+        Magnitude-squared coherence, 0 to 1 (NaN where not known).
+    gain_sd : (m,) array
+        Standard deviation of measured gains (NaN where not known).
+    weight : float
+        Weight of the curve in a total criterion.
     """
 
     freq_hz: np.ndarray
     gain: np.ndarray
     phase_deg: np.ndarray
     coherence: np.ndarray
+    gain_sd: np.ndarray | None = None
+    weight: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.gain_sd is None:
+            object.__setattr__(self, "gain_sd", np.full(np.shape(self.freq_hz), np.nan))
+
+    def _band(self, band_hz: tuple[float, float], at_least: int) -> np.ndarray:
+        sel = (self.freq_hz >= band_hz[0]) & (self.freq_hz <= band_hz[1])
+        if sel.sum() < at_least:
+            raise InputError(f"the curve has fewer than {at_least} frequencies in {band_hz[0]:g}-{band_hz[1]:g} Hz.")
+        return sel
 
     def peak(self, band_hz: tuple[float, float] = (0.5, 12.0)) -> tuple[float, float]:
         """(frequency [Hz], gain) of the largest gain within a band."""
-        sel = (self.freq_hz >= band_hz[0]) & (self.freq_hz <= band_hz[1])
-        if not sel.any():
-            raise InputError(f"no estimate frequencies lie in {band_hz[0]}-{band_hz[1]} Hz.")
-        i = np.argmax(np.where(sel, self.gain, -np.inf))
+        sel = self._band(band_hz, 1)
+        i = int(np.argmax(np.where(sel, self.gain, -np.inf)))
         return float(self.freq_hz[i]), float(self.gain[i])
+
+    def mean_gain(self, band_hz: tuple[float, float]) -> float:
+        """Mean gain over a band (trapezoidal, per Hz)."""
+        sel = self._band(band_hz, 2)
+        f, g = self.freq_hz[sel], self.gain[sel]
+        return float(np.trapezoid(g, f) / (f[-1] - f[0]))
 
     def at(self, freq_hz: float) -> float:
         """Gain linearly interpolated at one frequency."""
@@ -46,7 +67,7 @@ class TransferEstimate:
 
 
 def h1_estimate(x: np.ndarray, y: np.ndarray, fs_hz: float, segment_s: float = 10.0,
-                lowpass_hz: float | None = 12.0) -> TransferEstimate:
+                lowpass_hz: float | None = 12.0) -> Curve:
     """H1 transfer-function estimate y/x with Welch averaging (Hann windows, 50 % overlap).
 
     Parameters
@@ -80,7 +101,7 @@ def h1_estimate(x: np.ndarray, y: np.ndarray, fs_hz: float, segment_s: float = 1
         h = pxy / pxx
         coh = np.abs(pxy) ** 2 / (pxx * pyy)
     ok = pxx > 0
-    return TransferEstimate(freq_hz=f[ok], gain=np.abs(h[ok]), phase_deg=np.degrees(np.angle(h[ok])),
+    return Curve(freq_hz=f[ok], gain=np.abs(h[ok]), phase_deg=np.degrees(np.angle(h[ok])),
                             coherence=np.nan_to_num(coh[ok]))
 
 
