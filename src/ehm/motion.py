@@ -802,34 +802,40 @@ class SeatKinematics:
         return out[0], out[1], out[2]
 
 
-def seat_kinematics(time_s: np.ndarray, angvel_radps: np.ndarray, iterations: int = 4) -> SeatKinematics:
+def seat_kinematics(time_s: np.ndarray, angvel_radps: np.ndarray) -> SeatKinematics:
     """Integrate the seat's body-axis angular velocity (roll, pitch, yaw rates) into z-y-x Euler angles.
 
-    The Euler-angle rates follow from the body rates w = (wx, wy, wz) and the current roll phi and pitch
-    theta:  roll' = wx + tan(theta) (wy sin(phi) + wz cos(phi)),  pitch' = wy cos(phi) - wz sin(phi),
-    yaw' = (wy sin(phi) + wz cos(phi)) / cos(theta).  They are integrated by the trapezoidal rule, repeating
-    with the updated angles (a fixed-point iteration that converges quickly for the small roll and pitch of
-    vehicles); accelerations are the time derivatives of the rates.  Pitch must stay within +-80 deg.
+    The orientation is integrated as a quaternion, q(k+1) = q(k) * exp(w dt / 2) with w the mean of the two
+    samples' rates (exact for rates constant over a step), then expressed as yaw, pitch, roll (yaw
+    unwrapped).  The Euler-angle rates follow from the body rates w = (wx, wy, wz) and roll phi, pitch
+    theta: roll' = wx + tan(theta) (wy sin(phi) + wz cos(phi)), pitch' = wy cos(phi) - wz sin(phi),
+    yaw' = (wy sin(phi) + wz cos(phi)) / cos(theta); accelerations are their time derivatives.  Pitch must
+    stay within +-80 deg.
     """
+    from scipy.spatial.transform import Rotation
+
     t = np.asarray(time_s, dtype=float)
     w = np.asarray(angvel_radps, dtype=float)
-    from scipy.integrate import cumulative_trapezoid
-
-    phi = np.zeros(t.size)
-    theta = np.zeros(t.size)
-    for _ in range(iterations):
-        s, c = np.sin(phi), np.cos(phi)
-        rates = np.column_stack([
-            (w[:, 1] * s + w[:, 2] * c) / np.cos(theta),            # yaw'
-            w[:, 1] * c - w[:, 2] * s,                              # pitch'
-            w[:, 0] + np.tan(theta) * (w[:, 1] * s + w[:, 2] * c),  # roll'
-        ])
-        angles = cumulative_trapezoid(rates, t, axis=0, initial=0.0)
-        phi, theta = angles[:, 2], angles[:, 1]
-        if np.abs(theta).max() > np.radians(80):
-            i = int(np.argmax(np.abs(theta) > np.radians(80)))
-            raise InputError(f"the seat pitch reaches {np.degrees(theta[i]):.0f} deg at t = {t[i] - t[0]:.2f} s; "
-                             "seat pitch must stay within +-80 deg.")
+    steps = Rotation.from_rotvec(0.5 * (w[1:] + w[:-1]) * np.diff(t)[:, None])
+    quats = np.empty((t.size, 4))
+    q = Rotation.identity()
+    quats[0] = q.as_quat()
+    # sequential composition (about 20 us per sample: 8 s for an hour at 100 Hz)
+    for k, step in enumerate(steps):
+        q = q * step
+        quats[k + 1] = q.as_quat()
+    yaw, pitch, roll = Rotation.from_quat(quats).as_euler("ZYX").T
+    if np.abs(pitch).max() > np.radians(80):
+        i = int(np.argmax(np.abs(pitch) > np.radians(80)))
+        raise InputError(f"the seat pitch reaches {np.degrees(pitch[i]):.0f} deg at t = {t[i] - t[0]:.2f} s; "
+                         "seat pitch must stay within +-80 deg.")
+    angles = np.column_stack([np.unwrap(yaw), pitch, roll])
+    s, c = np.sin(roll), np.cos(roll)
+    rates = np.column_stack([
+        (w[:, 1] * s + w[:, 2] * c) / np.cos(pitch),             # yaw'
+        w[:, 1] * c - w[:, 2] * s,                               # pitch'
+        w[:, 0] + np.tan(pitch) * (w[:, 1] * s + w[:, 2] * c),   # roll'
+    ])
     accs = np.gradient(rates, t, axis=0)
     return SeatKinematics(t, angles, rates, accs)
 
