@@ -280,6 +280,78 @@ def cmd_study_locking(args) -> int:
     return 0
 
 
+SHIPPED_DRIVES = {"city": "synthetic_city_drive.csv", "road": "synthetic_rough_road.csv"}
+
+
+def _drive_path(name: str) -> Path:
+    """A motion file, or the path of a shipped synthetic drive named ``city`` or ``road``."""
+    if name in SHIPPED_DRIVES:
+        from importlib import resources
+
+        return Path(str(resources.files("ehm") / "data" / "drives" / SHIPPED_DRIVES[name]))
+    return Path(name)
+
+
+def _progress_bar(label: str):
+    finished = []
+
+    def show(done_s: float, total_s: float) -> None:
+        if finished:
+            return
+        frac = min(1.0, done_s / total_s) if total_s > 0 else 1.0
+        bar = "#" * int(30 * frac)
+        end = "\n" if frac >= 1.0 else ""
+        print(f"\r{label} [{bar:<30}] {done_s:6.0f} / {total_s:.0f} s", end=end, file=sys.stderr, flush=True)
+        if frac >= 1.0:
+            finished.append(True)
+    return show
+
+
+def cmd_assess(args) -> int:
+    from .assessment import assess
+    from .plotting import plot_running_rms, plot_sickness, plot_weighted_spectra
+    from .report import write_report
+
+    motion = load_motion_csv(_drive_path(args.motion))
+    params = Parameters.load(args.params)
+    body = load_body(args.segments, args.joints, args.contacts)
+    human = SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body,
+                        rotating_seat=motion.angvel_radps is not None)
+    out = Path(args.out)
+    _writable_dir(out, "output")
+    result = assess(motion, human, progress=_progress_bar("assess"))
+    summary = result.summary()
+    summary["params"] = params.origin
+    summary["locked"] = sorted(human.locked)
+    write_json_atomic(out / "assessment.json", summary)
+    figures = {"spectra": out / "weighted_spectra.png", "running_rms": out / "running_rms.png",
+               "sickness": out / "sickness.png"}
+    plot_weighted_spectra(result, figures["spectra"])
+    plot_running_rms(result, figures["running_rms"])
+    plot_sickness(result, figures["sickness"])
+    write_report(summary, figures, out / "report.html")
+    loc = summary["locations"]
+    print(f"{result.duration_s:.0f} s of '{result.description}' in {result.wall_s:.0f} s")
+    for name in ("seat", "pelvis", "trunk", "head"):
+        v = loc[name]
+        print(f"  {name:<7} a_v {v['total_value_mps2']:.3f} m/s^2 ({v['comfort_reaction']}), "
+              f"MSDV_z {v['msdv_z_mps15']:.3f} m/s^1.5")
+    print(f"  motion sickness incidence at the end: head {summary['sickness']['head']['final_msi_percent']:.2f} %, "
+          f"head fixed to the seat {summary['sickness']['seat']['final_msi_percent']:.2f} %")
+    print(f"wrote {out}/assessment.json, report.html, weighted_spectra.png, running_rms.png, sickness.png")
+    return 0
+
+
+def cmd_drive(args) -> int:
+    from .drives import city_drive, rough_road, write_drive_csv
+
+    motion = (city_drive(args.duration, seed=args.seed) if args.kind == "city"
+              else rough_road(args.duration, speed_mps=args.speed, road_class=args.road_class, seed=args.seed))
+    write_drive_csv(motion, args.out)
+    print(f"wrote {args.out}: {motion.description}")
+    return 0
+
+
 def cmd_params(args) -> int:
     params = Parameters.load(args.params)
     if args.export:
@@ -366,6 +438,23 @@ def build_parser() -> argparse.ArgumentParser:
     q.add_argument("--duration", type=float, default=60.0, help="run length per axis of the time method [s]")
     q.add_argument("--out", required=True, metavar="DIR")
     q.set_defaults(func=cmd_study_locking)
+
+    p = sub.add_parser("assess", help="comfort (ISO 2631-1) and motion sickness of a drive, at the seat and the body")
+    _model_options(p)
+    p.add_argument("--motion", required=True, metavar="DRIVE.csv",
+                   help="drive file (time_s, ax_mps2, ay_mps2, az_mps2 [, wx_radps, wy_radps, wz_radps]) "
+                        "or 'city' / 'road' for the shipped SYNTHETIC drives")
+    p.add_argument("--out", required=True, metavar="DIR")
+    p.set_defaults(func=cmd_assess)
+
+    p = sub.add_parser("drive", help="write a SYNTHETIC drive file (city manoeuvres or a rough road)")
+    p.add_argument("kind", choices=("city", "road"))
+    p.add_argument("--duration", type=float, default=120.0, help="length [s] (default 120)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--speed", type=float, default=15.0, help="road: vehicle speed [m/s] (default 15)")
+    p.add_argument("--road-class", default="C", choices=("A", "B", "C", "D", "E"), help="road: ISO 8608 class")
+    p.add_argument("--out", required=True, metavar="DRIVE.csv")
+    p.set_defaults(func=cmd_drive)
 
     p = sub.add_parser("params", help="print or export the parameter file")
     p.add_argument("--params", metavar="FILE.toml", help="parameter file to read (default: the shipped defaults)")

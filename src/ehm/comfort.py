@@ -467,7 +467,7 @@ class ComfortAccumulator:
         window = c[self._n_tau:] - c[:sq.size]
         running = np.sqrt(np.maximum(window, 0.0) / self._n_tau)
         first = (-self._n) % self._keep
-        self._kept.append(running[first::self._keep])
+        self._kept.append(running[first::self._keep].copy())  # a copy: a view would keep the whole block
         self._tail = np.concatenate((self._tail, sq))[-self._n_tau:]
         self._n += x.size
         self._sum2 += float(sq.sum())

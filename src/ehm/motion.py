@@ -673,6 +673,7 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
 
     header: list[str] | None = None
     header_line = 0
+    first_comment = ""
     index: dict[str, int] = {}
     times: list[float] = []
     time_texts: list[str] = []
@@ -682,6 +683,8 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
         line = line.rstrip("\r")
         stripped = line.strip()
         if not stripped or stripped.startswith("#"):
+            if header is None and not first_comment and stripped.startswith("#"):
+                first_comment = stripped.lstrip("#").strip()
             continue
         try:
             fields = next(csv.reader([line]))
@@ -771,6 +774,8 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
         f"from {os.path.basename(name)}, {len(rows)} samples, "
         f"{float(time_s[-1] - time_s[0]):g} s"
     )
+    if first_comment:  # a file's first comment line describes it (e.g. "SYNTHETIC city drive ...")
+        description = f"{first_comment} ({description})"
     return SeatMotion(time_s, data[:, :3], description, data[:, 3:6] if data.shape[1] == 6 else None)
 
 

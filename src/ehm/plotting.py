@@ -176,3 +176,61 @@ def plot_locking_study(study, path: Path | str | None = None):
     fig.suptitle(f"Joint-locking study ({study.method} model): SL = T12 locked, NL = lower neck locked")
     fig.tight_layout()
     return _save(fig, path)
+
+
+_LOC_COLORS = {"seat": "0.3", "pelvis": "tab:blue", "trunk": "tab:orange", "head": "tab:red"}
+
+
+def plot_weighted_spectra(assessment, path: Path | str | None = None):
+    """PSD of the frequency-weighted acceleration (Wd x/y, Wk z) at seat, pelvis, trunk and head."""
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4), sharey=True)
+    for ax, a in zip(axes, "xyz"):
+        for loc, spec in assessment.spectra.items():
+            f, p = spec[a]
+            sel = (f >= 0.2) & (f <= 80)
+            if sel.any():
+                ax.loglog(f[sel], p[sel], color=_LOC_COLORS[loc], lw=1.1, label=loc)
+        ax.set_title(f"{a}: {'Wd' if a != 'z' else 'Wk'}-weighted acceleration")
+        ax.set_xlabel("frequency [Hz]")
+        ax.grid(alpha=0.3, which="both")
+    axes[0].set_ylabel("PSD [(m/s²)²/Hz]")
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"Weighted spectra: {assessment.description}")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_running_rms(assessment, path: Path | str | None = None):
+    """Running rms (1 s) of the weighted acceleration per axis, seat and body."""
+    fig, axes = plt.subplots(3, 1, figsize=(12, 7.5), sharex=True)
+    t = assessment.trace_time_s
+    for ax, a in zip(axes, "xyz"):
+        for loc, per_axis in assessment.metrics.items():
+            rr = per_axis[a].running_rms
+            ax.plot(t[: rr.size], rr, color=_LOC_COLORS[loc], lw=0.9, label=f"{loc} (MTVV {per_axis[a].mtvv:.2f})")
+        ax.set_ylabel(f"{a} running rms [m/s²]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, ncol=4, loc="upper right")
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle("Running rms of the weighted acceleration (1 s, ISO 2631-1 6.3.1)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_sickness(assessment, path: Path | str | None = None):
+    """Predicted motion sickness incidence over time: head motion against a head fixed to the seat."""
+    fig, axes = plt.subplots(2, 1, figsize=(12, 6), sharex=True)
+    styles = {"head": ("tab:red", "head (through the body)"), "seat": ("0.3", "seat (head fixed to the seat)")}
+    for key, r in assessment.sickness.items():
+        color, label = styles[key]
+        axes[0].plot(r.time_s, r.msi_percent, color=color, label=f"{label}: {r.final_msi_percent:.2f} % at the end")
+        axes[1].plot(r.time_s, r.conflict_magnitude_mps2, color=color, lw=0.8, label=label)
+    axes[0].set_ylabel("MSI [%]")
+    axes[1].set_ylabel("vertical conflict [m/s²]")
+    axes[1].set_xlabel("time [s]")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("Motion sickness incidence (subjective vertical conflict model)")
+    fig.tight_layout()
+    return _save(fig, path)

@@ -108,7 +108,7 @@ from .errors import InputError
 __all__ = ["SvcParameters", "SicknessResult", "subjective_vertical_conflict", "hill_percent"]
 
 _MAX_STEP_RAD = 0.5  # largest accepted (rate x sample interval), rad
-_CHUNK = 8192  # samples per batch of step maps (memory: _CHUNK x 9 x 9 floats, a few MB)
+_CHUNK = 2048  # samples per batch of step maps (memory: about 10 arrays of _CHUNK x 9 x 9 floats, 13 MB)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,180 @@
+"""Comfort and sickness assessment of a whole drive, at the seat and through the body.
+
+:func:`assess` runs the seated person through a drive chunk by chunk (constant memory, whatever the
+drive's length) and evaluates, at the seat (the input) and at the pelvis, trunk and head:
+
+* ISO 2631-1 comfort: frequency-weighted rms a_w, MTVV, VDV, crest factor per axis (Wd for x and y, Wk
+  for z, seated, seat-surface axes), the vibration total value (k = 1, comfort) with the standard's
+  comfort reaction, MSDV (Wf, vertical), the SEAT value (body over seat), weighted spectra and running rms;
+* motion sickness: the subjective vertical conflict model driven by the head's angular velocity and
+  gravito-inertial acceleration (and, for comparison, by the seat's, as if the head were rigidly fixed to
+  the seat).
+
+Output points are the segments' centres of gravity; their accelerations are in seat axes.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import signal
+
+from .comfort import ComfortAccumulator, comfort_reaction
+from .errors import InputError
+from .motion import SeatMotion
+from .sickness import subjective_vertical_conflict
+
+LOCATIONS = ("seat", "pelvis", "trunk", "head")
+AXIS_WEIGHTING = {"x": "Wd", "y": "Wd", "z": "Wk"}  #: ISO 2631-1 seated, comfort/health axes
+SICKNESS_RATE_HZ = 20.0  #: Sample rate of the sickness model's input (block means of the run)
+TRACE_RATE_HZ = 10.0  #: Sample rate of the stored running rms and traces
+
+
+@dataclass
+class _Spectrum:
+    """Welch PSD of a weighted signal, averaged over chunks (weights = chunk lengths)."""
+
+    fs: float
+    nperseg: int
+    total: np.ndarray | None = None
+    count: int = 0
+
+    def add(self, x: np.ndarray) -> None:
+        if x.size < self.nperseg:
+            return
+        f, p = signal.welch(x, fs=self.fs, nperseg=self.nperseg)
+        self.freq = f
+        self.total = p * x.size if self.total is None else self.total + p * x.size
+        self.count += x.size
+
+    def result(self) -> tuple[np.ndarray, np.ndarray]:
+        if self.total is None:
+            return np.zeros(0), np.zeros(0)
+        return self.freq, self.total / self.count
+
+
+@dataclass
+class Assessment:
+    """Results of :func:`assess` (plain data; :meth:`summary` is what ``assessment.json`` holds)."""
+
+    description: str
+    duration_s: float
+    wall_s: float
+    metrics: dict                    # location -> axis -> ComfortMetrics
+    spectra: dict                    # location -> axis -> (freq_hz, psd (m/s^2)^2/Hz) of the weighted signal
+    sickness: dict                   # "head" / "seat" -> SicknessResult
+    trace_time_s: np.ndarray         # for the running rms traces
+    max_displacement_m: dict = field(default_factory=dict)  # point -> (3,) largest |displacement|
+    final_displacement_m: dict = field(default_factory=dict)
+
+    def total_value(self, location: str) -> float:
+        """Vibration total value a_v = sqrt(a_wx^2 + a_wy^2 + a_wz^2), k = 1 (comfort) [m/s^2]."""
+        return float(np.sqrt(sum(self.metrics[location][a].a_w ** 2 for a in "xyz")))
+
+    def summary(self) -> dict:
+        out = {"input": self.description, "duration_s": self.duration_s, "wall_s": self.wall_s,
+               "realtime_factor": self.duration_s / self.wall_s if self.wall_s > 0 else None,
+               "weightings": {"x": "Wd", "y": "Wd", "z": "Wk", "msdv": "Wf (z)"},
+               "locations": {}}
+        seat_av = self.total_value("seat")
+        for loc in LOCATIONS:
+            per_axis = {}
+            for a in "xyz":
+                m = self.metrics[loc][a]
+                per_axis[a] = {"a_w_mps2": m.a_w, "mtvv_mps2": m.mtvv, "vdv_mps175": m.vdv,
+                               "crest_factor": m.crest_factor, "mtvv_ratio": m.mtvv_ratio, "vdv_ratio": m.vdv_ratio}
+                if loc != "seat":
+                    seat_aw = self.metrics["seat"][a].a_w
+                    per_axis[a]["seat_value_pct"] = 100 * m.a_w / seat_aw if seat_aw > 0 else None
+            a_v = self.total_value(loc)
+            out["locations"][loc] = {
+                "axes": per_axis, "total_value_mps2": a_v, "comfort_reaction": comfort_reaction(a_v),
+                "msdv_z_mps15": self.metrics[loc]["z"].msdv,
+                **({"seat_value_total_pct": 100 * a_v / seat_av if seat_av > 0 else None} if loc != "seat" else {}),
+            }
+        out["sickness"] = {k: {"final_msi_percent": r.final_msi_percent,
+                               "max_conflict_mps2": float(np.max(r.conflict_magnitude_mps2))}
+                           for k, r in self.sickness.items()}
+        out["body_displacement_max_m"] = {k: v.tolist() for k, v in self.max_displacement_m.items()}
+        out["body_displacement_final_m"] = {k: v.tolist() for k, v in self.final_displacement_m.items()}
+        return out
+
+
+def _block_means(x: np.ndarray, k: int) -> np.ndarray:
+    """Means of consecutive blocks of k rows (the last partial block dropped)."""
+    n = (x.shape[0] // k) * k
+    return x[:n].reshape(n // k, k, *x.shape[1:]).mean(axis=1)
+
+
+def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None) -> Assessment:
+    """Assess a drive at the seat and through the body (see the module docstring).
+
+    Parameters
+    ----------
+    motion : SeatMotion
+        The drive: seat acceleration in seat axes and, optionally, angular velocity.
+    human : SeatedHuman, optional
+        The person (default: the default person, with a rotating seat when the drive rotates).
+    progress : callable(done_s, total_s), optional
+    """
+    from .simulation import POINT_NAMES, SeatedHuman
+
+    rotating = motion.angvel_radps is not None
+    if human is None:
+        human = SeatedHuman(rotating_seat=rotating)
+    dt = float(human.params.value("simulation.dt_s"))
+    fs = 1.0 / dt
+    if fs < 250:
+        raise InputError(f"the ISO 2631-1 weightings need at least 250 Hz; the model's time step {dt:g} s gives "
+                         f"{fs:g} Hz.")
+    keep = max(1, int(round(fs / TRACE_RATE_HZ)))
+    acc = {loc: {a: ComfortAccumulator(AXIS_WEIGHTING[a], fs, keep_every=keep) for a in "xyz"} for loc in LOCATIONS}
+    spectra = {loc: {a: _Spectrum(fs, int(2 ** np.ceil(np.log2(8 * fs)))) for a in "xyz"} for loc in LOCATIONS}
+    k_sick = max(1, int(round(fs / SICKNESS_RATE_HZ)))
+    sick_in = {"head": ([], []), "seat": ([], [])}
+    max_disp = {p: np.zeros(3) for p in POINT_NAMES}
+    final = {}
+    g_seat = np.array([0.0, 0.0, 9.81])
+    t0 = time.perf_counter()
+    for chunk in human.stream(motion, chunk_s=chunk_s, progress=progress):
+        signals = {"seat": chunk.seat_acc_mps2, **{p: chunk.point(p).acc_mps2 for p in POINT_NAMES}}
+        for loc, a_xyz in signals.items():
+            for j, a in enumerate("xyz"):
+                aw = acc[loc][a].add(a_xyz[:, j])
+                spectra[loc][a].add(aw)
+        head = chunk.point("head")
+        sick_in["head"][0].append(_block_means(head.gia_mps2, k_sick))
+        sick_in["head"][1].append(_block_means(head.angvel_radps, k_sick))
+        # The seat's own GIA and rotation: specific force in seat axes, seat angular velocity.
+        if rotating:
+            from .motion import seat_rotation_matrices
+
+            R = seat_rotation_matrices(chunk.seat_angles_rad)
+            gia_seat = chunk.seat_acc_mps2 + np.einsum("nji,j->ni", R, g_seat)
+            t_rel = chunk.time_s
+            w_seat = np.column_stack([np.interp(t_rel, motion.time_s - motion.time_s[0], motion.angvel_radps[:, j])
+                                      for j in range(3)])
+        else:
+            gia_seat = chunk.seat_acc_mps2 + g_seat
+            w_seat = np.zeros_like(gia_seat)
+        sick_in["seat"][0].append(_block_means(gia_seat, k_sick))
+        sick_in["seat"][1].append(_block_means(w_seat, k_sick))
+        for p in POINT_NAMES:
+            d = chunk.point(p).disp_m
+            max_disp[p] = np.maximum(max_disp[p], np.abs(d).max(axis=0))
+            final[p] = d[-1].copy()
+    wall = time.perf_counter() - t0
+    sickness = {}
+    for key, (gia, w) in sick_in.items():
+        gia, w = np.concatenate(gia), np.concatenate(w)
+        t = np.arange(gia.shape[0]) * k_sick * dt
+        sickness[key] = subjective_vertical_conflict(t, gia, w)
+    metrics = {loc: {a: acc[loc][a].result() for a in "xyz"} for loc in LOCATIONS}
+    n_trace = metrics["seat"]["z"].running_rms.size
+    return Assessment(
+        description=motion.description, duration_s=motion.duration_s, wall_s=wall, metrics=metrics,
+        spectra={loc: {a: spectra[loc][a].result() for a in "xyz"} for loc in LOCATIONS}, sickness=sickness,
+        trace_time_s=np.arange(n_trace) * keep * dt, max_displacement_m=max_disp, final_displacement_m=final,
+    )
