@@ -342,6 +342,33 @@ def cmd_assess(args) -> int:
     return 0
 
 
+def cmd_realtime(args) -> int:
+    from .stepping import Simulator, run_realtime
+
+    motion = load_motion_csv(_drive_path(args.motion))
+    if motion.angvel_radps is not None and np.any(motion.angvel_radps != 0):
+        if not args.ignore_rotation:
+            raise InputError(f"{args.motion} rotates the seat; real-time stepping supports seat translation only "
+                             "(use --ignore-rotation to drop the rotation, or 'ehm assess' for the whole drive).")
+    params = Parameters.load(args.params)
+    sim = Simulator(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+                    comfort=not args.no_comfort)
+    m = motion.resample(sim.dt_s)
+    acc = m.acc_mps2 if args.duration is None else m.acc_mps2[: int(round(args.duration / sim.dt_s)) + 1]
+    print(f"real-time run of {acc.shape[0] * sim.dt_s:.1f} s of '{motion.description}', one {sim.dt_s * 1000:g} ms "
+          f"step per {sim.dt_s * 1000:g} ms of wall clock" + ("" if not args.no_pace else " (not paced)"))
+    last = {}
+    report = run_realtime(sim, acc, pace=not args.no_pace, on_step=lambda s: last.update(state=s))
+    print(f"step latency: median {report.median_s * 1e6:.0f} us, 99th percentile {report.p99_s * 1e6:.0f} us, "
+          f"worst {report.worst_s * 1e6:.0f} us; overruns {report.overruns} of {report.n_steps} steps; "
+          f"wall {report.wall_s:.1f} s")
+    if last and last["state"].comfort:
+        c = last["state"].comfort
+        print("running a_w so far [m/s^2]: " + ", ".join(
+            f"{loc} z {c[loc]['z'][1]:.3f}" for loc in ("seat", "pelvis", "trunk", "head")))
+    return 0
+
+
 def cmd_drive(args) -> int:
     from .drives import city_drive, rough_road, write_drive_csv
 
@@ -446,6 +473,15 @@ def build_parser() -> argparse.ArgumentParser:
                         "or 'city' / 'road' for the shipped SYNTHETIC drives")
     p.add_argument("--out", required=True, metavar="DIR")
     p.set_defaults(func=cmd_assess)
+
+    p = sub.add_parser("realtime", help="step the model paced to the wall clock; report per-step latency")
+    _model_options(p)
+    p.add_argument("--motion", required=True, metavar="DRIVE.csv", help="seat acceleration file, or city / road")
+    p.add_argument("--duration", type=float, help="run only this many seconds of the motion")
+    p.add_argument("--no-pace", action="store_true", help="run as fast as possible (latency figures only)")
+    p.add_argument("--no-comfort", action="store_true", help="skip the running comfort figures")
+    p.add_argument("--ignore-rotation", action="store_true", help="drop the drive's angular velocity")
+    p.set_defaults(func=cmd_realtime)
 
     p = sub.add_parser("drive", help="write a SYNTHETIC drive file (city manoeuvres or a rough road)")
     p.add_argument("kind", choices=("city", "road"))

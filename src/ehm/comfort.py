@@ -455,6 +455,7 @@ class ComfortAccumulator:
         self._sum2 = self._sum4 = self._sumf2 = 0.0
         self._peak = self._mtvv = 0.0
         self._kept: list[np.ndarray] = []
+        self.last_running_rms = 0.0
 
     def add(self, block) -> np.ndarray:
         """Feed the next samples [m/s^2]; returns their weighted values."""
@@ -475,7 +476,13 @@ class ComfortAccumulator:
         self._sumf2 += float(np.sum(awf * awf))
         self._peak = max(self._peak, float(np.max(np.abs(aw))))
         self._mtvv = max(self._mtvv, float(running.max()))
+        self.last_running_rms = float(running[-1])  #: running rms at the latest sample [m/s^2]
         return aw
+
+    @property
+    def a_w_so_far(self) -> float:
+        """Weighted rms acceleration of everything added so far [m/s^2] (0 before any sample)."""
+        return float(np.sqrt(self._sum2 / self._n)) if self._n else 0.0
 
     def result(self) -> ComfortMetrics:
         """The evaluation values so far (``running_rms`` decimated by ``keep_every``)."""

@@ -441,6 +441,25 @@ def support_forces(model: Model, d: mujoco.MjData) -> dict:
     return out
 
 
+def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool = False) -> np.ndarray:
+    """Advance one time step with a seat acceleration (static seat); returns the sensor data of the step.
+
+    The same operations as one iteration of :func:`run`, so stepping reproduces whole runs exactly.
+    ``check`` tests for divergence after the step.
+    """
+    g = model.mj.opt.gravity
+    g[:] = G0 - seat_acc_mps2
+    try:
+        mujoco.mj_step(model.mj, d)
+    finally:
+        g[:] = G0
+    if check:
+        why = _instability(model, d)
+        if why:
+            raise _diverged(model, d.time, why)
+    return d.sensordata
+
+
 @dataclass(frozen=True)
 class RawRun:
     """Engine output of one run, sampled at every step (before integration).

@@ -1,0 +1,32 @@
+"""Per-step latency of the stepping interface, paced to the wall clock (1 ms steps, 10 s of the
+SYNTHETIC rough road, translation only), with and without the running comfort figures.
+
+Usage: python benchmarks/bench_realtime_step.py [--duration 10]
+"""
+
+from __future__ import annotations
+
+import argparse
+from importlib import resources
+from pathlib import Path
+
+from ehm.motion import load_motion_csv
+from ehm.stepping import Simulator, run_realtime
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--duration", type=float, default=10.0)
+    args = ap.parse_args()
+    path = Path(str(resources.files("ehm") / "data" / "drives" / "synthetic_rough_road.csv"))
+    motion = load_motion_csv(path).resample(0.001)
+    acc = motion.acc_mps2[: int(args.duration * 1000)]
+    for comfort in (False, True):
+        r = run_realtime(Simulator(comfort=comfort), acc, pace=True)
+        print(f"comfort figures {'on ' if comfort else 'off'}: median {r.median_s * 1e6:.0f} us, 99th percentile "
+              f"{r.p99_s * 1e6:.0f} us, worst {r.worst_s * 1e6:.0f} us per 1 ms step; overruns {r.overruns} of "
+              f"{r.n_steps}")
+
+
+if __name__ == "__main__":
+    main()

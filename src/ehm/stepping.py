@@ -1,0 +1,283 @@
+"""Sample-by-sample simulation for vehicle simulators, driving simulators and control loops.
+
+>>> sim = Simulator()                       # settles the default person on the default seat
+>>> state = sim.step([0.0, 0.0, 0.3])       # seat acceleration [m/s^2] for one time step (1 ms)
+>>> state.head.acc_mps2                     # absolute head acceleration, seat axes
+
+Each step gives the same numbers as a whole run of the same input (``SeatedHuman.simulate``); memory
+stays constant.  With ``comfort=True`` the running ISO 2631-1 figures (1 s running rms, a_w so far) of
+seat, pelvis, trunk and head are kept, updated in blocks of ``comfort_every`` steps.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import engine
+from .errors import InputError
+from .params import Parameters
+from .simulation import POINT_NAMES, SeatedHuman
+
+
+@dataclass(frozen=True)
+class PointState:
+    """One output point after a step: absolute acceleration, displacement and rotation (seat axes) and
+    angular velocity (the segment's own axes), as in :class:`ehm.simulation.PointMotion`."""
+
+    acc_mps2: np.ndarray
+    disp_m: np.ndarray
+    rot_rad: np.ndarray
+    angvel_radps: np.ndarray
+
+
+@dataclass(frozen=True)
+class StepState:
+    """Result of one :meth:`Simulator.step`: the time of the sample and the three points.
+
+    ``comfort`` maps ``location -> axis -> (running_rms, a_w_so_far)`` [m/s^2] when comfort figures are
+    on (updated every ``comfort_every`` steps), else it is empty.
+    """
+
+    time_s: float
+    pelvis: PointState
+    trunk: PointState
+    head: PointState
+    comfort: dict
+
+
+def _euler_zyx(q: np.ndarray) -> np.ndarray:
+    """(roll, pitch, yaw) of the intrinsic z-y-x decomposition of a unit quaternion (w, x, y, z)."""
+    w, x, y, z = q
+    roll = math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+    pitch = math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
+    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    return np.array([roll, pitch, yaw])
+
+
+class Simulator:
+    """One settled person on one seat, advanced one fixed time step at a time.
+
+    Parameters
+    ----------
+    params, lock, unlock
+        As for :class:`ehm.SeatedHuman`.
+    comfort : bool
+        Keep running ISO 2631-1 figures (Wd x, y; Wk z) of seat, pelvis, trunk and head.
+    comfort_every : int
+        Steps between refreshes of the reported comfort figures (the filters run every step).
+
+    Notes
+    -----
+    Only translational seat motion is supported step by step; a seat that rotates needs the whole drive
+    in advance (:func:`ehm.assessment.assess`), since its orientation is integrated over the record.
+    """
+
+    def __init__(self, params: Parameters | str | None = None, lock=(), unlock=(), comfort: bool = True,
+                 comfort_every: int = 10):
+        self.human = SeatedHuman(params=params, lock=lock, unlock=unlock)
+        self.model = self.human.model
+        self.dt_s = float(self.model.mj.opt.timestep)
+        engine.settle(self.model)
+        self._poses = {p: engine.settled_point_pose(self.model, p) for p in POINT_NAMES}
+        self._inv0 = {}
+        for p, (_, q0) in self._poses.items():
+            self._inv0[p] = np.array([q0[0], -q0[1], -q0[2], -q0[3]])
+        self._adr = {}
+        mj = self.model.mj
+        import mujoco
+
+        for p in POINT_NAMES:
+            for kind in ("framelinacc", "framepos", "framequat", "frameangvel"):
+                sid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"{p}_{kind}")
+                self._adr[(p, kind)] = slice(int(mj.sensor_adr[sid]), int(mj.sensor_adr[sid] + mj.sensor_dim[sid]))
+        self._mju = mujoco
+        self.comfort = comfort
+        self.comfort_every = max(1, int(comfort_every))
+        self.reset()
+
+    # ------------------------------------------------------------------ state
+    def reset(self) -> None:
+        """Back to the settled posture at t = 0 (comfort figures cleared)."""
+        self._d = engine.settled_data(self.model)
+        self._step = 0
+        self._comfort_state: dict = {}
+        if self.comfort:
+            self._running = _RunningComfort(1.0 / self.dt_s)
+            self._comfort_state = self._running.state()
+
+    @property
+    def time_s(self) -> float:
+        """Simulated time of the next sample [s]."""
+        return self._step * self.dt_s
+
+    def save_state(self) -> dict:
+        """A snapshot of the full simulation state (restore it with :meth:`restore_state`)."""
+        import copy
+
+        mj = self.model.mj
+        spec = self._mju.mjtState.mjSTATE_INTEGRATION
+        size = self._mju.mj_stateSize(mj, spec)
+        buf = np.empty(size)
+        self._mju.mj_getState(mj, self._d, buf, spec)
+        return {"mujoco": buf, "step": self._step,
+                "comfort": copy.deepcopy(self._running) if self.comfort else None,
+                "comfort_state": copy.deepcopy(self._comfort_state)}
+
+    def restore_state(self, state: dict) -> None:
+        """Return to a snapshot taken by :meth:`save_state`."""
+        import copy
+
+        if not isinstance(state, dict) or "mujoco" not in state:
+            raise InputError("restore_state needs a snapshot from save_state().")
+        self._mju.mj_setState(self.model.mj, self._d, state["mujoco"], self._mju.mjtState.mjSTATE_INTEGRATION)
+        self._step = int(state["step"])
+        if self.comfort:
+            self._running = copy.deepcopy(state["comfort"])
+        self._comfort_state = copy.deepcopy(state["comfort_state"])
+
+    # ------------------------------------------------------------------ stepping
+    def step(self, seat_acc_mps2, seat_angvel_radps=None) -> StepState:
+        """Advance one time step with this seat acceleration [m/s^2] (seat axes: x forward, y left, z up).
+
+        Returns the outputs at the start of the step (the sample at :attr:`time_s` before the call), as a
+        whole run reports its row for that time.
+        """
+        if seat_angvel_radps is not None and np.any(np.asarray(seat_angvel_radps, dtype=float) != 0):
+            raise InputError("step-by-step runs support seat translation only; for seat rotation run the whole "
+                             "drive with 'ehm assess' or SeatedHuman(rotating_seat=True).simulate().")
+        a = np.asarray(seat_acc_mps2, dtype=float)
+        if a.shape != (3,) or not np.all(np.isfinite(a)):
+            raise InputError(f"seat_acc_mps2 must be 3 finite numbers [m/s^2], got {seat_acc_mps2!r}.")
+        data = engine.step(self.model, self._d, a, check=self._step % 50 == 0).copy()
+        t = self._step * self.dt_s
+        self._step += 1
+        points = {}
+        for p in POINT_NAMES:
+            sens = {k: data[self._adr[(p, k)]] for k in ("framelinacc", "framepos", "framequat", "frameangvel")}
+            q = sens["framequat"]
+            qrel = np.empty(4)
+            self._mju.mju_mulQuat(qrel, q, self._inv0[p])
+            qinv = np.array([q[0], -q[1], -q[2], -q[3]])
+            w_body = np.empty(3)
+            self._mju.mju_rotVecQuat(w_body, sens["frameangvel"], qinv)
+            points[p] = PointState(acc_mps2=sens["framelinacc"] + engine.G0, disp_m=sens["framepos"] - self._poses[p][0],
+                                   rot_rad=_euler_zyx(qrel), angvel_radps=w_body)
+        if self.comfort:
+            row = np.concatenate([a] + [points[p].acc_mps2 for p in POINT_NAMES])
+            self._running.add(row)
+            if self._step % self.comfort_every == 0:
+                self._comfort_state = self._running.state()
+        return StepState(time_s=t, pelvis=points["pelvis"], trunk=points["trunk"], head=points["head"],
+                         comfort=self._comfort_state)
+
+
+
+LOCATIONS = ("seat",) + POINT_NAMES
+
+
+def _cascade_state_space(sos: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """(A, B, C, D) of a cascade of second-order sections in transposed direct form II: the same
+    arithmetic as ``scipy.signal.sosfilt``, written as one state-space model to step many channels."""
+    A = np.zeros((0, 0))
+    B = np.zeros(0)
+    C = np.zeros(0)
+    D = 1.0
+    for b0, b1, b2, _, a1, a2 in sos:
+        As = np.array([[-a1, 1.0], [-a2, 0.0]])
+        Bs = np.array([b1 - a1 * b0, b2 - a2 * b0])
+        Cs = np.array([1.0, 0.0])
+        n = A.shape[0]
+        A = np.block([[A, np.zeros((n, 2))], [np.outer(Bs, C), As]])
+        B = np.concatenate([B, Bs * D])
+        C = np.concatenate([b0 * C, Cs])
+        D = b0 * D
+    return A, B, C, D
+
+
+class _RunningComfort:
+    """Running ISO 2631-1 figures of 12 channels (seat, pelvis, trunk, head; x, y, z), one row per step:
+    causal Wd (x, y) and Wk (z) weighting, 1 s rectangular running rms and the weighted rms so far.  Each
+    step costs the same few microseconds (no block spikes); equal to :class:`ehm.comfort.ComfortAccumulator`
+    channel by channel to round-off."""
+
+    def __init__(self, fs_hz: float, tau_s: float = 1.0):
+        from .comfort import weighting_sos
+
+        self.cols = {"Wd": np.array([3 * i + j for i in range(len(LOCATIONS)) for j in (0, 1)]),
+                     "Wk": np.array([3 * i + 2 for i in range(len(LOCATIONS))])}
+        self.ss = {k: _cascade_state_space(weighting_sos(k, fs_hz)) for k in self.cols}
+        self.state_ = {k: np.zeros((self.ss[k][0].shape[0], len(c))) for k, c in self.cols.items()}
+        self.n_tau = int(round(tau_s * fs_hz))
+        self.ring = np.zeros((self.n_tau, 3 * len(LOCATIONS)))  # squared weighted samples of the last tau
+        self.pos = 0
+        self.window = np.zeros(3 * len(LOCATIONS))
+        self.sum2 = np.zeros(3 * len(LOCATIONS))
+        self.n = 0
+
+    def add(self, row: np.ndarray) -> None:
+        aw = np.empty_like(row)
+        for k, cols in self.cols.items():
+            A, B, C, D = self.ss[k]
+            x = row[cols]
+            s = self.state_[k]
+            aw[cols] = C @ s + D * x
+            self.state_[k] = A @ s + np.outer(B, x)
+        sq = aw * aw
+        self.window += sq - self.ring[self.pos]
+        self.ring[self.pos] = sq
+        self.pos = (self.pos + 1) % self.n_tau
+        self.sum2 += sq
+        self.n += 1
+
+    def state(self) -> dict:
+        rr = np.sqrt(np.maximum(self.window, 0.0) / self.n_tau)
+        aw = np.sqrt(self.sum2 / self.n) if self.n else np.zeros_like(self.sum2)
+        return {loc: {a: (float(rr[3 * i + j]), float(aw[3 * i + j])) for j, a in enumerate("xyz")}
+                for i, loc in enumerate(LOCATIONS)}
+
+
+@dataclass(frozen=True)
+class RealtimeReport:
+    """Per-step compute latency of a paced run [s] and the deadlines missed."""
+
+    n_steps: int
+    median_s: float
+    p99_s: float
+    worst_s: float
+    overruns: int
+    wall_s: float
+
+
+def run_realtime(sim: Simulator, acc_mps2: np.ndarray, pace: bool = True, on_step=None) -> RealtimeReport:
+    """Feed a seat acceleration history (n, 3) step by step, paced to the wall clock when ``pace``.
+
+    Each step must finish before the next sample is due (its deadline, t0 + (i + 1) dt); a step that ends
+    later is an overrun.  Latency is the compute time of :meth:`Simulator.step` alone.
+    """
+    import time
+
+    acc = np.asarray(acc_mps2, dtype=float)
+    lat = np.empty(acc.shape[0])
+    overruns = 0
+    dt = sim.dt_s
+    t0 = time.perf_counter()
+    for i, a in enumerate(acc):
+        start = time.perf_counter()
+        state = sim.step(a)
+        end = time.perf_counter()
+        lat[i] = end - start
+        deadline = t0 + (i + 1) * dt
+        if pace:
+            if end > deadline:
+                overruns += 1
+            else:  # spin (sleeping lets the core cool down and doubles the next step's latency)
+                while time.perf_counter() < deadline:
+                    pass
+        if on_step is not None:
+            on_step(state)
+    wall = time.perf_counter() - t0
+    return RealtimeReport(n_steps=acc.shape[0], median_s=float(np.median(lat)), p99_s=float(np.percentile(lat, 99)),
+                          worst_s=float(lat.max()), overruns=overruns, wall_s=wall)
