@@ -112,7 +112,7 @@ def cmd_simulate(args) -> int:
     human = _human(args)
     dt = float(human.params.value("simulation.dt_s"))
     motion = _motion(args, dt)
-    run = human.simulate(motion)
+    run = human.simulate(motion, pose_rate_hz=25.0)
     paths = run.write(args.out)
     if args.plot:
         from .plotting import plot_time_histories
@@ -137,7 +137,7 @@ def cmd_demo(args) -> int:
     curves, summaries = {}, {}
     for axis in args.axes:
         run = human.simulate(random_vibration(axis, args.duration, args.rms, seed=args.seed, dt_s=dt,
-                                              band_hz=tuple(args.band)))
+                                              band_hz=tuple(args.band)), pose_rate_hz=25.0)
         run.write(out / axis)
         plot_time_histories(run, out / axis / "time_histories.png", title=f"seat {axis}: {run.description}")
         curves.update(run_curves(run, axis, tuple(args.band), segment_s=min(10.0, run.duration_s / 4)))

@@ -478,10 +478,39 @@ class RawRun:
     time_s: np.ndarray
     sensors: dict
     support_N: dict
+    poses: dict | None = None  #: ``step`` (m,), ``pos`` (m, k, 3), ``quat`` (m, k, 4) of the bodies drawn
+
+
+def drawing_geometry(model: Model) -> dict:
+    """What a picture of the model needs, from the compiled model: per segment its drawn ellipsoid (semi-axes,
+    position and orientation in the segment body's frame) and per seat surface its shape and pose at rest.
+
+    Returns a dict of arrays: ``segments`` (names), ``segment_body`` (body ids), ``shape_size_m`` (k, 3),
+    ``shape_pos_m`` (k, 3), ``shape_quat`` (k, 4); ``surfaces`` (names), ``surface_type`` ("plane"/"box"),
+    ``surface_size_m`` (s, 3), ``surface_pos_m`` (s, 3), ``surface_quat`` (s, 4) in world axes at rest.
+    """
+    mj = model.mj
+    segs = [s.name for s in model.body.segments]
+    gids = [mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_GEOM, f"{s}_shape") for s in segs]
+    d = mujoco.MjData(mj)
+    mujoco.mj_forward(mj, d)
+    surf = list(model.surface_bodies)
+    sg = [mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_GEOM, s) for s in surf]
+    quats = np.empty((len(sg), 4))
+    for i, g in enumerate(sg):
+        mujoco.mju_mat2Quat(quats[i], d.geom_xmat[g])
+    return {
+        "segments": np.array(segs), "segment_body": np.array([mj.geom_bodyid[g] for g in gids]),
+        "shape_size_m": mj.geom_size[gids].copy(), "shape_pos_m": mj.geom_pos[gids].copy(),
+        "shape_quat": mj.geom_quat[gids].copy(),
+        "surfaces": np.array(surf),
+        "surface_type": np.array(["plane" if mj.geom_type[g] == mujoco.mjtGeom.mjGEOM_PLANE else "box" for g in sg]),
+        "surface_size_m": mj.geom_size[sg].copy(), "surface_pos_m": d.geom_xpos[sg].copy(), "surface_quat": quats,
+    }
 
 
 def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
-        seat_rotation: tuple | None = None) -> RawRun:
+        seat_rotation: tuple | None = None, pose_every: int | None = None) -> RawRun:
     """Run the settled model with a seat acceleration history, one row per time step.
 
     Parameters
@@ -493,6 +522,9 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
         Start state (default: the settled state); advanced in place, so consecutive calls continue a run.
     seat_rotation : (angles, rates, accelerations), each (n, 3) yaw-pitch-roll, optional
         Prescribed seat orientation for a model built with ``rotating_seat=True``.
+    pose_every : int, optional
+        Record the world pose of every segment body (and of the seat frame, if any) every this many steps,
+        for pictures.
     """
     mj = model.mj
     if d is None:
@@ -518,6 +550,12 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
         ctrl_idx = np.column_stack([ctrl_adr, ctrl_adr + 1]).ravel()
         ff = _SEAT_INERTIA * qdd_des  # feed-forward torque of the heavy seat
         dof_idx = np.array(model.seat["dofs"])
+    if pose_every:
+        pose_ids = np.array([model.segment_bodies[s.name][0] for s in model.body.segments]
+                            + ([model.seat["body"]] if model.seat else []))
+        pose_steps = np.arange(0, n, int(pose_every))
+        pose_pos = np.empty((pose_steps.size, pose_ids.size, 3))
+        pose_quat = np.empty((pose_steps.size, pose_ids.size, 4))
     # Hot loop: views bound once, no allocation per step.
     g_view, s_view, f_view, step = mj.opt.gravity, d.sensordata, d.cfrc_ext[lo:hi, 3:], mujoco.mj_step
     try:
@@ -529,6 +567,9 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
             step(mj, d)
             sens[i] = s_view
             forces[i] = f_view
+            if pose_every and i % pose_every == 0:  # kinematics of the step's start state, as the sensors
+                k = i // pose_every
+                pose_pos[k], pose_quat[k] = d.xpos[pose_ids], d.xquat[pose_ids]
             if i % _CHECK_EVERY == 0:
                 why = _instability(model, d)
                 if why:
@@ -546,7 +587,8 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
             sensors[f"{point}_{kind}"] = sens[:, adr:adr + dim]
     order = {b: k for k, b in enumerate(range(lo, hi))}
     support = {s: -forces[:, order[b], :] for s, b in model.surface_bodies.items()}
-    return RawRun(time_s=np.arange(n) * mj.opt.timestep, sensors=sensors, support_N=support)
+    poses = {"step": pose_steps, "pos": pose_pos, "quat": pose_quat} if pose_every else None
+    return RawRun(time_s=np.arange(n) * mj.opt.timestep, sensors=sensors, support_N=support, poses=poses)
 
 
 # ----------------------------------------------------------------------------------------- linearisation

@@ -9,7 +9,7 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -94,6 +94,7 @@ class RunResult:
     locked: tuple
     params_origin: str = "default"
     seat_angles_rad: np.ndarray | None = None  #: Seat yaw, pitch, roll (n, 3) when the seat rotates.
+    poses: dict | None = None  #: Segment body poses for pictures: time_s (m,), pos (m, k, 3), quat (m, k, 4), geometry
     extra: dict = field(default_factory=dict)
 
     def point(self, name: str) -> PointMotion:
@@ -160,7 +161,28 @@ class RunResult:
         paths = {"timeseries": out / "timeseries.csv", "summary": out / "summary.json"}
         write_csv_atomic(paths["timeseries"], header, data)
         write_json_atomic(paths["summary"], self.summary())
+        if self.poses is not None:
+            paths["poses"] = out / "poses.npz"
+            _write_npz_atomic(paths["poses"], self.poses)
         return paths
+
+
+def _write_npz_atomic(path: Path, arrays: dict) -> None:
+    """Write a .npz whole or not at all."""
+    import os
+    import tempfile
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".npz", dir=path.parent)
+    os.close(fd)
+    try:
+        np.savez_compressed(tmp, **arrays)
+        os.replace(tmp, path)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write ({exc.strerror or exc}).") from None
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
 
 
 class SeatedHuman:
@@ -216,13 +238,13 @@ class SeatedHuman:
         """Let the person sink into the seat (done automatically before the first run)."""
         engine.settle(self.model)
 
-    def simulate(self, motion: SeatMotion, progress=None) -> RunResult:
+    def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None) -> RunResult:
         """Run the settled person with a seat motion (resampled to the model's time step).
 
         A motion with angular velocity needs a person built with ``rotating_seat=True``.  For long drives
         use :meth:`stream`, which holds one chunk at a time.
         """
-        chunks = list(self.stream(motion, progress=progress))
+        chunks = list(self.stream(motion, progress=progress, pose_rate_hz=pose_rate_hz))
         first = chunks[0]
         cat = lambda get: np.concatenate([get(c) for c in chunks])  # noqa: E731
         points = {p: PointMotion(p, *(cat(lambda c, f=f: getattr(c.points[p], f)) for f in _POINT_FIELDS))
@@ -231,9 +253,12 @@ class SeatedHuman:
                          support_N={k: cat(lambda c, k=k: c.support_N[k]) for k in first.support_N},
                          mass_kg=self.mass_kg, dof=self.dof, dt_s=first.dt_s, wall_s=sum(c.wall_s for c in chunks),
                          description=first.description, locked=first.locked, params_origin=self.params.origin,
-                         seat_angles_rad=None if first.seat_angles_rad is None else cat(lambda c: c.seat_angles_rad))
+                         seat_angles_rad=None if first.seat_angles_rad is None else cat(lambda c: c.seat_angles_rad),
+                         poses=None if first.poses is None else {
+                             **{k: v for k, v in first.poses.items() if k not in ("time_s", "pos", "quat")},
+                             **{k: cat(lambda c, k=k: c.poses[k]) for k in ("time_s", "pos", "quat")}})
 
-    def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None):
+    def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None):
         """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
 
         Memory stays constant whatever the motion's length: the motion is interpolated onto the model's time
@@ -258,6 +283,11 @@ class SeatedHuman:
         poses = {p: engine.settled_point_pose(self.model, p) for p in POINT_NAMES}
         pivot = self.model.seat["pivot"] if rotating else np.zeros(3)
         description = f"{motion.description}, at dt {dt:g} s"
+        pose_every = None
+        if pose_rate_hz:
+            pose_every = max(1, int(round(1.0 / (pose_rate_hz * dt))))
+            per_chunk = max(pose_every, per_chunk // pose_every * pose_every)  # chunks hold whole pose periods
+            geometry = {f"geometry_{k}": v for k, v in engine.drawing_geometry(self.model).items()}
         for start in range(0, n_total, per_chunk):
             t = np.arange(start, min(n_total, start + per_chunk)) * dt
             acc_seat = np.column_stack([np.interp(t, t_rel, motion.acc_mps2[:, j]) for j in range(3)])
@@ -269,9 +299,13 @@ class SeatedHuman:
             else:
                 R, acc_world, rotation, angles = None, acc_seat, None, None
             t0 = time.perf_counter()
-            raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation)
+            raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation, pose_every=pose_every)
             wall = time.perf_counter() - t0
-            yield self._chunk_result(raw, t, acc_seat, R, angles, poses, pivot, wall, description)
+            result = self._chunk_result(raw, t, acc_seat, R, angles, poses, pivot, wall, description)
+            if pose_every:
+                result = replace(result, poses={"time_s": t[raw.poses["step"]], "pos": raw.poses["pos"],
+                                                "quat": raw.poses["quat"], **geometry})
+            yield result
             if progress:
                 progress(min(t[-1] + dt, motion.duration_s), motion.duration_s)
 
