@@ -19,6 +19,7 @@ from .io import write_csv_atomic, write_json_atomic
 from .motion import load_motion_csv, random_vibration, sine, sweep
 from .params import Parameters
 from .simulation import POINT_NAMES, SeatedHuman
+from .drives import drive_path
 from .tables import load_body
 from .transfer import h1_estimate
 
@@ -39,7 +40,18 @@ def _human(args) -> SeatedHuman:
             raise InputError(f"--dt must be a positive time step in seconds, not {args.dt}.")
         params = params.with_values({"simulation.dt_s": args.dt})
     body = load_body(args.segments, args.joints, args.contacts)
-    return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body)
+    return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body,
+                       size=_size(args))
+
+
+def _size(args):
+    """A BodySize from --stature / --mass / --sitting-height, or None for the reference person."""
+    if args.stature is None and args.mass is None and args.sitting_height is None:
+        return None
+    from .scaling import REFERENCE_MASS_KG, REFERENCE_STATURE_M, BodySize
+
+    return BodySize(args.stature if args.stature is not None else REFERENCE_STATURE_M,
+                    args.mass if args.mass is not None else REFERENCE_MASS_KG, args.sitting_height)
 
 
 def _band(values) -> tuple[float, float]:
@@ -68,6 +80,9 @@ def _model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--segments", metavar="FILE.csv", help="segment table (default: the paper's Table 2)")
     p.add_argument("--joints", metavar="FILE.csv", help="joint table (default: the paper's Table 1)")
     p.add_argument("--contacts", metavar="FILE.csv", help="contact ellipsoid table (default: shipped)")
+    p.add_argument("--stature", type=float, metavar="M", help="scale the person to this standing height [m]")
+    p.add_argument("--mass", type=float, metavar="KG", help="scale the person to this body mass [kg]")
+    p.add_argument("--sitting-height", type=float, metavar="M", help="sitting height [m] (default: in proportion)")
 
 
 def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
@@ -280,18 +295,6 @@ def cmd_study_locking(args) -> int:
     return 0
 
 
-SHIPPED_DRIVES = {"city": "synthetic_city_drive.csv", "road": "synthetic_rough_road.csv"}
-
-
-def _drive_path(name: str) -> Path:
-    """A motion file, or the path of a shipped synthetic drive named ``city`` or ``road``."""
-    if name in SHIPPED_DRIVES:
-        from importlib import resources
-
-        return Path(str(resources.files("ehm") / "data" / "drives" / SHIPPED_DRIVES[name]))
-    return Path(name)
-
-
 def _progress_bar(label: str):
     finished = []
 
@@ -312,7 +315,7 @@ def cmd_assess(args) -> int:
     from .plotting import plot_running_rms, plot_sickness, plot_weighted_spectra
     from .report import write_report
 
-    motion = load_motion_csv(_drive_path(args.motion))
+    motion = load_motion_csv(drive_path(args.motion))
     params = Parameters.load(args.params)
     body = load_body(args.segments, args.joints, args.contacts)
     human = SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body,
@@ -345,7 +348,7 @@ def cmd_assess(args) -> int:
 def cmd_realtime(args) -> int:
     from .stepping import Simulator, run_realtime
 
-    motion = load_motion_csv(_drive_path(args.motion))
+    motion = load_motion_csv(drive_path(args.motion))
     if motion.angvel_radps is not None and np.any(motion.angvel_radps != 0):
         if not args.ignore_rotation:
             raise InputError(f"{args.motion} rotates the seat; real-time stepping supports seat translation only "
@@ -369,6 +372,31 @@ def cmd_realtime(args) -> int:
     return 0
 
 
+def cmd_batch(args) -> int:
+    try:
+        from .batch import load_study, run_study
+        import dask.distributed  # noqa: F401
+        import pyarrow  # noqa: F401
+    except ImportError:
+        raise InputError("batch studies need Dask and pyarrow: pip install 'ehm[batch]'.") from None
+    name, specs = load_study(args.study)
+    out = Path(args.out)
+    _writable_dir(out, "results")
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers {args.workers}: use 1 or more worker processes.")
+    print(f"study '{name}': {len(specs)} runs" + (f" on {args.scheduler}" if args.scheduler else ""))
+
+    def show(done, total):
+        print(f"\r  {done} / {total} runs done", end="\n" if done == total else "", file=sys.stderr, flush=True)
+
+    res = run_study(specs, out, scheduler=args.scheduler, workers=args.workers, csv=args.csv, progress=show)
+    tp = res["throughput_simulated_s_per_s"]
+    print(f"ran {res['ran']} runs ({res['skipped']} already done, {res['failed']} failed) in {res['wall_s']:.1f} s"
+          + (f"; {tp:.1f} simulated s per wall s" if tp else "") + f"; wrote {out}/results.parquet"
+          + (" and results.csv" if args.csv else ""))
+    return 0
+
+
 def cmd_drive(args) -> int:
     from .drives import city_drive, rough_road, write_drive_csv
 
@@ -376,6 +404,19 @@ def cmd_drive(args) -> int:
               else rough_road(args.duration, speed_mps=args.speed, road_class=args.road_class, seed=args.seed))
     write_drive_csv(motion, args.out)
     print(f"wrote {args.out}: {motion.description}")
+    return 0
+
+
+def cmd_export_fmu(args) -> int:
+    import time
+
+    from .fmu import INPUTS, OUTPUTS, export_fmu
+
+    t0 = time.perf_counter()
+    path = export_fmu(args.out, params=args.params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock))
+    print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
+          f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "
+          f"{len(OUTPUTS)} outputs (pelvis, trunk, head); the host's Python must be able to import ehm")
     return 0
 
 
@@ -483,6 +524,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--ignore-rotation", action="store_true", help="drop the drive's angular velocity")
     p.set_defaults(func=cmd_realtime)
 
+    p = sub.add_parser("batch", help="run a study file (people, seats, parameters) on Dask; one tidy table")
+    p.add_argument("study", metavar="STUDY.toml")
+    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (default: local)")
+    p.add_argument("--workers", type=int, help="local worker processes (default: the number of cores)")
+    p.add_argument("--csv", action="store_true", help="also write results.csv")
+    p.set_defaults(func=cmd_batch)
+
     p = sub.add_parser("drive", help="write a SYNTHETIC drive file (city manoeuvres or a rough road)")
     p.add_argument("kind", choices=("city", "road"))
     p.add_argument("--duration", type=float, default=120.0, help="length [s] (default 120)")
@@ -491,6 +540,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--road-class", default="C", choices=("A", "B", "C", "D", "E"), help="road: ISO 8608 class")
     p.add_argument("--out", required=True, metavar="DRIVE.csv")
     p.set_defaults(func=cmd_drive)
+
+    p = sub.add_parser("export-fmu", help="write an FMI 2.0 co-simulation unit (FMU) of the person for vehicle tools")
+    p.add_argument("--out", required=True, metavar="FILE.fmu", help="FMU file to write")
+    p.add_argument("--params", metavar="FILE.toml", help="parameter file to embed (default: the shipped defaults)")
+    p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
+    p.add_argument("--unlock", action="append", metavar="JOINT", help="unlock a joint, e.g. waist")
+    p.set_defaults(func=cmd_export_fmu)
 
     p = sub.add_parser("params", help="print or export the parameter file")
     p.add_argument("--params", metavar="FILE.toml", help="parameter file to read (default: the shipped defaults)")

@@ -153,3 +153,16 @@ def write_drive_csv(motion: SeatMotion, path) -> None:
     for row in np.column_stack([motion.time_s, motion.acc_mps2, w]):
         lines.append(",".join(f"{v:.6g}" for v in row))
     write_text_atomic(path, "\n".join(lines) + "\n")
+
+
+SHIPPED_DRIVES = {"city": "synthetic_city_drive.csv", "road": "synthetic_rough_road.csv"}
+
+
+def drive_path(name: str):
+    """A motion file's path, or the path of a shipped SYNTHETIC drive named ``city`` or ``road``."""
+    from importlib import resources
+    from pathlib import Path
+
+    if name in SHIPPED_DRIVES:
+        return Path(str(resources.files("ehm") / "data" / "drives" / SHIPPED_DRIVES[name]))
+    return Path(name)

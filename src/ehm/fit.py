@@ -162,9 +162,13 @@ def _worker_eval(log_x: np.ndarray) -> np.ndarray:
     return _WORKER_OBJECTIVE(log_x)
 
 
+def _eval_with(objective: _Objective, log_x: np.ndarray) -> np.ndarray:
+    return objective(log_x)
+
+
 def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None = None, lock=(), unlock=(),
         body: Body | None = None, band_hz: tuple[float, float] = DEFAULT_BAND_HZ, max_evals: int = 400,
-        workers: int | None = None, time_check: bool = True, progress=None) -> FitResult:
+        workers: int | None = None, time_check: bool = True, progress=None, executor=None) -> FitResult:
     """Identify the free parameters that minimise the criterion against measured gains.
 
     Parameters
@@ -183,6 +187,9 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
         Processes evaluating finite-difference columns in parallel (default: min(2, number of cores)).
     progress : callable(str) or None
         Receives one line per optimiser iteration.
+    executor : concurrent.futures.Executor, optional
+        Where to evaluate the finite-difference columns instead of local processes, e.g. a Dask cluster's
+        ``client.get_executor()``.
     """
     t0 = time.perf_counter()
     base = params if params is not None else Parameters.load()
@@ -210,13 +217,20 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
         return r
 
     pool = ProcessPoolExecutor(max_workers=n_workers, initializer=_init_worker, initargs=(objective,)) \
-        if n_workers > 1 else None
+        if n_workers > 1 and executor is None else None
     step = 1e-3
 
     def jac(x):
         cols = [x + step * np.eye(x.size)[i] for i in range(x.size)]
         f0 = last["r"] if "x" in last and np.array_equal(last["x"], x) else fun(x)
-        results = list(pool.map(_worker_eval, cols)) if pool else [objective(c) for c in cols]
+        if executor is not None:
+            from functools import partial
+
+            results = list(executor.map(partial(_eval_with, objective), cols))
+        elif pool:
+            results = list(pool.map(_worker_eval, cols))
+        else:
+            results = [objective(c) for c in cols]
         n_evals[0] += len(cols)
         J = np.column_stack([(r - f0) / step for r in results])
         say(f"  iteration {len(jac_calls) + 1}: objective {np.sqrt(np.sum(f0 ** 2)):.5g} "

@@ -198,12 +198,19 @@ class SeatedHuman:
         Body tables (default: the paper's Tables 1 and 2 and the shipped contact ellipsoids).
     rotating_seat : bool
         Build the seat so that it can rotate (for motions with angular velocity; about 40 % slower).
+    size : ehm.scaling.BodySize, optional
+        Scale the person (and the seat's fit) to a stature, mass and sitting height.
     """
 
     def __init__(self, params: Parameters | str | Path | None = None, lock=(), unlock=(),
-                 body: Body | None = None, rotating_seat: bool = False):
+                 body: Body | None = None, rotating_seat: bool = False, size=None):
         self.body = body if body is not None else load_body()
         self.params = params if isinstance(params, Parameters) else Parameters.load(params)
+        if size is not None:  # an individual body size (ehm.scaling.BodySize)
+            from .scaling import scale_body, scale_params
+
+            self.body, self.params = scale_body(self.body, size), scale_params(self.params, size)
+        self.size = size
         self.locked = resolve_locks(self.body, lock, unlock)
         self.model = engine.build(self.body, self.params, self.locked, rotating_seat=rotating_seat)
 
