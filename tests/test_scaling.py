@@ -1,0 +1,69 @@
+"""Individual body sizes."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import ehm
+from ehm import engine
+from ehm.cli import main
+from ehm.errors import InputError
+from ehm.params import Parameters
+from ehm.scaling import BodySize, scale_body, scale_params
+from ehm.tables import load_body
+
+
+def test_reference_size_changes_nothing():
+    body, params = load_body(), Parameters.load()
+    size = BodySize(1.76, 70.882, 0.92)  # the paper's person (sections 1 and Table 2)
+    assert scale_body(body, size) is body and scale_params(params, size) is params
+    # and a size within round-off of it builds the same model
+    near = BodySize(1.76 * (1 + 1e-15), 70.882)
+    m1 = ehm.SeatedHuman().model.mj
+    m2 = ehm.SeatedHuman(size=near).model.mj
+    np.testing.assert_allclose(m2.body_mass, m1.body_mass, rtol=1e-12)
+    np.testing.assert_allclose(m2.body_pos, m1.body_pos, atol=1e-12)
+
+
+def test_scaled_mass_and_lengths():
+    size = BodySize(1.90, 95.0)
+    h = ehm.SeatedHuman(size=size)
+    assert h.mass_kg == pytest.approx(95.0, rel=1e-12)
+    head_ref = load_body().segment("head").com_m[2]
+    # head height above the pelvis scales with sitting height, here in proportion to stature
+    assert h.body.segment("head").com_m[2] == pytest.approx(head_ref * 1.90 / 1.76, rel=1e-12)
+
+
+@pytest.mark.parametrize("stature, mass, sitting", [(1.52, 50.0, 0.79), (1.87, 98.0, 0.97)])
+def test_extremes_settle_and_run(stature, mass, sitting):
+    # 5th-percentile female and 95th-percentile male (stature, mass and sitting height as in common
+    # anthropometric tables, e.g. NASA-STD-3000 / Pheasant 'Bodyspace' orders of magnitude).
+    size = BodySize(stature, mass, sitting)
+    h = ehm.SeatedHuman(size=size)
+    run = h.simulate(ehm.random_vibration("z", 4.0, 0.3, seed=0))
+    weight = mass * 9.81
+    assert run.support_total_N().mean(axis=0)[2] == pytest.approx(weight, rel=0.01)
+    assert np.abs(run.point("pelvis").disp_m).max() < 0.005
+    # Hof (1996) scaling keeps natural frequencies ~ sqrt(g / L): the vertical trunk mode moves with
+    # 1 / sqrt(sitting-height ratio) from the reference's (linear model), within 10 % (widths scale apart).
+    from ehm.frf import linear_frf
+
+    ref = linear_frf(ehm.SeatedHuman(), "z").curve("z", "trunk", "z").peak((2, 12))[0]
+    got = linear_frf(h, "z").curve("z", "trunk", "z").peak((2, 12))[0]
+    assert got == pytest.approx(ref / np.sqrt(sitting / 0.92), rel=0.10)
+
+
+def test_bad_sizes():
+    with pytest.raises(InputError, match="stature_m"):
+        BodySize(3.0, 70.0)
+    with pytest.raises(InputError, match="mass_kg"):
+        BodySize(1.7, float("nan"))
+
+
+def test_cli_info_scaled(capsys):
+    assert main(["info", "--stature", "1.90", "--mass", "95", "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["mass_kg"] == pytest.approx(95.0)
