@@ -15,8 +15,9 @@ surfaces are drawn behind the body as thin translucent shapes.
 
 Motion can be exaggerated by a factor F: each segment's displacement from the first pose (t = 0, the
 settled posture) is scaled by F, and its rotation from the first pose by F through the rotation vector.
-With a rotating seat the exaggeration applies to the body's motion relative to the seat, and the seat
-itself moves true to scale.
+With a rotating seat the exaggeration applies to the body's motion relative to the seat, the seat's pitch
+and roll are drawn true to scale, and the views turn with the seat's heading (yaw), so that the side view
+stays the person's side.
 
 ``.gif`` files are written with Pillow (always available); ``.mp4`` files need the optional packages
 ``imageio`` and ``imageio-ffmpeg`` (``pip install 'ehm[animate]'``; the wheel bundles ffmpeg).  Files are
@@ -47,7 +48,7 @@ _GEOMETRY_KEYS = ("geometry_segments", "geometry_shape_size_m", "geometry_shape_
 _BOX_DRAW_HALF_M = {"seat_pan": (0.25, 0.25), "floor": (0.5, 0.4), "backrest_lower": (0.08, 0.18),
                     "backrest_upper": (0.10, 0.20), "bolster_r": (0.15, 0.04), "bolster_l": (0.15, 0.04),
                     "back_bolster_r": (0.12, 0.04), "back_bolster_l": (0.12, 0.04)}
-_FLOOR_HALF_M = 5.0  #: The floor is drawn wider than any view (the axes clip it).
+_FLOOR_HALF_M = 1.5  #: The floor is drawn wider than any view (the axes clip it).
 _FORMATS = (".gif", ".mp4")
 _MP4_MISSING = ("writing .mp4 needs the packages imageio and imageio-ffmpeg: install them with "
                 "pip install 'ehm[animate]', or write a .gif instead.")
@@ -154,8 +155,8 @@ def _scene(poses: dict, idx: np.ndarray, exaggerate: float) -> dict:
         rel = body_rot * rot0_n.inv()
         body_rot = Rotation.from_rotvec(exaggerate * rel.as_rotvec()) * rot0_n
     Rb = body_rot.as_matrix().reshape(n, k, 3, 3)
-    if seat:
-        S = s_rot.as_matrix()
+    if seat:  # the views turn with the seat's heading: draw the seat's pitch and roll, not its yaw
+        S = _without_yaw(s_rot).as_matrix()
         body_pos = s_pos[:, None, :] + np.einsum("nij,nkj->nki", S, body_pos)
         Rb = np.einsum("nij,nkjl->nkil", S, Rb)
     Rs = _quat_to_rot(poses["geometry_shape_quat"]).as_matrix()  # (k, 3, 3)
@@ -167,11 +168,18 @@ def _scene(poses: dict, idx: np.ndarray, exaggerate: float) -> dict:
     corners = _surface_corners(poses)  # (s, c, 3) world, at rest
     if seat:  # the surfaces ride on the seat frame; at rest the seat frame is unrotated at its pivot
         pivot = poses["pos"][0, k]
-        corners = s_pos[:, None, None, :] + np.einsum("nij,scj->nsci", s_rot.as_matrix(), corners - pivot)
+        corners = s_pos[:, None, None, :] + np.einsum("nij,scj->nsci", S, corners - pivot)
     else:
         corners = np.broadcast_to(corners, (n,) + corners.shape)
     return {"centres": centres, "M": M, "corners": corners, "time_s": poses["time_s"][idx],
             "surfaces": list(poses["geometry_surfaces"])}
+
+
+def _without_yaw(r: Rotation) -> Rotation:
+    """The seat rotation (intrinsic yaw-pitch-roll, as the seat's hinges) with its yaw set to zero."""
+    e = r.as_euler("ZYX")
+    e[:, 0] = 0.0
+    return Rotation.from_euler("ZYX", e)
 
 
 def _surface_corners(poses: dict) -> np.ndarray:
@@ -185,7 +193,8 @@ def _surface_corners(poses: dict) -> np.ndarray:
     signs = np.array([[1, 1], [1, -1], [-1, -1], [-1, 1]], dtype=float)
     for i, (name, kind) in enumerate(zip(names, kinds)):
         if kind == "box":  # a large box whose top face is the surface: draw that face at a drawing size
-            hx, hy = (min(s, d) for s, d in zip(size[i, :2], _BOX_DRAW_HALF_M.get(name, (0.25, 0.25))))
+            draw = (_FLOOR_HALF_M,) * 2 if name == "floor" else _BOX_DRAW_HALF_M.get(name, (0.25, 0.25))
+            hx, hy = (min(s, d) for s, d in zip(size[i, :2], draw))
             local = np.column_stack([signs * [hx, hy], np.full(4, size[i, 2])])
         else:  # a plane: finite drawing half-sizes, normal along local z; the floor spans the whole view
             half = size[i, :2] if name != "floor" else np.full(2, _FLOOR_HALF_M)
@@ -236,10 +245,8 @@ class _Renderer:
         dpi = 100
         self.fig = Figure(figsize=(w / dpi, h / dpi), dpi=dpi)
         self.canvas = FigureCanvasAgg(self.fig)
-        self.size = (w, h)
         self.scene = scene
         names = [str(s) for s in poses["geometry_segments"]]
-        k = len(names)
         limits = _limits(scene)
         top = 0.86 if title else 0.92
         self.axes, self.ellipses, self.surfaces = [], [], []
@@ -258,7 +265,7 @@ class _Renderer:
             surf = []
             for _ in range(scene["corners"].shape[1]):
                 p = Polygon(np.zeros((8, 2)), closed=True, facecolor="#b8b8c4", edgecolor="#6a6a78",
-                            linewidth=1.2, alpha=0.75, zorder=1.0)
+                            linewidth=1.2, alpha=0.75, zorder=1.0, joinstyle="round")
                 ax.add_patch(p)
                 surf.append(p)
             ells = []
@@ -273,7 +280,6 @@ class _Renderer:
             self.axes.append(ax)
             self.ellipses.append(ells)
             self.surfaces.append(surf)
-        assert len(self.ellipses[0]) == k
         if title:
             self.fig.text(0.5, 0.965, title, ha="center", va="top", fontsize=10)
         self.clock = self.fig.text(0.015, 0.02, "", ha="left", va="bottom", fontsize=11, family="monospace")
@@ -320,7 +326,7 @@ class _Renderer:
 
 def _hull(points: np.ndarray) -> np.ndarray:
     """Convex hull (counter-clockwise) of 2-D points; a degenerate set gives its extreme points."""
-    pts = sorted(set(map(tuple, np.round(points, 9))))
+    pts = sorted(set(map(tuple, np.round(points, 6))))  # to a micrometre: no slivers from round-off
     if len(pts) <= 2:
         return np.array(pts if pts else [(0.0, 0.0)])
 
@@ -404,11 +410,12 @@ def _select(t: np.ndarray, fps: float, start_s, end_s, max_frames) -> np.ndarray
     t0, t1 = float(t[0]), float(t[-1])
     start = t0 if start_s is None else _check_number("--start", start_s, -math.inf, True)
     end = t1 if end_s is None else _check_number("--end", end_s, -math.inf, True)
-    if not end > start and not (end == start and start_s is None and end_s is None):
-        raise InputError(f"the time window {start:g} to {end:g} s is empty; --end must be after --start.")
+    if start_s is not None and end_s is not None and not end > start:
+        raise InputError(f"--start {start:g} and --end {end:g}: the end must be after the start.")
+    if start > t1 or end < t0:
+        raise InputError(f"the time window {start:g} to {end:g} s holds no poses: the run's poses span "
+                         f"{t0:g} to {t1:g} s.")
     start, end = max(start, t0), min(end, t1)
-    if end < start:
-        raise InputError(f"the time window holds no poses: the run's poses span {t0:g} to {t1:g} s.")
     n = int(math.floor((end - start) * fps + 1e-6)) + 1
     if max_frames is not None:
         if isinstance(max_frames, bool) or not float(max_frames).is_integer() or int(max_frames) < 1:
@@ -444,7 +451,7 @@ def _write_gif(frames: Iterator[np.ndarray], path: str, fps: float) -> int:
     for f in frames:
         im = Image.fromarray(f, mode="RGB")
         if palette is None:  # one palette for all frames: no flicker, and fast
-            palette = im.quantize(colors=128, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+            palette = im.quantize(colors=128, method=Image.Quantize.MAXCOVERAGE, dither=Image.Dither.NONE)
             images.append(palette)
         else:
             images.append(im.quantize(palette=palette, dither=Image.Dither.NONE))

@@ -140,6 +140,7 @@ def cmd_simulate(args) -> int:
 
 
 def cmd_demo(args) -> int:
+    from .animation import animate
     from .frf import FrfTable, run_curves
     from .plotting import plot_time_histories, plot_transmissibility
 
@@ -155,6 +156,8 @@ def cmd_demo(args) -> int:
                                               band_hz=tuple(args.band)), pose_rate_hz=25.0)
         run.write(out / axis)
         plot_time_histories(run, out / axis / "time_histories.png", title=f"seat {axis}: {run.description}")
+        if axis == args.axes[-1]:  # one animation: the body's motion, exaggerated 20 times
+            animate(out / axis, out / axis / "animation.gif", exaggerate=20.0, end_s=min(8.0, run.duration_s))
         curves.update(run_curves(run, axis, tuple(args.band), segment_s=min(10.0, run.duration_s / 4)))
         summaries[axis] = run.summary()
         print(f"  {axis}: {run.duration_s:.0f} s simulated in {run.wall_s:.2f} s ({run.realtime_factor:.0f}x real time)")
@@ -171,8 +174,8 @@ def cmd_demo(args) -> int:
     print("  transmissibility peaks (seat axis -> same axis at the point):")
     for k, v in peaks.items():
         print(f"    {k:<12} {v['peak_gain']:.2f} at {v['peak_hz']:.1f} Hz (gain {v['gain_at_0.5_hz']:.2f} at 0.5 Hz)")
-    print(f"wrote {out}/transmissibility.csv, transmissibility.png, demo_summary.json and per-axis "
-          "timeseries.csv, summary.json, time_histories.png")
+    print(f"wrote {out}/transmissibility.csv, transmissibility.png, demo_summary.json, per-axis "
+          f"timeseries.csv, summary.json, time_histories.png, poses.npz, and {args.axes[-1]}/animation.gif")
     return 0
 
 
@@ -420,6 +423,18 @@ def cmd_export_fmu(args) -> int:
     return 0
 
 
+def cmd_animate(args) -> int:
+    import time
+
+    from .animation import animate
+
+    t0 = time.perf_counter()
+    path = animate(args.run_dir, args.out, exaggerate=args.exaggerate, fps=args.fps, start_s=args.start,
+                   end_s=args.end, max_frames=args.max_frames)
+    print(f"wrote {path} in {time.perf_counter() - t0:.1f} s (motion x{args.exaggerate:g})")
+    return 0
+
+
 def cmd_params(args) -> int:
     params = Parameters.load(args.params)
     if args.export:
@@ -547,6 +562,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
     p.add_argument("--unlock", action="append", metavar="JOINT", help="unlock a joint, e.g. waist")
     p.set_defaults(func=cmd_export_fmu)
+
+    p = sub.add_parser("animate", help="draw a run's person and seat into a .gif or .mp4 (offscreen, no display)")
+    p.add_argument("run_dir", metavar="RUN_DIR", help="run folder with poses.npz (from 'ehm simulate --out RUN_DIR')")
+    p.add_argument("--out", required=True, metavar="FILE.gif|FILE.mp4", help="animation file (.mp4 needs ehm[animate])")
+    p.add_argument("--exaggerate", type=float, default=1.0, metavar="F",
+                   help="scale the motion from the settled posture by F (default 1: true scale)")
+    p.add_argument("--fps", type=float, default=25.0, help="frames per second (default 25; poses are stored at 25 Hz)")
+    p.add_argument("--start", type=float, metavar="S", help="first time drawn [s] (default: the start)")
+    p.add_argument("--end", type=float, metavar="S", help="last time drawn [s] (default: the end)")
+    p.add_argument("--max-frames", type=int, metavar="N", help="stop after N frames")
+    p.set_defaults(func=cmd_animate)
 
     p = sub.add_parser("params", help="print or export the parameter file")
     p.add_argument("--params", metavar="FILE.toml", help="parameter file to read (default: the shipped defaults)")

@@ -1,0 +1,137 @@
+"""Animation of a run from its poses.npz: frames show the body moving, files are written whole."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import ehm
+from ehm.animation import _ellipse_params, animate, render_frames
+from ehm.cli import main
+from ehm.errors import InputError
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    """A 2 Hz fore-aft sine run and a run without input, each written to a folder with poses.npz."""
+    human = ehm.SeatedHuman()
+    out = {}
+    for name, motion in (("sine", ehm.sine("x", 2.0, 2.0, 1.0)), ("still", ehm.random_vibration("z", 1.0, 0.0))):
+        folder = tmp_path_factory.mktemp(name)
+        human.simulate(motion, pose_rate_hz=25.0).write(folder)
+        out[name] = folder
+    return out
+
+
+def _changed_pixels(a: np.ndarray, b: np.ndarray) -> int:
+    """Pixels that differ clearly (not just edge smoothing), above the bottom strip where the time stamp is."""
+    rows = int(a.shape[0] * 0.9)
+    return int((np.abs(a[:rows].astype(int) - b[:rows].astype(int)).sum(axis=-1) > 100).sum())
+
+
+def _changed_body_pixels(a: np.ndarray, b: np.ndarray) -> int:
+    """Clearly changed pixels that show the body in either frame (segments are coloured; seat, text grey)."""
+    body = [(f.max(axis=-1).astype(int) - f.min(axis=-1)) > 40 for f in (a, b)]
+    rows = int(a.shape[0] * 0.9)  # not the bottom strip with the (red) exaggeration note
+    changed = np.abs(a.astype(int) - b.astype(int)).sum(axis=-1) > 100
+    return int((changed & (body[0] | body[1]))[:rows].sum())
+
+
+def test_frames_show_the_body_moving(runs):
+    frames = render_frames(runs["sine"], times_s=[0.0, 0.76, 1.0, 1.24], exaggerate=20)
+    assert len(frames) == 4
+    assert all(f.shape == (480, 960, 3) and f.dtype == np.uint8 for f in frames)
+    moved = [_changed_pixels(frames[0], f) for f in frames[1:]]
+    assert min(moved) > 1000, moved  # a clearly visible displacement of the body (a few thousand pixels)
+    in_body = [_changed_body_pixels(frames[0], f) for f in frames[1:]]
+    assert min(in_body) > 3000, in_body
+    still = render_frames(runs["still"], times_s=[0.0, 0.48, 0.96], exaggerate=20)
+    assert max(_changed_pixels(still[0], f) for f in still[1:]) < 20
+    assert max(_changed_body_pixels(still[0], f) for f in still[1:]) < 20
+    # The time stamp does change.
+    assert np.any(still[0] != still[-1])
+
+
+def test_exaggeration_scales_the_motion(runs):
+    times = [0.0, 0.52]
+    frozen = render_frames(runs["sine"], times_s=times, exaggerate=0)
+    true_scale = render_frames(runs["sine"], times_s=times, exaggerate=1)
+    big = render_frames(runs["sine"], times_s=times, exaggerate=20)
+    assert _changed_pixels(*frozen) == 0
+    assert _changed_pixels(*big) > 2 * _changed_pixels(*true_scale)
+
+
+def test_rotating_seat_views_follow_the_heading():
+    human = ehm.SeatedHuman(rotating_seat=True)
+    t = np.arange(0.0, 1.0001, 0.01)
+
+    def frames(rates):
+        w = np.tile(np.asarray(rates, dtype=float), (t.size, 1))
+        run = human.simulate(ehm.SeatMotion(t, np.zeros((t.size, 3)), "turning seat", angvel_radps=w),
+                             pose_rate_hz=25.0)
+        assert run.poses["pos"].shape[1] == len(run.poses["geometry_segments"]) + 1  # the seat frame, last
+        return render_frames(run.poses, times_s=[0.0, 1.0], exaggerate=0)  # body frozen on the seat
+
+    assert _changed_pixels(*frames([0.0, 0.0, 0.5])) == 0  # a yawing seat: the views turn with it
+    assert _changed_pixels(*frames([0.0, 0.2, 0.0])) > 5000  # a pitching seat tilts seat and person
+
+
+def test_projected_ellipse_is_exact():
+    rng = np.random.default_rng(1)
+    a = np.array([0.23, 0.075, 0.05])
+    R = Rotation.random(random_state=rng).as_matrix()
+    M = R @ np.diag(a ** 2) @ R.T
+    # Sample the surface; its projection onto the x-z plane must fill the ellipse of M's x-z block.
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 400), np.linspace(0, np.pi, 200))
+    pts = np.stack([np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)], axis=-1).reshape(-1, 3) * a @ R.T
+    width, height, angle = _ellipse_params(M[np.ix_([0, 2], [0, 2])])
+    t = np.radians(angle)
+    major, minor = np.array([np.cos(t), np.sin(t)]), np.array([-np.sin(t), np.cos(t)])
+    proj = pts[:, [0, 2]]
+    assert np.max(proj @ major) == pytest.approx(width / 2, rel=1e-3)
+    assert np.max(proj @ minor) == pytest.approx(height / 2, rel=1e-3)
+
+
+def test_gif_through_the_command_line(runs, capsys):
+    out = runs["sine"] / "a.gif"
+    assert main(["animate", str(runs["sine"]), "--out", str(out), "--max-frames", "5", "--exaggerate", "20"]) == 0
+    assert "wrote" in capsys.readouterr().out
+    from PIL import Image
+
+    with Image.open(out) as im:
+        assert im.format == "GIF" and im.size == (960, 480) and im.n_frames == 5
+    assert not [p for p in out.parent.iterdir() if p.name.startswith(".a.")]  # no temporary file left
+
+
+def test_mp4(runs, tmp_path):
+    pytest.importorskip("imageio_ffmpeg")
+    out = animate(runs["sine"], tmp_path / "run.mp4", exaggerate=20, fps=10, start_s=0.5, end_s=1.0)
+    data = out.read_bytes()
+    assert b"ftyp" in data[:16] and len(data) > 1000
+    assert [p.name for p in tmp_path.iterdir()] == ["run.mp4"]
+
+
+def test_mp4_without_imageio_says_what_to_install(runs, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)  # import fails
+    with pytest.raises(InputError, match=r"ehm\[animate\].*\.gif"):
+        animate(runs["sine"], tmp_path / "run.mp4")
+    assert not list(tmp_path.iterdir())
+
+
+def test_errors(runs, tmp_path, capsys):
+    with pytest.raises(InputError, match="has no poses.npz; write one with 'ehm simulate"):
+        animate(tmp_path, tmp_path / "a.gif")
+    assert main(["animate", str(tmp_path), "--out", str(tmp_path / "a.gif")]) == 2
+    err = capsys.readouterr().err
+    assert "has no poses.npz" in err and "Traceback" not in err
+    with pytest.raises(InputError, match="unknown animation format"):
+        animate(runs["sine"], tmp_path / "a.avi")
+    for kwargs, what in (({"fps": 0}, "--fps"), ({"exaggerate": -1}, "--exaggerate"),
+                         ({"exaggerate": float("nan")}, "--exaggerate"), ({"max_frames": 0}, "--max-frames"),
+                         ({"start_s": 1.5, "end_s": 1.0}, "--end"), ({"start_s": 10.0}, "holds no poses")):
+        with pytest.raises(InputError, match=what):
+            animate(runs["sine"], tmp_path / "a.gif", **kwargs)
+    assert not list(tmp_path.iterdir())  # nothing written on error
