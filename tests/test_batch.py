@@ -63,3 +63,25 @@ def test_cli_batch(tmp_path, capsys):
     path.write_text(STUDY.replace(", -1.0", ""))
     assert main(["batch", str(path), "--out", str(tmp_path / "r"), "--workers", "1", "--csv"]) == 0
     assert (tmp_path / "r" / "results.csv").read_text().startswith("\"run_id\",\"output\",\"value\",\"error\"")
+
+
+def test_fit_evaluates_candidates_on_a_dask_cluster():
+    # The transfer-function fit takes an executor: here a local Dask cluster's.  SYNTHETIC gains made by
+    # the model with the T12 compression stiffness at 21 kN/m are fitted from the default 15 kN/m.
+    import numpy as np
+    from dask.distributed import Client, LocalCluster
+
+    import ehm
+    from ehm.fit import fit
+    from ehm.frf import FrfTable, linear_frf
+    from ehm.params import Parameters
+
+    human = ehm.SeatedHuman(params=Parameters.load().with_values({"joints.t12.z.stiffness_N_per_m": 21000.0}))
+    human.settle()
+    table = linear_frf(human, "z", freq_hz=np.arange(0.5, 12.01, 0.5))
+    data = FrfTable({k: v for k, v in table.curves.items() if k[2] in ("z", "pitch")}, method="measured")
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        result = fit(data, free=["joints.t12.z.stiffness_N_per_m"], time_check=False,
+                     executor=client.get_executor())
+    assert result.final["joints.t12.z.stiffness_N_per_m"] == pytest.approx(21000.0, rel=0.01)
