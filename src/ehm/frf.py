@@ -13,7 +13,6 @@ response of the model linearised around its settled posture).
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -88,28 +87,17 @@ def read_frf_csv(path: Path | str) -> FrfTable:
     ``#`` are comments.  Rejects, with file and line: unknown axis, point or dof, a non-positive or repeated
     frequency, a NaN, infinite or negative gain, a non-numeric value, a missing column.
     """
+    from .tables import CsvTable
+
     label = str(path)
-    try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise InputError(f"{label}: cannot read the file ({exc.strerror or exc}).") from None
-    except UnicodeDecodeError:
-        raise InputError(f"{label}: not a UTF-8 text file.") from None
-    numbered = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
-    if not numbered:
-        raise InputError(f"{label}: the file is empty.")
-    rows = list(csv.reader([ln for _, ln in numbered]))
-    header = [h.strip() for h in rows[0]]
+    table = CsvTable(path, label=label)
     for col in ("input_axis", "point", "dof", "freq_hz", "gain"):
-        if col not in header:
-            raise InputError(f"{label}: missing column {col!r} (the header is line {numbered[0][0]}).")
-    idx = {h: i for i, h in enumerate(header)}
+        if col not in table.header:
+            raise InputError(f"{label}: missing column {col!r}.")
+    idx = {h: i for i, h in enumerate(table.header)}
     data: dict = {}
     weights: dict = {}
-    for (lineno, _), fields in zip(numbered[1:], rows[1:]):
-        if len(fields) != len(header):
-            raise InputError(f"{label}, line {lineno}: {len(fields)} fields where the header has {len(header)}.")
-        get = {h: fields[i].strip() for h, i in idx.items()}
+    for lineno, get in table.rows:
         for col, allowed in (("input_axis", AXES), ("point", POINTS), ("dof", DOFS)):
             if get[col] not in allowed:
                 raise InputError(
@@ -147,8 +135,6 @@ def read_frf_csv(path: Path | str) -> FrfTable:
         data.setdefault(key, []).append((lineno, f, g, number("phase_deg", True) if "phase_deg" in idx else math.nan,
                                          number("coherence", True) if "coherence" in idx else math.nan,
                                          number("gain_sd", True) if "gain_sd" in idx else math.nan))
-    if not data:
-        raise InputError(f"{label}: the file has a header but no data rows.")
     curves = {}
     for key, rows_ in data.items():
         rows_.sort(key=lambda r: r[1])

@@ -159,7 +159,7 @@ class Body:
         raise InputError(f"unknown joint {name!r}; known joints: {', '.join(j.name for j in self.joints)}.")
 
 
-class _Table:
+class CsvTable:
     """Rows of a CSV table with unit-aware numeric access and precise error messages."""
 
     def __init__(self, path: Path | str, label: str | None = None):
@@ -250,7 +250,7 @@ def load_segments(path: Path | str | None = None) -> tuple[Segment, ...]:
     Columns: ``name``, ``mass_kg``, ``ixx_kgm2``, ``iyy_kgm2``, ``izz_kgm2``, ``com_{x,y,z}_<m|cm|mm>``,
     ``shape_{a,b,c}_<m|cm|mm>``, ``shape_pitch_<deg|rad>``.
     """
-    t = _Table(path or _data_path("segments.csv"), label=str(path) if path else None)
+    t = CsvTable(path or _data_path("segments.csv"), label=str(path) if path else None)
     out = []
     for n, r in t.rows:
         inertia = t.vector(n, r, ("ixx", "iyy", "izz"), "inertia", positive=True)
@@ -277,7 +277,7 @@ def load_joints(path: Path | str | None = None) -> tuple[Joint, ...]:
 
     Columns: ``name``, ``parent``, ``child``, ``type``, ``{x,y,z}_<m|cm|mm>``, ``locked`` (0 or 1).
     """
-    t = _Table(path or _data_path("joints.csv"), label=str(path) if path else None)
+    t = CsvTable(path or _data_path("joints.csv"), label=str(path) if path else None)
     out = []
     for n, r in t.rows:
         jtype = t.text(n, r, "type")
@@ -296,7 +296,7 @@ def load_joints(path: Path | str | None = None) -> tuple[Joint, ...]:
 
 def load_contacts(path: Path | str | None = None) -> tuple[ContactEllipsoid, ...]:
     """Read a contact-ellipsoid table (default: the shipped ``contacts.csv``)."""
-    t = _Table(path or _data_path("contacts.csv"), label=str(path) if path else None)
+    t = CsvTable(path or _data_path("contacts.csv"), label=str(path) if path else None)
     out = []
     for n, r in t.rows:
         surface = t.text(n, r, "surface")
