@@ -132,3 +132,41 @@ def test_motion_file_with_partial_rotation_is_refused(tmp_path, capsys):
     assert main(["assess", "--motion", str(bad), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert "bad.csv, line 1" in err and "wx_radps" in err
+
+
+def test_city_drive_sign_conventions():
+    # A left turn accelerates the seat to the left (+y) and yaws it positively about z (up); the car
+    # rolls outward (to the right: positive roll about x lifts the left side); braking pitches it nose
+    # down (positive pitch about y, which points left).  ehm.drives docstring.
+    drive = city_drive(60.0, seed=0)
+    k = seat_kinematics(drive.time_s, drive.angvel_radps)
+    left = drive.acc_mps2[:, 1] > 1.5
+    assert np.all(drive.angvel_radps[left, 2] > 0) and np.mean(k.angles_rad[left, 2]) > 0
+    braking = drive.acc_mps2[:, 0] < -1.0
+    assert np.mean(k.angles_rad[braking, 1]) > 0
+    speed = 8.0 + np.cumsum(drive.acc_mps2[:, 0]) * (drive.time_s[1] - drive.time_s[0])
+    assert speed.min() > 2.0  # the brakes bring the car back to city speeds, never backwards
+
+
+def test_cli_assess_z_only_drive_and_drive_command(tmp_path, capsys):
+    # A drive with motion on one axis only (the shipped rough road has none in x and y): undefined ratios
+    # are written as null, not NaN.
+    drive = tmp_path / "road.csv"
+    assert main(["drive", "road", "--duration", "6", "--out", str(drive)]) == 0
+    out = tmp_path / "a"
+    assert main(["assess", "--motion", str(drive), "--out", str(out)]) == 0
+    summary = json.loads((out / "assessment.json").read_text())
+    assert summary["locations"]["seat"]["axes"]["x"]["crest_factor"] is None
+    assert summary["locations"]["head"]["total_value_mps2"] > 0
+    assert main(["drive", "city", "--seed", "-1", "--out", str(tmp_path / "c.csv")]) == 2
+    assert "seed" in capsys.readouterr().err
+
+
+def test_cli_realtime(tmp_path, capsys):
+    assert main(["realtime", "--motion", "road", "--ignore-rotation", "--duration", "0.2", "--no-pace"]) == 0
+    out = capsys.readouterr().out
+    assert "step latency: median" in out and "overruns 0 of 201 steps" in out
+    assert main(["realtime", "--motion", "road", "--ignore-rotation", "--duration", "-1"]) == 2
+    assert "--duration -1" in capsys.readouterr().err
+    assert main(["realtime", "--motion", "road", "--duration", "1"]) == 2  # rotation not ignored
+    assert "rotates the seat" in capsys.readouterr().err

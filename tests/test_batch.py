@@ -56,6 +56,12 @@ def test_bad_study_files(tmp_path):
     bad.write_text("[people]\nstature_m = [1.6, 1.7]\nmass_kg = [60.0]\n")
     with pytest.raises(InputError, match="equal length"):
         load_study(bad)
+    bad.write_text('[grid]\n"joints.t12.q" = [1.0]\n')  # refused before any cluster starts
+    with pytest.raises(InputError, match="not a parameter"):
+        load_study(bad)
+    bad.write_text("[input]\nduration = 3\n")
+    with pytest.raises(InputError, match="unknown key 'duration'"):
+        load_study(bad)
 
 
 def test_cli_batch(tmp_path, capsys):

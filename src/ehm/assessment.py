@@ -84,7 +84,8 @@ class Assessment:
             for a in "xyz":
                 m = self.metrics[loc][a]
                 per_axis[a] = {"a_w_mps2": m.a_w, "mtvv_mps2": m.mtvv, "vdv_mps175": m.vdv,
-                               "crest_factor": m.crest_factor, "mtvv_ratio": m.mtvv_ratio, "vdv_ratio": m.vdv_ratio}
+                               "crest_factor": _finite(m.crest_factor), "mtvv_ratio": _finite(m.mtvv_ratio),
+                               "vdv_ratio": _finite(m.vdv_ratio)}
                 if loc != "seat":
                     seat_aw = self.metrics["seat"][a].a_w
                     per_axis[a]["seat_value_pct"] = 100 * m.a_w / seat_aw if seat_aw > 0 else None
@@ -100,6 +101,11 @@ class Assessment:
         out["body_displacement_max_m"] = {k: v.tolist() for k, v in self.max_displacement_m.items()}
         out["body_displacement_final_m"] = {k: v.tolist() for k, v in self.final_displacement_m.items()}
         return out
+
+
+def _finite(x: float) -> float | None:
+    """A number for JSON: None where it is undefined (e.g. the crest factor of an axis without motion)."""
+    return float(x) if x is not None and np.isfinite(x) else None
 
 
 def _block_means(x: np.ndarray, k: int) -> np.ndarray:
@@ -122,6 +128,9 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None)
     from .simulation import POINT_NAMES, SeatedHuman
 
     rotating = motion.angvel_radps is not None
+    if motion.duration_s < 2.0:
+        raise InputError(f"the drive '{motion.description}' lasts {motion.duration_s:g} s; an assessment needs at "
+                         "least 2 s (the running rms alone spans 1 s).")
     if human is None:
         human = SeatedHuman(rotating_seat=rotating)
     dt = float(human.params.value("simulation.dt_s"))
@@ -131,7 +140,9 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None)
                          f"{fs:g} Hz.")
     keep = max(1, int(round(fs / TRACE_RATE_HZ)))
     acc = {loc: {a: ComfortAccumulator(AXIS_WEIGHTING[a], fs, keep_every=keep) for a in "xyz"} for loc in LOCATIONS}
-    spectra = {loc: {a: _Spectrum(fs, int(2 ** np.ceil(np.log2(8 * fs)))) for a in "xyz"} for loc in LOCATIONS}
+    # Welch segments of about 4 s (0.25 Hz resolution), at most half a chunk and of the whole drive
+    nper = int(2 ** np.floor(np.log2(min(4 * fs, chunk_s * fs / 2, motion.duration_s * fs / 2))))
+    spectra = {loc: {a: _Spectrum(fs, nper) for a in "xyz"} for loc in LOCATIONS}
     k_sick = max(1, int(round(fs / SICKNESS_RATE_HZ)))
     sick_in = {"head": ([], []), "seat": ([], [])}
     max_disp = {p: np.zeros(3) for p in POINT_NAMES}

@@ -75,6 +75,9 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
     unknown = set(doc) - {"study", "people", "grid", "input"}
     if unknown:
         raise InputError(f"{label}: unknown section [{sorted(unknown)[0]}]; use study, people, grid, input.")
+    for section in ("study", "people", "grid", "input"):
+        if section in doc and not isinstance(doc[section], dict):
+            raise InputError(f"{label}: {section} must be a [{section}] table, not {doc[section]!r}.")
     study = doc.get("study", {})
     compute = tuple(study.get("compute", ["transmissibility"]))
     for c in compute:
@@ -99,6 +102,11 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
         if not isinstance(v, list) or not v:
             raise InputError(f"{label}: [grid] {k!r} must be a non-empty list of values.")
     inp = dict(doc.get("input", {}))
+    allowed_input = {"axes", "method", "drive", "duration_s", "rms_mps2", "seed"}
+    if set(inp) - allowed_input:
+        raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
+                         f"use {', '.join(sorted(allowed_input))}.")
+    _check_before_running(label, rows, grid, locks)
     name = str(study.get("name", Path(path).stem))
     specs = []
     for person in rows:
@@ -109,6 +117,35 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
                 run_id = hashlib.sha256(key.encode()).hexdigest()[:12]
                 specs.append(RunSpec(run_id, person, params, tuple(lock), compute, inp))
     return name, specs
+
+
+def _check_before_running(label: str, people: list, grid: dict, locks: list) -> None:
+    """Names and ranges that every run would trip over are refused before any cluster starts."""
+    from .params import Parameters
+    from .scaling import BodySize
+    from .tables import load_body, resolve_locks
+
+    params = Parameters.load()
+    for key, values in grid.items():
+        try:
+            params.value(key)
+        except InputError:
+            raise InputError(f"{label}: [grid] names {key!r}, which is not a parameter (see 'ehm params').") from None
+        for v in values:
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise InputError(f"{label}: [grid] {key!r} holds {v!r}, not a number.")
+    body = load_body()
+    for lock in locks:
+        try:
+            resolve_locks(body, lock)
+        except InputError as exc:
+            raise InputError(f"{label}: [grid] lock: {exc}") from None
+    for person in people:
+        if person:
+            try:
+                BodySize(**person)
+            except InputError as exc:
+                raise InputError(f"{label}: [people]: {exc}") from None
 
 
 def _drive(inp: dict, dt_s: float):
@@ -237,7 +274,10 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
     wall = 0.0
     if todo:
         if scheduler:
-            client, cluster = Client(scheduler), None
+            try:
+                client, cluster = Client(scheduler, timeout="10s"), None
+            except OSError as exc:
+                raise InputError(f"cannot reach the Dask scheduler at {scheduler} ({exc}).") from None
         else:
             import os
 
@@ -251,8 +291,14 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
         try:
             t0 = time.perf_counter()  # throughput excludes starting the cluster
             futures = client.map(run_one, todo, pure=False)
+            by_future = dict(zip(futures, todo))
             for done, fut in enumerate(as_completed(futures), start=1):
-                rec = fut.result()
+                try:
+                    rec = fut.result()
+                except Exception as exc:  # noqa: BLE001 - a lost worker is recorded like a failed run
+                    spec = by_future[fut]
+                    rec = {"inputs": spec.inputs(), "outputs": {}, "error": f"worker failed: {exc}",
+                           "simulated_s": 0.0, "wall_s": 0.0}
                 write_json_atomic(runs_dir / f"{rec['inputs']['run_id']}.json", rec)
                 simulated += rec["simulated_s"]
                 failed += rec["error"] is not None

@@ -322,13 +322,15 @@ def cmd_assess(args) -> int:
     params = Parameters.load(args.params)
     body = load_body(args.segments, args.joints, args.contacts)
     human = SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body,
-                        rotating_seat=motion.angvel_radps is not None)
+                        rotating_seat=motion.angvel_radps is not None, size=_size(args))
     out = Path(args.out)
     _writable_dir(out, "output")
     result = assess(motion, human, progress=_progress_bar("assess"))
     summary = result.summary()
     summary["params"] = params.origin
     summary["locked"] = sorted(human.locked)
+    if human.size is not None:
+        summary["scaled"] = human.params.data["about"].get("scaled", "")
     write_json_atomic(out / "assessment.json", summary)
     figures = {"spectra": out / "weighted_spectra.png", "running_rms": out / "running_rms.png",
                "sickness": out / "sickness.png"}
@@ -356,9 +358,12 @@ def cmd_realtime(args) -> int:
         if not args.ignore_rotation:
             raise InputError(f"{args.motion} rotates the seat; real-time stepping supports seat translation only "
                              "(use --ignore-rotation to drop the rotation, or 'ehm assess' for the whole drive).")
+    if args.duration is not None and not (np.isfinite(args.duration) and args.duration > 0):
+        raise InputError(f"--duration {args.duration}: give a positive number of seconds.")
     params = Parameters.load(args.params)
     sim = Simulator(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
-                    comfort=not args.no_comfort)
+                    comfort=not args.no_comfort, body=load_body(args.segments, args.joints, args.contacts),
+                    size=_size(args))
     m = motion.resample(sim.dt_s)
     acc = m.acc_mps2 if args.duration is None else m.acc_mps2[: int(round(args.duration / sim.dt_s)) + 1]
     print(f"real-time run of {acc.shape[0] * sim.dt_s:.1f} s of '{motion.description}', one {sim.dt_s * 1000:g} ms "
@@ -393,6 +398,8 @@ def cmd_batch(args) -> int:
         print(f"\r  {done} / {total} runs done", end="\n" if done == total else "", file=sys.stderr, flush=True)
 
     res = run_study(specs, out, scheduler=args.scheduler, workers=args.workers, csv=args.csv, progress=show)
+    if res["ran"] and res["failed"] == res["ran"]:
+        raise InputError(f"all {res['ran']} runs failed; their errors are in {out}/results.parquet (output 'error').")
     tp = res["throughput_simulated_s_per_s"]
     print(f"ran {res['ran']} runs ({res['skipped']} already done, {res['failed']} failed) in {res['wall_s']:.1f} s"
           + (f"; {tp:.1f} simulated s per wall s" if tp else "") + f"; wrote {out}/results.parquet"

@@ -22,19 +22,27 @@ from .motion import SeatMotion
 ROAD_CLASS_GD0_M3 = {"A": 16e-6, "B": 64e-6, "C": 256e-6, "D": 1024e-6, "E": 4096e-6}
 
 
-def _check(name: str, value: float, low: float) -> float:
+def _check(name: str, value: float, low: float, high: float = np.inf) -> float:
     v = float(value)
-    if not np.isfinite(v) or v <= low:
-        raise InputError(f"{name} must be a number above {low:g}, not {value!r}.")
+    if not np.isfinite(v) or v <= low or v > high:
+        raise InputError(f"{name} must be a number above {low:g}" + (f" and at most {high:g}" if np.isfinite(high) else "")
+                         + f", not {value!r}.")
     return v
 
 
-def _smooth_steps(t: np.ndarray, events: list[tuple[float, float, float]], rise_s: float) -> np.ndarray:
-    """Sum of plateaus (start [s], length [s], level) with raised-cosine edges of ``rise_s``."""
+def _seed(seed) -> int:
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(f"seed must be a whole number >= 0, not {seed!r}.")
+    return int(seed)
+
+
+def _smooth_steps(t: np.ndarray, events: list[tuple[float, float, float, float]]) -> np.ndarray:
+    """Sum of plateaus (start [s], length [s], level, rise [s]) with raised-cosine edges; each plateau's
+    integral is level * length."""
     out = np.zeros_like(t)
-    for start, length, level in events:
-        up = np.clip((t - start) / rise_s, 0, 1)
-        down = np.clip((t - start - length) / rise_s, 0, 1)
+    for start, length, level, rise in events:
+        up = np.clip((t - start) / rise, 0, 1)
+        down = np.clip((t - start - length) / rise, 0, 1)
         out += level * (0.5 - 0.5 * np.cos(np.pi * up) - (0.5 - 0.5 * np.cos(np.pi * down)))
     return out
 
@@ -43,27 +51,32 @@ def city_drive(duration_s: float = 120.0, seed: int = 0, dt_s: float = 0.01) -> 
     """A SYNTHETIC city drive: start, corners left and right, braking, stops, with road vibration.
 
     Longitudinal and lateral accelerations come as smooth plateaus (1-2.5 s rise, 0.1-0.5 Hz content) of
-    1.5-3.5 m/s^2; the yaw rate is lateral acceleration / speed; the body rolls 0.5 deg and pitches
-    0.6 deg per m/s^2 (typical passenger car gradients) with a 0.15 s lag; light vertical road
-    vibration (0.15 m/s^2 rms, 0.5-15 Hz) is added.  The event sequence is drawn from ``seed``.
+    1-3.5 m/s^2; each braking brings the speed back to 4-8 m/s, so the speed stays in a city range; the
+    yaw rate is lateral acceleration / speed; the body rolls 0.5 deg and pitches 0.6 deg per m/s^2
+    (typical passenger car gradients) with a 0.15 s lag; light vertical road vibration (0.15 m/s^2 rms,
+    0.5-15 Hz) is added.  The event sequence is drawn from ``seed``.
     """
-    duration = _check("duration_s", duration_s, 10.0)
-    dt = _check("dt_s", dt_s, 0.0)
-    rng = np.random.default_rng(seed)
+    duration = _check("duration_s", duration_s, 10.0, 4 * 3600.0)
+    dt = _check("dt_s", dt_s, 1e-4, 0.1)
+    rng = np.random.default_rng(_seed(seed))
     t = np.arange(0.0, duration + dt / 2, dt)
     lon, lat = [], []
-    clock = 2.0
+    clock, speed = 2.0, 8.0
     while clock < duration - 12.0:
-        rise = rng.uniform(1.0, 2.5)
-        lon.append((clock, rng.uniform(3.0, 5.0), rng.uniform(1.5, 2.5)))       # pull away
+        length, level = rng.uniform(3.0, 5.0), rng.uniform(1.5, 2.5)
+        lon.append((clock, length, level, rng.uniform(1.0, 2.5)))                          # pull away
+        speed += level * length
         clock += rng.uniform(5.0, 8.0)
-        lat.append((clock, rng.uniform(3.0, 6.0), rng.choice([-1, 1]) * rng.uniform(2.0, 3.5)))  # corner
+        lat.append((clock, rng.uniform(3.0, 6.0), rng.choice([-1, 1]) * rng.uniform(2.0, 3.5),
+                    rng.uniform(1.0, 2.5)))                                                 # corner
         clock += rng.uniform(7.0, 10.0)
-        lon.append((clock, rng.uniform(2.5, 4.0), -rng.uniform(2.0, 3.5)))      # brake
+        length = rng.uniform(2.5, 4.0)
+        level = -float(np.clip((speed - rng.uniform(4.0, 8.0)) / length, 1.0, 3.5))        # brake
+        lon.append((clock, length, level, rng.uniform(1.0, 2.5)))
+        speed = max(speed + level * length, 3.0)
         clock += rng.uniform(5.0, 8.0)
-    rise = 1.5
-    ax = _smooth_steps(t, lon, rise)
-    ay = _smooth_steps(t, lat, rise)
+    ax = _smooth_steps(t, lon)
+    ay = _smooth_steps(t, lat)
     speed = np.maximum(np.cumsum(ax) * dt + 8.0, 3.0)  # never below 3 m/s
     yaw_rate = ay / speed
     lag = signal.butter(1, 1 / (2 * np.pi * 0.15), fs=1 / dt, output="sos")
@@ -92,9 +105,10 @@ def rough_road(duration_s: float = 60.0, speed_mps: float = 15.0, road_class: st
     seat's vertical acceleration is the mean of the four corners, its pitch and roll rates follow from the
     corner differences over wheelbase and track.
     """
-    duration = _check("duration_s", duration_s, 1.0)
-    speed = _check("speed_mps", speed_mps, 0.0)
-    dt = _check("dt_s", dt_s, 0.0)
+    duration = _check("duration_s", duration_s, 1.0, 4 * 3600.0)
+    speed = _check("speed_mps", speed_mps, 1.0, 70.0)
+    dt = _check("dt_s", dt_s, 1e-4, 0.1)
+    seed = _seed(seed)
     if road_class not in ROAD_CLASS_GD0_M3:
         raise InputError(f"road class {road_class!r} is not one of {', '.join(ROAD_CLASS_GD0_M3)} (ISO 8608).")
     rng = np.random.default_rng(seed)
@@ -150,8 +164,8 @@ def write_drive_csv(motion: SeatMotion, path) -> None:
     lines = [f"# {motion.description}", "# seat acceleration in seat axes (x forward, y left, z up) and angular "
              "velocity about those axes",
              "time_s,ax_mps2,ay_mps2,az_mps2,wx_radps,wy_radps,wz_radps"]
-    for row in np.column_stack([motion.time_s, motion.acc_mps2, w]):
-        lines.append(",".join(f"{v:.6g}" for v in row))
+    for t, row in zip(motion.time_s, np.column_stack([motion.acc_mps2, w])):
+        lines.append(f"{t:.6f}," + ",".join(f"{v:.6g}" for v in row))  # time to the microsecond
     write_text_atomic(path, "\n".join(lines) + "\n")
 
 

@@ -37,7 +37,9 @@ th {{ background: #f0f0f0; }} img {{ max-width: 100%; margin: 0.4em 0; }} .note 
 </style></head><body>
 <h1>{html.escape(title)}</h1>
 <p><b>Drive:</b> {html.escape(summary['input'])} ({summary['duration_s']:.0f} s, simulated in {summary['wall_s']:.0f} s).<br>
-<b>Person:</b> ehm seated human model (default parameters unless stated), seat accelerations in seat axes.</p>
+<b>Person:</b> ehm seated human model, parameters: {html.escape(str(summary.get('params', 'default')))};
+locked joints: {html.escape(', '.join(summary.get('locked', [])) or 'none')}{html.escape(' (' + summary['scaled'] + ')' if summary.get('scaled') else '')}.
+Seat accelerations in seat axes.</p>
 <h2>Comfort (ISO 2631-1)</h2>
 <table><tr><th>location</th><th>a<sub>w,x</sub></th><th>a<sub>w,y</sub></th><th>a<sub>w,z</sub></th>
 <th>total value a<sub>v</sub></th><th>comfort reaction</th><th>VDV<sub>z</sub></th><th>MTVV (max axis)</th>

@@ -6,11 +6,11 @@ Rules (each documented with its source; the reference person is its own fixed po
 * Reference size: the paper's model matches the MADYMO active human model's 50th percentile male,
   standing height 1.76 m and sitting height 0.92 m (paper section 1), with the EHM's own mass
   70.882 kg (Table 2).
-* Lengths: coordinates of the trunk, neck and head (and everything above the hips) scale with the
-  sitting-height ratio, those of thighs, lower legs and feet with the leg-length ratio (stature minus
-  sitting height); without a sitting height both follow the stature ratio (geometric similarity).
-  Widths and depths (x and y) scale with sqrt(mass ratio / stature ratio), which keeps the body's
-  density: volume ~ width * depth * height ~ mass.
+* Lengths: heights (z) of the trunk, neck and head (everything above the hips) scale with the
+  sitting-height ratio; thighs, lower legs and feet, which extend forward and down when seated, scale
+  with the leg-length ratio (stature minus sitting height) in x and z; without a sitting height both
+  follow the stature ratio (geometric similarity).  Widths (y) and the upper body's depth (x) scale with
+  sqrt(mass ratio / stature ratio), which keeps the body's density: volume ~ width * depth * height ~ mass.
 * Masses scale with the body-mass ratio (constant segment mass fractions, as in anthropometric tables
   such as Dempster's); moments of inertia with mass times the squares of the scaled lengths of the two
   axes perpendicular to each principal axis.
@@ -81,8 +81,14 @@ class BodySize:
         return all(abs(f - 1.0) < 1e-12 for f in (self.mass, self.trunk, self.legs, self.width))
 
     def factors(self, leg: bool) -> np.ndarray:
-        """Length factors (x, y, z) of the leg or the upper-body region."""
-        return np.array([self.width, self.width, self.legs if leg else self.trunk])
+        """Position factors (x, y, z) of the leg or the upper-body region.  Seated, the legs extend forward
+        and down, so their x and z both follow leg length; the upper body's z follows sitting height and
+        its x (depth) the width factor."""
+        return np.array([self.legs, self.width, self.legs]) if leg else np.array([self.width, self.width, self.trunk])
+
+    def shape_factors(self, leg: bool) -> np.ndarray:
+        """Factors of an ellipsoid's own semi-axes: a leg segment's first axis lies along its length."""
+        return np.array([self.legs, self.width, self.width]) if leg else np.array([self.width, self.width, self.trunk])
 
     def length(self, leg: bool) -> float:
         """The characteristic length ratio L of a region (for stiffness and damping)."""
@@ -99,18 +105,19 @@ def scale_body(body: Body, size: BodySize) -> Body:
         return body
     segments = []
     for s in body.segments:
-        f = size.factors(_is_leg(s.name, LEG_SEGMENTS))
+        leg = _is_leg(s.name, LEG_SEGMENTS)
+        f, fs = size.factors(leg), size.shape_factors(leg)
         # I_xx ~ m (Ly^2 + Lz^2): scale each term by its axis factors, split by the reference body's shape
         a2 = np.maximum(s.shape_m, 1e-9) ** 2  # relative axis weights from the drawn ellipsoid
         inertia = []
         for i in range(3):
             j, k = [n for n in range(3) if n != i]
-            inertia.append(s.inertia_kgm2[i] * size.mass * (a2[j] * f[j] ** 2 + a2[k] * f[k] ** 2) / (a2[j] + a2[k]))
+            inertia.append(s.inertia_kgm2[i] * size.mass * (a2[j] * fs[j] ** 2 + a2[k] * fs[k] ** 2) / (a2[j] + a2[k]))
         segments.append(replace(s, mass_kg=s.mass_kg * size.mass, inertia_kgm2=np.array(inertia),
-                                com_m=s.com_m * f, shape_m=s.shape_m * f))
+                                com_m=s.com_m * f, shape_m=s.shape_m * fs))
     joints = [replace(j, pos_m=j.pos_m * size.factors(_is_leg(j.name, LEG_JOINTS))) for j in body.joints]
     contacts = [replace(c, center_m=c.center_m * size.factors(_is_leg(c.segment, LEG_SEGMENTS)),
-                        semi_axes_m=c.semi_axes_m * size.factors(_is_leg(c.segment, LEG_SEGMENTS)))
+                        semi_axes_m=c.semi_axes_m * size.shape_factors(_is_leg(c.segment, LEG_SEGMENTS)))
                 for c in body.contacts]
     return Body(tuple(segments), tuple(joints), tuple(contacts))
 

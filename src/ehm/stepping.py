@@ -6,7 +6,8 @@
 
 Each step gives the same numbers as a whole run of the same input (``SeatedHuman.simulate``); memory
 stays constant.  With ``comfort=True`` the running ISO 2631-1 figures (1 s running rms, a_w so far) of
-seat, pelvis, trunk and head are kept, updated in blocks of ``comfort_every`` steps.
+seat, pelvis, trunk and head are kept: the weighting filters run every step, and the figures reported in
+the returned state are refreshed every ``comfort_every`` steps.
 """
 
 from __future__ import annotations
@@ -62,7 +63,7 @@ class Simulator:
 
     Parameters
     ----------
-    params, lock, unlock
+    params, lock, unlock, body, size
         As for :class:`ehm.SeatedHuman`.
     comfort : bool
         Keep running ISO 2631-1 figures (Wd x, y; Wk z) of seat, pelvis, trunk and head.
@@ -76,8 +77,8 @@ class Simulator:
     """
 
     def __init__(self, params: Parameters | str | None = None, lock=(), unlock=(), comfort: bool = True,
-                 comfort_every: int = 10):
-        self.human = SeatedHuman(params=params, lock=lock, unlock=unlock)
+                 comfort_every: int = 10, body=None, size=None):
+        self.human = SeatedHuman(params=params, lock=lock, unlock=unlock, body=body, size=size)
         self.model = self.human.model
         self.dt_s = float(self.model.mj.opt.timestep)
         engine.settle(self.model)
