@@ -417,6 +417,9 @@ def _select(t: np.ndarray, fps: float, start_s, end_s, max_frames) -> np.ndarray
                          f"{t0:g} to {t1:g} s.")
     start, end = max(start, t0), min(end, t1)
     n = int(math.floor((end - start) * fps + 1e-6)) + 1
+    if n > 100_000 and max_frames is None:
+        raise InputError(f"--fps {fps:g} over {end - start:g} s gives {n} frames; lower --fps or set --max-frames "
+                         "(at most 100000 frames).")
     if max_frames is not None:
         if isinstance(max_frames, bool) or not float(max_frames).is_integer() or int(max_frames) < 1:
             raise InputError(f"--max-frames must be a whole number of at least 1, not {max_frames!r}.")

@@ -276,7 +276,7 @@ def _check_destination(out: Path) -> None:
         os.close(fd)
         os.unlink(probe)
     except OSError as exc:
-        raise InputError(f"{out}: the folder {out.parent} is not writable ({exc.strerror or exc}).") from None
+        raise InputError(f"{out}: cannot write a file in the folder {out.parent} ({exc.strerror or exc}).") from None
 
 
 def _with_initial_unknowns(xml: bytes) -> bytes:
