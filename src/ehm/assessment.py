@@ -23,7 +23,7 @@ from scipy import signal
 
 from .comfort import ComfortAccumulator, comfort_reaction
 from .errors import InputError
-from .motion import SeatMotion
+from .motion import SeatMotion, seat_rotation_matrices
 from .sickness import subjective_vertical_conflict
 
 LOCATIONS = ("seat", "pelvis", "trunk", "head")
@@ -160,8 +160,6 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None)
         sick_in["head"][1].append(_block_means(head.angvel_radps, k_sick))
         # The seat's own GIA and rotation: specific force in seat axes, seat angular velocity.
         if rotating:
-            from .motion import seat_rotation_matrices
-
             R = seat_rotation_matrices(chunk.seat_angles_rad)
             gia_seat = chunk.seat_acc_mps2 + np.einsum("nji,j->ni", R, g_seat)
             t_rel = chunk.time_s

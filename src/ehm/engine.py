@@ -36,8 +36,6 @@ from .tables import Body
 _PAD_INERTIA = 1e-6  #: Moment of inertia of a soft-tissue pad about each axis [kg m^2] (nearly a point mass).
 G0 = np.array([0.0, 0.0, -9.81])  #: Standard gravity in the seat frame [m/s^2].
 POINTS = {"pelvis": "pelvis", "trunk": "upper_torso", "head": "head"}  #: Output point -> segment.
-SURFACES = ("seat_pan", "backrest_lower", "backrest_upper", "floor",  #: Seat surfaces, by name.
-            "bolster_r", "bolster_l", "back_bolster_r", "back_bolster_l")
 #: Support force groups: the seat pan with its cushion bolsters, the backrest with its pads and bolsters, the floor.
 SUPPORT_GROUPS = {"seat_pan": ("seat_pan", "bolster_r", "bolster_l"),
                   "backrest": ("backrest_lower", "backrest_upper", "back_bolster_r", "back_bolster_l"),
@@ -317,8 +315,8 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
         a = spec.add_actuator(name=f"integral_{jn}", target=jn, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         a.set_to_pid(kp=0.0, kv=0.0, ki=ki)
     for point in POINTS:
-        for stype in ("FRAMELINACC", "FRAMEANGACC", "FRAMEPOS", "FRAMEQUAT", "FRAMEANGVEL"):
-            spec.add_sensor(name=f"{point}_{stype.lower()}", type=getattr(mujoco.mjtSensor, f"mjSENS_{stype}"),
+        for kind in SENSOR_KINDS:
+            spec.add_sensor(name=f"{point}_{kind}", type=getattr(mujoco.mjtSensor, f"mjSENS_{kind.upper()}"),
                             objtype=mujoco.mjtObj.mjOBJ_SITE, objname=point)
     try:
         mj = spec.compile()
@@ -439,6 +437,33 @@ def support_forces(model: Model, d: mujoco.MjData) -> dict:
         # the force it exerts on the body.
         out[s] = -d.cfrc_ext[b, 3:].copy()
     return out
+
+
+SENSOR_KINDS = ("framelinacc", "frameangacc", "framepos", "framequat", "frameangvel")  #: Per output point.
+
+
+def sensor_slices(model: Model) -> dict:
+    """``"<point>_<kind>" -> slice`` of each output sensor in ``sensordata``."""
+    mj = model.mj
+    out = {}
+    for point in POINTS:
+        for kind in SENSOR_KINDS:
+            sid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"{point}_{kind}")
+            out[f"{point}_{kind}"] = slice(int(mj.sensor_adr[sid]), int(mj.sensor_adr[sid] + mj.sensor_dim[sid]))
+    return out
+
+
+def get_state(model: Model, d: mujoco.MjData) -> np.ndarray:
+    """The full integration state of ``d`` (positions, velocities, activations, time, ...)."""
+    spec = mujoco.mjtState.mjSTATE_INTEGRATION
+    buf = np.empty(mujoco.mj_stateSize(model.mj, spec))
+    mujoco.mj_getState(model.mj, d, buf, spec)
+    return buf
+
+
+def set_state(model: Model, d: mujoco.MjData, state: np.ndarray) -> None:
+    """Put a state from :func:`get_state` back into ``d``."""
+    mujoco.mj_setState(model.mj, d, state, mujoco.mjtState.mjSTATE_INTEGRATION)
 
 
 def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool = False) -> np.ndarray:
@@ -579,12 +604,7 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
             raise _diverged(model, d.time - t0, why)
     finally:
         mj.opt.gravity[:] = G0
-    sensors = {}
-    for point in POINTS:
-        for kind in ("framelinacc", "frameangacc", "framepos", "framequat", "frameangvel"):
-            sid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"{point}_{kind}")
-            adr, dim = mj.sensor_adr[sid], mj.sensor_dim[sid]
-            sensors[f"{point}_{kind}"] = sens[:, adr:adr + dim]
+    sensors = {name: sens[:, sl] for name, sl in sensor_slices(model).items()}
     order = {b: k for k, b in enumerate(range(lo, hi))}
     support = {s: -forces[:, order[b], :] for s, b in model.surface_bodies.items()}
     poses = {"step": pose_steps, "pos": pose_pos, "quat": pose_quat} if pose_every else None
@@ -617,13 +637,10 @@ class LinearModel:
 
 
 def _outputs(model: Model, d: mujoco.MjData, ref: dict) -> np.ndarray:
-    mj = model.mj
+    slices = sensor_slices(model)
     out = []
     for p in POINTS:
-        vals = {}
-        for kind in ("framelinacc", "frameangacc", "framepos", "framequat"):
-            sid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"{p}_{kind}")
-            vals[kind] = d.sensordata[mj.sensor_adr[sid]:mj.sensor_adr[sid] + mj.sensor_dim[sid]]
+        vals = {kind: d.sensordata[slices[f"{p}_{kind}"]] for kind in SENSOR_KINDS}
         q0inv = np.empty(4)
         mujoco.mju_negQuat(q0inv, ref[p][1])
         qrel = np.empty(4)

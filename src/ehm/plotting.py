@@ -59,7 +59,7 @@ def plot_time_histories(run: RunResult, path: Path | str | None = None, title: s
     for s, f in run.support_N.items():
         axes[0, 1].plot(t, f[:, 2], lw=0.6, label=f"{s} z")
     axes[0, 1].set_ylabel("support force [N]")
-    axes[0, 1].legend(loc="upper right", ncol=3, fontsize=8)
+    axes[0, 1].legend(loc="center right", ncol=3, fontsize=8)
     for i, p in enumerate(names, start=1):
         m = run.points[p]
         for k, a in enumerate("xyz"):

@@ -23,7 +23,6 @@ from .params import Parameters
 from .tables import Body, load_body, resolve_locks
 
 POINT_NAMES = tuple(engine.POINTS)  #: ``pelvis``, ``trunk`` (upper torso centre of gravity, T8 level), ``head``.
-SUPPORT_NAMES = ("seat_pan", "backrest", "floor")
 
 
 @dataclass(frozen=True)

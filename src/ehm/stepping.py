@@ -49,6 +49,26 @@ class StepState:
     comfort: dict
 
 
+def _conjugate(q: np.ndarray) -> np.ndarray:
+    """Inverse of a unit quaternion (w, x, y, z)."""
+    return np.array([q[0], -q[1], -q[2], -q[3]])
+
+
+def _quat_mul(a, b) -> tuple:
+    """Hamilton product a * b of quaternions (w, x, y, z): rotation b, then a (plain floats: this is
+    on the stepping hot path)."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return (aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw)
+
+
+def _rotate(q, v) -> np.ndarray:
+    """Vector v rotated by the unit quaternion q."""
+    w, x, y, z = q
+    return np.array(_quat_mul(_quat_mul(q, (0.0, v[0], v[1], v[2])), (w, -x, -y, -z))[1:])
+
+
 def _euler_zyx(q: np.ndarray) -> np.ndarray:
     """(roll, pitch, yaw) of the intrinsic z-y-x decomposition of a unit quaternion (w, x, y, z)."""
     w, x, y, z = q
@@ -83,18 +103,8 @@ class Simulator:
         self.dt_s = float(self.model.mj.opt.timestep)
         engine.settle(self.model)
         self._poses = {p: engine.settled_point_pose(self.model, p) for p in POINT_NAMES}
-        self._inv0 = {}
-        for p, (_, q0) in self._poses.items():
-            self._inv0[p] = np.array([q0[0], -q0[1], -q0[2], -q0[3]])
-        self._adr = {}
-        mj = self.model.mj
-        import mujoco
-
-        for p in POINT_NAMES:
-            for kind in ("framelinacc", "framepos", "framequat", "frameangvel"):
-                sid = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"{p}_{kind}")
-                self._adr[(p, kind)] = slice(int(mj.sensor_adr[sid]), int(mj.sensor_adr[sid] + mj.sensor_dim[sid]))
-        self._mju = mujoco
+        self._inv0 = {p: tuple(_conjugate(q0)) for p, (_, q0) in self._poses.items()}
+        self._slices = engine.sensor_slices(self.model)
         self.comfort = comfort
         self.comfort_every = max(1, int(comfort_every))
         self.reset()
@@ -118,12 +128,7 @@ class Simulator:
         """A snapshot of the full simulation state (restore it with :meth:`restore_state`)."""
         import copy
 
-        mj = self.model.mj
-        spec = self._mju.mjtState.mjSTATE_INTEGRATION
-        size = self._mju.mj_stateSize(mj, spec)
-        buf = np.empty(size)
-        self._mju.mj_getState(mj, self._d, buf, spec)
-        return {"mujoco": buf, "step": self._step,
+        return {"mujoco": engine.get_state(self.model, self._d), "step": self._step,
                 "comfort": copy.deepcopy(self._running) if self.comfort else None,
                 "comfort_state": copy.deepcopy(self._comfort_state)}
 
@@ -133,7 +138,7 @@ class Simulator:
 
         if not isinstance(state, dict) or "mujoco" not in state:
             raise InputError("restore_state needs a snapshot from save_state().")
-        self._mju.mj_setState(self.model.mj, self._d, state["mujoco"], self._mju.mjtState.mjSTATE_INTEGRATION)
+        engine.set_state(self.model, self._d, state["mujoco"])
         self._step = int(state["step"])
         if self.comfort:
             self._running = copy.deepcopy(state["comfort"])
@@ -157,13 +162,10 @@ class Simulator:
         self._step += 1
         points = {}
         for p in POINT_NAMES:
-            sens = {k: data[self._adr[(p, k)]] for k in ("framelinacc", "framepos", "framequat", "frameangvel")}
-            q = sens["framequat"]
-            qrel = np.empty(4)
-            self._mju.mju_mulQuat(qrel, q, self._inv0[p])
-            qinv = np.array([q[0], -q[1], -q[2], -q[3]])
-            w_body = np.empty(3)
-            self._mju.mju_rotVecQuat(w_body, sens["frameangvel"], qinv)
+            sens = {k: data[self._slices[f"{p}_{k}"]] for k in ("framelinacc", "framepos", "framequat", "frameangvel")}
+            q = sens["framequat"].tolist()
+            qrel = _quat_mul(q, self._inv0[p])
+            w_body = _rotate((q[0], -q[1], -q[2], -q[3]), sens["frameangvel"].tolist())
             points[p] = PointState(acc_mps2=sens["framelinacc"] + engine.G0, disp_m=sens["framepos"] - self._poses[p][0],
                                    rot_rad=_euler_zyx(qrel), angvel_radps=w_body)
         if self.comfort:
