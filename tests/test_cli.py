@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 import shutil
 from pathlib import Path
 
@@ -96,9 +97,10 @@ def test_unknown_joint(capsys):
 
 def test_bad_segment_table_via_params_file(tmp_path, capsys):
     bad = tmp_path / "bad.toml"
-    text = default_params_path().read_text().replace(
-        "stiffness_Nm_per_rad = 90.0", "stiffness_Nm_per_rad = -90.0", 1)
-    bad.write_text(text)
+    text = default_params_path().read_text()
+    head, tail = text.split("[joints.upper_neck]", 1)
+    tail = re.sub(r"stiffness_Nm_per_rad = [0-9.]+", "stiffness_Nm_per_rad = -90.0", tail, count=1)
+    bad.write_text(head + "[joints.upper_neck]" + tail)
     assert main(["info", "--params", str(bad)]) == 2
     err = _error_line(capsys)
     assert "bad.toml" in err and "upper_neck" in err and "-90" in err

@@ -70,7 +70,7 @@ def test_negative_contact_stiffness(tmp_path):
 
 
 def test_negative_joint_stiffness(tmp_path):
-    text = _replace_once("roll = { stiffness_Nm_per_rad = 90.0,", "roll = { stiffness_Nm_per_rad = -90.0,")
+    text = _replace_once("roll = { stiffness_Nm_per_rad = 40.0,", "roll = { stiffness_Nm_per_rad = -90.0,")
     msg = _load_error(tmp_path, text)
     assert "joints.upper_neck.roll.stiffness_Nm_per_rad" in msg and "-90.0" in msg and "negative" in msg
 

@@ -250,6 +250,45 @@ SEGMENTS_TEXT = (DATA / "segments.csv").read_text(encoding="utf-8")
 JOINTS_TEXT = (DATA / "joints.csv").read_text(encoding="utf-8")
 
 
+def test_joint_axes_follow_axes_pitch(human, compiled):
+    # joints.csv: the lower neck's axes are turned 30 deg about y (roll axis front end down, so lateral bending
+    # carries same-side axial rotation); every other joint keeps roll about x, pitch about y, yaw about z.
+    # Read back from MuJoCo's world-frame hinge axes at qpos0; tolerance 1e-9.
+    m, d = compiled
+    t = np.radians(30.0)
+    expected = {"roll": [np.cos(t), 0, -np.sin(t)], "pitch": [0, 1, 0], "yaw": [np.sin(t), 0, np.cos(t)]}
+    plain = {"roll": [1, 0, 0], "pitch": [0, 1, 0], "yaw": [0, 0, 1]}
+    checked = 0
+    for j in range(m.njnt):
+        name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) or ""
+        joint, _, dof = name.partition(".")
+        if dof not in plain or joint not in {jt.name for jt in human.body.joints}:
+            continue
+        want = expected[dof] if joint == "lower_neck" else plain[dof]
+        np.testing.assert_allclose(d.xaxis[j], want, rtol=0, atol=1e-9, err_msg=name)
+        checked += 1
+    assert checked == sum(len(jt.dofs) for jt in human.body.joints if jt.name not in human.model.locked
+                          and jt.type != "spherical_vertical") + 3  # t12: roll, pitch, yaw hinges besides its slide
+
+
+def test_joint_table_without_axes_pitch_column_keeps_plain_axes(tmp_path):
+    path = tmp_path / "joints.csv"
+    path.write_text(_drop_column(JOINTS_TEXT, "axes_pitch_deg"), encoding="utf-8")
+    assert all(j.axes_pitch_rad == 0.0 for j in load_joints(path))
+    assert {j.name: j.axes_pitch_rad for j in load_joints()}["lower_neck"] == pytest.approx(np.radians(30.0))
+
+
+def test_joint_axes_pitch_out_of_range_names_file_line_and_column(tmp_path):
+    text, line = _edit_row(JOINTS_TEXT, "lower_neck,", "axes_pitch_deg", "95")
+    path = tmp_path / "bad_joints.csv"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InputError) as exc:
+        load_body(joints=path)
+    msg = str(exc.value)
+    assert "bad_joints.csv" in msg and re.search(rf"\bline {line}\b", msg) and "axes_pitch_deg" in msg, msg
+    assert "between -90 and 90" in msg
+
+
 @pytest.mark.parametrize("row, column, value, words", [
     ("neck,", "mass_kg", "-1.6", "must be positive"),                 # negative mass
     ("leg_r,", "iyy_kgm2", "0", "must be positive"),                  # zero inertia

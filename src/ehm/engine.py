@@ -229,7 +229,6 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     integral_joints = set(posture["integral_joints"])
     ti = float(posture["integral_time_s"])
     actuated: list[tuple[str, float]] = []
-    axes = {"roll": [1, 0, 0], "pitch": [0, 1, 0], "yaw": [0, 0, 1]}
 
     def add_segment(parent_body, seg_name: str, frame_pos: np.ndarray, parent_frame: np.ndarray, joint=None):
         seg = body.segment(seg_name)
@@ -237,13 +236,16 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
         if joint is None:
             b.add_freejoint(name="pelvis")
         elif joint.name not in locked:
+            # Joint axes pitched about y by the joint's axes_pitch_rad (x -> front down, z -> top forward).
+            cp, sp = math.cos(joint.axes_pitch_rad), math.sin(joint.axes_pitch_rad)
+            joint_axes = {"roll": [cp, 0.0, -sp], "pitch": [0.0, 1.0, 0.0], "yaw": [sp, 0.0, cp]}
             for dof in joint.dofs:
                 k, c = params.joint_dof(joint.name, dof)
                 jn = f"{joint.name}.{dof}"
                 if dof == "z":
                     b.add_joint(name=jn, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1], stiffness=k, damping=c)
                 else:
-                    b.add_joint(name=jn, type=mujoco.mjtJoint.mjJNT_HINGE, axis=axes[dof], stiffness=k, damping=c)
+                    b.add_joint(name=jn, type=mujoco.mjtJoint.mjJNT_HINGE, axis=joint_axes[dof], stiffness=k, damping=c)
                 dof_names.append(jn)
                 if joint.name in integral_joints and k > 0:
                     actuated.append((jn, k / ti))

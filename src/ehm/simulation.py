@@ -235,7 +235,8 @@ class SeatedHuman:
                           "inertia_kgm2": s.inertia_kgm2.tolist()} for s in self.body.segments],
             "joints": [{"name": j.name, "parent": j.parent, "child": j.child, "type": j.type,
                         "dof": 0 if j.name in self.locked else len(j.dofs), "dofs": list(j.dofs),
-                        "locked": j.name in self.locked, "pos_m": j.pos_m.tolist()} for j in self.body.joints],
+                        "locked": j.name in self.locked, "pos_m": j.pos_m.tolist(),
+                        "axes_pitch_rad": j.axes_pitch_rad} for j in self.body.joints],
             "contacts": [{"name": c.name, "segment": c.segment, "surface": c.surface} for c in self.body.contacts],
             "points": {p: engine.POINTS[p] for p in POINT_NAMES},
         }

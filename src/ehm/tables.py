@@ -88,6 +88,10 @@ class Joint:
         Joint centre in the reference posture [m].
     locked : bool
         Welded by default (the paper's waist).
+    axes_pitch_rad : float
+        Rotation of the joint's axes about the lateral (y) axis [rad]; positive tips the front of the
+        roll axis down (and the top of the yaw axis forward).  0: roll about x, pitch about y, yaw about z.
+        A tilted roll axis couples lateral bending with axial rotation, as in the lower cervical spine.
     """
 
     name: str
@@ -96,6 +100,7 @@ class Joint:
     type: str
     pos_m: np.ndarray
     locked: bool
+    axes_pitch_rad: float = 0.0
     where: str = field(default="", compare=False)  #: File and line it was read from.
 
     @property
@@ -231,6 +236,10 @@ class CsvTable:
     def vector(self, lineno: int, row: dict, bases: tuple[str, ...], quantity: str, **kw) -> np.ndarray:
         return np.array([self.number(lineno, row, b, quantity, **kw) for b in bases])
 
+    def has(self, base: str) -> bool:
+        """Whether the table has a column for this quantity (any unit), for optional columns."""
+        return any(h == base or h.startswith(base + "_") for h in self.header)
+
     def flag(self, lineno: int, row: dict, base: str) -> bool:
         raw = self.text(lineno, row, base).lower()
         if raw in ("1", "true", "yes"):
@@ -275,7 +284,8 @@ def load_segments(path: Path | str | None = None) -> tuple[Segment, ...]:
 def load_joints(path: Path | str | None = None) -> tuple[Joint, ...]:
     """Read a joint table (default: the paper's Table 1).
 
-    Columns: ``name``, ``parent``, ``child``, ``type``, ``{x,y,z}_<m|cm|mm>``, ``locked`` (0 or 1).
+    Columns: ``name``, ``parent``, ``child``, ``type``, ``{x,y,z}_<m|cm|mm>``, ``locked`` (0 or 1), and
+    optionally ``axes_pitch_<deg|rad>`` (see :class:`Joint`; 0 when the column is absent).
     """
     t = CsvTable(path or _data_path("joints.csv"), label=str(path) if path else None)
     out = []
@@ -285,10 +295,14 @@ def load_joints(path: Path | str | None = None) -> tuple[Joint, ...]:
             raise InputError(
                 f"{t.label}, line {n}, column type: unknown joint type {jtype!r}; use one of {', '.join(JOINT_TYPE_DOFS)}."
             )
+        tilt = t.number(n, r, "axes_pitch", "angle") if t.has("axes_pitch") else 0.0
+        if abs(tilt) >= math.pi / 2:
+            col = t._column("axes_pitch", "angle")[0]
+            raise InputError(f"{t.label}, line {n}, column {col}: {r[col]} must lie strictly between -90 and 90 degrees.")
         out.append(Joint(
             name=t.text(n, r, "name"), parent=t.text(n, r, "parent"), child=t.text(n, r, "child"), type=jtype,
             pos_m=t.vector(n, r, ("x", "y", "z"), "length"), locked=t.flag(n, r, "locked"),
-            where=f"{t.label}, line {n}",
+            axes_pitch_rad=tilt, where=f"{t.label}, line {n}",
         ))
     _unique(t.label, [j.name for j in out], "joint")
     return tuple(out)
