@@ -51,3 +51,19 @@ def test_linear_matches_time_domain(human, linear, axis):
         H = discrete_frequency_response(linear.A, linear.B, linear.C, linear.D, linear.dt_s, f)
         g_lin = np.abs(H[:, names.index(f"{p}.a{axis}"), k])
         np.testing.assert_allclose(est.gain[band], g_lin, rtol=0.05, err_msg=f"seat {axis} -> {p} {axis}")
+
+
+def test_sliding_contacts_by_hand(human):
+    # engine.sliding_contacts flags contacts whose tangential force reaches the Coulomb limit.  Settled, the
+    # seat-pan and floor contacts are well inside their cones (buttocks about 0.2 of the limit); a steady
+    # 4 m/s^2 lateral push (0.4 g, close to the 0.5 friction coefficient) for 0.3 s makes a seat-pan contact slide.
+    model = human.model
+    d = engine.settled_data(model)
+    still = set(engine.sliding_contacts(model, d))
+    assert not still & {"buttock_r", "buttock_l", "thigh_r", "thigh_l", "foot_r", "foot_l"}, still
+    for _ in range(300):
+        engine.step(model, d, np.array([0.0, 4.0, 0.0]))
+    pushed = set(engine.sliding_contacts(model, d))
+    assert pushed & {"buttock_r", "buttock_l", "thigh_r", "thigh_l"}, pushed
+    # Every name is a contact of the body table.
+    assert pushed <= {c.name for c in model.body.contacts}

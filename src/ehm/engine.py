@@ -444,6 +444,31 @@ def support_forces(model: Model, d: mujoco.MjData) -> dict:
 SENSOR_KINDS = ("framelinacc", "frameangacc", "framepos", "framequat", "frameangvel")  #: Per output point.
 
 
+def sliding_contacts(model: Model, d: mujoco.MjData, ratio: float = 0.98) -> list[str]:
+    """Names of the contacts whose friction force is at the Coulomb limit (sliding or about to).
+
+    A contact counts when it presses (positive normal force) and its tangential force is at least
+    ``ratio`` times friction coefficient times normal force.  The linearised model assumes none do.
+    """
+    out = []
+    f6 = np.zeros(6)
+    for i in range(d.ncon):
+        c = d.contact[i]
+        if c.dist > 0 or c.dim < 3:
+            continue
+        mujoco.mj_contactForce(model.mj, d, i, f6)
+        if f6[0] > 0 and math.hypot(f6[1], f6[2]) >= ratio * c.friction[0] * f6[0]:
+            out.append(_contact_name(model, c))
+    return out
+
+
+def _contact_name(model: Model, c) -> str:
+    """The body-side contact name (contacts.csv) of a MuJoCo contact."""
+    names = [mujoco.mj_id2name(model.mj, mujoco.mjtObj.mjOBJ_GEOM, int(g)) or "" for g in c.geom]
+    body_contacts = {ce.name for ce in model.body.contacts}
+    return next((n for n in names if n in body_contacts), names[1])
+
+
 def sensor_slices(model: Model) -> dict:
     """``"<point>_<kind>" -> slice`` of each output sensor in ``sensordata``."""
     mj = model.mj

@@ -173,7 +173,8 @@ def plot_locking_study(study, path: Path | str | None = None):
         ax.set_title(f"seat {key[0]} → {key[1]} {key[2]} [{_DOF_UNITS[key[2]]}]", fontsize=9)
         ax.set_xlabel("frequency [Hz]")
     axes[0, 0].legend(fontsize=8)
-    fig.suptitle(f"Joint-locking study ({study.method} model): SL = T12 locked, NL = lower neck locked")
+    how = "linearised model" if study.method == "linear" else "random-vibration runs, H1"
+    fig.suptitle(f"Joint-locking study ({how}): SL = T12 locked, NL = lower neck locked")
     fig.tight_layout()
     return _save(fig, path)
 
