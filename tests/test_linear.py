@@ -54,13 +54,14 @@ def test_linear_matches_time_domain(human, linear, axis):
 
 
 def test_sliding_contacts_by_hand(human):
-    # engine.sliding_contacts flags contacts whose tangential force reaches the Coulomb limit.  Settled, the
-    # seat-pan and floor contacts are well inside their cones (buttocks about 0.2 of the limit); a steady
-    # 4 m/s^2 lateral push (0.4 g, close to the 0.5 friction coefficient) for 0.3 s makes a seat-pan contact slide.
+    # engine.sliding_contacts flags contacts whose tangential force reaches the Coulomb limit.  Settled, every
+    # contact is inside its cone (buttocks about 0.2 of the limit, feet 0.53; the back pads settle without
+    # friction first, so they carry no shear preload); a steady 4 m/s^2 lateral push (0.4 g, close to the 0.5
+    # friction coefficient) for 0.3 s makes a seat-pan contact slide.
     model = human.model
     d = engine.settled_data(model)
-    still = set(engine.sliding_contacts(model, d))
-    assert not still & {"buttock_r", "buttock_l", "thigh_r", "thigh_l", "foot_r", "foot_l"}, still
+    assert engine.sliding_contacts(model, d) == []
+    assert set(engine.sliding_contacts(model, d, ratio=0.5)) == {"foot_r", "foot_l"}  # 0.53 of their limit
     for _ in range(300):
         engine.step(model, d, np.array([0.0, 4.0, 0.0]))
     pushed = set(engine.sliding_contacts(model, d))

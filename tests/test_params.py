@@ -97,9 +97,9 @@ def test_missing_file_names_it(tmp_path):
 def test_export_load_round_trip_every_numeric_value(tmp_path):
     p = Parameters.load()
     paths = list(p.numeric_paths())
-    # The default file holds 5 simulation + 1 posture + 12 seat values, 25 joint DOFs x 2 (t12 z counts as one
-    # DOF), and 6 padded contacts x 6 + 2 feet x 3 + 4 bolster contacts x 3 values: 18 + 50 + 54 = 122.
-    assert len(paths) == 122
+    # The default file holds 6 simulation + 1 posture + 12 seat values, 25 joint DOFs x 2 (t12 z counts as one
+    # DOF), and 6 padded contacts x 6 + 2 feet x 3 + 4 bolster contacts x 3 values: 19 + 50 + 54 = 123.
+    assert len(paths) == 123
     out = tmp_path / "exported.toml"
     p.export(out)
     q = Parameters.load(out)

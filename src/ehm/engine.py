@@ -388,7 +388,7 @@ def settle(model: Model, duration_s: float | None = None) -> dict:
     """Let the person sink into the seat under gravity until the posture controller has converged.
 
     Starts from the reference posture; the integral action of the posture control pulls the open-chain
-    joints back to it.  The settled state (``qpos``, ``qvel``, ``act``) is stored on the model and returned.
+    joints back to it.  For the first ``simulation.back_slide_s`` the backrest contacts are frictionless.  The settled state (``qpos``, ``qvel``, ``act``) is stored on the model and returned.
     Raises :class:`DivergenceError` if the model does not stay seated.
     """
     if duration_s is None:
@@ -397,12 +397,24 @@ def settle(model: Model, duration_s: float | None = None) -> dict:
     d = new_data(model)
     mj.opt.gravity[:] = G0
     n = int(round(duration_s / mj.opt.timestep))
-    for i in range(n):
-        mujoco.mj_step(mj, d)
-        if i % _CHECK_EVERY == 0:
-            why = _instability(model, d)
-            if why:
-                raise _diverged(model, d.time, why, " while settling into the seat, before the run")
+    # The back first slides onto the backrest pads without friction, so that it comes to rest there without
+    # a shear preload (sinking into the cushion would otherwise leave the back pads at their friction limit).
+    n_slide = min(n, int(round(float(model.params.value("simulation.back_slide_s")) / mj.opt.timestep)))
+    back = [mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_PAIR, c.name) for c in model.body.contacts
+            if c.surface.startswith("backrest")]
+    friction = mj.pair_friction[back].copy()
+    mj.pair_friction[back, :2] = 0.0
+    try:
+        for i in range(n):
+            if i == n_slide:
+                mj.pair_friction[back] = friction
+            mujoco.mj_step(mj, d)
+            if i % _CHECK_EVERY == 0:
+                why = _instability(model, d)
+                if why:
+                    raise _diverged(model, d.time, why, " while settling into the seat, before the run")
+    finally:
+        mj.pair_friction[back] = friction
     why = _instability(model, d)
     if why:
         raise _diverged(model, d.time, why, " while settling into the seat, before the run")

@@ -24,7 +24,7 @@ GRADES = ("literature", "assumed", "identified")
 _META = ("grade", "source", "bounds", "grades", "sources")
 
 #: Numeric keys allowed in each section, with the check they must pass.
-_SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "noslip_iterations": "count",
+_SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "back_slide_s": "nonnegative", "noslip_iterations": "count",
                "solver_iterations": "count", "contact_impedance": "fraction"}
 _POSTURE = {"integral_time_s": "positive", "integral_joints": "joints"}
 _SEAT = {"pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
