@@ -278,17 +278,6 @@ def test_joint_table_without_axes_pitch_column_keeps_plain_axes(tmp_path):
     assert {j.name: j.axes_pitch_rad for j in load_joints()}["lower_neck"] == pytest.approx(np.radians(30.0))
 
 
-def test_joint_axes_pitch_out_of_range_names_file_line_and_column(tmp_path):
-    text, line = _edit_row(JOINTS_TEXT, "lower_neck,", "axes_pitch_deg", "95")
-    path = tmp_path / "bad_joints.csv"
-    path.write_text(text, encoding="utf-8")
-    with pytest.raises(InputError) as exc:
-        load_body(joints=path)
-    msg = str(exc.value)
-    assert "bad_joints.csv" in msg and re.search(rf"\bline {line}\b", msg) and "axes_pitch_deg" in msg, msg
-    assert "between -90 and 90" in msg
-
-
 @pytest.mark.parametrize("row, column, value, words", [
     ("neck,", "mass_kg", "-1.6", "must be positive"),                 # negative mass
     ("leg_r,", "iyy_kgm2", "0", "must be positive"),                  # zero inertia
@@ -317,15 +306,20 @@ def test_segments_missing_column_names_file_and_column(tmp_path):
     assert "izz" in msg and "missing column" in msg
 
 
-def test_joint_unknown_type_names_file_and_line(tmp_path):
-    text, line = _edit_row(JOINTS_TEXT, "t12,", "type", "ball")
+@pytest.mark.parametrize("row, column, value, words", [
+    ("t12,", "type", "ball", "'ball'"),                                    # unknown joint type
+    ("lower_neck,", "axes_pitch_deg", "95", "between -90 and 90"),        # axes tilted past vertical
+    ("lower_neck,", "axes_pitch_deg", "abc", "is not a number"),
+])
+def test_bad_joint_value_names_file_line_and_column(tmp_path, row, column, value, words):
+    text, line = _edit_row(JOINTS_TEXT, row, column, value)
     path = tmp_path / "bad_joints.csv"
     path.write_text(text, encoding="utf-8")
     with pytest.raises(InputError) as exc:
         load_body(joints=path)
     msg = str(exc.value)
     assert "bad_joints.csv" in msg and re.search(rf"\bline {line}\b", msg), msg
-    assert "'ball'" in msg
+    assert words in msg and (column == "type" or column in msg), msg
 
 
 def test_joint_with_unknown_segment_names_file_and_line(tmp_path):
