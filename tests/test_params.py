@@ -145,3 +145,17 @@ def test_with_values_rechecks_values():
         Parameters.load().with_values({"simulation.contact_impedance": 1.5})
     with pytest.raises(InputError, match="not a finite number"):
         Parameters.load().with_values({"seat.pan_angle_deg": math.nan})
+
+
+def test_back_slide_longer_than_settling_is_refused(tmp_path):
+    msg = _load_error(tmp_path, _replace_once("back_slide_s = { value = 5.0,", "back_slide_s = { value = 10.0,"))
+    assert "simulation.back_slide_s" in msg and "settle_s" in msg and "shorter" in msg
+
+
+def test_file_without_back_slide_loads_with_no_sliding(tmp_path):
+    # Files exported before back_slide_s existed leave it out: they load, and settling keeps friction on
+    # throughout (the behaviour they were made with).
+    line = next(ln for ln in DEFAULT_TEXT.splitlines(keepends=True) if ln.startswith("back_slide_s ="))
+    p = Parameters.load(_write(tmp_path, _replace_once(line, "")))
+    assert p.value("simulation.back_slide_s") == 0.0
+    assert Parameters.load().value("simulation.back_slide_s") == 5.0

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import pytest
-
 from pathlib import Path
+
+import pytest
 
 from ehm.cli import main
 from ehm.frf import linear_frf, time_domain_frf
@@ -51,11 +51,14 @@ def test_neck_locked_head_roll_and_yaw_drop_in_time_domain_runs_too():
         assert nl[dof] < 0.9 * base[dof], (dof, base, nl)
 
 
-def test_head_yaw_finding_rests_on_the_tilted_lower_neck_axes(tmp_path):
+@pytest.mark.parametrize("tilt_deg", ["0", "-30"])
+def test_head_yaw_finding_rests_on_the_tilted_lower_neck_axes(tmp_path, tilt_deg):
     # The mechanism named in joints.csv and the README: with the lower neck's axes untilted (plain roll about x)
-    # lateral bending carries no axial rotation, and locking the lower neck no longer lowers head yaw.
+    # lateral bending carries no axial rotation, and with them tilted the other way it carries axial rotation
+    # to the opposite side; either way locking the lower neck no longer lowers head yaw (head roll still drops).
     text = (DATA / "joints.csv").read_text(encoding="utf-8").replace(
-        "lower_neck,upper_torso,neck,universal,-10.85,0,51.39,0,30", "lower_neck,upper_torso,neck,universal,-10.85,0,51.39,0,0")
+        "lower_neck,upper_torso,neck,universal,-10.85,0,51.39,0,30",
+        f"lower_neck,upper_torso,neck,universal,-10.85,0,51.39,0,{tilt_deg}")
     assert ",0,30" not in text
     path = tmp_path / "joints.csv"
     path.write_text(text, encoding="utf-8")

@@ -391,15 +391,18 @@ def settle(model: Model, duration_s: float | None = None) -> dict:
     joints back to it.  For the first ``simulation.back_slide_s`` the backrest contacts are frictionless.  The settled state (``qpos``, ``qvel``, ``act``) is stored on the model and returned.
     Raises :class:`DivergenceError` if the model does not stay seated.
     """
+    slide_s = float(model.params.value("simulation.back_slide_s"))
     if duration_s is None:
         duration_s = float(model.params.value("simulation.settle_s"))
+    else:  # a settling time other than the file's: slide for at most half of it
+        slide_s = min(slide_s, duration_s / 2)
     mj = model.mj
     d = new_data(model)
     mj.opt.gravity[:] = G0
     n = int(round(duration_s / mj.opt.timestep))
     # The back first slides onto the backrest pads without friction, so that it comes to rest there without
     # a shear preload (sinking into the cushion would otherwise leave the back pads at their friction limit).
-    n_slide = min(n, int(round(float(model.params.value("simulation.back_slide_s")) / mj.opt.timestep)))
+    n_slide = int(round(slide_s / mj.opt.timestep))
     back = [mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_PAIR, c.name) for c in model.body.contacts
             if c.surface.startswith("backrest")]
     friction = mj.pair_friction[back].copy()
@@ -457,28 +460,27 @@ SENSOR_KINDS = ("framelinacc", "frameangacc", "framepos", "framequat", "frameang
 
 
 def sliding_contacts(model: Model, d: mujoco.MjData, ratio: float = 0.98) -> list[str]:
-    """Names of the contacts whose friction force is at the Coulomb limit (sliding or about to).
+    """Names (contacts.csv) of the contacts whose friction force is at the Coulomb limit (sliding or about to).
 
-    A contact counts when it presses (positive normal force) and its tangential force is at least
-    ``ratio`` times friction coefficient times normal force.  The linearised model assumes none do.
+    A contact counts when it presses (positive normal force) and its tangential force, measured against
+    the friction cone (``hypot(f1 / mu1, f2 / mu2)``), is at least ``ratio`` times the normal force.  The
+    linearised model assumes none do.
     """
     out = []
     f6 = np.zeros(6)
     for i in range(d.ncon):
         c = d.contact[i]
-        if c.dist > 0 or c.dim < 3:
+        if c.dim < 3:
             continue
-        mujoco.mj_contactForce(model.mj, d, i, f6)
-        if f6[0] > 0 and math.hypot(f6[1], f6[2]) >= ratio * c.friction[0] * f6[0]:
+        mujoco.mj_contactForce(model.mj, d, i, f6)  # contact frame: normal, then the two tangents
+        if f6[0] > 0 and math.hypot(f6[1] / c.friction[0], f6[2] / c.friction[1]) >= ratio * f6[0]:
             out.append(_contact_name(model, c))
     return out
 
 
 def _contact_name(model: Model, c) -> str:
-    """The body-side contact name (contacts.csv) of a MuJoCo contact."""
-    names = [mujoco.mj_id2name(model.mj, mujoco.mjtObj.mjOBJ_GEOM, int(g)) or "" for g in c.geom]
-    body_contacts = {ce.name for ce in model.body.contacts}
-    return next((n for n in names if n in body_contacts), names[1])
+    """The body-side contact name (contacts.csv) of a MuJoCo contact: the pair's name."""
+    return mujoco.mj_id2name(model.mj, mujoco.mjtObj.mjOBJ_GEOM, int(c.geom[1]))
 
 
 def sensor_slices(model: Model) -> dict:

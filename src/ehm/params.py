@@ -26,6 +26,8 @@ _META = ("grade", "source", "bounds", "grades", "sources")
 #: Numeric keys allowed in each section, with the check they must pass.
 _SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "back_slide_s": "nonnegative", "noslip_iterations": "count",
                "solver_iterations": "count", "contact_impedance": "fraction"}
+#: Keys a file may leave out (added after files were first exported), with the value they then take.
+OPTIONAL = {"simulation.back_slide_s": 0.0}
 _POSTURE = {"integral_time_s": "positive", "integral_joints": "joints"}
 _SEAT = {"pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
          "backrest_x_m": "finite", "lower_pad_height_m": "finite", "lower_pad_thickness_m": "nonnegative",
@@ -73,7 +75,13 @@ class Parameters:
         return params
 
     def value(self, path: str) -> Any:
-        """The value at a dotted path, e.g. ``joints.t12.z.stiffness_N_per_m`` or ``seat.pan_angle_deg``."""
+        """The value at a dotted path, e.g. ``joints.t12.z.stiffness_N_per_m`` or ``seat.pan_angle_deg``.
+
+        An optional key (:data:`OPTIONAL`) that the file leaves out gives its default.
+        """
+        section, _, key = path.partition(".")
+        if path in OPTIONAL and key not in self.data.get(section, {}):
+            return OPTIONAL[path]
         node, key = self._locate(path)
         v = node[key]
         return v["value"] if isinstance(v, dict) and "value" in v else v
@@ -273,8 +281,12 @@ class Parameters:
                     raise InputError(f"{label}: unknown key {key!r} in [{section}].")
                 check_entry(f"{section}.{key}", entry, allowed[key], True)
             for key in allowed:
-                if key not in d[section]:
+                if key not in d[section] and f"{section}.{key}" not in OPTIONAL:
                     raise InputError(f"{label}: [{section}] needs {key!r}.")
+        settle_s, slide_s = self.value("simulation.settle_s"), self.value("simulation.back_slide_s")
+        if slide_s > 0 and slide_s >= settle_s:
+            raise InputError(f"{label}: simulation.back_slide_s ({slide_s:g} s) must be shorter than simulation.settle_s "
+                             f"({settle_s:g} s): the back needs the rest of the settling time with friction on.")
         for jname, dofs in d["joints"].items():
             if jname not in JOINT_NAMES:
                 raise InputError(f"{label}: unknown joint {jname!r} in [joints]; joints are {', '.join(JOINT_NAMES)}.")

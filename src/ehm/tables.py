@@ -92,6 +92,8 @@ class Joint:
         Rotation of the joint's axes about the lateral (y) axis [rad]; positive tips the front of the
         roll axis down (and the top of the yaw axis forward).  0: roll about x, pitch about y, yaw about z.
         A tilted roll axis couples lateral bending with axial rotation, as in the lower cervical spine.
+        The pitch axis (y) is unchanged, so the tilt does nothing to a revolute joint; the vertical slide
+        of a ``spherical_vertical`` joint stays vertical.
     """
 
     name: str
@@ -298,7 +300,8 @@ def load_joints(path: Path | str | None = None) -> tuple[Joint, ...]:
         tilt = t.number(n, r, "axes_pitch", "angle") if t.has("axes_pitch") else 0.0
         if abs(tilt) >= math.pi / 2:
             col = t._column("axes_pitch", "angle")[0]
-            raise InputError(f"{t.label}, line {n}, column {col}: {r[col]} must lie strictly between -90 and 90 degrees.")
+            raise InputError(f"{t.label}, line {n}, column {col}: {r[col]} ({math.degrees(tilt):g} deg) must lie strictly "
+                             "between -90 and 90 deg.")
         out.append(Joint(
             name=t.text(n, r, "name"), parent=t.text(n, r, "parent"), child=t.text(n, r, "child"), type=jtype,
             pos_m=t.vector(n, r, ("x", "y", "z"), "length"), locked=t.flag(n, r, "locked"),
