@@ -181,3 +181,37 @@ def test_json_self_reference(tmp_path):
     with pytest.raises(InputError, match=r"refers to itself"):
         write_json_atomic(tmp_path / "loop.json", obj)
     assert listing(tmp_path) == []
+
+
+def test_replace_atomically_figures_and_poses_get_umask_permissions(tmp_path):
+    # Figures (plotting) and pose files (RunResult.write) go through replace_atomically: new files get the
+    # permissions any new file gets (0o666 minus the umask), not the temporary file's private 0o600.
+    import matplotlib.pyplot as plt
+
+    from ehm.plotting import _save
+    from ehm.simulation import _write_npz_atomic
+
+    old = os.umask(0o022)
+    try:
+        fig = plt.figure()
+        _save(fig, tmp_path / "f.png")
+        _write_npz_atomic(tmp_path / "p.npz", {"a": np.arange(3)})
+    finally:
+        os.umask(old)
+    for name in ("f.png", "p.npz"):
+        assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o644, name
+    assert np.load(tmp_path / "p.npz")["a"].tolist() == [0, 1, 2]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.png", "p.npz"]
+
+
+def test_replace_atomically_failure_leaves_nothing(tmp_path):
+    from ehm.io import replace_atomically
+
+    def fail(tmp):
+        with open(tmp, "w") as fh:
+            fh.write("half")
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(InputError, match=r"out\.bin: cannot write the table \(No space left on device\)"):
+        replace_atomically(tmp_path / "out.bin", fail, "table")
+    assert list(tmp_path.iterdir()) == []

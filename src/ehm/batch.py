@@ -39,7 +39,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import EhmError, InputError
-from .io import write_json_atomic
+from .io import replace_atomically, write_json_atomic
 
 COMPUTE = ("transmissibility", "comfort")
 
@@ -231,9 +231,6 @@ def _table_rows(records: list[dict]) -> list[dict]:
 
 def write_table(records: list[dict], out: Path, csv: bool = False) -> Path:
     """Gather run records into ``results.parquet`` (and ``results.csv``), written whole or not at all."""
-    import os
-    import tempfile
-
     import pyarrow as pa
     import pyarrow.csv as pacsv
     import pyarrow.parquet as pq
@@ -248,14 +245,7 @@ def write_table(records: list[dict], out: Path, csv: bool = False) -> Path:
     if csv:
         targets.append((out / "results.csv", lambda tmp: pacsv.write_csv(table, tmp)))
     for target, write in targets:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=out)
-        os.close(fd)
-        try:
-            write(tmp)
-            os.replace(tmp, target)
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
+        replace_atomically(target, write, "results table")
     return path
 
 

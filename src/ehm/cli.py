@@ -15,13 +15,12 @@ import numpy as np
 
 from . import __version__
 from .errors import EhmError, InputError
-from .io import write_csv_atomic, write_json_atomic
+from .io import write_json_atomic
 from .motion import load_motion_csv, random_vibration, sine, sweep
 from .params import Parameters
-from .simulation import POINT_NAMES, SeatedHuman
+from .simulation import SeatedHuman
 from .drives import drive_path
 from .tables import load_body
-from .transfer import h1_estimate
 
 EXIT_ERROR = 2
 

@@ -36,6 +36,30 @@ def _current_umask() -> int:
     return mask
 
 
+def replace_atomically(target: Path | str, write, what: str = "file") -> Path:
+    """Write ``target`` whole or not at all.
+
+    ``write(tmp_path)`` fills a temporary file beside the target (same suffix); it then takes the target's
+    name, with the permissions a new file gets under the umask.  Problems become one InputError sentence.
+    """
+    target = Path(target)
+    tmp = None
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent)
+        os.close(fd)
+        write(tmp)
+        os.chmod(tmp, 0o666 & ~_current_umask())
+        os.replace(tmp, target)
+        tmp = None
+    except OSError as exc:
+        raise InputError(f"{target}: cannot write the {what} ({exc.strerror or exc}).") from None
+    finally:
+        if tmp is not None and os.path.exists(tmp):
+            os.unlink(tmp)
+    return target
+
+
 def _fsync_directory(directory: Path) -> None:
     """Flush a directory entry to disk where the platform allows it."""
     try:

@@ -7,7 +7,6 @@ figure.
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 
 import matplotlib
@@ -18,6 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .errors import InputError  # noqa: E402
+from .io import replace_atomically  # noqa: E402
 from .simulation import RunResult  # noqa: E402
 
 _AXIS_COLORS = {"x": "tab:blue", "y": "tab:orange", "z": "tab:green"}
@@ -29,20 +29,11 @@ def _save(fig, path: Path | str | None):
         return fig
     path = Path(path)
     fmt = path.suffix.lstrip(".").lower()
-    tmp = None
     try:
         if fmt not in fig.canvas.get_supported_filetypes():
             raise InputError(f"{path}: cannot draw a .{fmt} file; use .png, .pdf or .svg.")
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
-        os.close(fd)
-        fig.savefig(tmp, dpi=110, format=fmt)
-        os.replace(tmp, path)
-    except OSError as exc:
-        raise InputError(f"{path}: cannot write the figure ({exc.strerror or exc}).") from None
+        replace_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110, format=fmt), "figure")
     finally:
-        if tmp and os.path.exists(tmp):
-            os.unlink(tmp)
         plt.close(fig)
     return fig
 

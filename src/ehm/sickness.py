@@ -270,7 +270,6 @@ def subjective_vertical_conflict(time_s, gia_mps2, omega_radps, params: SvcParam
     if not isinstance(p, SvcParameters):
         raise InputError(f"params must be an SvcParameters instance or None, got {type(params).__name__}.")
     t, f, w, h = _check_inputs(time_s, gia_mps2, omega_radps)
-    n = t.size
 
     # Linear angular-velocity paths, exact for piecewise-linear inputs.
     td, ta = p.scc_cupula_time_constant_s, p.scc_adaptation_time_constant_s

@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 
 from . import engine
 from .errors import InputError
-from .io import write_csv_atomic, write_json_atomic
+from .io import replace_atomically, write_csv_atomic, write_json_atomic
 from .motion import SeatMotion, seat_kinematics, seat_rotation_matrices
 from .params import Parameters
 from .tables import Body, load_body, resolve_locks
@@ -168,20 +168,7 @@ class RunResult:
 
 def _write_npz_atomic(path: Path, arrays: dict) -> None:
     """Write a .npz whole or not at all."""
-    import os
-    import tempfile
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".npz", dir=path.parent)
-    os.close(fd)
-    try:
-        np.savez_compressed(tmp, **arrays)
-        os.replace(tmp, path)
-    except OSError as exc:
-        raise InputError(f"{path}: cannot write ({exc.strerror or exc}).") from None
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    replace_atomically(path, lambda tmp: np.savez_compressed(tmp, **arrays), "pose file")
 
 
 class SeatedHuman:
