@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 pytest.importorskip("dask.distributed")
@@ -46,6 +48,15 @@ def test_study_runs_records_failures_and_resumes(tmp_path, capsys):
     (out / "runs" / f"{specs[0].run_id}.json").unlink()
     assert run_study(specs, out, workers=1)["ran"] == 1
     assert len(pq.read_table(out / "results.parquet").to_pylist()) == len(table)
+    # failures are kept on resume unless retried; a lost worker's run is always redone
+    res = run_study(specs, out, workers=1, retry_failed=True)
+    assert res["ran"] == 2 and res["failed"] == 2
+    failed_id = errors[0]["run_id"]
+    rec_path = out / "runs" / f"{failed_id}.json"
+    rec = json.loads(rec_path.read_text())
+    rec_path.write_text(json.dumps({**rec, "error": "worker failed: connection lost"}))
+    assert run_study(specs, out, workers=1)["ran"] == 1
+    assert "must not be negative" in json.loads(rec_path.read_text())["error"]
 
 
 def test_bad_study_files(tmp_path):

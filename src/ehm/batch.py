@@ -249,15 +249,33 @@ def write_table(records: list[dict], out: Path, csv: bool = False) -> Path:
     return path
 
 
+def _needs_run(record_path: Path, retry_failed: bool) -> bool:
+    """Whether a run must (re)run: no record yet, its worker was lost, or it failed and retries are asked for."""
+    if not record_path.exists():
+        return True
+    try:
+        error = json.loads(record_path.read_text(encoding="utf-8")).get("error")
+    except (OSError, ValueError, AttributeError):
+        return True  # an unreadable record is redone
+    return bool(error) and (retry_failed or error.startswith(_LOST_WORKER))
+
+
+_LOST_WORKER = "worker failed: "
+
+
 def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, workers: int | None = None,
-              csv: bool = False, progress=None) -> dict:
-    """Run the specs on Dask (a local cluster of processes, or the cluster at ``scheduler``), skipping runs
-    already recorded in ``out/runs``; returns counts and the throughput."""
+              csv: bool = False, progress=None, retry_failed: bool = False) -> dict:
+    """Run the specs on Dask (a local cluster of processes, or the cluster at ``scheduler``); returns counts and
+    the throughput.
+
+    Runs already recorded in ``out/runs`` are skipped, except those whose worker was lost (always redone)
+    and, with ``retry_failed``, those that failed (e.g. after the parameter or study file was fixed).
+    """
     from dask.distributed import Client, LocalCluster, as_completed
 
     runs_dir = out / "runs"
     runs_dir.mkdir(parents=True, exist_ok=True)
-    todo = [s for s in specs if not (runs_dir / f"{s.run_id}.json").exists()]
+    todo = [s for s in specs if _needs_run(runs_dir / f"{s.run_id}.json", retry_failed)]
     t0 = time.perf_counter()
     simulated = 0.0
     failed = 0
@@ -287,7 +305,7 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
                     rec = fut.result()
                 except Exception as exc:  # noqa: BLE001 - a lost worker is recorded like a failed run
                     spec = by_future[fut]
-                    rec = {"inputs": spec.inputs(), "outputs": {}, "error": f"worker failed: {exc}",
+                    rec = {"inputs": spec.inputs(), "outputs": {}, "error": f"{_LOST_WORKER}{exc}",
                            "simulated_s": 0.0, "wall_s": 0.0}
                 write_json_atomic(runs_dir / f"{rec['inputs']['run_id']}.json", rec)
                 simulated += rec["simulated_s"]

@@ -396,7 +396,8 @@ def cmd_batch(args) -> int:
     def show(done, total):
         print(f"\r  {done} / {total} runs done", end="\n" if done == total else "", file=sys.stderr, flush=True)
 
-    res = run_study(specs, out, scheduler=args.scheduler, workers=args.workers, csv=args.csv, progress=show)
+    res = run_study(specs, out, scheduler=args.scheduler, workers=args.workers, csv=args.csv, progress=show,
+                    retry_failed=args.retry_failed)
     if res["ran"] and res["failed"] == res["ran"]:
         raise InputError(f"all {res['ran']} runs failed; their errors are in {out}/results.parquet (output 'error').")
     tp = res["throughput_simulated_s_per_s"]
@@ -551,6 +552,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (default: local)")
     p.add_argument("--workers", type=int, help="local worker processes (default: the number of cores)")
     p.add_argument("--csv", action="store_true", help="also write results.csv")
+    p.add_argument("--retry-failed", action="store_true",
+                   help="when resuming, run the recorded failures again too (lost workers are always retried)")
     p.set_defaults(func=cmd_batch)
 
     p = sub.add_parser("drive", help="write a SYNTHETIC drive file (city manoeuvres or a rough road)")
