@@ -415,3 +415,49 @@ def test_csv_crlf_and_bom(tmp_path):
     path.write_bytes(b"\xef\xbb\xbf" + b"time_s,ax_mps2,ay_mps2,az_mps2\r\n0,1,2,3\r\n1,4,5,6\r\n")
     motion = load_motion_csv(path)
     np.testing.assert_array_equal(motion.acc_mps2, [[1, 2, 3], [4, 5, 6]])
+
+
+def _long_csv(n: int = 2000, quoted: bool = False) -> tuple[str, np.ndarray]:
+    rng = np.random.default_rng(3)
+    table = np.column_stack([np.arange(n) * 0.01, rng.normal(size=(n, 3))])
+    q = '"' if quoted else ""
+    rows = "\n".join(",".join(f"{q}{v!r}{q}" for v in row) for row in table.tolist())
+    return "# a long file\ntime_s,ax_mps2,ay_mps2,az_mps2\n" + rows + "\n", table
+
+
+def test_csv_long_file_bulk_and_row_by_row_agree(tmp_path):
+    # Plain files are read in bulk (numpy); anything unusual (here: quoted numbers) row by row.  Both routes
+    # give the same arrays, equal to the numbers written (repr round-trips floats exactly).
+    plain, table = _long_csv()
+    quoted, _ = _long_csv(quoted=True)
+    a = load_motion_csv(write(tmp_path, plain, "plain.csv"))
+    b = load_motion_csv(write(tmp_path, quoted, "quoted.csv"))
+    for m in (a, b):
+        np.testing.assert_array_equal(m.time_s, table[:, 0])
+        np.testing.assert_array_equal(m.acc_mps2, table[:, 1:])
+
+
+@pytest.mark.parametrize("row, column, value, words", [
+    (1500, 2, "nan", "line 1503, column ay_mps2: 'nan' is not a finite number"),
+    (700, 0, "6.985", "line 703, column time_s: time 6.985 s is not after the time 6.99 s on line 702"),
+    (900, 3, "", "line 903, column az_mps2: value is empty"),
+])
+def test_csv_long_file_errors_name_the_line(tmp_path, row, column, value, words):
+    # A bad value deep in a long file: the bulk reader declines and the row-by-row reader names line and column
+    # (file line = row + 3: a comment line and the header come first, rows count from 0, lines from 1).
+    text, _ = _long_csv()
+    lines = text.split("\n")
+    fields = lines[row + 2].split(",")
+    fields[column] = value
+    lines[row + 2] = ",".join(fields)
+    with pytest.raises(InputError) as exc:
+        load_motion_csv(write(tmp_path, "\n".join(lines)))
+    assert words in str(exc.value), str(exc.value)
+
+
+def test_csv_long_file_with_a_field_too_many_is_refused(tmp_path):
+    text, _ = _long_csv()
+    lines = text.split("\n")
+    lines[1202] += ",9"
+    with pytest.raises(InputError, match=r"line 1203: expected 4 fields as in the header \(line 2\), found 5"):
+        load_motion_csv(write(tmp_path, "\n".join(lines)))

@@ -19,8 +19,11 @@ where.
 from __future__ import annotations
 
 import csv
+import io
 import math
 import os
+import warnings
+from array import array
 from dataclasses import dataclass
 from numbers import Integral, Real
 
@@ -604,6 +607,42 @@ def _parse_number(text: str) -> float | None:
         return None
 
 
+def _iter_lines(text: str):
+    """The lines of a text without their newlines, one at a time (no list of them all)."""
+    start = 0
+    while start <= len(text):
+        end = text.find("\n", start)
+        if end < 0:
+            yield text[start:]
+            return
+        yield text[start:end]
+        start = end + 1
+
+
+def _fast_rows(raw: bytes, header_line: int, n_fields: int, usecols: list) -> np.ndarray | None:
+    """The data rows after the header as an (n, len(usecols)) array when every row is plain numbers with valid
+    times (finite values, times >= 0 and strictly increasing); None otherwise, so that the row-by-row parser
+    can name the line and column at fault."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # "input contained no data": the row count check below says it
+            # all columns, so that a row with a field too many or too few is refused (numpy: "the number of
+            # columns changed") and left to the row-by-row reader
+            every = np.loadtxt(io.BytesIO(raw), delimiter=",", comments="#", skiprows=header_line, ndmin=2,
+                               dtype=float, encoding="utf-8-sig")
+    except (ValueError, IndexError):
+        return None
+    if every.shape[0] < 2 or every.shape[1] != n_fields:
+        return None
+    table = every[:, usecols]
+    if not np.isfinite(table).all():
+        return None
+    t = table[:, 0]
+    if t[0] < 0 or not (np.diff(t) > 0).all():
+        return None
+    return table
+
+
 def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
     """Load a seat motion from a CSV file.
 
@@ -675,11 +714,9 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
     header_line = 0
     first_comment = ""
     index: dict[str, int] = {}
-    times: list[float] = []
-    time_texts: list[str] = []
-    rows: list[tuple[float, float, float]] = []
-    row_lines: list[int] = []
-    for line_no, line in enumerate(text.split("\n"), start=1):
+    flat = array("d")  # data rows, flattened: 8 bytes per value (an hour at 100 Hz is about 20 MB)
+    last_time, last_time_text, last_line = -math.inf, "", 0
+    for line_no, line in enumerate(_iter_lines(text), start=1):
         line = line.rstrip("\r")
         stripped = line.strip()
         if not stripped or stripped.startswith("#"):
@@ -716,6 +753,10 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
                 )
             columns = CSV_COLUMNS + (CSV_ROTATION_COLUMNS if present else ())
             index = {column: header.index(column) for column in columns}
+            fast = _fast_rows(raw, header_line, len(header), list(index.values()))
+            if fast is not None:  # plain, valid numbers throughout: no need to look at each row
+                flat = fast
+                break
             continue
 
         if len(fields) != len(header):
@@ -750,28 +791,27 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
                 f"{name}, line {line_no}, column time_s: time {time_text} s is "
                 "negative; times must be >= 0."
             )
-        if times and time <= times[-1]:
+        if time <= last_time:
             raise InputError(
                 f"{name}, line {line_no}, column time_s: time {time_text} s is not "
-                f"after the time {time_texts[-1]} s on line {row_lines[-1]}; "
+                f"after the time {last_time_text} s on line {last_line}; "
                 "times must be strictly increasing."
             )
-        times.append(time)
-        time_texts.append(time_text)
-        rows.append(tuple(values[1:]))
-        row_lines.append(line_no)
+        last_time, last_time_text, last_line = time, time_text, line_no
+        flat.extend(values)
 
     if header is None:
         raise InputError(f"{name}: motion file has only comments and no header row.")
-    if len(rows) < 2:
+    table = np.frombuffer(flat, dtype=float).reshape(-1, len(index)) if isinstance(flat, array) else flat
+    if table.shape[0] < 2:
         raise InputError(
-            f"{name}, line {header_line}: motion file has {len(rows)} data row(s) after "
+            f"{name}, line {header_line}: motion file has {table.shape[0]} data row(s) after "
             "the header; at least 2 are needed."
         )
-    time_s = np.array(times)
-    data = np.array(rows)
+    time_s = table[:, 0].copy()
+    data = table[:, 1:].copy()
     description = (
-        f"from {os.path.basename(name)}, {len(rows)} samples, "
+        f"from {os.path.basename(name)}, {table.shape[0]} samples, "
         f"{float(time_s[-1] - time_s[0]):g} s"
     )
     if first_comment:  # a file's first comment line describes it (e.g. "SYNTHETIC city drive ...")
