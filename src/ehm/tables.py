@@ -238,6 +238,14 @@ class CsvTable:
     def vector(self, lineno: int, row: dict, bases: tuple[str, ...], quantity: str, **kw) -> np.ndarray:
         return np.array([self.number(lineno, row, b, quantity, **kw) for b in bases])
 
+    def choice(self, lineno: int, row: dict, base: str, allowed, what: str) -> str:
+        """A text value that must be one of ``allowed``."""
+        value = self.text(lineno, row, base)
+        if value not in allowed:
+            raise InputError(f"{self.label}, line {lineno}, column {base}: unknown {what} {value!r}; "
+                             f"use one of {', '.join(allowed)}.")
+        return value
+
     def has(self, base: str) -> bool:
         """Whether the table has a column for this quantity (any unit), for optional columns."""
         return any(h == base or h.startswith(base + "_") for h in self.header)
@@ -292,11 +300,7 @@ def load_joints(path: Path | str | None = None) -> tuple[Joint, ...]:
     t = CsvTable(path or _data_path("joints.csv"), label=str(path) if path else None)
     out = []
     for n, r in t.rows:
-        jtype = t.text(n, r, "type")
-        if jtype not in JOINT_TYPE_DOFS:
-            raise InputError(
-                f"{t.label}, line {n}, column type: unknown joint type {jtype!r}; use one of {', '.join(JOINT_TYPE_DOFS)}."
-            )
+        jtype = t.choice(n, r, "type", JOINT_TYPE_DOFS, "joint type")
         tilt = t.number(n, r, "axes_pitch", "angle") if t.has("axes_pitch") else 0.0
         if abs(tilt) >= math.pi / 2:
             col = t._column("axes_pitch", "angle")[0]
@@ -316,11 +320,7 @@ def load_contacts(path: Path | str | None = None) -> tuple[ContactEllipsoid, ...
     t = CsvTable(path or _data_path("contacts.csv"), label=str(path) if path else None)
     out = []
     for n, r in t.rows:
-        surface = t.text(n, r, "surface")
-        if surface not in CONTACT_SURFACES:
-            raise InputError(
-                f"{t.label}, line {n}, column surface: unknown surface {surface!r}; use one of {', '.join(CONTACT_SURFACES)}."
-            )
+        surface = t.choice(n, r, "surface", CONTACT_SURFACES, "surface")
         out.append(ContactEllipsoid(
             name=t.text(n, r, "name"), segment=t.text(n, r, "segment"), surface=surface,
             center_m=t.vector(n, r, ("x", "y", "z"), "length"),
