@@ -50,8 +50,28 @@ def test_rotating_seat_build_matches_static_build_for_translation():
     m = ehm.random_vibration("xz", 12.0, 0.3, seed=4)
     a = ehm.SeatedHuman().simulate(m).point("head").acc_mps2
     mr = SeatMotion(m.time_s, m.acc_mps2, "zero rotation", np.zeros_like(m.acc_mps2))
-    b = ehm.SeatedHuman(rotating_seat=True).simulate(mr).point("head").acc_mps2
+    rotating = ehm.SeatedHuman(rotating_seat=True)
+    b = rotating.simulate(mr).point("head").acc_mps2
     assert np.sqrt(np.mean((a - b) ** 2)) < 5e-3 * np.sqrt(np.mean(a ** 2))
+    # A motion without angular velocities on the same rotating-seat person: the seat stays level, same result.
+    np.testing.assert_array_equal(rotating.simulate(m).point("head").acc_mps2, b)
+
+
+def test_cli_simulate_takes_a_drive_file(tmp_path, capsys):
+    # `ehm drive` writes angular velocities; `ehm simulate --motion` builds the rotating seat for them.
+    drive = tmp_path / "d.csv"
+    assert main(["drive", "city", "--duration", "12", "--out", str(drive)]) == 0
+    assert main(["simulate", "--motion", str(drive), "--out", str(tmp_path / "run")]) == 0
+    assert (tmp_path / "run" / "timeseries.csv").exists()
+
+
+def test_bad_drive_arguments_are_one_sentence():
+    for kw, words in ((dict(duration_s="abc"), "duration_s must be a number"),
+                      (dict(seed=None), "seed must be a whole number")):
+        with pytest.raises(InputError, match=words):
+            city_drive(**kw)
+    with pytest.raises(InputError, match="wheelbase_m must be a number above 0.5"):
+        rough_road(duration_s=2, wheelbase_m=-3)
 
 
 def test_sustained_cornering_leans_without_collapse_or_drift():
@@ -98,7 +118,8 @@ def test_city_drive_assessment(tmp_path):
     assert res.metrics["seat"]["y"].a_w == pytest.approx(metrics(ay, 1000.0, "Wd").a_w, rel=1e-6)
     for loc in ("seat", "pelvis", "trunk", "head"):
         assert s["locations"][loc]["total_value_mps2"] > 0
-    assert 0 <= s["sickness"]["head"]["final_msi_percent"] < 85
+    # 40 s of city driving makes a little sickness (measured 0.03 %), far below the model's 85 % ceiling
+    assert 0.001 < s["sickness"]["head"]["final_msi_percent"] < 1.0
     assert max(s["body_displacement_max_m"]["pelvis"]) < 0.03
 
 

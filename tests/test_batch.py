@@ -70,6 +70,14 @@ def test_bad_study_files(tmp_path):
     bad.write_text('[grid]\n"joints.t12.q" = [1.0]\n')  # refused before any cluster starts
     with pytest.raises(InputError, match="not a parameter"):
         load_study(bad)
+    for text, words in (('[study]\ncompute = "comfort"\n', "compute must be a list"),
+                        ('[input]\nmethod = "tim"\n', "method 'tim'"),
+                        ('[input]\naxes = ["x", "w"]\n', "axes"),
+                        ('[input]\ndrive = "nowhere.csv"\n', "drive 'nowhere.csv'"),
+                        ('[input]\nduration_s = -2\n', "duration_s -2")):
+        bad.write_text(text)
+        with pytest.raises(InputError, match=words):
+            load_study(bad)
     bad.write_text("[input]\nduration = 3\n")
     with pytest.raises(InputError, match="unknown key 'duration'"):
         load_study(bad)
@@ -79,7 +87,10 @@ def test_cli_batch(tmp_path, capsys):
     path = tmp_path / "study.toml"
     path.write_text(STUDY.replace(", -1.0", ""))
     assert main(["batch", str(path), "--out", str(tmp_path / "r"), "--workers", "1", "--csv"]) == 0
-    assert (tmp_path / "r" / "results.csv").read_text().startswith("\"run_id\",\"output\",\"value\",\"error\"")
+    lines = (tmp_path / "r" / "results.csv").read_text().splitlines()
+    assert lines[0].startswith("\"run_id\",\"output\",\"value\",\"error\"")
+    # 2 people x 1 parameter value x 6 outputs (peak frequency and gain of pelvis, trunk, head on seat z)
+    assert len(lines) == 1 + 2 * 6 and not any("error" in ln.split(",")[1] for ln in lines[1:])
 
 
 def test_fit_evaluates_candidates_on_a_dask_cluster():

@@ -15,7 +15,7 @@ import pytest
 import ehm
 from ehm.cli import main
 from ehm.errors import InputError
-from ehm.fit import fit, free_parameters, identified_parameters, write_identified
+from ehm.fit import fit, free_parameters, write_identified
 from ehm.frf import FrfTable, linear_frf
 from ehm.params import Parameters, default_params_path
 
@@ -116,4 +116,8 @@ def test_cli_fit_refuses_locked_joint_and_bad_budget(synthetic, tmp_path, capsys
     assert "matches no fittable parameter" in capsys.readouterr().err
     assert main(["fit", "--data", str(path), "--max-evals", "0", "--out", str(tmp_path / "f.toml")]) == 2
     assert "budget" in capsys.readouterr().err
+    assert not (tmp_path / "f.toml").exists()
+    # body sizes are not part of a fit: refused rather than silently ignored
+    assert main(["fit", "--data", str(path), "--stature", "1.6", "--out", str(tmp_path / "f.toml")]) == 2
+    assert "--stature/--mass/--sitting-height" in capsys.readouterr().err
     assert not (tmp_path / "f.toml").exists()

@@ -461,3 +461,14 @@ def test_csv_long_file_with_a_field_too_many_is_refused(tmp_path):
     lines[1202] += ",9"
     with pytest.raises(InputError, match=r"line 1203: expected 4 fields as in the header \(line 2\), found 5"):
         load_motion_csv(write(tmp_path, "\n".join(lines)))
+
+
+def test_seat_motion_non_numeric_angular_velocity_is_one_sentence():
+    with pytest.raises(InputError, match="angvel_radps must be a numeric array"):
+        SeatMotion(np.array([0.0, 1.0]), np.zeros((2, 3)), "x", [["a", 0, 0], [0, 0, 0]])
+
+
+def test_csv_repeated_rotation_column_is_refused(tmp_path):
+    text = "time_s,ax_mps2,ay_mps2,az_mps2,wx_radps,wy_radps,wz_radps,wx_radps\n0,0,0,0,0,0,0,1\n1,0,0,0,0,0,0,1\n"
+    with pytest.raises(InputError, match="column wx_radps appears more than once"):
+        load_motion_csv(write(tmp_path, text))

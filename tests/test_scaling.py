@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm import engine
 from ehm.cli import main
 from ehm.errors import InputError
 from ehm.params import Parameters

@@ -79,7 +79,10 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
         if section in doc and not isinstance(doc[section], dict):
             raise InputError(f"{label}: {section} must be a [{section}] table, not {doc[section]!r}.")
     study = doc.get("study", {})
-    compute = tuple(study.get("compute", ["transmissibility"]))
+    compute = study.get("compute", ["transmissibility"])
+    if not isinstance(compute, list) or not compute:
+        raise InputError(f"{label}: [study] compute must be a list, e.g. [\"transmissibility\", \"comfort\"].")
+    compute = tuple(compute)
     for c in compute:
         if c not in COMPUTE:
             raise InputError(f"{label}: [study] compute names {c!r}; use {', '.join(COMPUTE)}.")
@@ -106,6 +109,7 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
+    _check_input(label, inp)
     _check_before_running(label, rows, grid, locks)
     name = str(study.get("name", Path(path).stem))
     specs = []
@@ -117,6 +121,29 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
                 run_id = hashlib.sha256(key.encode()).hexdigest()[:12]
                 specs.append(RunSpec(run_id, person, params, tuple(lock), compute, inp))
     return name, specs
+
+
+def _check_input(label: str, inp: dict) -> None:
+    """The [input] values, checked before any cluster starts (every run would trip over them)."""
+    if inp.get("method", "linear") not in ("linear", "time"):
+        raise InputError(f"{label}: [input] method {inp['method']!r}: use \"linear\" or \"time\".")
+    axes = inp.get("axes", ["x"])
+    if not isinstance(axes, list) or not axes or any(a not in ("x", "y", "z") for a in axes) or len(set(axes)) < len(axes):
+        raise InputError(f"{label}: [input] axes {axes!r}: use a list of distinct axes from \"x\", \"y\", \"z\".")
+    for key in ("duration_s", "rms_mps2"):
+        v = inp.get(key, 1.0)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v > 0:
+            raise InputError(f"{label}: [input] {key} {v!r}: use a positive number.")
+    seed = inp.get("seed", 0)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise InputError(f"{label}: [input] seed {seed!r}: use a whole number >= 0.")
+    drive = inp.get("drive", "random")
+    if drive != "random":
+        from .drives import drive_path
+
+        if not isinstance(drive, str) or not drive_path(drive).is_file():
+            raise InputError(f"{label}: [input] drive {drive!r}: use \"random\", \"city\", \"road\" or a motion "
+                             "file's path.")
 
 
 def _check_before_running(label: str, people: list, grid: dict, locks: list) -> None:
@@ -162,7 +189,7 @@ def _drive(inp: dict, dt_s: float):
     if motion.duration_s > duration:
         from .motion import SeatMotion
 
-        n = int(duration / (motion.time_s[1] - motion.time_s[0])) + 1
+        n = int(round(duration / (motion.time_s[1] - motion.time_s[0]))) + 1
         motion = SeatMotion(motion.time_s[:n], motion.acc_mps2[:n], motion.description,
                             None if motion.angvel_radps is None else motion.angvel_radps[:n])
     return motion
@@ -317,9 +344,7 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
             client.close()
             if cluster is not None:
                 cluster.close()
-    records = [json.loads(p.read_text()) for p in sorted(runs_dir.glob("*.json"))]
-    ids = {s.run_id for s in specs}
-    records = [r for r in records if r["inputs"]["run_id"] in ids]
+    records = [json.loads((runs_dir / f"{s.run_id}.json").read_text()) for s in specs]  # this study's only
     write_table(records, out, csv=csv)
     return {"runs": len(specs), "ran": len(todo), "skipped": len(specs) - len(todo), "failed": failed,
             "wall_s": wall, "simulated_s": simulated,

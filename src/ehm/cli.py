@@ -32,7 +32,7 @@ def _joint_list(values: list[str] | None) -> list[str]:
     return out
 
 
-def _human(args) -> SeatedHuman:
+def _human(args, rotating_seat: bool = False) -> SeatedHuman:
     params = Parameters.load(args.params)
     if getattr(args, "dt", None) is not None:
         if not args.dt > 0:
@@ -40,7 +40,7 @@ def _human(args) -> SeatedHuman:
         params = params.with_values({"simulation.dt_s": args.dt})
     body = load_body(args.segments, args.joints, args.contacts)
     return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body,
-                       size=_size(args))
+                       rotating_seat=rotating_seat, size=_size(args))
 
 
 def _size(args):
@@ -112,20 +112,25 @@ def cmd_info(args) -> int:
     return 0
 
 
+def _random_input(args, axis: str, dt: float):
+    return random_vibration(axis, args.duration, args.rms, seed=args.seed, dt_s=dt, band_hz=_band(args.band))
+
+
 def _motion(args, dt: float):
-    if args.motion:
-        return load_motion_csv(args.motion)
     if args.signal == "random":
-        return random_vibration(args.axis, args.duration, args.rms, seed=args.seed, dt_s=dt, band_hz=tuple(args.band))
+        return _random_input(args, args.axis, dt)
     if args.signal == "sine":
         return sine(args.axis, args.duration, args.amplitude, args.freq, dt_s=dt)
     return sweep(args.axis, args.duration, args.amplitude, args.f0, args.f1, dt_s=dt)
 
 
 def cmd_simulate(args) -> int:
-    human = _human(args)
-    dt = float(human.params.value("simulation.dt_s"))
-    motion = _motion(args, dt)
+    if args.motion:  # a drive file with angular velocities needs the rotating seat
+        motion = load_motion_csv(args.motion)
+        human = _human(args, rotating_seat=motion.angvel_radps is not None)
+    else:
+        human = _human(args)
+        motion = _motion(args, float(human.params.value("simulation.dt_s")))
     run = human.simulate(motion, pose_rate_hz=25.0)
     paths = run.write(args.out)
     if args.plot:
@@ -151,8 +156,7 @@ def cmd_demo(args) -> int:
     human.settle()
     curves, summaries = {}, {}
     for axis in args.axes:
-        run = human.simulate(random_vibration(axis, args.duration, args.rms, seed=args.seed, dt_s=dt,
-                                              band_hz=tuple(args.band)), pose_rate_hz=25.0)
+        run = human.simulate(_random_input(args, axis, dt), pose_rate_hz=25.0)
         run.write(out / axis)
         plot_time_histories(run, out / axis / "time_histories.png", title=f"seat {axis}: {run.description}")
         if axis == args.axes[-1]:  # one animation: the body's motion, exaggerated 20 times
@@ -214,6 +218,9 @@ def cmd_fit(args) -> int:
     from .fit import fit, print_progress, write_identified
     from .frf import read_frf_csv
 
+    if _size(args) is not None:
+        raise InputError("--stature/--mass/--sitting-height: ehm fit identifies the reference person's parameters; "
+                         "fit without them (body sizes scale a parameter file when it is used).")
     band = _band(args.band)
     data = read_frf_csv(args.data)
     params = Parameters.load(args.params)
@@ -318,10 +325,8 @@ def cmd_assess(args) -> int:
     from .report import write_report
 
     motion = load_motion_csv(drive_path(args.motion))
-    params = Parameters.load(args.params)
-    body = load_body(args.segments, args.joints, args.contacts)
-    human = SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body,
-                        rotating_seat=motion.angvel_radps is not None, size=_size(args))
+    human = _human(args, rotating_seat=motion.angvel_radps is not None)
+    params = human.params
     out = Path(args.out)
     _writable_dir(out, "output")
     result = assess(motion, human, progress=_progress_bar("assess"))

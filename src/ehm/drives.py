@@ -16,24 +16,24 @@ import numpy as np
 from scipy import signal
 
 from .errors import InputError
-from .motion import SeatMotion
+from .motion import SeatMotion, _check_seed, _number
 
 #: ISO 8608 road classes: displacement PSD Gd(n0) at n0 = 0.1 cycles/m [m^3] (geometric class mean).
 ROAD_CLASS_GD0_M3 = {"A": 16e-6, "B": 64e-6, "C": 256e-6, "D": 1024e-6, "E": 4096e-6}
 
 
 def _check(name: str, value: float, low: float, high: float = np.inf) -> float:
-    v = float(value)
-    if not np.isfinite(v) or v <= low or v > high:
+    v = _number("drive", name, value)
+    if v <= low or v > high:
         raise InputError(f"{name} must be a number above {low:g}" + (f" and at most {high:g}" if np.isfinite(high) else "")
                          + f", not {value!r}.")
     return v
 
 
 def _seed(seed) -> int:
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise InputError(f"seed must be a whole number >= 0, not {seed!r}.")
-    return int(seed)
+    if seed is None:
+        raise InputError("drive: seed must be a whole number >= 0 (a drive file names its seed), got None.")
+    return _check_seed(seed, "drive")
 
 
 def _smooth_steps(t: np.ndarray, events: list[tuple[float, float, float, float]]) -> np.ndarray:
@@ -111,8 +111,9 @@ def rough_road(duration_s: float = 60.0, speed_mps: float = 15.0, road_class: st
     seed = _seed(seed)
     if road_class not in ROAD_CLASS_GD0_M3:
         raise InputError(f"road class {road_class!r} is not one of {', '.join(ROAD_CLASS_GD0_M3)} (ISO 8608).")
+    wheelbase, track = _check("wheelbase_m", wheelbase_m, 0.5, 10.0), _check("track_m", track_m, 0.5, 5.0)
     rng = np.random.default_rng(seed)
-    delay = int(round(wheelbase_m / speed / dt))
+    delay = int(round(wheelbase / speed / dt))
     n = int(round(duration / dt)) + 1 + delay
     fs = 1 / dt
     # Road height as a function of time at speed v: temporal PSD G(f) = Gd(n0) n0^2 v / f^2 (one-sided).
@@ -144,8 +145,8 @@ def rough_road(duration_s: float = 60.0, speed_mps: float = 15.0, road_class: st
     fl, fr, rl, rr = fl[sl], fr[sl], rl[sl], rr[sl]
     az = (fl + fr + rl + rr) / 4
     # angular accelerations from corner differences, integrated once (drift removed) to rates
-    pitch_acc = ((rl + rr) - (fl + fr)) / 2 / wheelbase_m  # nose down positive about y
-    roll_acc = ((fl + rl) - (fr + rr)) / 2 / track_m        # left side up is positive roll about x
+    pitch_acc = ((rl + rr) - (fl + fr)) / 2 / wheelbase  # nose down positive about y
+    roll_acc = ((fl + rl) - (fr + rr)) / 2 / track        # left side up is positive roll about x
     hp = signal.butter(2, 0.1, btype="high", fs=fs, output="sos")
     wy = signal.sosfiltfilt(hp, np.cumsum(pitch_acc) * dt)
     wx = signal.sosfiltfilt(hp, np.cumsum(roll_acc) * dt)

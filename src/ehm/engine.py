@@ -593,6 +593,9 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
         for pictures.
     """
     mj = model.mj
+    if (seat_rotation is not None) != (model.seat is not None):
+        raise InputError("a rotating seat needs a seat rotation, and a seat rotation needs a model built with "
+                         "rotating_seat=True.")
     if d is None:
         d = settled_data(model)
     acc = np.asarray(seat_acc_mps2, dtype=float)
@@ -604,10 +607,6 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
         raise RuntimeError("seat surface bodies are not contiguous")
     forces = np.empty((n, len(bodies), 3))
     gravity = G0[None, :] - acc
-    t0 = d.time
-    if (seat_rotation is not None) != (model.seat is not None):
-        raise InputError("a rotating seat needs a seat rotation, and a seat rotation needs a model built with "
-                         "rotating_seat=True.")
     if seat_rotation is not None:
         q_des, qd_des, qdd_des = (np.asarray(a, dtype=float) for a in seat_rotation)
         ctrl_adr = np.array(model.seat["ctrl"])
@@ -639,15 +638,14 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
             if i % _CHECK_EVERY == 0:
                 why = _instability(model, d)
                 if why:
-                    raise _diverged(model, d.time - t0, why)
+                    raise _diverged(model, d.time, why)  # d.time: 0 in the settled state, across chunks
         why = _instability(model, d)
         if why:
-            raise _diverged(model, d.time - t0, why)
+            raise _diverged(model, d.time, why)
     finally:
         mj.opt.gravity[:] = G0
     sensors = {name: sens[:, sl] for name, sl in sensor_slices(model).items()}
-    order = {b: k for k, b in enumerate(range(lo, hi))}
-    support = {s: -forces[:, order[b], :] for s, b in model.surface_bodies.items()}
+    support = {s: -forces[:, b - lo, :] for s, b in model.surface_bodies.items()}
     poses = {"step": pose_steps, "pos": pose_pos, "quat": pose_quat} if pose_every else None
     return RawRun(time_s=np.arange(n) * mj.opt.timestep, sensors=sensors, support_N=support, poses=poses)
 

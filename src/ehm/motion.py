@@ -150,7 +150,10 @@ class SeatMotion:
                 f"SeatMotion: description must be a str, got {type(self.description).__name__}."
             )
         if self.angvel_radps is not None:
-            w = np.array(self.angvel_radps, dtype=float)
+            try:
+                w = np.array(self.angvel_radps, dtype=float)
+            except (TypeError, ValueError) as exc:
+                raise InputError(f"SeatMotion: angvel_radps must be a numeric array ({exc}).") from None
             if w.shape != (n, 3):
                 raise InputError(
                     f"SeatMotion: angvel_radps must have shape ({n}, 3) to match time_s, got {w.shape}."
@@ -386,13 +389,13 @@ def _motion(t_s: np.ndarray, axes: tuple[int, ...], columns: dict[int, np.ndarra
     return SeatMotion(t_s, acc, description)
 
 
-def _check_seed(seed: object) -> int | None:
+def _check_seed(seed: object, func: str = "random_vibration") -> int | None:
     if seed is None:
         return None
     if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, Integral):
-        raise InputError(f"random_vibration: seed must be a whole number or None, got {seed!r}.")
+        raise InputError(f"{func}: seed must be a whole number or None, got {seed!r}.")
     if seed < 0:
-        raise InputError(f"random_vibration: seed must be >= 0, got {int(seed)}.")
+        raise InputError(f"{func}: seed must be >= 0, got {int(seed)}.")
     return int(seed)
 
 
@@ -731,7 +734,7 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
         if header is None:
             header = [field.strip() for field in fields]
             header_line = line_no
-            for column in CSV_COLUMNS:
+            for column in CSV_COLUMNS + CSV_ROTATION_COLUMNS:
                 if header.count(column) > 1:
                     raise InputError(
                         f"{name}, line {line_no}: column {column} appears more than "

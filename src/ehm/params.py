@@ -26,7 +26,8 @@ _META = ("grade", "source", "bounds", "grades", "sources")
 #: Numeric keys allowed in each section, with the check they must pass.
 _SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "back_slide_s": "nonnegative", "noslip_iterations": "count",
                "solver_iterations": "count", "contact_impedance": "fraction"}
-#: Keys a file may leave out (added after files were first exported), with the value they then take.
+#: Keys a file may leave out (added after files were first exported), with the value they then take; load()
+#: fills them in (grade assumed, source "ehm").
 OPTIONAL = {"simulation.back_slide_s": 0.0}
 _POSTURE = {"integral_time_s": "positive", "integral_joints": "joints"}
 _SEAT = {"pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
@@ -70,18 +71,18 @@ class Parameters:
             data = tomllib.loads(raw.decode("utf-8"))
         except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
             raise InputError(f"{label}: not a valid TOML file ({exc}).") from None
+        for key, default in OPTIONAL.items():  # fill keys the file leaves out, saying so
+            section, _, name = key.partition(".")
+            if isinstance(data.get(section), dict) and name not in data[section]:
+                data.setdefault("sources", {}).setdefault(
+                    "ehm", "ehm: the value a key takes when a parameter file leaves it out")
+                data[section][name] = {"value": default, "grade": "assumed", "source": "ehm"}
         params = cls(data, "default" if path is None else str(path))
         params._check(label)
         return params
 
     def value(self, path: str) -> Any:
-        """The value at a dotted path, e.g. ``joints.t12.z.stiffness_N_per_m`` or ``seat.pan_angle_deg``.
-
-        An optional key (:data:`OPTIONAL`) that the file leaves out gives its default.
-        """
-        section, _, key = path.partition(".")
-        if path in OPTIONAL and key not in self.data.get(section, {}):
-            return OPTIONAL[path]
+        """The value at a dotted path, e.g. ``joints.t12.z.stiffness_N_per_m`` or ``seat.pan_angle_deg``."""
         node, key = self._locate(path)
         v = node[key]
         return v["value"] if isinstance(v, dict) and "value" in v else v
@@ -281,7 +282,7 @@ class Parameters:
                     raise InputError(f"{label}: unknown key {key!r} in [{section}].")
                 check_entry(f"{section}.{key}", entry, allowed[key], True)
             for key in allowed:
-                if key not in d[section] and f"{section}.{key}" not in OPTIONAL:
+                if key not in d[section]:
                     raise InputError(f"{label}: [{section}] needs {key!r}.")
         settle_s, slide_s = self.value("simulation.settle_s"), self.value("simulation.back_slide_s")
         if slide_s > 0 and slide_s >= settle_s:

@@ -260,16 +260,16 @@ class SeatedHuman:
         """
         if not isinstance(motion, SeatMotion):
             raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
-        rotating = motion.angvel_radps is not None
-        if rotating and self.model.seat is None:
+        if motion.angvel_radps is not None and self.model.seat is None:
             raise InputError("this motion rotates the seat (it has angular velocities); build the person with "
                              "SeatedHuman(rotating_seat=True).")
         dt = float(self.model.mj.opt.timestep)
         if dt > motion.duration_s:
             raise InputError(f"the motion lasts {motion.duration_s:g} s, less than one time step ({dt:g} s).")
-        if self.model.settled is None:
-            engine.settle(self.model)
-        kin = seat_kinematics(motion.time_s, motion.angvel_radps) if rotating else None
+        rotating = self.model.seat is not None  # a rotating seat without angular velocities stays level
+        if rotating:
+            angvel = motion.angvel_radps if motion.angvel_radps is not None else np.zeros_like(motion.acc_mps2)
+            kin = seat_kinematics(motion.time_s, angvel)
         t_rel = motion.time_s - motion.time_s[0]
         n_total = int(np.floor(motion.duration_s / dt + 1e-9)) + 1
         per_chunk = max(1, int(round(chunk_s / dt)))
