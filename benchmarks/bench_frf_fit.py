@@ -1,7 +1,7 @@
 """Speed of the transfer-function tools: linear FRF, time-domain FRF, and a fit of 24 free parameters.
 
 The fit uses SYNTHETIC gains made by the model itself with 24 neck and spine parameters moved by up to
-+-35 % (seeded), and starts from the defaults.  Usage: python benchmarks/bench_frf_fit.py [--skip-fit]
+a factor exp(U(-0.3, 0.3)), i.e. -26 % to +35 % (seeded), and starts from the defaults.  Usage: python benchmarks/bench_frf_fit.py [--skip-fit]
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from ehm import engine
 from ehm.fit import fit, free_parameters
 from ehm.frf import FrfTable, linear_frf, time_domain_frf
 from ehm.params import Parameters
+from ehm.study import STUDY_PATHS
 
 
 def main() -> None:
@@ -49,15 +50,14 @@ def main() -> None:
     truth = {k: float(p0.value(k)) * float(np.exp(rng.uniform(-0.3, 0.3))) for k in free}
     synth = ehm.SeatedHuman(params=p0.with_values(truth))
     synth.settle()
-    tab = linear_frf(synth, "all", freq_hz=np.round(np.arange(0.25, 12.01, 0.25), 3))
-    paths = [(a, p, d) for a in "xyz" for p in ("pelvis", "trunk", "head")
-             for d in (("y", "roll", "yaw") if a == "y" else ("x", "z", "pitch"))]
-    data = FrfTable({k: tab.curves[k] for k in paths}, method="measured")
+    freq = np.round(np.arange(0.25, 12.01, 0.25), 3)
+    tab = linear_frf(synth, "all", freq_hz=freq)
+    data = FrfTable({k: tab.curves[k] for k in STUDY_PATHS}, method="measured")
     t0 = time.perf_counter()
     res = fit(data, free=free, time_check=False)
     wall = time.perf_counter() - t0
     err = max(abs(res.final[k] / truth[k] - 1) for k in free)
-    print(f"fit of {len(free)} free parameters to synthetic gains (27 curves x 48 frequencies): {wall:.0f} s, "
+    print(f"fit of {len(free)} free parameters to synthetic gains ({len(STUDY_PATHS)} curves x {freq.size} frequencies): {wall:.0f} s, "
           f"{res.n_eval} model evaluations, criterion {res.crit_before:.4g} -> {res.crit_after:.2g}, "
           f"largest parameter error {100 * err:.3g} %")
 

@@ -23,8 +23,8 @@ from ehm.errors import DivergenceError
 from ehm.frf import linear_frf, run_curves
 from ehm.motion import random_vibration
 from ehm.simulation import SeatedHuman
+from ehm.study import STUDY_PATHS
 
-PATHS = {"x": ("x", "z", "pitch"), "y": ("y", "roll", "yaw"), "z": ("x", "z", "pitch")}
 
 
 def main() -> None:
@@ -57,7 +57,7 @@ def main() -> None:
             curves = run_curves(run, axis)
             dev = []
             for (ax, point, dof), c in curves.items():
-                if dof not in PATHS[axis]:
+                if (ax, point, dof) not in STUDY_PATHS:
                     continue
                 sel = (c.freq_hz >= 1.0) & (c.freq_hz <= 10.0)
                 ref = lin.curve(ax, point, dof)

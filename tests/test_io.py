@@ -213,5 +213,5 @@ def test_replace_atomically_failure_leaves_nothing(tmp_path):
         raise OSError(28, "No space left on device")
 
     with pytest.raises(InputError, match=r"out\.bin: cannot write the table \(No space left on device\)"):
-        replace_atomically(tmp_path / "out.bin", fail, "table")
+        replace_atomically(tmp_path / "out.bin", fail, "the table")
     assert list(tmp_path.iterdir()) == []

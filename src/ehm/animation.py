@@ -28,8 +28,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -37,6 +35,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from .errors import InputError
+from .io import replace_atomically
 
 __all__ = ["animate", "render_frames", "load_poses"]
 
@@ -497,24 +496,8 @@ def animate(run_dir, out, exaggerate: float = 1.0, fps: float = 25.0, start_s: f
     idx = _select(poses["time_s"], fps, start_s, end_s, max_frames)
     frames = _iter_frames(poses, idx=idx, exaggerate=exaggerate, title=_run_title(run_dir))
     try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{out.stem}.", suffix=out.suffix, dir=out.parent)
-        os.close(fd)
-    except OSError as exc:
-        raise InputError(f"{out}: cannot write the animation ({exc.strerror or exc}).") from None
-    try:
-        if suffix == ".gif":
-            _write_gif(frames, tmp, fps)
-        else:
-            _write_mp4(frames, tmp, fps, iio)
-        mask = os.umask(0o022)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)
-        os.replace(tmp, out)
-    except OSError as exc:
-        raise InputError(f"{out}: cannot write the animation ({exc.strerror or exc}).") from None
+        replace_atomically(out, lambda tmp: _write_gif(frames, tmp, fps) if suffix == ".gif"
+                           else _write_mp4(frames, tmp, fps, iio), "the animation")
     finally:
         frames.close()
-        if os.path.exists(tmp):
-            os.unlink(tmp)
     return out

@@ -40,6 +40,7 @@ class _Spectrum:
     nperseg: int
     total: np.ndarray | None = None
     count: int = 0
+    freq: np.ndarray | None = None
 
     def add(self, x: np.ndarray) -> None:
         if x.size < self.nperseg:
@@ -76,7 +77,7 @@ class Assessment:
     def summary(self) -> dict:
         out = {"input": self.description, "duration_s": self.duration_s, "wall_s": self.wall_s,
                "realtime_factor": self.duration_s / self.wall_s if self.wall_s > 0 else None,
-               "weightings": {"x": "Wd", "y": "Wd", "z": "Wk", "msdv": "Wf (z)"},
+               "weightings": {**AXIS_WEIGHTING, "msdv": "Wf (z)"},
                "locations": {}}
         seat_av = self.total_value("seat")
         for loc in LOCATIONS:
@@ -139,15 +140,18 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None)
         raise InputError(f"the ISO 2631-1 weightings need at least 250 Hz; the model's time step {dt:g} s gives "
                          f"{fs:g} Hz.")
     keep = max(1, int(round(fs / TRACE_RATE_HZ)))
+    k_sick = max(1, int(round(fs / SICKNESS_RATE_HZ)))
+    # whole sickness blocks per chunk, so that the block means of consecutive chunks sit back to back in time
+    chunk_s = max(1, round(chunk_s * fs / k_sick)) * k_sick * dt
     acc = {loc: {a: ComfortAccumulator(AXIS_WEIGHTING[a], fs, keep_every=keep) for a in "xyz"} for loc in LOCATIONS}
     # Welch segments of about 4 s (0.25 Hz resolution), at most half a chunk and of the whole drive
     nper = int(2 ** np.floor(np.log2(min(4 * fs, chunk_s * fs / 2, motion.duration_s * fs / 2))))
     spectra = {loc: {a: _Spectrum(fs, nper) for a in "xyz"} for loc in LOCATIONS}
-    k_sick = max(1, int(round(fs / SICKNESS_RATE_HZ)))
     sick_in = {"head": ([], []), "seat": ([], [])}
     max_disp = {p: np.zeros(3) for p in POINT_NAMES}
     final = {}
     g_seat = np.array([0.0, 0.0, 9.81])
+    motion_t_rel = motion.time_s - motion.time_s[0]
     t0 = time.perf_counter()
     for chunk in human.stream(motion, chunk_s=chunk_s, progress=progress):
         signals = {"seat": chunk.seat_acc_mps2, **{p: chunk.point(p).acc_mps2 for p in POINT_NAMES}}
@@ -162,8 +166,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None)
         if rotating:
             R = seat_rotation_matrices(chunk.seat_angles_rad)
             gia_seat = chunk.seat_acc_mps2 + np.einsum("nji,j->ni", R, g_seat)
-            t_rel = chunk.time_s
-            w_seat = np.column_stack([np.interp(t_rel, motion.time_s - motion.time_s[0], motion.angvel_radps[:, j])
+            w_seat = np.column_stack([np.interp(chunk.time_s, motion_t_rel, motion.angvel_radps[:, j])
                                       for j in range(3)])
         else:
             gia_seat = chunk.seat_acc_mps2 + g_seat

@@ -272,7 +272,7 @@ def write_table(records: list[dict], out: Path, csv: bool = False) -> Path:
     if csv:
         targets.append((out / "results.csv", lambda tmp: pacsv.write_csv(table, tmp)))
     for target, write in targets:
-        replace_atomically(target, write, "results table")
+        replace_atomically(target, write, "the results table")
     return path
 
 

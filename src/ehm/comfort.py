@@ -90,6 +90,16 @@ def _positive_float(value, arg: str) -> float:
     return out
 
 
+def _non_negative_float(value, arg: str, what: str = "number") -> float:
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{arg} must be a non-negative {what}; got {value!r}.") from None
+    if not math.isfinite(out) or out < 0.0:
+        raise InputError(f"{arg} must be a finite, non-negative {what}; got {value!r}.")
+    return out
+
+
 def _signal_1d(values, arg: str) -> np.ndarray:
     try:
         out = np.asarray(values, dtype=float)
@@ -121,24 +131,24 @@ def _sample_rate(name: str, fs_hz) -> float:
 # --------------------------------------------------------------------------
 
 
-def _analog_factors(name: str) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Factors (num, den) of the weighting as polynomials in s [rad/s], highest power first."""
+def _analog_factors(name: str, omega=lambda f: 2 * math.pi * f) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Factors (num, den) of the weighting as polynomials in s [rad/s], highest power first.
+
+    ``omega(f)`` turns a corner frequency [Hz] into rad/s (exact by default; pre-warped for the digital filter).
+    """
     f1, f2, f3, f4, q4, f5, q5, f6, q6 = _PARAMETERS[name]
-    w1, w2 = 2 * math.pi * f1, 2 * math.pi * f2
+    w1, w2 = omega(f1), omega(f2)
     factors = [
         (np.array([1.0, 0.0, 0.0]), np.array([1.0, w1 / _Q_BAND, w1 * w1])),   # high-pass
         (np.array([w2 * w2]), np.array([1.0, w2 / _Q_BAND, w2 * w2])),         # low-pass
     ]
     if f4 is not None:                                                        # a-v transition
-        w4 = 2 * math.pi * f4
+        w4 = omega(f4)
         den = np.array([1.0, w4 / q4, w4 * w4])
-        if f3 is None:
-            factors.append((np.array([w4 * w4]), den))
-        else:
-            w3 = 2 * math.pi * f3
-            factors.append((np.array([w4 * w4 / w3, w4 * w4]), den))
+        num = np.array([w4 * w4]) if f3 is None else np.array([w4 * w4 / omega(f3), w4 * w4])
+        factors.append((num, den))
     if f5 is not None:                                                        # upward step
-        w5, w6 = 2 * math.pi * f5, 2 * math.pi * f6
+        w5, w6 = omega(f5), omega(f6)
         factors.append((np.array([1.0, w5 / q5, w5 * w5]), np.array([1.0, w6 / q6, w6 * w6])))
     return factors
 
@@ -207,22 +217,8 @@ def weighting_sos(name: str, fs_hz: float) -> np.ndarray:
     """
     key = _canonical_name(name)
     fs = _sample_rate(key, fs_hz)
-    f1, f2, f3, f4, q4, f5, q5, f6, q6 = _PARAMETERS[key]
-    tw = lambda f: _prewarp(2.0 * math.pi * f, fs)  # noqa: E731  pre-warped angular frequency
-    w1, w2 = tw(f1), tw(f2)
-    factors = [
-        ([1.0, 0.0, 0.0], [1.0, w1 / _Q_BAND, w1 * w1]),
-        ([w2 * w2], [1.0, w2 / _Q_BAND, w2 * w2]),
-    ]
-    if f4 is not None:
-        w4 = tw(f4)
-        den = [1.0, w4 / q4, w4 * w4]
-        factors.append(([w4 * w4], den) if f3 is None else ([w4 * w4 / tw(f3), w4 * w4], den))
-    if f5 is not None:
-        w5, w6 = tw(f5), tw(f6)
-        factors.append(([1.0, w5 / q5, w5 * w5], [1.0, w6 / q6, w6 * w6]))
     sections = []
-    for num, den in factors:
+    for num, den in _analog_factors(key, lambda f: _prewarp(2.0 * math.pi * f, fs)):  # pre-warped corners
         z, p, k = _sig.tf2zpk(num, den)
         zd, pd, kd = _sig.bilinear_zpk(z, p, k, fs)
         sections.append(_sig.zpk2sos(zd, pd, kd))
@@ -584,12 +580,7 @@ def comfort_reaction(a_w: float) -> str:
     str
         e.g. ``"a little uncomfortable / fairly uncomfortable"`` for 0.55 m/s^2.
     """
-    try:
-        a = float(a_w)
-    except (TypeError, ValueError):
-        raise InputError(f"a_w must be a non-negative acceleration in m/s^2; got {a_w!r}.") from None
-    if not math.isfinite(a) or a < 0.0:
-        raise InputError(f"a_w must be a finite, non-negative acceleration in m/s^2; got {a_w!r}.")
+    a = _non_negative_float(a_w, "a_w", "acceleration in m/s^2")
     return " / ".join(label for lo, hi, label in _REACTIONS if lo <= a < hi)
 
 
@@ -614,11 +605,6 @@ def seat_value(a_w_body: float, a_w_seat: float) -> float:
     float
         SEAT [%].
     """
-    try:
-        body = float(a_w_body)
-    except (TypeError, ValueError):
-        raise InputError(f"a_w_body must be a non-negative number; got {a_w_body!r}.") from None
-    if not math.isfinite(body) or body < 0.0:
-        raise InputError(f"a_w_body must be a finite, non-negative number; got {a_w_body!r}.")
+    body = _non_negative_float(a_w_body, "a_w_body")
     seat = _positive_float(a_w_seat, "a_w_seat")
     return 100.0 * body / seat

@@ -18,6 +18,7 @@ import numpy as np
 
 from .errors import InputError
 from .frf import FrfTable
+from .transfer import band_select
 
 DEFAULT_BAND_HZ = (0.1, 12.0)
 
@@ -71,11 +72,6 @@ def curve_criterion(freq_hz: np.ndarray, gain_exp: np.ndarray, gain_model: np.nd
     """Eq. 3 for one curve: the RMS of :func:`residuals`."""
     r = residuals(freq_hz, gain_exp, gain_model, label)
     return float(np.sqrt(np.mean(r ** 2)))
-
-
-def band_select(freq_hz: np.ndarray, band_hz: tuple[float, float]) -> np.ndarray:
-    """Boolean mask of the frequencies inside a band (inclusive)."""
-    return (freq_hz >= band_hz[0]) & (freq_hz <= band_hz[1])
 
 
 def compare(measured: FrfTable, model: FrfTable, band_hz: tuple[float, float] = DEFAULT_BAND_HZ) -> Comparison:

@@ -356,7 +356,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
 
 
 _DIVERGED_M = 0.5  #: A point further than this from its settled position means the run has diverged [m].
-_CHECK_EVERY = 50  #: Steps between divergence checks.
+CHECK_EVERY = 50  #: Steps between divergence checks.
 
 
 def _instability(model: Model, d: mujoco.MjData) -> str | None:
@@ -412,7 +412,7 @@ def settle(model: Model, duration_s: float | None = None) -> dict:
             if i == n_slide:
                 mj.pair_friction[back] = friction
             mujoco.mj_step(mj, d)
-            if i % _CHECK_EVERY == 0:
+            if i % CHECK_EVERY == 0:
                 why = _instability(model, d)
                 if why:
                     raise _diverged(model, d.time, why, " while settling into the seat, before the run")
@@ -437,13 +437,15 @@ def settled_data(model: Model) -> mujoco.MjData:
     return d
 
 
-def settled_point_pose(model: Model, point: str) -> tuple[np.ndarray, np.ndarray]:
-    """Position [m] and orientation quaternion (w, x, y, z) of an output point in the settled state."""
+def settled_point_poses(model: Model) -> dict:
+    """Per output point: position [m] and orientation quaternion (w, x, y, z) in the settled state."""
     d = settled_data(model)
-    sid = model.point_sites[point]
-    quat = np.empty(4)
-    mujoco.mju_mat2Quat(quat, d.site_xmat[sid])
-    return d.site_xpos[sid].copy(), quat
+    out = {}
+    for point, sid in model.point_sites.items():
+        quat = np.empty(4)
+        mujoco.mju_mat2Quat(quat, d.site_xmat[sid])
+        out[point] = (d.site_xpos[sid].copy(), quat)
+    return out
 
 
 def support_forces(model: Model, d: mujoco.MjData) -> dict:
@@ -635,7 +637,7 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
             if pose_every and i % pose_every == 0:  # kinematics of the step's start state, as the sensors
                 k = i // pose_every
                 pose_pos[k], pose_quat[k] = d.xpos[pose_ids], d.xquat[pose_ids]
-            if i % _CHECK_EVERY == 0:
+            if i % CHECK_EVERY == 0:
                 why = _instability(model, d)
                 if why:
                     raise _diverged(model, d.time, why)  # d.time: 0 in the settled state, across chunks
@@ -675,8 +677,7 @@ class LinearModel:
     input_names: tuple = ("x", "y", "z")
 
 
-def _outputs(model: Model, d: mujoco.MjData, ref: dict) -> np.ndarray:
-    slices = sensor_slices(model)
+def _outputs(d: mujoco.MjData, ref: dict, slices: dict) -> np.ndarray:
     out = []
     for p in POINTS:
         vals = {kind: d.sensordata[slices[f"{p}_{kind}"]] for kind in SENSOR_KINDS}
@@ -699,7 +700,8 @@ def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
     if model.settled is None:
         settle(model)
     s = model.settled
-    ref = {p: settled_point_pose(model, p) for p in POINTS}
+    ref = settled_point_poses(model)
+    slices = sensor_slices(model)
     d = new_data(model)
     nv, na = mj.nv, mj.na
     nx = 2 * nv + na
@@ -718,7 +720,7 @@ def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
             mujoco.mj_step(mj, d)
         finally:
             mj.opt.gravity[:] = G0
-        y = _outputs(model, d, ref)
+        y = _outputs(d, ref, slices)
         x_next = np.empty(nx)
         mujoco.mj_differentiatePos(mj, x_next[:nv], 1.0, s["qpos"], d.qpos)
         x_next[nv:2 * nv] = d.qvel - s["qvel"]

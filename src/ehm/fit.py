@@ -197,6 +197,8 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     locked = resolve_locks(body, lock, unlock)
     if not isinstance(max_evals, int) or max_evals < 1:
         raise InputError(f"the evaluation budget must be a whole number >= 1, not {max_evals!r}.")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise InputError(f"workers = {workers!r}: use 1 or more processes.")
     patterns = free or ["joints.upper_neck.*", "joints.lower_neck.*", "joints.t12.*", "joints.l4_l5.*"]
     free_paths = free_parameters(base, patterns, locked)
     lohi = np.log(np.array([bounds(base, p) for p in free_paths]))

@@ -307,30 +307,17 @@ def _install_atomic(built: Path, out: Path) -> None:
     """Write the built FMU (model description completed) next to ``out``, then rename it over ``out``."""
     import zipfile
 
-    from .io import _current_umask, _fsync_directory
+    from .io import replace_atomically
 
-    tmp = None
-    try:
-        fd, tmp = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp")
-        with os.fdopen(fd, "wb") as dst:
-            with zipfile.ZipFile(built) as zin, zipfile.ZipFile(dst, "w", zipfile.ZIP_DEFLATED) as zout:
-                for info in zin.infolist():
-                    data = zin.read(info)
-                    if info.filename == "modelDescription.xml":
-                        data = _with_initial_unknowns(data)
-                    zout.writestr(info, data, compress_type=zipfile.ZIP_DEFLATED)
-            dst.flush()
-            os.fsync(dst.fileno())
-        os.chmod(tmp, 0o666 & ~_current_umask())
-        os.replace(tmp, out)
-    except OSError as exc:
-        if tmp is not None:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
-        raise InputError(f"{out}: cannot write the FMU ({exc.strerror or exc}).") from None
-    _fsync_directory(out.parent)
+    def write(tmp: str) -> None:
+        with zipfile.ZipFile(built) as zin, zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zout:
+            for info in zin.infolist():
+                data = zin.read(info)
+                if info.filename == "modelDescription.xml":
+                    data = _with_initial_unknowns(data)
+                zout.writestr(info, data, compress_type=zipfile.ZIP_DEFLATED)
+
+    replace_atomically(out, write, "the FMU")
 
 
 def export_fmu(out_path, params=None, lock=(), unlock=()) -> Path:

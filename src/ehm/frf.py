@@ -21,7 +21,7 @@ import numpy as np
 
 from .errors import InputError
 from .io import write_text_atomic
-from .transfer import Curve
+from .transfer import Curve, band_select
 
 AXES = ("x", "y", "z")
 POINTS = ("pelvis", "trunk", "head")
@@ -171,7 +171,7 @@ def run_curves(run, axis: str, band_hz: tuple[float, float] = (0.1, 12.0), segme
         for j, dof in enumerate(DOFS):
             y = pm.acc_mps2[:, j] if j < 3 else pm.angacc_radps2[:, j - 3]
             e = h1_estimate(x, y, 1.0 / run.dt_s, segment_s=segment_s, lowpass_hz=12.0)
-            sel = (e.freq_hz >= band_hz[0]) & (e.freq_hz <= band_hz[1])
+            sel = band_select(e.freq_hz, band_hz)
             curves[(axis, p, dof)] = Curve(e.freq_hz[sel], e.gain[sel], e.phase_deg[sel], e.coherence[sel])
     return curves
 
@@ -184,6 +184,9 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
     """
     from .motion import random_vibration
 
+    if not duration_s >= segment_s:
+        raise InputError(f"duration_s = {duration_s:g} s: a run must last at least one {segment_s:g} s estimation "
+                         "segment.")
     dt = float(human.params.value("simulation.dt_s"))
     curves = {}
     for axis_name in _axes(axis):

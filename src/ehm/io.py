@@ -37,26 +37,41 @@ def _current_umask() -> int:
 
 
 def replace_atomically(target: Path | str, write, what: str = "file") -> Path:
-    """Write ``target`` whole or not at all.
+    """Write ``target`` whole or not at all: the one atomic writer of the package.
 
-    ``write(tmp_path)`` fills a temporary file beside the target (same suffix); it then takes the target's
-    name, with the permissions a new file gets under the umask.  Problems become one InputError sentence.
+    ``write(tmp_path)`` fills a temporary file beside the target (same suffix), which is flushed to disk
+    and renamed over the target.  A new file gets the usual permissions (``0o666`` less the umask); an
+    existing file keeps its permissions.  On failure the temporary file is removed, the target is left as
+    it was, and the problem becomes one InputError sentence ("<target>: cannot write <what> (reason)").
     """
     target = Path(target)
-    tmp = None
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{target}: cannot create directory {target.parent} ({exc.strerror or exc}).") from None
+    try:
+        mode = stat.S_IMODE(target.stat().st_mode)
+    except OSError:
+        mode = 0o666 & ~_current_umask()
+    tmp = None
+    try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent)
         os.close(fd)
         write(tmp)
-        os.chmod(tmp, 0o666 & ~_current_umask())
+        fd = os.open(tmp, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.chmod(tmp, mode)
         os.replace(tmp, target)
         tmp = None
     except OSError as exc:
-        raise InputError(f"{target}: cannot write the {what} ({exc.strerror or exc}).") from None
+        raise InputError(f"{target}: cannot write {what} ({exc.strerror or exc}).") from None
     finally:
         if tmp is not None and os.path.exists(tmp):
             os.unlink(tmp)
+    _fsync_directory(target.parent)
     return target
 
 
@@ -75,13 +90,7 @@ def _fsync_directory(directory: Path) -> None:
 
 
 def write_text_atomic(path: str | os.PathLike[str], text: str) -> None:
-    """Write `text` to `path` atomically, as UTF-8 with ``\\n`` line ends.
-
-    The text goes to a temporary file in the same directory, which is
-    flushed with ``fsync`` and then renamed over `path`.  On any failure the
-    temporary file is removed and `path` is left as it was.  A new file gets
-    the usual permissions (``0o666`` less the umask); an existing file keeps
-    its permissions.
+    """Write `text` to `path` atomically, as UTF-8 with ``\\n`` line ends (see :func:`replace_atomically`).
 
     Parameters
     ----------
@@ -99,38 +108,12 @@ def write_text_atomic(path: str | os.PathLike[str], text: str) -> None:
     target = Path(path)
     if not isinstance(text, str):
         raise InputError(f"{target}: text to write must be a str, got {type(text).__name__}.")
-    try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(
-            f"{target}: cannot create directory {target.parent} ({exc.strerror or exc})."
-        ) from None
-    try:
-        mode = stat.S_IMODE(target.stat().st_mode)
-    except OSError:
-        mode = 0o666 & ~_current_umask()
 
-    tmp_name = None
-    try:
-        fd, tmp_name = tempfile.mkstemp(
-            dir=target.parent, prefix=f".{target.name}.", suffix=".tmp"
-        )
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
+    def write(tmp: str) -> None:
+        with open(tmp, "w", encoding="utf-8", newline="\n") as handle:
             handle.write(text)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.chmod(tmp_name, mode)
-        os.replace(tmp_name, target)
-        tmp_name = None
-    except OSError as exc:
-        raise InputError(f"{target}: cannot write file ({exc.strerror or exc}).") from None
-    finally:
-        if tmp_name is not None:
-            try:
-                os.unlink(tmp_name)
-            except OSError:
-                pass
-    _fsync_directory(target.parent)
+
+    replace_atomically(target, write, "file")
 
 
 def write_csv_atomic(

@@ -19,6 +19,7 @@ import numpy as np  # noqa: E402
 from .errors import InputError  # noqa: E402
 from .io import replace_atomically  # noqa: E402
 from .simulation import RunResult  # noqa: E402
+from .transfer import band_select  # noqa: E402
 
 _AXIS_COLORS = {"x": "tab:blue", "y": "tab:orange", "z": "tab:green"}
 
@@ -32,7 +33,7 @@ def _save(fig, path: Path | str | None):
     try:
         if fmt not in fig.canvas.get_supported_filetypes():
             raise InputError(f"{path}: cannot draw a .{fmt} file; use .png, .pdf or .svg.")
-        replace_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110, format=fmt), "figure")
+        replace_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110, format=fmt), "the figure")
     finally:
         plt.close(fig)
     return fig
@@ -85,7 +86,7 @@ def plot_transmissibility(table, path: Path | str | None = None, band_hz=(0.2, 1
             ax = axes[i, j]
             c = table.curves.get((a, p, a))
             if c is not None:
-                sel = (c.freq_hz >= band_hz[0]) & (c.freq_hz <= band_hz[1])
+                sel = band_select(c.freq_hz, band_hz)
                 ax.plot(c.freq_hz[sel], c.gain[sel], color=_AXIS_COLORS[a], label="gain")
                 ax2 = ax.twinx()
                 ax2.plot(c.freq_hz[sel], c.coherence[sel], color="0.6", lw=0.8, ls="--", label="coherence")
@@ -128,7 +129,7 @@ def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None,
                 c = t.curves.get((input_axis, p, d))
                 if c is None:
                     continue
-                sel = (c.freq_hz >= band_hz[0]) & (c.freq_hz <= band_hz[1])
+                sel = band_select(c.freq_hz, band_hz)
                 if t.method == "measured":
                     sd = c.gain_sd[sel] if np.isfinite(c.gain_sd[sel]).any() else None
                     ax.errorbar(c.freq_hz[sel], c.gain[sel], yerr=sd, fmt="o", ms=3, color="k", lw=0.8, label=label)
@@ -157,7 +158,7 @@ def plot_locking_study(study, path: Path | str | None = None):
     for ax, key in zip(axes.flat, keys):
         for k, (name, table) in enumerate(study.tables.items()):
             c = table.curve(*key)
-            sel = (c.freq_hz >= 0.3) & (c.freq_hz <= 15)
+            sel = band_select(c.freq_hz, (0.3, 15.0))
             ax.plot(c.freq_hz[sel], c.gain[sel], lw=1.3, color=f"C{k}", label=name)
         ax.set_xscale("log")
         ax.grid(alpha=0.3, which="both")
@@ -179,7 +180,7 @@ def plot_weighted_spectra(assessment, path: Path | str | None = None):
     for ax, a in zip(axes, "xyz"):
         for loc, spec in assessment.spectra.items():
             f, p = spec[a]
-            sel = (f >= 0.2) & (f <= 80)
+            sel = band_select(f, (0.2, 80.0))
             if sel.any():
                 ax.loglog(f[sel], p[sel], color=_LOC_COLORS[loc], lw=1.1, label=loc)
         ax.set_title(f"{a}: {'Wd' if a != 'z' else 'Wk'}-weighted acceleration")

@@ -122,10 +122,19 @@ def scale_body(body: Body, size: BodySize) -> Body:
     return Body(tuple(segments), tuple(joints), tuple(contacts))
 
 
-def scale_params(params: Parameters, size: BodySize) -> Parameters:
-    """Joint, contact and seat parameters for a person of ``size`` (Hof 1996 dimensionless scaling)."""
+def scale_params(params: Parameters, size: BodySize, body: Body | None = None) -> Parameters:
+    """Joint, contact and seat parameters for a person of ``size`` (Hof 1996 dimensionless scaling).
+
+    A contact scales with the legs when its segment does (as in :func:`scale_body`); ``body`` gives the
+    contacts' segments (default: the shipped tables).
+    """
     if size.is_reference():
         return params
+    if body is None:
+        from .tables import load_body
+
+        body = load_body()
+    leg_contacts = {c.name for c in body.contacts if _is_leg(c.segment, LEG_SEGMENTS)}
     g_m, updates = size.mass, {}
     for path in params.numeric_paths():
         parts = path.split(".")
@@ -139,7 +148,7 @@ def scale_params(params: Parameters, size: BodySize) -> Parameters:
             elif key.startswith("damping"):
                 updates[path] = v * g_m * (L * math.sqrt(L) if rot else 1.0 / math.sqrt(L))
         elif parts[0] == "contacts":
-            L = size.length(parts[1].startswith(("thigh", "foot")))
+            L = size.length(parts[1] in leg_contacts)
             key = parts[-1]
             if "stiffness" in key:
                 updates[path] = v * g_m / L

@@ -223,15 +223,20 @@ class SicknessResult:
         return np.linalg.norm(self.conflict_mps2, axis=1)
 
 
+def _params(params) -> "SvcParameters":
+    p = SvcParameters() if params is None else params
+    if not isinstance(p, SvcParameters):
+        raise InputError(f"params must be an SvcParameters instance or None, got {type(params).__name__}.")
+    return p
+
+
 def hill_percent(conflict_magnitude_mps2: np.ndarray | float, params: SvcParameters | None = None) -> np.ndarray:
     """Hill function of the conflict magnitude, scaled to the asymptotic incidence [%].
 
     ``P (|c|/b)^n / (1 + (|c|/b)^n)``; its time mean under steady excitation is the MSI that the
     second-order lag approaches.
     """
-    p = SvcParameters() if params is None else params
-    if not isinstance(p, SvcParameters):
-        raise InputError(f"params must be an SvcParameters instance or None, got {type(params).__name__}.")
+    p = _params(params)
     x = (np.abs(np.asarray(conflict_magnitude_mps2, dtype=float)) / p.hill_b_mps2) ** p.hill_n
     return p.msi_max_percent * x / (1.0 + x)
 
@@ -266,9 +271,7 @@ def subjective_vertical_conflict(time_s, gia_mps2, omega_radps, params: SvcParam
     The head is taken to be at rest, with every state adapted, at ``time_s[0]``: the true and
     internal gravity reactions and both verticals start equal to ``gia_mps2[0]``.
     """
-    p = SvcParameters() if params is None else params
-    if not isinstance(p, SvcParameters):
-        raise InputError(f"params must be an SvcParameters instance or None, got {type(params).__name__}.")
+    p = _params(params)
     t, f, w, h = _check_inputs(time_s, gia_mps2, omega_radps)
 
     # Linear angular-velocity paths, exact for piecewise-linear inputs.

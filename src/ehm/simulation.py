@@ -168,7 +168,7 @@ class RunResult:
 
 def _write_npz_atomic(path: Path, arrays: dict) -> None:
     """Write a .npz whole or not at all."""
-    replace_atomically(path, lambda tmp: np.savez_compressed(tmp, **arrays), "pose file")
+    replace_atomically(path, lambda tmp: np.savez_compressed(tmp, **arrays), "the pose file")
 
 
 class SeatedHuman:
@@ -195,7 +195,7 @@ class SeatedHuman:
         if size is not None:  # an individual body size (ehm.scaling.BodySize)
             from .scaling import scale_body, scale_params
 
-            self.body, self.params = scale_body(self.body, size), scale_params(self.params, size)
+            self.body, self.params = scale_body(self.body, size), scale_params(self.params, size, self.body)
         self.size = size
         self.locked = resolve_locks(self.body, lock, unlock)
         self.model = engine.build(self.body, self.params, self.locked, rotating_seat=rotating_seat)
@@ -274,7 +274,7 @@ class SeatedHuman:
         n_total = int(np.floor(motion.duration_s / dt + 1e-9)) + 1
         per_chunk = max(1, int(round(chunk_s / dt)))
         d = engine.settled_data(self.model)
-        poses = {p: engine.settled_point_pose(self.model, p) for p in POINT_NAMES}
+        poses = engine.settled_point_poses(self.model)
         pivot = self.model.seat["pivot"] if rotating else np.zeros(3)
         description = f"{motion.description}, at dt {dt:g} s"
         pose_every = None

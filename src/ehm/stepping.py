@@ -49,9 +49,9 @@ class StepState:
     comfort: dict
 
 
-def _conjugate(q: np.ndarray) -> np.ndarray:
-    """Inverse of a unit quaternion (w, x, y, z)."""
-    return np.array([q[0], -q[1], -q[2], -q[3]])
+def _conjugate(q) -> tuple:
+    """Inverse of a unit quaternion (w, x, y, z), as a tuple of floats."""
+    return (float(q[0]), -float(q[1]), -float(q[2]), -float(q[3]))
 
 
 def _quat_mul(a, b) -> tuple:
@@ -102,9 +102,11 @@ class Simulator:
         self.model = self.human.model
         self.dt_s = float(self.model.mj.opt.timestep)
         engine.settle(self.model)
-        self._poses = {p: engine.settled_point_pose(self.model, p) for p in POINT_NAMES}
-        self._inv0 = {p: tuple(_conjugate(q0)) for p, (_, q0) in self._poses.items()}
-        self._slices = engine.sensor_slices(self.model)
+        self._poses = engine.settled_point_poses(self.model)
+        self._inv0 = {p: _conjugate(q0) for p, (_, q0) in self._poses.items()}
+        slices = engine.sensor_slices(self.model)
+        self._point_slices = {p: tuple(slices[f"{p}_{k}"] for k in ("framelinacc", "framepos", "framequat",
+                                                                     "frameangvel")) for p in POINT_NAMES}
         self.comfort = comfort
         self.comfort_every = max(1, int(comfort_every))
         self.reset()
@@ -157,17 +159,16 @@ class Simulator:
         a = np.asarray(seat_acc_mps2, dtype=float)
         if a.shape != (3,) or not np.all(np.isfinite(a)):
             raise InputError(f"seat_acc_mps2 must be 3 finite numbers [m/s^2], got {seat_acc_mps2!r}.")
-        data = engine.step(self.model, self._d, a, check=self._step % 50 == 0).copy()
+        data = engine.step(self.model, self._d, a, check=self._step % engine.CHECK_EVERY == 0).copy()
         t = self._step * self.dt_s
         self._step += 1
         points = {}
         for p in POINT_NAMES:
-            sens = {k: data[self._slices[f"{p}_{k}"]] for k in ("framelinacc", "framepos", "framequat", "frameangvel")}
-            q = sens["framequat"].tolist()
-            qrel = _quat_mul(q, self._inv0[p])
-            w_body = _rotate((q[0], -q[1], -q[2], -q[3]), sens["frameangvel"].tolist())
-            points[p] = PointState(acc_mps2=sens["framelinacc"] + engine.G0, disp_m=sens["framepos"] - self._poses[p][0],
-                                   rot_rad=_euler_zyx(qrel), angvel_radps=w_body)
+            s_acc, s_pos, s_quat, s_angvel = self._point_slices[p]
+            q = data[s_quat].tolist()
+            w_body = _rotate(_conjugate(q), data[s_angvel].tolist())
+            points[p] = PointState(acc_mps2=data[s_acc] + engine.G0, disp_m=data[s_pos] - self._poses[p][0],
+                                   rot_rad=_euler_zyx(_quat_mul(q, self._inv0[p])), angvel_radps=w_body)
         if self.comfort:
             row = np.concatenate([a] + [points[p].acc_mps2 for p in POINT_NAMES])
             self._running.add(row)
@@ -227,7 +228,7 @@ class _RunningComfort:
             x = row[cols]
             s = self.state_[k]
             aw[cols] = C @ s + D * x
-            self.state_[k] = A @ s + np.outer(B, x)
+            self.state_[k] = A @ s + B[:, None] * x
         sq = aw * aw
         self.window += sq - self.ring[self.pos]
         self.ring[self.pos] = sq

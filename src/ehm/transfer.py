@@ -13,6 +13,11 @@ from scipy import signal
 from .errors import InputError
 
 
+def band_select(freq_hz: np.ndarray, band_hz: tuple[float, float]) -> np.ndarray:
+    """Boolean mask of the frequencies inside a band (inclusive)."""
+    return (freq_hz >= band_hz[0]) & (freq_hz <= band_hz[1])
+
+
 @dataclass(frozen=True)
 class Curve:
     """One frequency response curve (an estimate, an exact response or measured gains).
@@ -44,7 +49,7 @@ class Curve:
             object.__setattr__(self, "gain_sd", np.full(np.shape(self.freq_hz), np.nan))
 
     def _band(self, band_hz: tuple[float, float], at_least: int) -> np.ndarray:
-        sel = (self.freq_hz >= band_hz[0]) & (self.freq_hz <= band_hz[1])
+        sel = band_select(self.freq_hz, band_hz)
         if sel.sum() < at_least:
             raise InputError(f"the curve has fewer than {at_least} frequencies in {band_hz[0]:g}-{band_hz[1]:g} Hz.")
         return sel
