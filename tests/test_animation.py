@@ -27,7 +27,8 @@ def runs(tmp_path_factory):
 
 
 def _changed_pixels(a: np.ndarray, b: np.ndarray) -> int:
-    """Pixels that differ clearly (not just edge smoothing), above the bottom strip where the time stamp is."""
+    """Pixels that differ clearly (RGB differences summing to over 100 of 765: more than edge smoothing), above
+    the bottom strip where the time stamp is."""
     rows = int(a.shape[0] * 0.9)
     return int((np.abs(a[:rows].astype(int) - b[:rows].astype(int)).sum(axis=-1) > 100).sum())
 
@@ -44,8 +45,10 @@ def test_frames_show_the_body_moving(runs):
     frames = render_frames(runs["sine"], times_s=[0.0, 0.76, 1.0, 1.24], exaggerate=20)
     assert len(frames) == 4
     assert all(f.shape == (480, 960, 3) and f.dtype == np.uint8 for f in frames)
+    # Thresholds: an order of magnitude under what this run gives (measured: 9246-16987 changed pixels,
+    # 6864-13434 of them on the body) and far above the still run's (measured 0).
     moved = [_changed_pixels(frames[0], f) for f in frames[1:]]
-    assert min(moved) > 1000, moved  # a clearly visible displacement of the body (a few thousand pixels)
+    assert min(moved) > 1000, moved
     in_body = [_changed_body_pixels(frames[0], f) for f in frames[1:]]
     assert min(in_body) > 3000, in_body
     still = render_frames(runs["still"], times_s=[0.0, 0.48, 0.96], exaggerate=20)
@@ -61,7 +64,8 @@ def test_exaggeration_scales_the_motion(runs):
     true_scale = render_frames(runs["sine"], times_s=times, exaggerate=1)
     big = render_frames(runs["sine"], times_s=times, exaggerate=20)
     assert _changed_pixels(*frozen) == 0
-    assert _changed_pixels(*big) > 2 * _changed_pixels(*true_scale)
+    # measured: 0 changed pixels at true scale (sub-pixel motion), 2314 at 20 times
+    assert _changed_pixels(*big) > 2 * _changed_pixels(*true_scale) + 1000
 
 
 def test_rotating_seat_views_follow_the_heading():

@@ -18,15 +18,15 @@ from ehm.errors import InputError
 from ehm.fit import fit, free_parameters, write_identified
 from ehm.frf import FrfTable, linear_frf
 from ehm.params import Parameters, default_params_path
+from ehm.study import STUDY_PATHS
 
-TRUE = {  # synthetic truth: three parameters moved 20-40 % from the defaults
+TRUE = {  # synthetic truth: three parameters moved from the defaults (15000, 69, 5.5) by +40 %, +30 %, x4
     "joints.t12.z.stiffness_N_per_m": 21000.0,
     "joints.upper_neck.pitch.stiffness_Nm_per_rad": 90.0,
     "joints.lower_neck.roll.damping_Nms_per_rad": 22.0,
 }
 # In-plane paths only (the paper's Figs. 3-5): out-of-plane gains are zero by symmetry.
-PATHS = [(a, p, d) for a in "xyz" for p in ("pelvis", "trunk", "head")
-         for d in (("y", "roll", "yaw") if a == "y" else ("x", "z", "pitch"))]
+PATHS = list(STUDY_PATHS)
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +44,8 @@ def test_parameter_recovery(synthetic):
     data, _ = synthetic
     result = fit(data, free=list(TRUE), time_check=False, workers=1)
     for p, v in TRUE.items():
-        assert result.final[p] == pytest.approx(v, rel=0.01), p  # recovered within 1 %
+        # recovered within 1 % (measured: within 2e-7 in 24 evaluations; the margin covers other machines)
+        assert result.final[p] == pytest.approx(v, rel=0.01), p
     assert result.crit_after < 1e-3 * result.crit_before
     assert result.trace and result.n_eval >= len(result.trace)
 

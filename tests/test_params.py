@@ -42,50 +42,28 @@ def test_unedited_copy_loads(tmp_path):
     assert p.value("simulation.dt_s") == 0.001  # paper section 3: 1 ms time step
 
 
-def test_bad_grade(tmp_path):
-    text = _replace_once('dt_s = { value = 0.001, grade = "literature"', 'dt_s = { value = 0.001, grade = "guessed"')
-    msg = _load_error(tmp_path, text)
-    assert "simulation.dt_s" in msg and "'guessed'" in msg and "grade" in msg
-
-
-def test_unknown_key(tmp_path):
-    text = _replace_once("[simulation]\n",
-                         '[simulation]\ndt_ms = { value = 1.0, grade = "assumed", source = "assumed" }\n')
-    msg = _load_error(tmp_path, text)
-    assert "'dt_ms'" in msg and "[simulation]" in msg and "unknown key" in msg
-
-
-def test_unknown_key_in_contact(tmp_path):
-    text = _replace_once("[contacts.buttock_r]\n",
-                         '[contacts.buttock_r]\nstifness_N_per_m = { value = 1.0, grade = "assumed", source = "assumed" }\n')
-    msg = _load_error(tmp_path, text)
-    assert "'stifness_N_per_m'" in msg and "contacts.buttock_r" in msg
-
-
-def test_negative_contact_stiffness(tmp_path):
-    text = _replace_once("[contacts.buttock_r]\nstiffness_N_per_m = { value = 60000.0",
-                         "[contacts.buttock_r]\nstiffness_N_per_m = { value = -60000.0")
-    msg = _load_error(tmp_path, text)
-    assert "contacts.buttock_r.stiffness_N_per_m" in msg and "-60000.0" in msg and "positive" in msg
-
-
-def test_negative_joint_stiffness(tmp_path):
-    text = _replace_once("roll = { stiffness_Nm_per_rad = 40.0,", "roll = { stiffness_Nm_per_rad = -90.0,")
-    msg = _load_error(tmp_path, text)
-    assert "joints.upper_neck.roll.stiffness_Nm_per_rad" in msg and "-90.0" in msg and "negative" in msg
-
-
-def test_unknown_source(tmp_path):
-    text = _replace_once('grade = "literature", source = "paper" }', 'grade = "literature", source = "nowhere" }')
-    msg = _load_error(tmp_path, text)
-    assert "simulation.dt_s" in msg and "'nowhere'" in msg and "[sources]" in msg
-
-
-def test_invalid_toml(tmp_path):
-    text = _replace_once('settle_s = { value = 10.0, grade = "assumed", source = "assumed" }',
-                         'settle_s = { value = 10.0, grade = "assumed", source = "assumed"')
-    msg = _load_error(tmp_path, text)
-    assert "TOML" in msg
+@pytest.mark.parametrize("old, new, words", [
+    pytest.param('dt_s = { value = 0.001, grade = "literature"', 'dt_s = { value = 0.001, grade = "guessed"',
+                 ("simulation.dt_s", "'guessed'", "grade"), id="bad grade"),
+    pytest.param("[simulation]\n", '[simulation]\ndt_ms = { value = 1.0, grade = "assumed", source = "assumed" }\n',
+                 ("'dt_ms'", "[simulation]", "unknown key"), id="unknown key"),
+    pytest.param("[contacts.buttock_r]\n",
+                 '[contacts.buttock_r]\nstifness_N_per_m = { value = 1.0, grade = "assumed", source = "assumed" }\n',
+                 ("'stifness_N_per_m'", "contacts.buttock_r"), id="unknown key in a contact"),
+    pytest.param("[contacts.buttock_r]\nstiffness_N_per_m = { value = 60000.0",
+                 "[contacts.buttock_r]\nstiffness_N_per_m = { value = -60000.0",
+                 ("contacts.buttock_r.stiffness_N_per_m", "-60000.0", "positive"), id="negative contact stiffness"),
+    pytest.param("roll = { stiffness_Nm_per_rad = 40.0,", "roll = { stiffness_Nm_per_rad = -90.0,",
+                 ("joints.upper_neck.roll.stiffness_Nm_per_rad", "-90.0", "negative"), id="negative joint stiffness"),
+    pytest.param('grade = "literature", source = "paper" }', 'grade = "literature", source = "nowhere" }',
+                 ("simulation.dt_s", "'nowhere'", "[sources]"), id="unknown source"),
+    pytest.param('settle_s = { value = 10.0, grade = "assumed", source = "assumed" }',
+                 'settle_s = { value = 10.0, grade = "assumed", source = "assumed"', ("TOML",), id="invalid TOML"),
+])
+def test_one_bad_edit_one_sentence(tmp_path, old, new, words):
+    msg = _load_error(tmp_path, _replace_once(old, new))
+    for w in words:
+        assert w in msg, (w, msg)
 
 
 def test_missing_file_names_it(tmp_path):

@@ -155,18 +155,16 @@ class SlaveCore:
             "params_file", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed, start="",
             description="parameter file (TOML) to use instead of the embedded set; empty: embedded",
             getter=lambda: self.params_file, setter=self._set_params_file))
-        k = 0
-        for p in POINTS:
-            for suffix, _, _, desc in _POINT_OUTPUTS:
-                slave.register_variable(Real(f"{p}_{suffix}", causality=Fmi2Causality.output,
-                                             variability=Fmi2Variability.continuous, description=f"{p}: {desc}",
-                                             getter=lambda k=k: self.y[k]))
-                k += 1
+        point_outputs = [(p, suffix, desc) for p in POINTS for suffix, _, _, desc in _POINT_OUTPUTS]
+        for k, (p, suffix, desc) in enumerate(point_outputs):  # y[k] in OUTPUTS order
+            slave.register_variable(Real(f"{p}_{suffix}", causality=Fmi2Causality.output,
+                                         variability=Fmi2Variability.continuous, description=f"{p}: {desc}",
+                                         getter=lambda k=k: self.y[k]))
         slave.register_variable(Real("output_time_s", causality=Fmi2Causality.output,
                                      variability=Fmi2Variability.continuous,
                                      description="model time of the sample the outputs belong to [s] "
                                                  "(end of the communication step minus one model step)",
-                                     getter=lambda k=k: self.y[k]))
+                                     getter=lambda: self.y[-1]))
 
     def _set_params_file(self, value) -> None:
         self.params_file = str(value)
@@ -246,14 +244,8 @@ class SlaveCore:
 
     # ------------------------------------------------------------------ helpers
     def _outputs(self, state) -> None:
-        y = self.y
-        k = 0
-        for p in POINTS:
-            ps = getattr(state, p)
-            for _, field, j, _ in _POINT_OUTPUTS:
-                y[k] = getattr(ps, field)[j]
-                k += 1
-        y[k] = self.t0 + state.time_s
+        self.y[:-1] = [getattr(getattr(state, p), field)[j] for p in POINTS for _, field, j, _ in _POINT_OUTPUTS]
+        self.y[-1] = self.t0 + state.time_s
 
     def _log(self, msg: str, error: bool = False) -> None:
         from pythonfmu.enums import Fmi2Status

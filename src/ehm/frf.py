@@ -94,28 +94,17 @@ def read_frf_csv(path: Path | str) -> FrfTable:
     for col in ("input_axis", "point", "dof", "freq_hz", "gain"):
         if col not in table.header:
             raise InputError(f"{label}: missing column {col!r}.")
-    idx = {h: i for i, h in enumerate(table.header)}
     data: dict = {}
     weights: dict = {}
     for lineno, get in table.rows:
-        for col, allowed in (("input_axis", AXES), ("point", POINTS), ("dof", DOFS)):
-            if get[col] not in allowed:
-                raise InputError(
-                    f"{label}, line {lineno}, column {col}: unknown {col.replace('_', ' ')} {get[col]!r}; "
-                    f"use one of {', '.join(allowed)}."
-                )
+        key = tuple(table.choice(lineno, get, col, allowed, col.replace("_", " "))
+                    for col, allowed in (("input_axis", AXES), ("point", POINTS), ("dof", DOFS)))
 
         def number(col: str, optional: bool = False) -> float:
-            raw = get.get(col, "")
-            if raw == "" and optional:
+            """A number; NaN for an optional column that is absent or empty."""
+            if optional and get.get(col, "") == "":
                 return math.nan
-            try:
-                v = float(raw)
-            except ValueError:
-                raise InputError(f"{label}, line {lineno}, column {col}: {raw!r} is not a number.") from None
-            if not math.isfinite(v):
-                raise InputError(f"{label}, line {lineno}, column {col}: {raw!r} is not a finite number.")
-            return v
+            return table.number(lineno, get, col, None)
 
         f = number("freq_hz")
         if f <= 0:
@@ -123,8 +112,7 @@ def read_frf_csv(path: Path | str) -> FrfTable:
         g = number("gain")
         if g < 0:
             raise InputError(f"{label}, line {lineno}, column gain: gain {g:g} must not be negative.")
-        key = (get["input_axis"], get["point"], get["dof"])
-        w = number("weight", optional=True) if "weight" in idx else 1.0
+        w = number("weight", optional=True)
         if math.isnan(w):
             w = 1.0
         if w < 0:
@@ -132,9 +120,8 @@ def read_frf_csv(path: Path | str) -> FrfTable:
         if key in weights and weights[key] != w:
             raise InputError(f"{label}, line {lineno}, column weight: the curve {'/'.join(key)} has two weights.")
         weights[key] = w
-        data.setdefault(key, []).append((lineno, f, g, number("phase_deg", True) if "phase_deg" in idx else math.nan,
-                                         number("coherence", True) if "coherence" in idx else math.nan,
-                                         number("gain_sd", True) if "gain_sd" in idx else math.nan))
+        data.setdefault(key, []).append((lineno, f, g, number("phase_deg", True), number("coherence", True),
+                                         number("gain_sd", True)))
     curves = {}
     for key, rows_ in data.items():
         rows_.sort(key=lambda r: r[1])
