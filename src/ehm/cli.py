@@ -90,7 +90,7 @@ def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"),
                    help="band of the random input [Hz] (default 0.1 12)")
-    p.add_argument("--dt", type=float, help="time step [s] (default from the parameter file: 0.001)")
+    p.add_argument("--dt", type=float, help="time step [s] (default from the parameter file: 0.0005)")
 
 
 def cmd_info(args) -> int:
@@ -447,6 +447,39 @@ def cmd_animate(args) -> int:
     return 0
 
 
+def cmd_check_step(args) -> int:
+    from .convergence import TOLERANCE, check_step
+
+    if args.dt is not None and not args.dt > 0:
+        raise InputError(f"--dt must be a positive time step in seconds, not {args.dt}.")
+    body_args = (args.segments, args.joints, args.contacts)
+    if any(body_args):
+        raise InputError("check-step uses the shipped body tables; --segments, --joints and --contacts are not "
+                         "supported here.")
+    check = check_step(args.params, dt_s=args.dt, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+                       size=_size(args), ratios=args.ratio)
+    rows = check.rows()
+    ratios = sorted(check.errors, reverse=True)
+    if args.json:
+        print(json.dumps({"dt_s": check.dt_s, "tolerance_pct": 100 * TOLERANCE, "paths": rows,
+                          "worst": {f"step_over_{r}": {"path": list(check.worst(r)[0]),
+                                                       "error_pct": 100 * check.worst(r)[1]} for r in ratios}},
+                         indent=1))
+        return 0
+    head = "".join(f"  vs dt/{r:<3d}" for r in ratios)
+    print(f"time step {check.dt_s * 1e3:g} ms; error = largest |gain difference| / peak gain, 0.2-12 Hz")
+    print(f"{'path':<24s}{'peak':>14s}{head}")
+    for row in rows:
+        path = f"seat {row['input_axis']} -> {row['point']} {row['dof']}"
+        errs = "".join(f"  {row[f'error_vs_step_over_{r}_pct']:6.2f} %  " for r in ratios)
+        print(f"{path:<24s}{row['peak_gain']:7.3g} @{row['peak_hz']:5.2f}{errs}")
+    (k, e) = check.worst(ratios[0])
+    verdict = "converged" if e <= TOLERANCE else "NOT converged"
+    print(f"worst: seat {k[0]} -> {k[1]} {k[2]}, {100 * e:.2f} % against dt/{ratios[0]}: {verdict} "
+          f"(tolerance {100 * TOLERANCE:g} %)")
+    return 0
+
+
 def cmd_params(args) -> int:
     params = Parameters.load(args.params)
     if args.export:
@@ -588,6 +621,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-frames", type=int, metavar="N", help="stop after N frames")
     p.set_defaults(func=cmd_animate)
 
+    p = sub.add_parser("check-step", help="transfer functions at a time step against the same model at finer steps")
+    _model_options(p)
+    p.add_argument("--dt", type=float, help="time step to check [s] (default from the parameter file: 0.0005)")
+    p.add_argument("--ratio", type=int, nargs="+", default=[8, 4], help="finer steps as divisors (default: 8 4)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_check_step)
+
     p = sub.add_parser("params", help="print or export the parameter file")
     p.add_argument("--params", metavar="FILE.toml", help="parameter file to read (default: the shipped defaults)")
     p.add_argument("--export", metavar="FILE.toml", help="write it to a file")
@@ -595,10 +635,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings as one sentence on stderr, without the source line."""
+    print(f"ehm: warning: {message}", file=sys.stderr if file is None else file)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the ``ehm`` command; returns the exit code."""
+    import warnings
+
     parser = build_parser()
     args = parser.parse_args(argv)
+    warnings.showwarning = _show_warning
     try:
         return args.func(args)
     except EhmError as exc:

@@ -16,9 +16,15 @@ the tests):
 * Contacts are explicit ellipsoid-plane pairs with a linear spring and damper on penetration (direct
   solref scaled by the pair's inverse weight, tiny constant impedance), elliptic friction cones and
   the NoSlip solver; seat and backrest ellipsoids ride on soft-tissue pads (two tangential slide
-  springs) so that friction neither creeps nor locks.
+  springs) so that friction neither creeps nor locks.  The pads' slide joints carry an armature
+  (``simulation.pad_armature_kg``): the NoSlip solver makes a pad stick for the mass matrix M, while the
+  implicit integrator advances with M + h D; with a 0.3 kg pad alone a 600 N s/m shear damper gives
+  h D / M of 1 to 2, and the "stuck" pad moved (14 % error on seat-to-pelvis paths at 1 ms).
+* Point accelerations are taken from the integrated motion (velocity change over the step plus the seat
+  acceleration, :func:`point_accelerations`), not from MuJoCo's acceleration sensors, which report the
+  explicit acceleration of the step's start.
 * Seat translation is applied as a d'Alembert load: the seat stays put and gravity becomes
-  ``g0 - a_seat(t)``.  Absolute accelerations are then ``framelinacc + g0``.
+  ``g0 - a_seat(t)``.
 """
 
 from __future__ import annotations
@@ -219,6 +225,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     # inertia exactly as in the table.
     pads = {s.name: [c for c in body.contacts if c.segment == s.name and c.tissue_pad] for s in body.segments}
     pad_mass = {c.name: float(params.value(f"contacts.{c.name}.pad_mass_kg")) for c in body.contacts if c.tissue_pad}
+    pad_armature = float(sim["pad_armature_kg"])
 
     children: dict[str, list] = {}
     for j in body.joints:
@@ -289,7 +296,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
                 cs = float(params.value(f"contacts.{c.name}.shear_damping_Ns_per_m"))
                 for i, t in enumerate(seat.tangents(c.surface)):
                     holder.add_joint(name=f"pad_{c.name}.t{i + 1}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=t,
-                                     stiffness=ks, damping=cs)
+                                     stiffness=ks, damping=cs, armature=pad_armature)
                 segment_bodies[seg_name].append(f"pad_{c.name}")
                 gpos = np.zeros(3)
             else:
@@ -458,7 +465,10 @@ def support_forces(model: Model, d: mujoco.MjData) -> dict:
     return out
 
 
-SENSOR_KINDS = ("framelinacc", "frameangacc", "framepos", "framequat", "frameangvel")  #: Per output point.
+#: Per output point.  ``framelinvel`` and ``frameangvel`` give the accelerations (see :func:`point_accelerations`);
+#: ``framelinacc`` and ``frameangacc`` are MuJoCo's explicit accelerations, kept because an acceleration sensor makes
+#: MuJoCo compute the contact forces on each body (``cfrc_ext``, the support forces) in every step.
+SENSOR_KINDS = ("framelinacc", "frameangacc", "framepos", "framequat", "framelinvel", "frameangvel")
 
 
 def sliding_contacts(model: Model, d: mujoco.MjData, ratio: float = 0.98) -> list[str]:
@@ -509,11 +519,43 @@ def set_state(model: Model, d: mujoco.MjData, state: np.ndarray) -> None:
     mujoco.mj_setState(model.mj, d, state, mujoco.mjtState.mjSTATE_INTEGRATION)
 
 
-def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool = False) -> np.ndarray:
-    """Advance one time step with a seat acceleration (static seat); returns the sensor data of the step.
+def evaluate_velocities(model: Model, d: mujoco.MjData) -> np.ndarray:
+    """Velocity-stage kinematics and sensors of the current state of ``d``; returns ``d.sensordata``.
 
-    The same operations as one iteration of :func:`run`, so stepping reproduces whole runs exactly.
-    ``check`` tests for divergence after the step.
+    After :func:`mujoco.mj_step` the sensors hold the step's start state; this brings the velocity sensors
+    (``framelinvel``, ``frameangvel``) to the new state without changing the state (the next step recomputes
+    everything), so that the acceleration of the step can be taken from them (:func:`point_accelerations`).
+    """
+    mj = model.mj
+    mujoco.mj_kinematics(mj, d)
+    mujoco.mj_comPos(mj, d)
+    mujoco.mj_comVel(mj, d)
+    mujoco.mj_sensorVel(mj, d)
+    return d.sensordata
+
+
+def point_accelerations(v_lin: np.ndarray, v_ang: np.ndarray, seat_acc_mps2: np.ndarray, dt_s: float):
+    """Absolute translational and angular acceleration of a point over each step, from its velocities.
+
+    ``v_lin`` and ``v_ang`` (n + 1, 3) are the point's linear [m/s] and angular [rad/s] velocity in world
+    axes at the start of steps 0 ... n (the last one: after the last step); ``seat_acc_mps2`` (n, 3) is the
+    seat's acceleration held over each step, world axes.  Returns (n, 3) arrays [m/s^2], [rad/s^2].
+
+    These are the accelerations of the motion the integrator produces.  MuJoCo's acceleration sensors report
+    the explicit acceleration M^-1 f at the start of the step, whereas the implicit integrator advances the
+    velocity with (M + h D)^-1 f; where the damping h D is not small against the inertia M (neck, spine,
+    tissue pads) the two differ by far more than the motion's own step error.
+    """
+    return np.diff(v_lin, axis=0) / dt_s + seat_acc_mps2, np.diff(v_ang, axis=0) / dt_s
+
+
+def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Advance one time step with a seat acceleration (static seat).
+
+    Returns the sensor data of the step's start state and the sensor data after :func:`evaluate_velocities`
+    of its end state (velocity sensors valid), from which :func:`point_accelerations` gives the step's
+    accelerations.  The same operations as one iteration of :func:`run`, so stepping reproduces whole runs
+    exactly.  ``check`` tests for divergence after the step.
     """
     g = model.mj.opt.gravity
     g[:] = G0 - seat_acc_mps2
@@ -521,11 +563,12 @@ def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool 
         mujoco.mj_step(model.mj, d)
     finally:
         g[:] = G0
+    start = d.sensordata.copy()
     if check:
         why = _instability(model, d)
         if why:
             raise _diverged(model, d.time, why)
-    return d.sensordata
+    return start, evaluate_velocities(model, d)
 
 
 @dataclass(frozen=True)
@@ -536,9 +579,11 @@ class RawRun:
     ----------
     time_s : (n,) array
     sensors : dict
-        ``<point>_framelinacc`` (proper acceleration in the seat frame, [m/s^2]), ``<point>_frameangacc``
-        (angular acceleration, seat axes [rad/s^2]), ``<point>_framepos`` [m],
-        ``<point>_framequat`` (w, x, y, z), each (n, 3) or (n, 4).
+        ``<point>_acc`` (absolute translational acceleration over each step, world axes [m/s^2]),
+        ``<point>_angacc`` (angular acceleration, world axes [rad/s^2]), both from
+        :func:`point_accelerations`; and the raw sensors of each step's start state:
+        ``<point>_framepos`` [m], ``<point>_framequat`` (w, x, y, z), ``<point>_framelinvel`` [m/s],
+        ``<point>_frameangvel`` [rad/s], each (n, 3) or (n, 4).
     support_N : dict
         Force of each seat surface on the body, (n, 3) [N].
     """
@@ -646,7 +691,13 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
             raise _diverged(model, d.time, why)
     finally:
         mj.opt.gravity[:] = G0
-    sensors = {name: sens[:, sl] for name, sl in sensor_slices(model).items()}
+    slices = sensor_slices(model)
+    end = evaluate_velocities(model, d)
+    sensors = {name: sens[:, sl] for name, sl in slices.items()}
+    for p in POINTS:
+        lin, ang = slices[f"{p}_framelinvel"], slices[f"{p}_frameangvel"]
+        sensors[f"{p}_acc"], sensors[f"{p}_angacc"] = point_accelerations(
+            np.vstack([sens[:, lin], end[lin]]), np.vstack([sens[:, ang], end[ang]]), acc, mj.opt.timestep)
     support = {s: -forces[:, b - lo, :] for s, b in model.surface_bodies.items()}
     poses = {"step": pose_steps, "pos": pose_pos, "quat": pose_quat} if pose_every else None
     return RawRun(time_s=np.arange(n) * mj.opt.timestep, sensors=sensors, support_N=support, poses=poses)
@@ -659,13 +710,15 @@ OUTPUT_DOFS = ("ax", "ay", "az", "x", "y", "z", "roll", "pitch", "yaw", "roll_ac
 
 @dataclass(frozen=True)
 class LinearModel:
-    """Discrete-time linear model around the settled posture: x+ = A x + B u, y = C x + D u.
+    """Discrete-time linear model around the settled posture: x+ = A x + B u, y = y0 + C x + D u.
 
     The state x is MuJoCo's tangent-space state (qpos tangent, qvel, act) relative to the settled state;
-    the input u is the seat acceleration (x, y, z) [m/s^2]; the outputs y are, for each point, the absolute
-    acceleration [m/s^2], displacement [m], rotation (roll, pitch, yaw) [rad] and angular acceleration
-    [rad/s^2], named ``<point>.<dof>``
-    with dof in :data:`OUTPUT_DOFS`.  Contacts are linearised as they are at rest: all stuck.
+    the input u is the seat acceleration (x, y, z) [m/s^2].  The outputs are, per point, ``<point>.<dof>``
+    with dof in :data:`OUTPUT_DOFS`: absolute acceleration [m/s^2], displacement [m], rotation (roll, pitch,
+    yaw) [rad] and angular acceleration [rad/s^2], the accelerations over the step as in
+    :func:`point_accelerations`; then ``support.<group>.f{x,y,z}``, the force of each support group
+    (:data:`SUPPORT_GROUPS`) on the body [N].  ``y0`` holds the outputs in the settled state (the support
+    forces carry the body's weight there).  Contacts are linearised as they are at rest: all stuck.
     """
 
     A: np.ndarray
@@ -675,9 +728,12 @@ class LinearModel:
     dt_s: float
     output_names: tuple
     input_names: tuple = ("x", "y", "z")
+    y0: np.ndarray | None = None
 
 
-def _outputs(d: mujoco.MjData, ref: dict, slices: dict) -> np.ndarray:
+def _state_outputs(model: Model, d: mujoco.MjData, ref: dict, slices: dict) -> np.ndarray:
+    """Outputs of the state whose sensors ``d`` holds (a step's start): per point displacement, rotation
+    vector, linear and angular velocity (world axes); then the support forces by group."""
     out = []
     for p in POINTS:
         vals = {kind: d.sensordata[slices[f"{p}_{kind}"]] for kind in SENSOR_KINDS}
@@ -687,14 +743,19 @@ def _outputs(d: mujoco.MjData, ref: dict, slices: dict) -> np.ndarray:
         mujoco.mju_mulQuat(qrel, vals["framequat"], q0inv)
         rotvec = np.empty(3)
         mujoco.mju_quat2Vel(rotvec, qrel, 1.0)
-        out += [vals["framelinacc"] + G0, vals["framepos"] - ref[p][0], rotvec, vals["frameangacc"]]
+        out += [vals["framepos"] - ref[p][0], rotvec, vals["framelinvel"], vals["frameangvel"]]
+    forces = support_forces(model, d)
+    out += [sum(forces[s] for s in surfaces if s in forces) for surfaces in SUPPORT_GROUPS.values()]
     return np.concatenate(out)
 
 
 def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
     """Linearise the settled model by central finite differences of one time step.
 
-    Costs 2 (n_state + 3) time steps (a few milliseconds).
+    The state outputs (positions, rotations, velocities, support forces of a step's start state) are
+    differentiated directly; the accelerations are the velocity change over the step plus the seat
+    acceleration, exactly as :func:`run` computes them: with V the velocity rows, C_acc = (V A - V) / h and
+    D_acc = V B / h (+ the identity for the seat acceleration).  Costs 2 (n_state + 3) time steps.
     """
     mj = model.mj
     if model.settled is None:
@@ -720,30 +781,51 @@ def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
             mujoco.mj_step(mj, d)
         finally:
             mj.opt.gravity[:] = G0
-        y = _outputs(d, ref, slices)
+        y = _state_outputs(model, d, ref, slices)
         x_next = np.empty(nx)
         mujoco.mj_differentiatePos(mj, x_next[:nv], 1.0, s["qpos"], d.qpos)
         x_next[nv:2 * nv] = d.qvel - s["qvel"]
         x_next[2 * nv:] = d.act - s["act"]
         return x_next, y
 
-    x0, y0 = evaluate(np.zeros(nx), np.zeros(3))
+    _, y0 = evaluate(np.zeros(nx), np.zeros(3))
     ny = y0.size
-    A, C = np.empty((nx, nx)), np.empty((ny, nx))
-    B, D = np.empty((nx, 3)), np.empty((ny, 3))
+    A, Cs = np.empty((nx, nx)), np.empty((ny, nx))
+    B, Ds = np.empty((nx, 3)), np.empty((ny, 3))
     for i in range(nx):
         e = np.zeros(nx)
         e[i] = eps
         xp, yp = evaluate(e, np.zeros(3))
         xm, ym = evaluate(-e, np.zeros(3))
         A[:, i] = (xp - xm) / (2 * eps)
-        C[:, i] = (yp - ym) / (2 * eps)
+        Cs[:, i] = (yp - ym) / (2 * eps)
     for k in range(3):
         e = np.zeros(3)
         e[k] = eps * 1e3  # seat acceleration perturbation [m/s^2]
         xp, yp = evaluate(np.zeros(nx), e)
         xm, ym = evaluate(np.zeros(nx), -e)
         B[:, k] = (xp - xm) / (2 * e[k])
-        D[:, k] = (yp - ym) / (2 * e[k])
-    names = tuple(f"{p}.{dof}" for p in POINTS for dof in OUTPUT_DOFS)
-    return LinearModel(A=A, B=B, C=C, D=D, dt_s=float(mj.opt.timestep), output_names=names)
+        Ds[:, k] = (yp - ym) / (2 * e[k])
+    return _with_accelerations(A, B, Cs, Ds, y0, float(mj.opt.timestep))
+
+
+def _with_accelerations(A, B, Cs, Ds, y0, dt):
+    """Rearrange the state outputs of :func:`linearize` into :data:`OUTPUT_DOFS` per point plus the support
+    forces, adding the acceleration rows (velocity change over the step, plus the seat acceleration)."""
+    rows_C, rows_D, rows_y0, names = [], [], [], []
+    for i, p in enumerate(POINTS):
+        base = 12 * i  # displacement 3, rotation 3, linear velocity 3, angular velocity 3
+        disp, rot, lin, ang = (slice(base + 3 * j, base + 3 * j + 3) for j in range(4))
+        acc_C = lambda v: (Cs[v] @ A - Cs[v]) / dt  # noqa: E731
+        acc_D = lambda v: Cs[v] @ B / dt  # noqa: E731
+        rows_C += [acc_C(lin), Cs[disp], Cs[rot], acc_C(ang)]
+        rows_D += [acc_D(lin) + np.eye(3), Ds[disp], Ds[rot], acc_D(ang)]
+        rows_y0 += [np.zeros(3), y0[disp], y0[rot], np.zeros(3)]
+        names += [f"{p}.{dof}" for dof in OUTPUT_DOFS]
+    forces = slice(12 * len(POINTS), None)
+    rows_C.append(Cs[forces])
+    rows_D.append(Ds[forces])
+    rows_y0.append(y0[forces])
+    names += [f"support.{g}.f{a}" for g in SUPPORT_GROUPS for a in "xyz"]
+    return LinearModel(A=A, B=B, C=np.vstack(rows_C), D=np.vstack(rows_D), dt_s=dt, output_names=tuple(names),
+                       y0=np.concatenate(rows_y0))

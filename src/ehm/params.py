@@ -25,10 +25,10 @@ _META = ("grade", "source", "bounds", "grades", "sources")
 
 #: Numeric keys allowed in each section, with the check they must pass.
 _SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "back_slide_s": "nonnegative", "noslip_iterations": "count",
-               "solver_iterations": "count", "contact_impedance": "fraction"}
+               "solver_iterations": "count", "contact_impedance": "fraction", "pad_armature_kg": "nonnegative"}
 #: Keys a file may leave out (added after files were first exported), with the value they then take; load()
 #: fills them in (grade assumed, source "ehm").
-OPTIONAL = {"simulation.back_slide_s": 0.0}
+OPTIONAL = {"simulation.back_slide_s": 0.0, "simulation.pad_armature_kg": 0.0}
 _POSTURE = {"integral_time_s": "positive", "integral_joints": "joints"}
 _SEAT = {"pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
          "backrest_x_m": "finite", "lower_pad_height_m": "finite", "lower_pad_thickness_m": "nonnegative",

@@ -156,6 +156,8 @@ def scale_params(params: Parameters, size: BodySize, body: Body | None = None) -
                 updates[path] = v * g_m / math.sqrt(L)
             elif key == "pad_mass_kg":
                 updates[path] = v * g_m
+        elif path == "simulation.pad_armature_kg":  # an inertia of the pads' shear motion: scales as their mass
+            updates[path] = v * g_m
         elif parts[0] == "seat" and path.endswith("_m"):
             name = parts[1]
             if name == "floor_height_m":  # the floor sits under the feet: pelvis-to-floor height is legs

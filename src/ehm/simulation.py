@@ -186,12 +186,23 @@ class SeatedHuman:
         Build the seat so that it can rotate (for motions with angular velocity; about 40 % slower).
     size : ehm.scaling.BodySize, optional
         Scale the person (and the seat's fit) to a stature, mass and sitting height.
+    dt_s : float, optional
+        Time step [s] (default: the parameter file's, 0.5 ms for the shipped defaults).  A step coarser
+        than the one at which the model is converged gives a :class:`ehm.convergence.StepWarning` with the
+        error to expect; ``ehm check-step`` measures it.
     """
 
     def __init__(self, params: Parameters | str | Path | None = None, lock=(), unlock=(),
-                 body: Body | None = None, rotating_seat: bool = False, size=None):
+                 body: Body | None = None, rotating_seat: bool = False, size=None, dt_s: float | None = None):
+        from .convergence import warn_if_coarse
+
         self.body = body if body is not None else load_body()
         self.params = params if isinstance(params, Parameters) else Parameters.load(params)
+        if dt_s is not None:
+            if not (isinstance(dt_s, (int, float)) and np.isfinite(dt_s) and dt_s > 0):
+                raise InputError(f"dt_s must be a positive time step in seconds, not {dt_s!r}.")
+            self.params = self.params.with_values({"simulation.dt_s": float(dt_s)})
+        warn_if_coarse(float(self.params.value("simulation.dt_s")))
         if size is not None:  # an individual body size (ehm.scaling.BodySize)
             from .scaling import scale_body, scale_params
 
@@ -312,13 +323,13 @@ class SeatedHuman:
             settled_pos, settled_quat = poses[p]
             world = Rotation.from_quat(raw.sensors[f"{p}_framequat"], scalar_first=True)
             rel = (world if seat_rot is None else seat_rot.inv() * world) * Rotation.from_quat(settled_quat, scalar_first=True).inv()
-            acc_world = raw.sensors[f"{p}_framelinacc"] + engine.G0[None, :]
+            acc_world = raw.sensors[f"{p}_acc"]
             points[p] = PointMotion(
                 name=p,
                 acc_mps2=to_seat(acc_world),
                 disp_m=to_seat(raw.sensors[f"{p}_framepos"] - pivot) - (settled_pos - pivot),
                 rot_rad=rel.as_euler("ZYX")[:, ::-1].copy(),
-                angacc_radps2=to_seat(raw.sensors[f"{p}_frameangacc"]),
+                angacc_radps2=to_seat(raw.sensors[f"{p}_angacc"]),
                 angvel_radps=world.inv().apply(raw.sensors[f"{p}_frameangvel"]),
                 gia_mps2=world.inv().apply(acc_world - engine.G0[None, :]),
             )
