@@ -131,7 +131,10 @@ def cmd_simulate(args) -> int:
     else:
         human = _human(args)
         motion = _motion(args, float(human.params.value("simulation.dt_s")))
-    run = human.simulate(motion, pose_rate_hz=25.0)
+    if args.method == "linear":
+        run = human.simulate(motion, method="linear")
+    else:
+        run = human.simulate(motion, pose_rate_hz=25.0)
     paths = run.write(args.out)
     if args.plot:
         from .plotting import plot_time_histories
@@ -194,7 +197,7 @@ def cmd_frf(args) -> int:
         table = linear_frf(human, args.axis, freq_hz=np.arange(band[0], band[1] + 1e-9, args.df))
     else:
         table = time_domain_frf(human, args.axis, duration_s=args.duration, rms_mps2=args.rms, seed=args.seed,
-                                band_hz=band)
+                                band_hz=band, route=args.route)
     table.to_csv(args.out)
     print(f"wrote {args.out}: {len(table.curves)} curves ({args.method} method)")
     return 0
@@ -325,11 +328,11 @@ def cmd_assess(args) -> int:
     from .report import write_report
 
     motion = load_motion_csv(drive_path(args.motion))
-    human = _human(args, rotating_seat=motion.angvel_radps is not None)
+    human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
     params = human.params
     out = Path(args.out)
     _writable_dir(out, "output")
-    result = assess(motion, human, progress=_progress_bar("assess"))
+    result = assess(motion, human, progress=_progress_bar("assess"), method=args.method)
     summary = result.summary()
     summary["params"] = params.origin
     summary["locked"] = sorted(human.locked)
@@ -512,6 +515,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--motion", metavar="FILE.csv", help="seat acceleration file (time_s, ax_mps2, ay_mps2, az_mps2)")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     p.add_argument("--plot", action="store_true", help="also draw time_histories.png")
+    p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
+                   help="simulation route: nonlinear (MuJoCo, default) or linear (the linearised person: about 1000x "
+                        "faster, translation only, refuses inputs that make a contact lift off or slide)")
     p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser("demo", help="x, y and z random vibration of the default model, with plots")
@@ -527,6 +533,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--axis", default="all", choices=("x", "y", "z", "all"), help="input axis (default all)")
     p.add_argument("--method", default="linear", choices=("time", "linear"), help="estimation route (default linear)")
     p.add_argument("--df", type=float, default=0.05, help="frequency step of the linear method [Hz] (default 0.05)")
+    p.add_argument("--route", choices=("nonlinear", "linear"), default="nonlinear",
+                   help="simulation route of the time method's runs (default nonlinear)")
     p.add_argument("--out", required=True, metavar="FRF.csv")
     p.set_defaults(func=cmd_frf)
 
@@ -573,6 +581,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="drive file (time_s, ax_mps2, ay_mps2, az_mps2 [, wx_radps, wy_radps, wz_radps]) "
                         "or 'city' / 'road' for the shipped SYNTHETIC drives")
     p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
+                   help="simulation route (default nonlinear; linear: translation only, small inputs)")
     p.set_defaults(func=cmd_assess)
 
     p = sub.add_parser("realtime", help="step the model paced to the wall clock; report per-step latency")

@@ -717,7 +717,8 @@ class LinearModel:
     with dof in :data:`OUTPUT_DOFS`: absolute acceleration [m/s^2], displacement [m], rotation (roll, pitch,
     yaw) [rad] and angular acceleration [rad/s^2], the accelerations over the step as in
     :func:`point_accelerations`; then ``support.<group>.f{x,y,z}``, the force of each support group
-    (:data:`SUPPORT_GROUPS`) on the body [N].  ``y0`` holds the outputs in the settled state (the support
+    (:data:`SUPPORT_GROUPS`) on the body [N]; then ``contact.<name>.fn``, ``.ft1``, ``.ft2``, the normal and
+    tangential forces [N] of each contact that touches at rest (contact frame, see :func:`contact_forces`).  ``y0`` holds the outputs in the settled state (the support
     forces carry the body's weight there).  Contacts are linearised as they are at rest: all stuck.
     """
 
@@ -729,9 +730,12 @@ class LinearModel:
     output_names: tuple
     input_names: tuple = ("x", "y", "z")
     y0: np.ndarray | None = None
+    #: Per point, linear then angular velocity (world axes) as outputs of the state: rows of C and D.
+    velocity_C: np.ndarray | None = None
+    velocity_D: np.ndarray | None = None
 
 
-def _state_outputs(model: Model, d: mujoco.MjData, ref: dict, slices: dict) -> np.ndarray:
+def _state_outputs(model: Model, d: mujoco.MjData, ref: dict, slices: dict, contacts: list) -> np.ndarray:
     """Outputs of the state whose sensors ``d`` holds (a step's start): per point displacement, rotation
     vector, linear and angular velocity (world axes); then the support forces by group."""
     out = []
@@ -746,16 +750,40 @@ def _state_outputs(model: Model, d: mujoco.MjData, ref: dict, slices: dict) -> n
         out += [vals["framepos"] - ref[p][0], rotvec, vals["framelinvel"], vals["frameangvel"]]
     forces = support_forces(model, d)
     out += [sum(forces[s] for s in surfaces if s in forces) for surfaces in SUPPORT_GROUPS.values()]
+    out.append(contact_forces(model, d, contacts))
     return np.concatenate(out)
 
 
-def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
+def contact_forces(model: Model, d: mujoco.MjData, names) -> np.ndarray:
+    """Normal and the two tangential force components [N] (contact frame) of the named contacts now, in that
+    order per contact; zeros for a contact that does not touch."""
+    out = np.zeros(3 * len(names))
+    index = {n: i for i, n in enumerate(names)}
+    f6 = np.zeros(6)
+    for i in range(d.ncon):
+        k = index.get(_contact_name(model, d.contact[i]))
+        if k is not None:
+            mujoco.mj_contactForce(model.mj, d, i, f6)
+            out[3 * k:3 * k + 3] += f6[:3]
+    return out
+
+
+def touching_contacts(model: Model) -> list[str]:
+    """Names (contacts.csv) of the contacts that touch in the settled state, with friction (the linear model
+    holds them stuck)."""
+    d = settled_data(model)
+    return sorted({_contact_name(model, d.contact[i]) for i in range(d.ncon) if d.contact[i].dim >= 3})
+
+
+def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None) -> LinearModel:
     """Linearise the settled model by central finite differences of one time step.
 
-    The state outputs (positions, rotations, velocities, support forces of a step's start state) are
-    differentiated directly; the accelerations are the velocity change over the step plus the seat
-    acceleration, exactly as :func:`run` computes them: with V the velocity rows, C_acc = (V A - V) / h and
-    D_acc = V B / h (+ the identity for the seat acceleration).  Costs 2 (n_state + 3) time steps.
+    The state outputs (positions, rotations, velocities, support forces and the forces of the touching
+    contacts at a step's start state) are differentiated directly; the accelerations are the velocity change
+    over the step plus the seat acceleration, exactly as :func:`run` computes them: with V the velocity rows,
+    C_acc = (V A - V) / h and D_acc = V B / h (+ the identity for the seat acceleration).  ``step_s``
+    linearises one step of another length h around the same settled state (default: the model's step).
+    Costs 2 (n_state + 3) time steps.
     """
     mj = model.mj
     if model.settled is None:
@@ -763,6 +791,9 @@ def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
     s = model.settled
     ref = settled_point_poses(model)
     slices = sensor_slices(model)
+    contacts = touching_contacts(model)
+    own_step = float(mj.opt.timestep)
+    h = own_step if step_s is None else float(step_s)
     d = new_data(model)
     nv, na = mj.nv, mj.na
     nx = 2 * nv + na
@@ -777,11 +808,13 @@ def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
         d.act[:] = s["act"] + dx[2 * nv:]
         d.qacc_warmstart[:] = warm
         mj.opt.gravity[:] = G0 - du
+        mj.opt.timestep = h
         try:
             mujoco.mj_step(mj, d)
         finally:
             mj.opt.gravity[:] = G0
-        y = _state_outputs(model, d, ref, slices)
+            mj.opt.timestep = own_step
+        y = _state_outputs(model, d, ref, slices, contacts)
         x_next = np.empty(nx)
         mujoco.mj_differentiatePos(mj, x_next[:nv], 1.0, s["qpos"], d.qpos)
         x_next[nv:2 * nv] = d.qvel - s["qvel"]
@@ -806,10 +839,10 @@ def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
         xm, ym = evaluate(np.zeros(nx), -e)
         B[:, k] = (xp - xm) / (2 * e[k])
         Ds[:, k] = (yp - ym) / (2 * e[k])
-    return _with_accelerations(A, B, Cs, Ds, y0, float(mj.opt.timestep))
+    return _with_accelerations(A, B, Cs, Ds, y0, h, contacts)
 
 
-def _with_accelerations(A, B, Cs, Ds, y0, dt):
+def _with_accelerations(A, B, Cs, Ds, y0, dt, contacts):
     """Rearrange the state outputs of :func:`linearize` into :data:`OUTPUT_DOFS` per point plus the support
     forces, adding the acceleration rows (velocity change over the step, plus the seat acceleration)."""
     rows_C, rows_D, rows_y0, names = [], [], [], []
@@ -827,5 +860,11 @@ def _with_accelerations(A, B, Cs, Ds, y0, dt):
     rows_D.append(Ds[forces])
     rows_y0.append(y0[forces])
     names += [f"support.{g}.f{a}" for g in SUPPORT_GROUPS for a in "xyz"]
+    names += [f"contact.{c}.{k}" for c in contacts for k in ("fn", "ft1", "ft2")]
     return LinearModel(A=A, B=B, C=np.vstack(rows_C), D=np.vstack(rows_D), dt_s=dt, output_names=tuple(names),
-                       y0=np.concatenate(rows_y0))
+                       y0=np.concatenate(rows_y0), velocity_C=Cs[_velocity_rows()], velocity_D=Ds[_velocity_rows()])
+
+
+def _velocity_rows() -> np.ndarray:
+    """Rows of the per-point linear and angular velocities among the state outputs of :func:`linearize`."""
+    return np.concatenate([np.arange(12 * i + 6, 12 * i + 12) for i in range(len(POINTS))])

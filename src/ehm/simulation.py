@@ -243,12 +243,36 @@ class SeatedHuman:
         """Let the person sink into the seat (done automatically before the first run)."""
         engine.settle(self.model)
 
-    def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None) -> RunResult:
-        """Run the settled person with a seat motion (resampled to the model's time step).
+    def linear_model(self):
+        """The person linearised at the settled posture, continuous time (:func:`ehm.linear.continuous_model`;
+        computed once, about 0.1 s after settling)."""
+        if getattr(self, "_linear", None) is None:
+            from .linear import continuous_model
 
-        A motion with angular velocity needs a person built with ``rotating_seat=True``.  For long drives
-        use :meth:`stream`, which holds one chunk at a time.
+            if self.model.seat is not None:
+                raise InputError("the linear route models a static seat; build the person without rotating_seat.")
+            self._linear = continuous_model(self.model)
+        return self._linear
+
+    def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None,
+                 method: str = "nonlinear") -> RunResult:
+        """Run the settled person with a seat motion.
+
+        ``method="nonlinear"`` (default) steps the MuJoCo model (the motion resampled to the model's time
+        step); a motion with angular velocity needs a person built with ``rotating_seat=True``; for long
+        drives use :meth:`stream`, which holds one chunk at a time.  ``method="linear"`` runs the person
+        linearised at rest, exactly discretised at the motion's own step (:mod:`ehm.linear`): about a
+        thousand times faster, for translation inputs small enough that no contact lifts off or slides
+        (checked while it runs: :class:`ehm.linear.LinearRouteError` otherwise).
         """
+        if method == "linear":
+            if not isinstance(motion, SeatMotion):
+                raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
+            from .linear import simulate_linear
+
+            return simulate_linear(self, motion)
+        if method != "nonlinear":
+            raise InputError(f"method must be 'nonlinear' or 'linear', not {method!r}.")
         chunks = list(self.stream(motion, progress=progress, pose_rate_hz=pose_rate_hz))
         first = chunks[0]
         cat = lambda get: np.concatenate([get(c) for c in chunks])  # noqa: E731
@@ -263,14 +287,23 @@ class SeatedHuman:
                              **{k: v for k, v in first.poses.items() if k not in ("time_s", "pos", "quat")},
                              **{k: cat(lambda c, k=k: c.poses[k]) for k in ("time_s", "pos", "quat")}})
 
-    def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None):
+    def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
+               method: str = "nonlinear"):
         """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
 
         Memory stays constant whatever the motion's length: the motion is interpolated onto the model's time
-        step one chunk at a time.  ``progress(done_s, total_s)`` is called after every chunk.
+        step one chunk at a time.  ``progress(done_s, total_s)`` is called after every chunk.  ``method`` as
+        for :meth:`simulate` (the linear route runs at the motion's own step; no poses).
         """
         if not isinstance(motion, SeatMotion):
             raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
+        if method == "linear":
+            from .linear import stream_linear
+
+            yield from stream_linear(self, motion, chunk_s=chunk_s, progress=progress)
+            return
+        if method != "nonlinear":
+            raise InputError(f"method must be 'nonlinear' or 'linear', not {method!r}.")
         if motion.angvel_radps is not None and self.model.seat is None:
             raise InputError("this motion rotates the seat (it has angular velocities); build the person with "
                              "SeatedHuman(rotating_seat=True).")
