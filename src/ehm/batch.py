@@ -19,6 +19,7 @@ A study file (TOML) names what varies and what to compute::
     axes = ["x", "y", "z"]      # transmissibility: seat axes (linear model; method = "time" for runs)
     drive = "city"              # comfort: "city", "road", a drive file, or "random" (vibration of `axes`)
     duration_s = 30.0
+    route = "nonlinear"         # simulation route of runs: "nonlinear" (MuJoCo) or "linear" (ehm.linear)
 
 Every run is recorded (its inputs, and its outputs or its error) in ``OUT/runs/<id>.json`` as soon as it
 ends, so an interrupted study resumes without redoing finished runs; at the end all runs are gathered
@@ -105,7 +106,7 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
         if not isinstance(v, list) or not v:
             raise InputError(f"{label}: [grid] {k!r} must be a non-empty list of values.")
     inp = dict(doc.get("input", {}))
-    allowed_input = {"axes", "method", "drive", "duration_s", "rms_mps2", "seed"}
+    allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed"}
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
@@ -127,6 +128,8 @@ def _check_input(label: str, inp: dict) -> None:
     """The [input] values, checked before any cluster starts (every run would trip over them)."""
     if inp.get("method", "linear") not in ("linear", "time"):
         raise InputError(f"{label}: [input] method {inp['method']!r}: use \"linear\" or \"time\".")
+    if inp.get("route", "nonlinear") not in ("nonlinear", "linear"):
+        raise InputError(f"{label}: [input] route {inp['route']!r}: use \"nonlinear\" or \"linear\".")
     axes = inp.get("axes", ["x"])
     if not isinstance(axes, list) or not axes or any(a not in ("x", "y", "z") for a in axes) or len(set(axes)) < len(axes):
         raise InputError(f"{label}: [input] axes {axes!r}: use a list of distinct axes from \"x\", \"y\", \"z\".")
@@ -214,7 +217,8 @@ def run_one(spec: RunSpec) -> dict:
             axes = inp.get("axes", ["x", "y", "z"])
             for axis in axes:
                 if inp.get("method", "linear") == "time":
-                    table = time_domain_frf(human, axis, duration_s=float(inp.get("duration_s", 30.0)))
+                    table = time_domain_frf(human, axis, duration_s=float(inp.get("duration_s", 30.0)),
+                                            route=inp.get("route", "nonlinear"))
                     record["simulated_s"] += float(inp.get("duration_s", 30.0))
                 else:
                     table = linear_frf(human, axis)
@@ -227,9 +231,10 @@ def run_one(spec: RunSpec) -> dict:
             from .assessment import assess
 
             motion = _drive(inp, float(params.value("simulation.dt_s")))
+            route = inp.get("route", "nonlinear")
             human = SeatedHuman(params=params, lock=spec.lock, size=size,
-                                rotating_seat=motion.angvel_radps is not None)
-            result = assess(motion, human)
+                                rotating_seat=motion.angvel_radps is not None and route != "linear")
+            result = assess(motion, human, method=route)
             record["simulated_s"] += motion.duration_s
             summary = result.summary()
             for loc, v in summary["locations"].items():
