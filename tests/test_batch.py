@@ -45,14 +45,14 @@ def test_study_runs_records_failures_and_resumes(tmp_path, capsys):
     assert by_height[1.85] < by_height[1.60]
     # resume: nothing is redone; a lost record is redone alone
     assert run_study(specs, out, workers=1)["ran"] == 0
-    (out / "runs" / f"{specs[0].run_id}.json").unlink()
+    (out / "runs" / f"{specs[0].point_id}.json").unlink()
     assert run_study(specs, out, workers=1)["ran"] == 1
     assert len(pq.read_table(out / "results.parquet").to_pylist()) == len(table)
     # failures are kept on resume unless retried; a lost worker's run is always redone
     res = run_study(specs, out, workers=1, retry_failed=True)
     assert res["ran"] == 2 and res["failed"] == 2
-    failed_id = errors[0]["run_id"]
-    rec_path = out / "runs" / f"{failed_id}.json"
+    failed = next(s for s in specs if s.run_id == errors[0]["run_id"])
+    rec_path = out / "runs" / f"{failed.point_id}.json"
     rec = json.loads(rec_path.read_text())
     rec_path.write_text(json.dumps({**rec, "error": "worker failed: connection lost"}))
     assert run_study(specs, out, workers=1)["ran"] == 1
