@@ -687,8 +687,17 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     finally:
         _end_progress_line()
+        _report_mujoco_warnings()
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
+
+
+def _report_mujoco_warnings() -> None:
+    """MuJoCo's warnings that did not end a run (those that did are in the error sentence), one line each."""
+    from .engine import take_warnings
+
+    for text in dict.fromkeys(take_warnings()):
+        print(f"ehm: note: MuJoCo warned: {text}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -276,13 +276,13 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     moved = tuple(p for p, a, b in zip(free_paths, x0, x_end) if abs(math.expm1(b - a)) > MOVED_REL)
     x_end = np.array([b if p in moved else a for p, a, b in zip(free_paths, x0, x_end)])  # others: start values
     crit_after = search.final_total(x_end) if moved else crit_before
-    fitted = objective.params_at(x_end) if moved else base
+    final = {p: float(math.exp(v)) if p in moved else float(base.value(p)) for p, v in zip(free_paths, x_end)}
+    fitted = base.with_values({p: final[p] for p in moved}) if moved else base
     crit_time = crit_time_before = None
     if time_check and moved and crit_after < crit_before:
         crit_time_before = _time_criterion(objective, base, body, lock, unlock, band_hz)
         crit_time = _time_criterion(objective, fitted, body, lock, unlock, band_hz)
-    start = {p: float(math.exp(v)) for p, v in zip(free_paths, x0)}
-    final = {p: float(base.value(p)) if p not in moved else float(math.exp(v)) for p, v in zip(free_paths, x_end)}
+    start = {p: float(base.value(p)) for p in free_paths}
     result = FitResult(params=fitted, free=tuple(free_paths), start=start, final=final, crit_before=crit_before,
                        crit_after=crit_after, crit_after_time=crit_time, trace=search.trace, status=status,
                        message=message, n_eval=search.n_eval, wall_s=time.perf_counter() - t0, stopped=stopped,

@@ -110,16 +110,26 @@ def check_output_file(path: Path | str, what: str = "output file") -> Path:
 
 @contextlib.contextmanager
 def signals_held():
-    """Hold SIGINT and SIGTERM back (delivered on leaving) where the platform allows it (main thread)."""
-    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+    """Hold SIGINT and SIGTERM back while inside: they are noted and handled on leaving (by the handlers that
+    were in place), so that what happens inside is not cut short.  Only the main thread handles signals; in
+    other threads this does nothing."""
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
-    held = {signal.SIGINT, signal.SIGTERM}
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    pending: list[int] = []
+    held = (signal.SIGINT, signal.SIGTERM)
+    previous = {s: signal.signal(s, lambda signum, frame: pending.append(signum)) for s in held}
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        for s, handler in previous.items():
+            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+        for s in pending:
+            handler = previous[s]
+            if callable(handler):
+                handler(s, None)
+            elif handler in (signal.SIG_DFL, None):
+                os.kill(os.getpid(), s)
 
 
 _RENAME_EXCHANGE = 2
@@ -160,7 +170,7 @@ def remove_stale(target: Path) -> None:
     if not parent.is_dir():
         return
     for pattern in (_STAGING, _OLD):
-        prefix = pattern.format(name=target.name, pid="")
+        prefix = pattern.format(name=target.name, pid="").removesuffix("-")
         for entry in parent.glob(glob_escape(prefix) + "*"):
             pid = entry.name[len(prefix):].split("-", 1)[0]
             if pid.isdigit() and int(pid) != os.getpid() and not _alive(int(pid)):

@@ -27,7 +27,7 @@ from .errors import InputError
 DEFAULT_OUTPUT_RATE_HZ = 200.0  #: Rows per second of ``timeseries.csv`` written by ``ehm simulate`` by default.
 FORMATS = ("csv", "parquet")  #: Time-series file formats.
 PREVIEW_ROWS = 20000  #: Most rows kept in memory for the figure of a streamed run.
-_ROW_GROUP_ROWS = 50000  #: Rows per Parquet row group (memory held before a group is written).
+_ROW_GROUP_ROWS = 10000  #: Rows per Parquet row group (at most this many rows are held before they are written).
 _CSV_FORMAT = "%.9g"  #: As :func:`ehm.io.write_csv_atomic`: 9 significant digits.
 _POSE_KEYS = ("time_s", "pos", "quat")
 
@@ -156,8 +156,8 @@ class _ParquetStream:
 
     def flush(self) -> None:
         if self.pending:
-            block = np.concatenate(self.pending)
-            self.writer.write_table(self.pa.table({h: block[:, j] for j, h in enumerate(self.header)}))
+            self.writer.write_table(self.pa.table({h: self.pa.chunked_array([b[:, j] for b in self.pending])
+                                                   for j, h in enumerate(self.header)}))
         self.pending, self.rows = [], 0
 
     def close(self) -> None:

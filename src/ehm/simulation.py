@@ -321,7 +321,11 @@ class SeatedHuman:
             geometry = {f"geometry_{k}": v for k, v in engine.drawing_geometry(self.model).items()}
         for start in range(0, n_total, per_chunk):
             t = np.arange(start, min(n_total, start + per_chunk)) * dt
-            acc_seat = np.column_stack([np.interp(t, t_rel, motion.acc_mps2[:, j]) for j in range(3)])
+            # the samples around this chunk only (the same interpolation as over the whole motion, without
+            # whole-motion temporaries)
+            near = slice(max(0, int(np.searchsorted(t_rel, t[0], side="right")) - 1),
+                         int(np.searchsorted(t_rel, t[-1], side="left")) + 1)
+            acc_seat = np.column_stack([np.interp(t, t_rel[near], motion.acc_mps2[near, j]) for j in range(3)])
             if rotating:
                 angles, rates, accs = kin.at(t)
                 R = seat_rotation_matrices(angles)
