@@ -605,8 +605,8 @@ static fmi2Status run_steps(Ehm *e, long long n, int initial) {
         e->outputs_valid = 1;
         return fmi2OK;
     }
-    if (s.why) snprintf(e->failed, sizeof e->failed, "the simulation diverged at t = %.4f s (%s); try a smaller time step "
-                        "than dt = %g s or check the stiffness and damping parameters", e->t0 + e->d->time, s.why, e->dt);
+    if (s.why) snprintf(e->failed, sizeof e->failed, "the simulation diverged at t = %.4f s (%s): the seat input may be "
+                        "more than a seated, unbelted person withstands, or try a smaller time step than dt = %g s", e->t0 + e->d->time, s.why, e->dt);
     if (initial) mj_setState(e->m, e->d, e->scratch, mjSTATE_INTEGRATION);
     LOG_ERROR(e, "%s; reset the unit (fmi2Reset) or instantiate it again.", e->failed);
     return fmi2Error;
