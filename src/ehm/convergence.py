@@ -170,7 +170,7 @@ def check_step(params: Parameters | str | None = None, dt_s: float | None = None
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", StepWarning)  # the coarse step is what is being checked
             human = SeatedHuman(params=params, lock=lock, unlock=unlock, size=size, dt_s=step_s)
-        return linear_frf(human, freq_hz=f)
+        return linear_frf(human, freq_hz=f, discrete=True)
 
     tables = {r: table(dt / r) for r in ratios}
     finest = tables[max(ratios)]

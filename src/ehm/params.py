@@ -235,7 +235,11 @@ class Parameters:
         sources = d.get("sources", {})
         if not isinstance(sources, dict):
             raise InputError(f"{label}: [sources] must be a table of source names and citations.")
-        for section in ("simulation", "posture", "seat", "joints", "contacts"):
+        required = ("simulation", "posture", "seat", "joints", "contacts")
+        if not any(isinstance(d.get(section), dict) for section in required):
+            raise InputError(f"{label}: not an ehm parameter file (none of its sections [{'], ['.join(required)}]); "
+                             "write one with 'ehm params --export FILE.toml'.")
+        for section in required:
             if not isinstance(d.get(section), dict):
                 raise InputError(f"{label}: missing section [{section}].")
         unknown = set(d) - {"about", "sources", "simulation", "posture", "seat", "joints", "contacts"}

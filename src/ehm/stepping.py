@@ -269,20 +269,21 @@ def run_realtime(sim: Simulator, acc_mps2: np.ndarray, pace: bool = True, on_ste
     overruns = 0
     dt = sim.dt_s
     t0 = time.perf_counter()
-    for i, a in enumerate(acc):
-        start = time.perf_counter()
-        state = sim.step(a)
-        end = time.perf_counter()
-        lat[i] = end - start
-        deadline = t0 + (i + 1) * dt
-        if pace:
-            if end > deadline:
-                overruns += 1
-            else:  # spin (sleeping lets the core cool down and doubles the next step's latency)
-                while time.perf_counter() < deadline:
-                    pass
-        if on_step is not None:
-            on_step(state)
+    with engine.captured_warnings():  # MuJoCo's warnings go into ehm's divergence sentence, not to the terminal
+        for i, a in enumerate(acc):
+            start = time.perf_counter()
+            state = sim.step(a)
+            end = time.perf_counter()
+            lat[i] = end - start
+            deadline = t0 + (i + 1) * dt
+            if pace:
+                if end > deadline:
+                    overruns += 1
+                else:  # spin (sleeping lets the core cool down and doubles the next step's latency)
+                    while time.perf_counter() < deadline:
+                        pass
+            if on_step is not None:
+                on_step(state)
     wall = time.perf_counter() - t0
     return RealtimeReport(n_steps=acc.shape[0], median_s=float(np.median(lat)), p99_s=float(np.percentile(lat, 99)),
                           worst_s=float(lat.max()), overruns=overruns, wall_s=wall)
