@@ -122,9 +122,10 @@ static void logmsg(Ehm *e, fmi2Status status, const char *category, const char *
 /* ------------------------------------------------- MuJoCo errors and warnings: into the host's log, no exit */
 /* MuJoCo reports fatal errors through the global mju_user_error (by default: print and exit the process) and
  * warnings through mju_user_warning (by default: print and append to MUJOCO_LOG.TXT).  While this unit is
- * inside a MuJoCo call, the handlers below turn an error into an fmi2Error of the call (longjmp back) and a
- * warning into a log message; outside (another MuJoCo user in the same process) they pass on to the handlers
- * that were installed before.  They are installed with the first instance and removed with the last. */
+ * inside MuJoCo (guarded() below), its own handlers are installed: an error becomes an fmi2Error of the call
+ * (longjmp back out of MuJoCo) and a warning a log message.  Outside, the handlers that were there before
+ * (the host's, if it uses MuJoCo too) are back in place; a call of another thread meanwhile is passed on to
+ * them. */
 
 static _Thread_local jmp_buf *guard_jump = NULL;
 static _Thread_local Ehm *guard_ehm = NULL;
@@ -176,20 +177,20 @@ static void handlers_release(void) {
     pthread_mutex_unlock(&handlers_lock);
 }
 
-/* Run work(e, arg) with MuJoCo errors caught; returns work's result, or -1 after a MuJoCo error (the reason
- * is then in e->failed). */
+/* Run work(e, arg) inside MuJoCo with this unit's handlers; returns work's result, or -1 after a MuJoCo
+ * error (the reason is then in e->failed). */
 static int guarded(Ehm *e, int (*work)(Ehm *, void *), void *arg) {
     jmp_buf here;
-    jmp_buf *volatile outer_jump = guard_jump;
-    Ehm *volatile outer_ehm = guard_ehm;
     volatile int rc = -1;
+    handlers_acquire();
     if (setjmp(here) == 0) {
         guard_jump = &here;
         guard_ehm = e;
         rc = work(e, arg);
     }
-    guard_jump = outer_jump;
-    guard_ehm = outer_ehm;
+    guard_jump = NULL;
+    guard_ehm = NULL;
+    handlers_release();
     return rc;
 }
 
@@ -657,7 +658,6 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         free(e);
         return NULL;
     }
-    handlers_acquire();
     if (load_resources(e, fmuResourceLocation) == 0) {
         if (guarded(e, settled_work, NULL) < 0) LOG_ERROR(e, "%s.", e->failed);
         LOG_INFO(e, "ehm seated human on MuJoCo %s: %d degrees of freedom (MuJoCo), model step %g s.",
@@ -682,7 +682,6 @@ void fmi2FreeInstance(fmi2Component c) {
     if (!e) return;
     free_model(e);
     free(e);
-    handlers_release();
 }
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
