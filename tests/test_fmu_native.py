@@ -379,6 +379,25 @@ def test_two_instances_reinstantiation_and_fmu_state(unit):
         b.freeInstance()
 
 
+def test_resource_path_with_spaces_and_host_clock_round_off(unit, tmp_path):
+    # fmpy passes resources/ as a percent-encoded file: URI; a host adding h to its clock carries round-off.
+    copy = tmp_path / "a folder with spaces"
+    shutil.copytree(unit[1], copy)
+    s = _slave(unit, "spaces", copy)
+    try:
+        _start(s)
+        h, t = 10 * s_dt(unit), 0.0
+        for _ in range(30):
+            s.setReal([VR["seat_az_mps2"]], [0.3])
+            s.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+            t += h
+        assert t != 30 * h  # the clock did drift from the exact multiple, and the unit accepted it
+        assert s.getRealStatus(fmpy.fmi2.fmi2LastSuccessfulTime) == pytest.approx(30 * h, abs=1e-12)
+        assert np.isfinite(s.getReal(ALL_OUT)).all()
+    finally:
+        s.freeInstance()
+
+
 def _drive_at(s, seat, t, h):
     return _drive(s, [seat], t, h)[0]
 
