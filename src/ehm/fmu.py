@@ -27,7 +27,7 @@ Interface (all Real unless noted; seat axes x forward, y left, z up):
   ``<p>_{x,y,z}_m`` and angular velocity in the segment's own axes ``<p>_w{x,y,z}_radps``; and
   ``output_time_s``, the model time of the sample the outputs belong to.
 
-Timing: ``doStep(t, h)`` runs round(h / dt) model steps (dt = 1 ms by default) with the inputs held at
+Timing: ``doStep(t, h)`` runs round(h / dt) model steps (dt from the parameter file) with the inputs held at
 their values at t.  Each model step reports the sample at its start (the response to that step's input,
 as a whole run reports its row), so after ``doStep(t, h)`` the outputs are the sample at t + h - dt, and
 ``output_time_s`` says so.  Before the first step they are the response at the start time to the start
