@@ -98,7 +98,7 @@ def main() -> None:
         host_src = tmp / "fmu_host.c"
         host_src.write_bytes(resources.files("ehm").joinpath("native", "fmu_host.c").read_bytes())
         host = tmp / "fmu_host"
-        subprocess.run([cc, "-std=c11", "-O2", "-I", str(fmu_native.fmi_headers()), str(host_src), "-o", str(host),
+        subprocess.run([*cc, "-std=c11", "-O2", "-I", str(fmu_native.fmi_headers()), str(host_src), "-o", str(host),
                         "-ldl"], check=True)
         inp = tmp / "road.csv"
         rows = min(args.steps, acc.shape[0])
@@ -123,7 +123,7 @@ def main() -> None:
         only = tmp / "mujoco_only"
         (tmp / "mujoco_only.c").write_text(MUJOCO_ONLY_C)
         libmujoco = unit / "binaries" / fmu_native.PLATFORM / lib["library"].name
-        subprocess.run([cc, "-O2", "-I", str(lib["include_dir"]), str(tmp / "mujoco_only.c"), "-o", str(only),
+        subprocess.run([*cc, "-O2", "-I", str(lib["include_dir"]), str(tmp / "mujoco_only.c"), "-o", str(only),
                         str(libmujoco), f"-Wl,-rpath,{libmujoco.parent}"], check=True)
         state = {line.split()[0]: line.split()[2:] for line in
                  (unit / "resources" / fmu_native.STATE_RESOURCE).read_text().splitlines()

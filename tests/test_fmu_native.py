@@ -66,7 +66,7 @@ def host(tmp_path_factory):
     src = folder / "fmu_host.c"
     src.write_bytes(resources.files("ehm").joinpath("native", "fmu_host.c").read_bytes())
     exe = folder / "fmu_host"
-    subprocess.run([CC, "-std=c11", "-O2", "-I", str(fmu_native.fmi_headers()), str(src), "-o", str(exe), "-ldl"],
+    subprocess.run([*CC, "-std=c11", "-O2", "-I", str(fmu_native.fmi_headers()), str(src), "-o", str(exe), "-ldl"],
                    check=True, capture_output=True, text=True)
     return exe
 
@@ -428,7 +428,7 @@ def test_export_errors(tmp_path, monkeypatch, capsys):
     monkeypatch.setenv("CC", "no-such-cc")
     with pytest.raises(InputError, match="no-such-cc"):
         fmu_native.find_compiler()
-    monkeypatch.setenv("CC", CC)
+    monkeypatch.setenv("CC", CC[0])
     original = fmu_native._native_file
     monkeypatch.setattr(fmu_native, "_native_file",  # a C source that does not compile
                         lambda name: b"this is not C;\n" if name == fmu_native.C_SOURCE else original(name))

@@ -29,6 +29,7 @@ import hashlib
 import json
 import os
 import platform
+import shlex
 import shutil
 import subprocess
 import sys
@@ -89,18 +90,20 @@ def native_platform_supported() -> bool:
     return sys.platform.startswith("linux") and platform.machine().lower() in ("x86_64", "amd64")
 
 
-def find_compiler() -> str:
-    """The C compiler to build with: ``$CC``, else ``cc``, ``gcc`` or ``clang`` on ``PATH``."""
-    cc = os.environ.get("CC", "").strip()
-    if cc:
-        found = shutil.which(cc.split()[0])
+def find_compiler() -> list[str]:
+    """The C compiler command to build with: ``$CC`` (it may carry words, e.g. ``ccache gcc``), else ``cc``,
+    ``gcc`` or ``clang`` on ``PATH``."""
+    words = shlex.split(os.environ.get("CC", ""))
+    if words:
+        found = shutil.which(words[0])
         if found is None:
-            raise InputError(f"the C compiler named by CC ({cc!r}) was not found; set CC to an installed compiler.")
-        return found
+            raise InputError(f"the C compiler named by CC ({' '.join(words)!r}) was not found; set CC to an installed "
+                             "compiler.")
+        return [found, *words[1:]]
     for name in ("cc", "gcc", "clang"):
         found = shutil.which(name)
         if found:
-            return found
+            return [found]
     raise InputError("building the native FMU needs a C compiler (cc, gcc or clang on PATH, or CC set), and none "
                      "was found: install one (e.g. 'apt install gcc') or export with --python.")
 
@@ -222,20 +225,20 @@ def _model_description(guid: str, dt_s: float, description: str) -> bytes:
 
 
 # ------------------------------------------------------------------------------------------------ build
-def compile_binary(cc: str, sources: Path, fmi_dir: Path, mujoco_include: Path, libmujoco: Path, out: Path) -> None:
+def compile_binary(cc: list, sources: Path, fmi_dir: Path, mujoco_include: Path, libmujoco: Path, out: Path) -> None:
     """Compile ``sources/ehm_fmu.c`` into the shared library ``out``, linked to ``libmujoco`` (a file in the same
     folder as ``out``) with an ``$ORIGIN`` run path; raises :class:`InputError` with the compiler's first error."""
-    cmd = [cc, "-std=c11", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-Wall", "-Wextra",
+    cmd = [*cc, "-std=c11", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-Wall", "-Wextra",
            "-I", str(sources), "-I", str(fmi_dir), "-I", str(mujoco_include), str(sources / C_SOURCE),
            "-o", str(out), str(libmujoco), "-Wl,-rpath,$ORIGIN", "-Wl,--disable-new-dtags", "-lm", "-pthread"]
     try:
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=COMPILE_TIMEOUT_S, cwd=out.parent)
     except (OSError, subprocess.TimeoutExpired) as exc:
-        raise InputError(f"the C compiler {cc} could not be run to build the FMU binary ({exc}).") from None
+        raise InputError(f"the C compiler {cc[0]} could not be run to build the FMU binary ({exc}).") from None
     if done.returncode != 0 or not out.is_file():
         lines = [ln for ln in (done.stderr or done.stdout).splitlines() if "error" in ln.lower()] or \
             (done.stderr or done.stdout or "no message").splitlines()
-        raise InputError(f"the C compiler {cc} could not build the FMU binary: {lines[0].strip()}")
+        raise InputError(f"the C compiler {cc[0]} could not build the FMU binary: {lines[0].strip()}")
 
 
 def export_native_fmu(out_path, human=None) -> Path:
