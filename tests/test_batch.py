@@ -45,14 +45,14 @@ def test_study_runs_records_failures_and_resumes(tmp_path, capsys):
     assert by_height[1.85] < by_height[1.60]
     # resume: nothing is redone; a lost record is redone alone
     assert run_study(specs, out, workers=1)["ran"] == 0
-    (out / "runs" / f"{specs[0].run_id}.json").unlink()
+    (out / "runs" / f"{specs[0].point_id}.json").unlink()
     assert run_study(specs, out, workers=1)["ran"] == 1
     assert len(pq.read_table(out / "results.parquet").to_pylist()) == len(table)
     # failures are kept on resume unless retried; a lost worker's run is always redone
     res = run_study(specs, out, workers=1, retry_failed=True)
     assert res["ran"] == 2 and res["failed"] == 2
-    failed_id = errors[0]["run_id"]
-    rec_path = out / "runs" / f"{failed_id}.json"
+    failed = next(s for s in specs if s.run_id == errors[0]["run_id"])
+    rec_path = out / "runs" / f"{failed.point_id}.json"
     rec = json.loads(rec_path.read_text())
     rec_path.write_text(json.dumps({**rec, "error": "worker failed: connection lost"}))
     assert run_study(specs, out, workers=1)["ran"] == 1
@@ -113,3 +113,107 @@ def test_fit_evaluates_candidates_on_a_dask_cluster():
         result = fit(data, free=["joints.t12.z.stiffness_N_per_m"], time_check=False,
                      executor=client.get_executor())
     assert result.final["joints.t12.z.stiffness_N_per_m"] == pytest.approx(21000.0, rel=0.01)
+
+
+def _drive_file(path, amplitude_mps2: float) -> None:
+    """A SYNTHETIC 4 s vertical drive at 100 Hz (2 Hz sine)."""
+    import numpy as np
+
+    t = np.round(np.arange(0, 4.0001, 0.01), 2)
+    rows = "".join(f"{a:g},0,0,{amplitude_mps2 * np.sin(2 * np.pi * 2 * a):.6g}\n" for a in t)
+    path.write_text("time_s,ax_mps2,ay_mps2,az_mps2\n" + rows)
+
+
+def test_changed_drive_file_reruns_and_is_counted(tmp_path, capsys):
+    drive = tmp_path / "drive.csv"
+    _drive_file(drive, 0.2)
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\ncompute = ["comfort"]\n[input]\ndrive = "{drive}"\nduration_s = 3.0\n')
+    out = tmp_path / "res"
+    assert main(["batch", str(study), "--out", str(out), "--workers", "1"]) == 0
+    first = {r["output"]: r["value"] for r in pq.read_table(out / "results.parquet").to_pylist()}
+    assert "ran 1 runs (0 already done, 0 failed)" in capsys.readouterr().out
+    assert main(["batch", str(study), "--out", str(out), "--workers", "1"]) == 0  # nothing changed: nothing reruns
+    assert "ran 0 runs (1 already done, 0 failed)" in capsys.readouterr().out
+    _drive_file(drive, 0.8)  # the same file name, four times the vibration
+    assert main(["batch", str(study), "--out", str(out), "--workers", "1"]) == 0
+    said = capsys.readouterr().out
+    assert "ran 1 runs (0 already done, 1 rerun because an input changed (drive file content), 0 failed)" in said
+    second = {r["output"]: r["value"] for r in pq.read_table(out / "results.parquet").to_pylist()}
+    # the seat's a_w follows the input: four times the amplitude (a linear weighting filter of the seat input)
+    assert second["seat.a_w_z_mps2"] == pytest.approx(4 * first["seat.a_w_z_mps2"], rel=1e-6)
+
+
+def test_run_id_covers_inputs_versions_and_parameter_values(tmp_path, monkeypatch):
+    import importlib.metadata
+
+    import ehm
+
+    drive = tmp_path / "drive.csv"
+    _drive_file(drive, 0.2)
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\ncompute = ["comfort"]\n[grid]\n"joints.t12.z.stiffness_N_per_m" = [15000.0]\n'
+                     f'[input]\ndrive = "{drive}"\n')
+    _, (base,) = load_study(study)
+
+    def changed(what: str):
+        _, (spec,) = load_study(study)
+        assert spec.point_id == base.point_id and spec.run_id != base.run_id, what
+        assert [k for k in spec.fingerprint if spec.fingerprint[k] != base.fingerprint[k]] == [what]
+
+    _drive_file(drive, 0.3)
+    changed("drive file content")
+    _drive_file(drive, 0.2)
+    monkeypatch.setattr(ehm, "__version__", "99.0")
+    changed("ehm version")
+    monkeypatch.undo()
+    real = importlib.metadata.version
+    monkeypatch.setattr(importlib.metadata, "version", lambda name: "0.0.1" if name == "mujoco" else real(name))
+    changed("MuJoCo version")
+    monkeypatch.undo()
+    # the parameter values actually used: the defaults with the grid's values (here a default changed under it)
+    from ehm import batch
+    from ehm.params import Parameters
+
+    batch._parameters_digest.cache_clear()
+    loaded = Parameters.load()
+    monkeypatch.setattr(Parameters, "load", classmethod(
+        lambda cls, path=None: loaded.with_values({"joints.t12.z.damping_Ns_per_m": 123.0})))
+    changed("parameter values")
+    batch._parameters_digest.cache_clear()
+
+
+def test_drives_are_cut_by_time_not_by_sample_count():
+    import numpy as np
+
+    from ehm.batch import cut_by_time
+    from ehm.motion import SeatMotion
+
+    # first interval 0.59 s, then 10 ms: a cut by the first interval's sample count kept 20 s for a 5 s request
+    t = np.concatenate([[0.0], np.round(np.arange(0.59, 20.0001, 0.01), 2)])
+    az = np.sin(t)
+    m = SeatMotion(t, np.column_stack([0 * t, 0 * t, az]), "synthetic", np.column_stack([0 * t, 0 * t, 0.1 * az]))
+    cut = cut_by_time(m, 5.0)
+    assert cut.duration_s == pytest.approx(5.0) and cut.time_s[-1] == pytest.approx(5.0)
+    assert np.array_equal(cut.time_s[:-1], t[t <= 5.0 + 1e-9][:-1])
+    cut = cut_by_time(m, 5.005)  # between two samples: one interpolated at exactly 5.005 s
+    assert cut.time_s[-1] == pytest.approx(5.005) and cut.acc_mps2[-1, 2] == pytest.approx(np.sin(5.005), abs=1e-4)
+    assert cut.angvel_radps[-1, 2] == pytest.approx(0.1 * np.sin(5.005), abs=1e-5)
+    assert cut_by_time(m, 30.0) is m  # shorter than asked: the whole drive
+    # a drive whose first interval is short ran for 0.59 s instead of 20 s
+    t2 = np.concatenate([[0.0, 0.001], np.round(np.arange(0.59, 20.0001, 0.59), 2)])
+    m2 = SeatMotion(t2, np.zeros((t2.size, 3)), "synthetic")
+    assert cut_by_time(m2, 10.0).duration_s == pytest.approx(10.0)
+
+
+def test_scheduler_address_and_reachability_are_one_sentence(tmp_path, capsys):
+    path = tmp_path / "study.toml"
+    path.write_text(STUDY.replace(", -1.0", ""))
+    out = tmp_path / "res"
+    assert main(["batch", str(path), "--out", str(out), "--scheduler", "nonsense"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "--scheduler 'nonsense'" in err and "tcp://HOST:PORT" in err
+    assert main(["batch", str(path), "--out", str(out), "--scheduler", "tcp://127.0.0.1:9"]) == 2  # nothing listens
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert err.startswith("ehm: error: cannot reach the Dask scheduler at tcp://127.0.0.1:9")
+    assert not out.exists()  # a failed study leaves no empty folder behind

@@ -122,3 +122,60 @@ def test_cli_fit_refuses_locked_joint_and_bad_budget(synthetic, tmp_path, capsys
     assert main(["fit", "--data", str(path), "--stature", "1.6", "--out", str(tmp_path / "f.toml")]) == 2
     assert "--stature/--mass/--sitting-height" in capsys.readouterr().err
     assert not (tmp_path / "f.toml").exists()
+
+
+def test_budget_is_never_exceeded_and_a_budget_stop_is_not_identified(synthetic):
+    # 3 free values: the start costs 1 evaluation and each iteration 3 finite-difference columns plus a
+    # candidate, so these budgets end the search at different points; none may be overrun.
+    data, _ = synthetic
+    for budget in (1, 4, 7):
+        r = fit(data, free=list(TRUE), time_check=False, workers=1, max_evals=budget)
+        assert r.n_eval <= budget and r.max_evals == budget
+        assert r.stopped == "budget" and r.identified == ()
+        assert "budget" in r.verdict and f"{r.n_eval} of {budget} evaluations" in r.verdict
+        assert r.final == r.start if not r.moved else r.crit_after < r.crit_before
+
+
+def test_budget_stopped_fit_exits_3_and_grades_moved_values_assumed(synthetic, tmp_path, capsys):
+    _, path = synthetic
+    out = tmp_path / "fit.toml"
+    code = main(["fit", "--data", str(path), "--free", *TRUE, "--no-time-check", "--workers", "1",
+                 "--max-evals", "9", "--out", str(out)])
+    assert code == 3
+    captured = capsys.readouterr()
+    verdict = [ln for ln in captured.err.splitlines() if ln.startswith("ehm: fit: ")]
+    assert len(verdict) == 1 and "stopped on its evaluation budget" in verdict[0] and "of 9 evaluations" in verdict[0]
+    fitted = Parameters.load(out)  # it moved and improved: written, but nothing is graded identified
+    doc = tomllib.loads(out.read_text())
+    assert doc["about"]["fit_stopped"] == "budget" and doc["about"]["fit_identified"] == []
+    assert doc["about"]["fit_evaluations"] <= 9
+    for p in TRUE:
+        grade, source = fitted.provenance(p)
+        assert grade != "identified"
+        if fitted.value(p) != Parameters.load().value(p):
+            assert grade == "assumed" and "stopped on its evaluation budget" in doc["sources"][source]
+
+
+def test_fit_that_cannot_improve_says_so_and_writes_nothing(tmp_path, capsys):
+    # SYNTHETIC gains of the default model itself: the start is already the optimum, nothing can move.
+    human = ehm.SeatedHuman()
+    human.settle()
+    table = linear_frf(human, "z", freq_hz=np.arange(0.5, 12.01, 0.5))
+    path = tmp_path / "own_gains.csv"
+    FrfTable({k: v for k, v in table.curves.items() if k[2] == "z"}, method="measured").to_csv(path)
+    out = tmp_path / "fit.toml"
+    assert main(["fit", "--data", str(path), "--free", "joints.t12.z.stiffness_N_per_m", "--workers", "1",
+                 "--out", str(out)]) == 3
+    captured = capsys.readouterr()
+    assert "without moving any free value" in captured.err and "nothing was identified" in captured.err
+    assert "(not moved)" in captured.out and "no parameter file written" in captured.out
+    assert not out.exists()
+
+
+def test_converged_fit_identifies_the_values_it_moved_and_validated(synthetic):
+    data, _ = synthetic
+    r = fit(data, free=["joints.t12.z.stiffness_N_per_m"], time_check=True, workers=1)
+    assert r.stopped == "converged" and r.moved == r.identified == ("joints.t12.z.stiffness_N_per_m",)
+    # validated: the time-domain criterion of the result is below the start's (same input, same estimator)
+    assert r.crit_after_time < r.crit_before_time and r.crit_after < r.crit_before
+    assert "converged" in r.verdict and r.n_eval <= r.max_evals

@@ -183,25 +183,28 @@ def test_json_self_reference(tmp_path):
     assert listing(tmp_path) == []
 
 
-def test_replace_atomically_figures_and_poses_get_umask_permissions(tmp_path):
-    # Figures (plotting) and pose files (RunResult.write) go through replace_atomically: new files get the
-    # permissions any new file gets (0o666 minus the umask), not the temporary file's private 0o600.
+def test_figures_and_run_folders_get_umask_permissions(tmp_path):
+    # Figures (plotting) go through replace_atomically, run folders through outdir.RunFolder: new files and
+    # folders get the permissions any new file or folder gets (0o666 / 0o777 minus the umask), not the private
+    # 0o600 / 0o700 of temporary files and folders.
     import matplotlib.pyplot as plt
 
+    from ehm.outdir import RunFolder
     from ehm.plotting import _save
-    from ehm.simulation import _write_npz_atomic
 
     old = os.umask(0o022)
     try:
         fig = plt.figure()
         _save(fig, tmp_path / "f.png")
-        _write_npz_atomic(tmp_path / "p.npz", {"a": np.arange(3)})
+        with RunFolder(tmp_path / "run") as tmp:
+            np.savez_compressed(tmp / "poses.npz", a=np.arange(3))
     finally:
         os.umask(old)
-    for name in ("f.png", "p.npz"):
-        assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o644, name
-    assert np.load(tmp_path / "p.npz")["a"].tolist() == [0, 1, 2]
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.png", "p.npz"]
+    assert stat.S_IMODE((tmp_path / "f.png").stat().st_mode) == 0o644
+    assert stat.S_IMODE((tmp_path / "run").stat().st_mode) == 0o755
+    assert stat.S_IMODE((tmp_path / "run" / "poses.npz").stat().st_mode) == 0o644
+    assert np.load(tmp_path / "run" / "poses.npz")["a"].tolist() == [0, 1, 2]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.png", "run"]
 
 
 def test_replace_atomically_failure_leaves_nothing(tmp_path):

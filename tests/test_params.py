@@ -39,11 +39,11 @@ def _load_error(tmp_path, text: str) -> str:
 def test_unedited_copy_loads(tmp_path):
     # Control: a byte-for-byte copy loads, so every failure below is due to its one edit.
     p = Parameters.load(_write(tmp_path, DEFAULT_TEXT))
-    assert p.value("simulation.dt_s") == 0.001  # paper section 3: 1 ms time step
+    assert p.value("simulation.dt_s") == 0.0005  # the converged step (README "Time step and accuracy")
 
 
 @pytest.mark.parametrize("old, new, words", [
-    pytest.param('dt_s = { value = 0.001, grade = "literature"', 'dt_s = { value = 0.001, grade = "guessed"',
+    pytest.param('dt_s = { value = 0.0005, grade = "assumed"', 'dt_s = { value = 0.0005, grade = "guessed"',
                  ("simulation.dt_s", "'guessed'", "grade"), id="bad grade"),
     pytest.param("[simulation]\n", '[simulation]\ndt_ms = { value = 1.0, grade = "assumed", source = "assumed" }\n',
                  ("'dt_ms'", "[simulation]", "unknown key"), id="unknown key"),
@@ -55,7 +55,8 @@ def test_unedited_copy_loads(tmp_path):
                  ("contacts.buttock_r.stiffness_N_per_m", "-60000.0", "positive"), id="negative contact stiffness"),
     pytest.param("roll = { stiffness_Nm_per_rad = 40.0,", "roll = { stiffness_Nm_per_rad = -90.0,",
                  ("joints.upper_neck.roll.stiffness_Nm_per_rad", "-90.0", "negative"), id="negative joint stiffness"),
-    pytest.param('grade = "literature", source = "paper" }', 'grade = "literature", source = "nowhere" }',
+    pytest.param('dt_s = { value = 0.0005, grade = "assumed", source = "convergence" }',
+                 'dt_s = { value = 0.0005, grade = "assumed", source = "nowhere" }',
                  ("simulation.dt_s", "'nowhere'", "[sources]"), id="unknown source"),
     pytest.param('settle_s = { value = 10.0, grade = "assumed", source = "assumed" }',
                  'settle_s = { value = 10.0, grade = "assumed", source = "assumed"', ("TOML",), id="invalid TOML"),
@@ -75,9 +76,9 @@ def test_missing_file_names_it(tmp_path):
 def test_export_load_round_trip_every_numeric_value(tmp_path):
     p = Parameters.load()
     paths = list(p.numeric_paths())
-    # The default file holds 6 simulation + 1 posture + 12 seat values, 25 joint DOFs x 2 (t12 z counts as one
-    # DOF), and 6 padded contacts x 6 + 2 feet x 3 + 4 bolster contacts x 3 values: 19 + 50 + 54 = 123.
-    assert len(paths) == 123
+    # The default file holds 7 simulation + 1 posture + 12 seat values, 25 joint DOFs x 2 (t12 z counts as one
+    # DOF), and 6 padded contacts x 6 + 2 feet x 3 + 4 bolster contacts x 3 values: 20 + 50 + 54 = 124.
+    assert len(paths) == 124
     out = tmp_path / "exported.toml"
     p.export(out)
     q = Parameters.load(out)

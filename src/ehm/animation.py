@@ -28,6 +28,8 @@ from __future__ import annotations
 
 import json
 import math
+import zipfile
+import zlib
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -81,8 +83,9 @@ def load_poses(source) -> dict:
         try:
             with np.load(path, allow_pickle=False) as npz:
                 poses = {k: npz[k] for k in npz.files}
-        except (OSError, ValueError, EOFError) as exc:
-            raise InputError(f"{path}: cannot read the poses file ({exc}).") from None
+        except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
+            raise InputError(f"{path}: cannot read it as a pose file: it is truncated, damaged or of another kind "
+                             f"({_first_line(exc)}); write the run again with 'ehm simulate ... --out RUN_DIR'.") from None
     missing = [k for k in _POSE_KEYS + _GEOMETRY_KEYS if k not in poses]
     if missing:
         raise InputError(f"{where}: missing {', '.join(missing)}; write the run again with "
@@ -101,6 +104,15 @@ def load_poses(source) -> dict:
         raise InputError(f"{where}: time_s does not increase.")
     poses.update(time_s=t, pos=pos, quat=quat)
     return poses
+
+
+def _first_line(exc: Exception) -> str:
+    text = str(exc).strip().splitlines()
+    if not text:
+        return type(exc).__name__
+    if "pickled" in text[0] or "allow_pickle" in text[0]:
+        return "it is not a NumPy .npz archive of plain arrays"
+    return text[0].rstrip(".")
 
 
 def _run_title(source) -> str | None:

@@ -115,7 +115,7 @@ def _block_means(x: np.ndarray, k: int) -> np.ndarray:
     return x[:n].reshape(n // k, k, *x.shape[1:]).mean(axis=1)
 
 
-def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None) -> Assessment:
+def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None, method: str = "nonlinear") -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
 
     Parameters
@@ -125,6 +125,9 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None)
     human : SeatedHuman, optional
         The person (default: the default person, with a rotating seat when the drive rotates).
     progress : callable(done_s, total_s), optional
+    method : str
+        ``nonlinear`` (default: MuJoCo) or ``linear`` (the linearised person, :mod:`ehm.linear`; translation
+        only, refuses drives that make a contact lift off or slide).
     """
     from .simulation import POINT_NAMES, SeatedHuman
 
@@ -133,8 +136,10 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None)
         raise InputError(f"the drive '{motion.description}' lasts {motion.duration_s:g} s; an assessment needs at "
                          "least 2 s (the running rms alone spans 1 s).")
     if human is None:
-        human = SeatedHuman(rotating_seat=rotating)
+        human = SeatedHuman(rotating_seat=rotating and method != "linear")
     dt = float(human.params.value("simulation.dt_s"))
+    if method == "linear":  # run on the model's step, so that the metrics see the same sample rate either way
+        motion = motion.resample(dt)
     fs = 1.0 / dt
     keep = max(1, int(round(fs / TRACE_RATE_HZ)))
     k_sick = max(1, int(round(fs / SICKNESS_RATE_HZ)))
@@ -150,7 +155,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None)
     g_seat = np.array([0.0, 0.0, 9.81])
     motion_t_rel = motion.time_s - motion.time_s[0]
     t0 = time.perf_counter()
-    for chunk in human.stream(motion, chunk_s=chunk_s, progress=progress):
+    for chunk in human.stream(motion, chunk_s=chunk_s, progress=progress, method=method):
         signals = {"seat": chunk.seat_acc_mps2, **{p: chunk.point(p).acc_mps2 for p in POINT_NAMES}}
         for loc, a_xyz in signals.items():
             for j, a in enumerate("xyz"):

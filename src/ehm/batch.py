@@ -19,24 +19,37 @@ A study file (TOML) names what varies and what to compute::
     axes = ["x", "y", "z"]      # transmissibility: seat axes (linear model; method = "time" for runs)
     drive = "city"              # comfort: "city", "road", a drive file, or "random" (vibration of `axes`)
     duration_s = 30.0
+    route = "nonlinear"         # simulation route of runs: "nonlinear" (MuJoCo) or "linear" (ehm.linear)
 
-Every run is recorded (its inputs, and its outputs or its error) in ``OUT/runs/<id>.json`` as soon as it
+Every run is recorded (its inputs, and its outputs or its error) in ``OUT/runs/<point>.json`` as soon as it
 ends, so an interrupted study resumes without redoing finished runs; at the end all runs are gathered
 into one tidy table ``OUT/results.parquet`` (and ``results.csv`` when asked) with one row per run and
 output.  A run that fails (diverges, bad parameters) is recorded with its error and does not stop the
 study.
+
+Records cannot go stale: a run's id (``run_id``) covers everything its answer depends on, the study point
+(person, grid values, locks, what to compute, the ``[input]`` settings) and a fingerprint of its inputs:
+the parameter values actually used, the content of the drive file and of the shipped body tables, and the
+ehm and MuJoCo versions.  A recorded run whose fingerprint differs from today's (a drive file edited, ehm
+upgraded) is run again, and :func:`run_study` counts those reruns and names what changed.
+
+A drive longer than ``duration_s`` is cut by time: the samples up to ``duration_s`` after its first, and
+one interpolated at exactly ``duration_s`` when no sample falls there (sample intervals may vary).
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import itertools
 import json
 import math
 import time
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from .errors import EhmError, InputError
 from .io import replace_atomically, write_json_atomic
@@ -54,6 +67,8 @@ class RunSpec:
     lock: tuple
     compute: tuple
     input: dict
+    point_id: str = ""    # the study point alone (its record's file name); run_id adds the input fingerprint
+    fingerprint: dict = field(default_factory=dict)  # input -> digest (parameters, drive, tables, versions)
 
     def inputs(self) -> dict:
         """The run's inputs as flat columns."""
@@ -105,28 +120,81 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
         if not isinstance(v, list) or not v:
             raise InputError(f"{label}: [grid] {k!r} must be a non-empty list of values.")
     inp = dict(doc.get("input", {}))
-    allowed_input = {"axes", "method", "drive", "duration_s", "rms_mps2", "seed"}
+    allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed"}
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
     _check_input(label, inp)
     _check_before_running(label, rows, grid, locks)
     name = str(study.get("name", Path(path).stem))
+    common = _common_fingerprint(inp, compute)
     specs = []
     for person in rows:
         for lock in locks:
             for combo in itertools.product(*grid.values()) if grid else [()]:
                 params = dict(zip(grid.keys(), combo))
                 key = json.dumps([person, params, sorted(lock), compute, inp], sort_keys=True)
-                run_id = hashlib.sha256(key.encode()).hexdigest()[:12]
-                specs.append(RunSpec(run_id, person, params, tuple(lock), compute, inp))
+                point_id = hashlib.sha256(key.encode()).hexdigest()[:12]
+                fingerprint = {"parameter values": _parameters_digest(json.dumps(params, sort_keys=True)),
+                               **common}
+                run_id = _digest(key, json.dumps(fingerprint, sort_keys=True))[:12]
+                specs.append(RunSpec(run_id, person, params, tuple(lock), compute, inp, point_id, fingerprint))
     return name, specs
+
+
+def _digest(*texts: str) -> str:
+    h = hashlib.sha256()
+    for t in texts:
+        h.update(t.encode())
+        h.update(b"\0")
+    return h.hexdigest()
+
+
+def _file_digest(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+@functools.lru_cache(maxsize=4096)
+def _parameters_digest(grid_values_json: str) -> str:
+    """Digest of every parameter value a run uses (the defaults with its grid values), before body scaling."""
+    from .params import Parameters
+
+    params = Parameters.load()
+    try:
+        params = params.with_values(json.loads(grid_values_json))
+    except InputError:  # the run will fail on these values (and be recorded so): the defaults and the values
+        return _digest(json.dumps(params.data, sort_keys=True, default=str), grid_values_json)
+    return _digest(json.dumps(params.data, sort_keys=True, default=str))
+
+
+def _common_fingerprint(inp: dict, compute: tuple) -> dict:
+    """Digests of the inputs all runs of a study share: versions, body tables, the drive file's content."""
+    from importlib import metadata, resources
+
+    from . import __version__
+
+    data = Path(str(resources.files("ehm") / "data"))
+    out = {"ehm version": __version__,
+           "MuJoCo version": metadata.version("mujoco"),
+           "body tables": _digest(*(_file_digest(data / f) for f in ("segments.csv", "joints.csv", "contacts.csv")))}
+    drive = inp.get("drive", "random")
+    if "comfort" in compute and drive != "random":
+        from .drives import drive_path
+
+        out["drive file content"] = _file_digest(drive_path(drive))
+    return out
 
 
 def _check_input(label: str, inp: dict) -> None:
     """The [input] values, checked before any cluster starts (every run would trip over them)."""
     if inp.get("method", "linear") not in ("linear", "time"):
         raise InputError(f"{label}: [input] method {inp['method']!r}: use \"linear\" or \"time\".")
+    if inp.get("route", "nonlinear") not in ("nonlinear", "linear"):
+        raise InputError(f"{label}: [input] route {inp['route']!r}: use \"nonlinear\" or \"linear\".")
     axes = inp.get("axes", ["x"])
     if not isinstance(axes, list) or not axes or any(a not in ("x", "y", "z") for a in axes) or len(set(axes)) < len(axes):
         raise InputError(f"{label}: [input] axes {axes!r}: use a list of distinct axes from \"x\", \"y\", \"z\".")
@@ -186,13 +254,27 @@ def _drive(inp: dict, dt_s: float):
     from .drives import drive_path
 
     motion = load_motion_csv(drive_path(drive))
-    if motion.duration_s > duration:
-        from .motion import SeatMotion
+    return cut_by_time(motion, duration)
 
-        n = int(round(duration / (motion.time_s[1] - motion.time_s[0]))) + 1
-        motion = SeatMotion(motion.time_s[:n], motion.acc_mps2[:n], motion.description,
-                            None if motion.angvel_radps is None else motion.angvel_radps[:n])
-    return motion
+
+def cut_by_time(motion, duration_s: float):
+    """The first ``duration_s`` of a motion: its samples up to ``duration_s`` after the first, plus one
+    interpolated at exactly ``duration_s`` when none falls there (sample intervals may vary)."""
+    from .motion import SeatMotion
+
+    t = motion.time_s - motion.time_s[0]
+    tol = 1e-9 * max(1.0, duration_s)
+    if t[-1] <= duration_s + tol:
+        return motion
+    n = int(np.searchsorted(t, duration_s + tol, side="right"))
+    rows = [np.asarray(a)[:n] for a in (motion.time_s, motion.acc_mps2, motion.angvel_radps) if a is not None]
+    if t[n - 1] < duration_s - tol:  # the cut falls between samples n - 1 and n
+        end = motion.time_s[0] + duration_s
+        extra = [np.array([end])] + [np.array([[np.interp(end, motion.time_s, a[:, j]) for j in range(3)]])
+                                     for a in (motion.acc_mps2, motion.angvel_radps) if a is not None]
+        rows = [np.concatenate([r, e]) for r, e in zip(rows, extra)]
+    angvel = rows[2] if motion.angvel_radps is not None else None
+    return SeatMotion(rows[0], rows[1], motion.description, angvel)
 
 
 def run_one(spec: RunSpec) -> dict:
@@ -214,7 +296,8 @@ def run_one(spec: RunSpec) -> dict:
             axes = inp.get("axes", ["x", "y", "z"])
             for axis in axes:
                 if inp.get("method", "linear") == "time":
-                    table = time_domain_frf(human, axis, duration_s=float(inp.get("duration_s", 30.0)))
+                    table = time_domain_frf(human, axis, duration_s=float(inp.get("duration_s", 30.0)),
+                                            route=inp.get("route", "nonlinear"))
                     record["simulated_s"] += float(inp.get("duration_s", 30.0))
                 else:
                     table = linear_frf(human, axis)
@@ -227,9 +310,10 @@ def run_one(spec: RunSpec) -> dict:
             from .assessment import assess
 
             motion = _drive(inp, float(params.value("simulation.dt_s")))
+            route = inp.get("route", "nonlinear")
             human = SeatedHuman(params=params, lock=spec.lock, size=size,
-                                rotating_seat=motion.angvel_radps is not None)
-            result = assess(motion, human)
+                                rotating_seat=motion.angvel_radps is not None and route != "linear")
+            result = assess(motion, human, method=route)
             record["simulated_s"] += motion.duration_s
             summary = result.summary()
             for loc, v in summary["locations"].items():
@@ -276,15 +360,25 @@ def write_table(records: list[dict], out: Path, csv: bool = False) -> Path:
     return path
 
 
-def _needs_run(record_path: Path, retry_failed: bool) -> bool:
-    """Whether a run must (re)run: no record yet, its worker was lost, or it failed and retries are asked for."""
+def _needs_run(record_path: Path, spec: RunSpec, retry_failed: bool) -> tuple[bool, list[str]]:
+    """Whether a run must (re)run, and which of its inputs changed since its record was made.
+
+    It runs when there is no record yet, the record belongs to other inputs (another fingerprint: those
+    inputs are named), its worker was lost, or it failed and retries are asked for.
+    """
     if not record_path.exists():
-        return True
+        return True, []
     try:
-        error = json.loads(record_path.read_text(encoding="utf-8")).get("error")
-    except (OSError, ValueError, AttributeError):
-        return True  # an unreadable record is redone
-    return bool(error) and (retry_failed or error.startswith(_LOST_WORKER))
+        rec = json.loads(record_path.read_text(encoding="utf-8"))
+        error, run_id = rec.get("error"), rec["inputs"]["run_id"]
+    except (OSError, ValueError, AttributeError, KeyError, TypeError):
+        return True, []  # an unreadable record is redone
+    if run_id != spec.run_id:
+        old = rec.get("fingerprint")
+        if not isinstance(old, dict):
+            return True, ["inputs not recorded by an earlier ehm"]
+        return True, [k for k in spec.fingerprint if old.get(k) != spec.fingerprint[k]] or ["run id"]
+    return bool(error) and (retry_failed or error.startswith(_LOST_WORKER)), []
 
 
 _LOST_WORKER = "worker failed: "
@@ -302,17 +396,20 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
 
     runs_dir = out / "runs"
     runs_dir.mkdir(parents=True, exist_ok=True)
-    todo = [s for s in specs if _needs_run(runs_dir / f"{s.run_id}.json", retry_failed)]
+    todo, changed, n_changed = [], set(), 0
+    for s in specs:
+        needed, what = _needs_run(runs_dir / f"{s.point_id}.json", s, retry_failed)
+        if needed:
+            todo.append(s)
+        changed.update(what)
+        n_changed += bool(what)
     t0 = time.perf_counter()
     simulated = 0.0
     failed = 0
     wall = 0.0
     if todo:
         if scheduler:
-            try:
-                client, cluster = Client(scheduler, timeout="10s"), None
-            except OSError as exc:
-                raise InputError(f"cannot reach the Dask scheduler at {scheduler} ({exc}).") from None
+            client, cluster = _connect(check_scheduler(scheduler)), None
         else:
             import os
 
@@ -331,10 +428,11 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
                 try:
                     rec = fut.result()
                 except Exception as exc:  # noqa: BLE001 - a lost worker is recorded like a failed run
-                    spec = by_future[fut]
-                    rec = {"inputs": spec.inputs(), "outputs": {}, "error": f"{_LOST_WORKER}{exc}",
+                    rec = {"inputs": by_future[fut].inputs(), "outputs": {}, "error": f"{_LOST_WORKER}{exc}",
                            "simulated_s": 0.0, "wall_s": 0.0}
-                write_json_atomic(runs_dir / f"{rec['inputs']['run_id']}.json", rec)
+                spec = by_future[fut]
+                rec["fingerprint"] = spec.fingerprint
+                write_json_atomic(runs_dir / f"{spec.point_id}.json", rec)
                 simulated += rec["simulated_s"]
                 failed += rec["error"] is not None
                 if progress:
@@ -344,8 +442,38 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
             client.close()
             if cluster is not None:
                 cluster.close()
-    records = [json.loads((runs_dir / f"{s.run_id}.json").read_text()) for s in specs]  # this study's only
+    records = [json.loads((runs_dir / f"{s.point_id}.json").read_text()) for s in specs]  # this study's only
     write_table(records, out, csv=csv)
     return {"runs": len(specs), "ran": len(todo), "skipped": len(specs) - len(todo), "failed": failed,
+            "changed": {"count": n_changed, "inputs": sorted(changed)},
             "wall_s": wall, "simulated_s": simulated,
             "throughput_simulated_s_per_s": simulated / wall if wall > 0 and simulated > 0 else None}
+
+
+def check_scheduler(address: str) -> str:
+    """A Dask scheduler address as ``tcp://HOST:PORT`` (or another Dask protocol), checked for its form."""
+    from urllib.parse import urlsplit
+
+    text = str(address).strip()
+    try:
+        parts = urlsplit(text if "://" in text else f"tcp://{text}")
+        port = parts.port
+    except ValueError:
+        parts, port = None, None
+    if parts is None or parts.scheme not in ("tcp", "tls", "inproc", "ucx", "ws", "wss") or not parts.hostname \
+            or (port is None and parts.scheme != "inproc"):
+        raise InputError(f"--scheduler {address!r}: give a Dask scheduler address such as tcp://HOST:PORT "
+                         "(e.g. tcp://127.0.0.1:8786).")
+    return text if "://" in text else f"tcp://{text}"
+
+
+def _connect(address: str):
+    """A client of the scheduler at ``address``, or one sentence saying why not."""
+    from dask.distributed import Client
+
+    try:
+        return Client(address, timeout="10s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise InputError(f"cannot reach the Dask scheduler at {address} ({reason}); start one with "
+                         "'dask scheduler' or leave out --scheduler for a local cluster.") from None

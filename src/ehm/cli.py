@@ -16,13 +16,16 @@ import numpy as np
 from . import __version__
 from .errors import EhmError, InputError
 from .io import write_json_atomic
+from .outdir import RunFolder, check_output_file, check_output_folder, folder_kept_tidy
 from .motion import load_motion_csv, random_vibration, sine, sweep
 from .params import Parameters
 from .simulation import SeatedHuman
 from .drives import drive_path
+from .runfiles import DEFAULT_OUTPUT_RATE_HZ
 from .tables import load_body
 
 EXIT_ERROR = 2
+EXIT_NOT_IDENTIFIED = 3  #: ehm fit: stopped on its budget, did not lower the criterion, or its check disagreed.
 
 
 def _joint_list(values: list[str] | None) -> list[str]:
@@ -60,18 +63,6 @@ def _band(values) -> tuple[float, float]:
     return float(lo), float(hi)
 
 
-def _writable_dir(path: Path, what: str) -> None:
-    """Fail early, before long work, when results could not be written."""
-    import os
-
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"{path}: cannot create the {what} folder ({exc.strerror or exc}).") from None
-    if not os.access(path, os.W_OK):
-        raise InputError(f"{path}: the {what} folder is not writable.")
-
-
 def _model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
     p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
@@ -90,7 +81,7 @@ def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"),
                    help="band of the random input [Hz] (default 0.1 12)")
-    p.add_argument("--dt", type=float, help="time step [s] (default from the parameter file: 0.001)")
+    p.add_argument("--dt", type=float, help="time step [s] (default from the parameter file: 0.0005)")
 
 
 def cmd_info(args) -> int:
@@ -125,35 +116,51 @@ def _motion(args, dt: float):
 
 
 def cmd_simulate(args) -> int:
+    from .runfiles import pyarrow_modules
+
+    formats = ("csv", "parquet") if args.format == "both" else (args.format,)
+    if "parquet" in formats:
+        pyarrow_modules()
+    out = check_output_folder(args.out)
     if args.motion:  # a drive file with angular velocities needs the rotating seat
         motion = load_motion_csv(args.motion)
         human = _human(args, rotating_seat=motion.angvel_radps is not None)
     else:
         human = _human(args)
         motion = _motion(args, float(human.params.value("simulation.dt_s")))
-    run = human.simulate(motion, pose_rate_hz=25.0)
-    paths = run.write(args.out)
-    if args.plot:
-        from .plotting import plot_time_histories
-
-        plot_time_histories(run, Path(args.out) / "time_histories.png")
-    s = run.summary()
+    s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats,
+                          progress=_progress_bar("simulate"), plot=args.plot, method=args.method)
+    files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json" + \
+        (", poses.npz" if args.method != "linear" else "") + \
+        (", time_histories.png" if args.plot else "")
     print(f"simulated {s['duration_s']:.3g} s of '{s['input']}' in {s['wall_s']:.2f} s "
-          f"({s['realtime_factor']:.0f}x real time); wrote {paths['timeseries']} and {paths['summary']}")
+          f"({s['realtime_factor']:.0f}x real time); wrote {out}/ ({files}; {s['output_rate_hz']:g} rows per s)")
     return 0
 
 
 def cmd_demo(args) -> int:
+    final = check_output_folder(args.out)
+    human = _human(args)
+    dt = float(human.params.value("simulation.dt_s"))
+    print(f"ehm demo: default person ({human.mass_kg:.3f} kg, {human.dof} dof) on the validation seat; "
+          f"{args.duration:g} s of {args.rms:g} m/s^2 rms random vibration per axis; output in {final}/")
+    human.settle()
+    with RunFolder(final) as out:
+        peaks = _demo_runs(args, human, dt, out)
+    print("  transmissibility peaks (seat axis -> same axis at the point):")
+    for k, v in peaks.items():
+        print(f"    {k:<12} {v['peak_gain']:.2f} at {v['peak_hz']:.1f} Hz (gain {v['gain_at_0.5_hz']:.2f} at 0.5 Hz)")
+    print(f"wrote {final}/transmissibility.csv, transmissibility.png, demo_summary.json, per-axis "
+          f"timeseries.csv, summary.json, time_histories.png, poses.npz, and {args.axes[-1]}/animation.gif")
+    return 0
+
+
+def _demo_runs(args, human, dt: float, out: Path) -> dict:
+    """The demo's runs, tables and figures, written into ``out``; returns the transmissibility peaks."""
     from .animation import animate
     from .frf import FrfTable, run_curves
     from .plotting import plot_time_histories, plot_transmissibility
 
-    out = Path(args.out)
-    human = _human(args)
-    dt = float(human.params.value("simulation.dt_s"))
-    print(f"ehm demo: default person ({human.mass_kg:.3f} kg, {human.dof} dof) on the validation seat; "
-          f"{args.duration:g} s of {args.rms:g} m/s^2 rms random vibration per axis; output in {out}/")
-    human.settle()
     curves, summaries = {}, {}
     for axis in args.axes:
         run = human.simulate(_random_input(args, axis, dt), pose_rate_hz=25.0)
@@ -174,18 +181,14 @@ def cmd_demo(args) -> int:
             f_pk, g_pk = c.peak((0.5, 12.0))
             peaks[f"{a}->{p}"] = {"peak_hz": f_pk, "peak_gain": g_pk, "gain_at_0.5_hz": c.at(0.5)}
     write_json_atomic(out / "demo_summary.json", {"runs": summaries, "transmissibility_peaks": peaks})
-    print("  transmissibility peaks (seat axis -> same axis at the point):")
-    for k, v in peaks.items():
-        print(f"    {k:<12} {v['peak_gain']:.2f} at {v['peak_hz']:.1f} Hz (gain {v['gain_at_0.5_hz']:.2f} at 0.5 Hz)")
-    print(f"wrote {out}/transmissibility.csv, transmissibility.png, demo_summary.json, per-axis "
-          f"timeseries.csv, summary.json, time_histories.png, poses.npz, and {args.axes[-1]}/animation.gif")
-    return 0
+    return peaks
 
 
 def cmd_frf(args) -> int:
     from .frf import linear_frf, time_domain_frf
 
     band = _band(args.band)
+    check_output_file(args.out, "FRF table")
     human = _human(args)
     if args.method == "linear":
         if not (np.isfinite(args.df) and args.df > 0) or (band[1] - band[0]) / args.df > 1e5:
@@ -194,7 +197,7 @@ def cmd_frf(args) -> int:
         table = linear_frf(human, args.axis, freq_hz=np.arange(band[0], band[1] + 1e-9, args.df))
     else:
         table = time_domain_frf(human, args.axis, duration_s=args.duration, rms_mps2=args.rms, seed=args.seed,
-                                band_hz=band)
+                                band_hz=band, route=args.route)
     table.to_csv(args.out)
     print(f"wrote {args.out}: {len(table.curves)} curves ({args.method} method)")
     return 0
@@ -225,19 +228,28 @@ def cmd_fit(args) -> int:
     data = read_frf_csv(args.data)
     params = Parameters.load(args.params)
     body = load_body(args.segments, args.joints, args.contacts)
-    _writable_dir(Path(args.out).resolve().parent, "output")
+    check_output_file(args.out, "parameter file")
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: use 1 or more processes.")
     result = fit(data, params=params, free=args.free, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
                  body=body, band_hz=band, max_evals=args.max_evals, workers=args.workers,
                  time_check=not args.no_time_check, progress=print_progress)
-    write_identified(result, args.data, args.out)
+    written = result.moved and result.crit_after < result.crit_before
+    if written:
+        write_identified(result, args.data, args.out)
     print(f"criterion {result.crit_before:.5g} -> {result.crit_after:.5g} (linear model)"
-          + (f", {result.crit_after_time:.5g} (time-domain check)" if result.crit_after_time is not None else "")
-          + f"; {result.n_eval} evaluations in {result.wall_s:.0f} s; {result.message}")
+          + (f", {result.crit_before_time:.5g} -> {result.crit_after_time:.5g} (time-domain check)"
+             if result.crit_after_time is not None else "")
+          + f"; {result.n_eval} of {result.max_evals} evaluations in {result.wall_s:.0f} s; {result.message}")
     for p in result.free:
-        print(f"  {p}: {result.start[p]:.5g} -> {result.final[p]:.5g}")
-    print(f"wrote {args.out}")
+        state = ("identified" if p in result.identified else "moved, not identified" if p in result.moved
+                 else "not moved")
+        print(f"  {p}: {result.start[p]:.5g} -> {result.final[p]:.5g} ({state})")
+    print(f"wrote {args.out}" if written else f"no parameter file written ({args.out} left as it was)")
+    if not result.identified:
+        _end_progress_line()
+        print(f"ehm: fit: {result.verdict}", file=sys.stderr)
+        return EXIT_NOT_IDENTIFIED
     return 0
 
 
@@ -245,6 +257,7 @@ def cmd_plot_frf(args) -> int:
     from .frf import AXES, read_frf_csv
     from .plotting import plot_frf_grid
 
+    check_output_file(args.out, "figure")
     tables = []
     for path in args.frf:
         t = read_frf_csv(path)
@@ -263,7 +276,6 @@ def cmd_plot_frf(args) -> int:
 
 
 def cmd_study_locking(args) -> int:
-    from .plotting import plot_locking_study
     from .study import PAPER_VARIANTS, locking_study, parse_variant
 
     variants = dict(PAPER_VARIANTS)
@@ -272,10 +284,27 @@ def cmd_study_locking(args) -> int:
         variants[name] = joints
     band = _band(args.band)
     params = Parameters.load(args.params)
-    out = Path(args.out)
-    _writable_dir(out, "output")
+    final = check_output_folder(args.out)
     study = locking_study(params=params, variants=variants, method=args.method, band_hz=band,
                           duration_s=args.duration, progress=print)
+    with RunFolder(final) as out:
+        findings = _write_locking_study(study, variants, out)
+    print("findings (baseline -> variant, or change from baseline):")
+    for k, v in findings.items():
+        if isinstance(v, list):
+            print(f"  {k}: {v[0]:.2f} -> {v[1]:.2f}")
+        else:
+            print(f"  {k}: peak {v['peak_gain_change_pct']:+.0f} %, mean over "
+                  f"{study.band_hz[0]:g}-{study.band_hz[1]:g} Hz {v['band_mean_gain_change_pct']:+.0f} %")
+    print(f"wrote {final}/locking.csv, locking.json, locking.png and frf_<variant>.csv")
+    return 0
+
+
+def _write_locking_study(study, variants: dict, out: Path) -> dict:
+    """The locking study's tables and figure, written into ``out``; returns its findings."""
+    from .io import write_text_atomic
+    from .plotting import plot_locking_study
+
     header = ["variant", "locked", "input_axis", "point", "dof", "peak_hz", "peak_gain", "band_mean_gain",
               "peak_hz_change_pct", "peak_gain_change_pct", "band_mean_change_pct"]
     lines = [",".join(header)]
@@ -283,8 +312,6 @@ def cmd_study_locking(args) -> int:
         lines.append(",".join([r.variant, "+".join(r.locked), r.input_axis, r.point, r.dof]
                               + [f"{v:.6g}" for v in (r.peak_hz, r.peak_gain, r.band_mean_gain, r.peak_hz_change_pct,
                                                      r.peak_gain_change_pct, r.band_mean_change_pct)]))
-    from .io import write_text_atomic
-
     write_text_atomic(out / "locking.csv", "\n".join(lines) + "\n")
     findings = study.findings()
     write_json_atomic(out / "locking.json", {"method": study.method, "band_hz": list(study.band_hz),
@@ -293,15 +320,23 @@ def cmd_study_locking(args) -> int:
     for name, table in study.tables.items():
         table.to_csv(out / f"frf_{name}.csv")
     plot_locking_study(study, out / "locking.png")
-    print("findings (baseline -> variant, or change from baseline):")
-    for k, v in findings.items():
-        if isinstance(v, list):
-            print(f"  {k}: {v[0]:.2f} -> {v[1]:.2f}")
-        else:
-            print(f"  {k}: peak {v['peak_gain_change_pct']:+.0f} %, mean over "
-                  f"{study.band_hz[0]:g}-{study.band_hz[1]:g} Hz {v['band_mean_gain_change_pct']:+.0f} %")
-    print(f"wrote {out}/locking.csv, locking.json, locking.png and frf_<variant>.csv")
-    return 0
+    return findings
+
+
+_OPEN_LINE = {"open": False}  #: Whether a progress line on stderr waits for its end.
+
+
+def _progress_line(text: str, last: bool) -> None:
+    """Rewrite the progress line on stderr; ``last`` ends it."""
+    print(f"\r{text}", end="\n" if last else "", file=sys.stderr, flush=True)
+    _OPEN_LINE["open"] = not last
+
+
+def _end_progress_line() -> None:
+    """End an unfinished progress line, so that what follows starts a line of its own."""
+    if _OPEN_LINE["open"]:
+        print(file=sys.stderr, flush=True)
+        _OPEN_LINE["open"] = False
 
 
 def _progress_bar(label: str):
@@ -312,8 +347,7 @@ def _progress_bar(label: str):
             return
         frac = min(1.0, done_s / total_s) if total_s > 0 else 1.0
         bar = "#" * int(30 * frac)
-        end = "\n" if frac >= 1.0 else ""
-        print(f"\r{label} [{bar:<30}] {done_s:6.0f} / {total_s:.0f} s", end=end, file=sys.stderr, flush=True)
+        _progress_line(f"{label} [{bar:<30}] {done_s:6.0f} / {total_s:.0f} s", frac >= 1.0)
         if frac >= 1.0:
             finished.append(True)
     return show
@@ -324,24 +358,25 @@ def cmd_assess(args) -> int:
     from .plotting import plot_running_rms, plot_sickness, plot_weighted_spectra
     from .report import write_report
 
+    final = check_output_folder(args.out)
     motion = load_motion_csv(drive_path(args.motion))
-    human = _human(args, rotating_seat=motion.angvel_radps is not None)
+    human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
     params = human.params
-    out = Path(args.out)
-    _writable_dir(out, "output")
-    result = assess(motion, human, progress=_progress_bar("assess"))
+    result = assess(motion, human, progress=_progress_bar("assess"), method=args.method)
     summary = result.summary()
     summary["params"] = params.origin
     summary["locked"] = sorted(human.locked)
     if human.size is not None:
         summary["scaled"] = human.params.data["about"].get("scaled", "")
-    write_json_atomic(out / "assessment.json", summary)
-    figures = {"spectra": out / "weighted_spectra.png", "running_rms": out / "running_rms.png",
-               "sickness": out / "sickness.png"}
-    plot_weighted_spectra(result, figures["spectra"])
-    plot_running_rms(result, figures["running_rms"])
-    plot_sickness(result, figures["sickness"])
-    write_report(summary, figures, out / "report.html")
+    with RunFolder(final) as out:
+        write_json_atomic(out / "assessment.json", summary)
+        figures = {"spectra": out / "weighted_spectra.png", "running_rms": out / "running_rms.png",
+                   "sickness": out / "sickness.png"}
+        plot_weighted_spectra(result, figures["spectra"])
+        plot_running_rms(result, figures["running_rms"])
+        plot_sickness(result, figures["sickness"])
+        write_report(summary, figures, out / "report.html")
+    out = final
     loc = summary["locations"]
     print(f"{result.duration_s:.0f} s of '{result.description}' in {result.wall_s:.0f} s")
     for name in ("seat", "pelvis", "trunk", "head"):
@@ -386,27 +421,35 @@ def cmd_realtime(args) -> int:
 
 def cmd_batch(args) -> int:
     try:
-        from .batch import load_study, run_study
+        from .batch import check_scheduler, load_study, run_study
         import dask.distributed  # noqa: F401
         import pyarrow  # noqa: F401
     except ImportError:
         raise InputError("batch studies need Dask and pyarrow: pip install 'ehm[batch]'.") from None
-    name, specs = load_study(args.study)
-    out = Path(args.out)
-    _writable_dir(out, "results")
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: use 1 or more worker processes.")
-    print(f"study '{name}': {len(specs)} runs" + (f" on {args.scheduler}" if args.scheduler else ""))
+    scheduler = check_scheduler(args.scheduler) if args.scheduler else None
+    name, specs = load_study(args.study)
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{out} is a file; give a folder for the study's results.")
+    check_output_file(out / "results.parquet", "results table")
+    print(f"study '{name}': {len(specs)} runs" + (f" on {scheduler}" if scheduler else ""))
 
     def show(done, total):
-        print(f"\r  {done} / {total} runs done", end="\n" if done == total else "", file=sys.stderr, flush=True)
+        _progress_line(f"  {done} / {total} runs done", done == total)
 
-    res = run_study(specs, out, scheduler=args.scheduler, workers=args.workers, csv=args.csv, progress=show,
-                    retry_failed=args.retry_failed)
+    with folder_kept_tidy(out):
+        res = run_study(specs, out, scheduler=scheduler, workers=args.workers, csv=args.csv, progress=show,
+                        retry_failed=args.retry_failed)
     if res["ran"] and res["failed"] == res["ran"]:
         raise InputError(f"all {res['ran']} runs failed; their errors are in {out}/results.parquet (output 'error').")
     tp = res["throughput_simulated_s_per_s"]
-    print(f"ran {res['ran']} runs ({res['skipped']} already done, {res['failed']} failed) in {res['wall_s']:.1f} s"
+    changed = res["changed"]
+    print(f"ran {res['ran']} runs ({res['skipped']} already done, "
+          + (f"{changed['count']} rerun because an input changed ({', '.join(changed['inputs'])}), "
+             if changed["count"] else "")
+          + f"{res['failed']} failed) in {res['wall_s']:.1f} s"
           + (f"; {tp:.1f} simulated s per wall s" if tp else "") + f"; wrote {out}/results.parquet"
           + (" and results.csv" if args.csv else ""))
     return 0
@@ -415,6 +458,7 @@ def cmd_batch(args) -> int:
 def cmd_drive(args) -> int:
     from .drives import city_drive, rough_road, write_drive_csv
 
+    check_output_file(args.out, "drive file")
     motion = (city_drive(args.duration, seed=args.seed) if args.kind == "city"
               else rough_road(args.duration, speed_mps=args.speed, road_class=args.road_class, seed=args.seed))
     write_drive_csv(motion, args.out)
@@ -440,10 +484,44 @@ def cmd_animate(args) -> int:
 
     from .animation import animate
 
+    check_output_file(args.out, "animation")
     t0 = time.perf_counter()
     path = animate(args.run_dir, args.out, exaggerate=args.exaggerate, fps=args.fps, start_s=args.start,
                    end_s=args.end, max_frames=args.max_frames)
     print(f"wrote {path} in {time.perf_counter() - t0:.1f} s (motion x{args.exaggerate:g})")
+    return 0
+
+
+def cmd_check_step(args) -> int:
+    from .convergence import TOLERANCE, check_step
+
+    if args.dt is not None and not args.dt > 0:
+        raise InputError(f"--dt must be a positive time step in seconds, not {args.dt}.")
+    body_args = (args.segments, args.joints, args.contacts)
+    if any(body_args):
+        raise InputError("check-step uses the shipped body tables; --segments, --joints and --contacts are not "
+                         "supported here.")
+    check = check_step(args.params, dt_s=args.dt, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+                       size=_size(args), ratios=args.ratio)
+    rows = check.rows()
+    ratios = sorted(check.errors, reverse=True)
+    if args.json:
+        print(json.dumps({"dt_s": check.dt_s, "tolerance_pct": 100 * TOLERANCE, "paths": rows,
+                          "worst": {f"step_over_{r}": {"path": list(check.worst(r)[0]),
+                                                       "error_pct": 100 * check.worst(r)[1]} for r in ratios}},
+                         indent=1))
+        return 0
+    head = "".join(f"  vs dt/{r:<3d}" for r in ratios)
+    print(f"time step {check.dt_s * 1e3:g} ms; error = largest |gain difference| / peak gain, 0.2-12 Hz")
+    print(f"{'path':<24s}{'peak':>14s}{head}")
+    for row in rows:
+        path = f"seat {row['input_axis']} -> {row['point']} {row['dof']}"
+        errs = "".join(f"  {row[f'error_vs_step_over_{r}_pct']:6.2f} %  " for r in ratios)
+        print(f"{path:<24s}{row['peak_gain']:7.3g} @{row['peak_hz']:5.2f}{errs}")
+    (k, e) = check.worst(ratios[0])
+    verdict = "converged" if e <= TOLERANCE else "NOT converged"
+    print(f"worst: seat {k[0]} -> {k[1]} {k[2]}, {100 * e:.2f} % against dt/{ratios[0]}: {verdict} "
+          f"(tolerance {100 * TOLERANCE:g} %)")
     return 0
 
 
@@ -477,8 +555,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--f0", type=float, default=0.5, help="sweep start frequency [Hz]")
     p.add_argument("--f1", type=float, default=12.0, help="sweep end frequency [Hz]")
     p.add_argument("--motion", metavar="FILE.csv", help="seat acceleration file (time_s, ax_mps2, ay_mps2, az_mps2)")
-    p.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced whole: one run per folder)")
+    p.add_argument("--output-rate", type=float, metavar="HZ",
+                   help=f"rows per second of the time series, dividing the model's rate (default "
+                        f"{DEFAULT_OUTPUT_RATE_HZ:g}, or every step when the model's rate is lower; summary values "
+                        "use every step)")
+    p.add_argument("--format", choices=("csv", "parquet", "both"), default="csv",
+                   help="time-series file: timeseries.csv, timeseries.parquet (needs ehm[parquet]) or both "
+                        "(default csv)")
     p.add_argument("--plot", action="store_true", help="also draw time_histories.png")
+    p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
+                   help="simulation route: nonlinear (MuJoCo, default) or linear (the linearised person: about 1000x "
+                        "faster, translation only, refuses inputs that make a contact lift off or slide)")
     p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser("demo", help="x, y and z random vibration of the default model, with plots")
@@ -494,6 +582,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--axis", default="all", choices=("x", "y", "z", "all"), help="input axis (default all)")
     p.add_argument("--method", default="linear", choices=("time", "linear"), help="estimation route (default linear)")
     p.add_argument("--df", type=float, default=0.05, help="frequency step of the linear method [Hz] (default 0.05)")
+    p.add_argument("--route", choices=("nonlinear", "linear"), default="nonlinear",
+                   help="simulation route of the time method's runs (default nonlinear)")
     p.add_argument("--out", required=True, metavar="FRF.csv")
     p.set_defaults(func=cmd_frf)
 
@@ -510,7 +600,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--free", nargs="+", metavar="PATTERN",
                    help="parameters to fit, glob patterns of dotted names (default: neck and spine joints)")
     p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"))
-    p.add_argument("--max-evals", type=int, default=400, help="most model evaluations (default 400)")
+    p.add_argument("--max-evals", type=int, default=400,
+                   help="most linearised-model evaluations, finite differences included (default 400); exit "
+                        "status 3 when the fit stops on it")
     p.add_argument("--workers", type=int, help="processes for the finite differences (default: 2 or the cores)")
     p.add_argument("--no-time-check", action="store_true", help="skip the time-domain check of the result")
     p.add_argument("--out", required=True, metavar="FITTED.toml")
@@ -540,6 +632,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="drive file (time_s, ax_mps2, ay_mps2, az_mps2 [, wx_radps, wy_radps, wz_radps]) "
                         "or 'city' / 'road' for the shipped SYNTHETIC drives")
     p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
+                   help="simulation route (default nonlinear; linear: translation only, small inputs)")
     p.set_defaults(func=cmd_assess)
 
     p = sub.add_parser("realtime", help="step the model paced to the wall clock; report per-step latency")
@@ -588,6 +682,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-frames", type=int, metavar="N", help="stop after N frames")
     p.set_defaults(func=cmd_animate)
 
+    p = sub.add_parser("check-step", help="transfer functions at a time step against the same model at finer steps")
+    _model_options(p)
+    p.add_argument("--dt", type=float, help="time step to check [s] (default from the parameter file: 0.0005)")
+    p.add_argument("--ratio", type=int, nargs="+", default=[8, 4], help="finer steps as divisors (default: 8 4)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_check_step)
+
     p = sub.add_parser("params", help="print or export the parameter file")
     p.add_argument("--params", metavar="FILE.toml", help="parameter file to read (default: the shipped defaults)")
     p.add_argument("--export", metavar="FILE.toml", help="write it to a file")
@@ -595,18 +696,64 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings as one sentence on stderr, without the source line."""
+    print(f"ehm: warning: {message}", file=sys.stderr if file is None else file)
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised like Ctrl-C so that every clean-up (temporary files, staging folders) runs."""
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated()
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the ``ehm`` command; returns the exit code."""
+    import warnings
+
     parser = build_parser()
     args = parser.parse_args(argv)
+    warnings.showwarning = _show_warning
+    import signal
+    import threading
+
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         return args.func(args)
     except EhmError as exc:
+        _end_progress_line()
         print(f"ehm: error: {exc}", file=sys.stderr)
         return EXIT_ERROR
+    except MemoryError:
+        _end_progress_line()
+        print("ehm: error: out of memory; ehm simulate and ehm assess stream long drives in bounded memory, other "
+              "commands hold their whole run: shorten --duration or use a machine with more memory.", file=sys.stderr)
+        return EXIT_ERROR
+    except Terminated:
+        _end_progress_line()
+        print("ehm: terminated", file=sys.stderr)
+        return 143
     except KeyboardInterrupt:
+        _end_progress_line()
         print("ehm: interrupted", file=sys.stderr)
         return 130
+    finally:
+        _end_progress_line()
+        _report_mujoco_warnings()
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _report_mujoco_warnings() -> None:
+    """MuJoCo's warnings that did not end a run (those that did are in the error sentence), one line each."""
+    from .engine import take_warnings
+
+    for text in dict.fromkeys(take_warnings()):
+        print(f"ehm: note: MuJoCo warned: {text}", file=sys.stderr)
 
 
 if __name__ == "__main__":

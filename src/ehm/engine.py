@@ -16,14 +16,22 @@ the tests):
 * Contacts are explicit ellipsoid-plane pairs with a linear spring and damper on penetration (direct
   solref scaled by the pair's inverse weight, tiny constant impedance), elliptic friction cones and
   the NoSlip solver; seat and backrest ellipsoids ride on soft-tissue pads (two tangential slide
-  springs) so that friction neither creeps nor locks.
+  springs) so that friction neither creeps nor locks.  The pads' slide joints carry an armature
+  (``simulation.pad_armature_kg``): the NoSlip solver makes a pad stick for the mass matrix M, while the
+  implicit integrator advances with M + h D; with a 0.3 kg pad alone a 600 N s/m shear damper gives
+  h D / M of 1 to 2, and the "stuck" pad moved (14 % error on seat-to-pelvis paths at 1 ms).
+* Point accelerations are taken from the integrated motion (velocity change over the step plus the seat
+  acceleration, :func:`point_accelerations`), not from MuJoCo's acceleration sensors, which report the
+  explicit acceleration of the step's start.
 * Seat translation is applied as a d'Alembert load: the seat stays put and gravity becomes
-  ``g0 - a_seat(t)``.  Absolute accelerations are then ``framelinacc + g0``.
+  ``g0 - a_seat(t)``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
+import re
 from dataclasses import dataclass, field
 
 import mujoco
@@ -147,6 +155,168 @@ class Model:
         return float(self.mj.body_subtreemass[self.segment_bodies["pelvis"][0]])
 
 
+class ImpossibleInertia(InputError):
+    """A segment's moments of inertia are those of no rigid body (``segment``: its name; ``moments``: the
+    principal moments [kg m^2]; ``rule``: which condition fails)."""
+
+    def __init__(self, message: str, segment: str, moments: np.ndarray, rule: str):
+        super().__init__(message)
+        self.segment, self.moments, self.rule = segment, moments, rule
+
+
+def inertia_problem(body: Body, params: Parameters) -> ImpossibleInertia | None:
+    """The first segment whose own body (tissue pads taken out) would not be a rigid body, or None."""
+    pad_mass = {c.name: float(params.value(f"contacts.{c.name}.pad_mass_kg")) for c in body.contacts if c.tissue_pad}
+    for seg in body.segments:
+        try:
+            segment_mass_properties(seg, [c for c in body.contacts if c.segment == seg.name and c.tissue_pad], pad_mass)
+        except ImpossibleInertia as exc:
+            return exc
+    return None
+
+
+def segment_mass_properties(seg, pads: list, pad_mass: dict) -> tuple[float, np.ndarray, np.ndarray]:
+    """Mass [kg], centre of gravity [m] and inertia matrix about it [kg m^2] of a segment's own body: the table
+    values minus the tissue pads riding on it (so that segment plus pads keep the table's mass properties).
+
+    Raises InputError when the pads weigh more than the segment, :class:`ImpossibleInertia` when what is
+    left is no rigid body (a principal moment not positive, or larger than the sum of the other two).
+    """
+    m_pads = sum(pad_mass[c.name] for c in pads)
+    m_body = seg.mass_kg - m_pads
+    if m_body <= 0:
+        raise InputError(f"the tissue pads on segment {seg.name!r} weigh more than the segment ({seg.mass_kg} kg).")
+    c_body = (seg.mass_kg * seg.com_m - sum(pad_mass[c.name] * c.center_m for c in pads)) / m_body
+    inertia = np.diag(seg.inertia_kgm2).astype(float)
+
+    def shift(mass, r):
+        return mass * (np.dot(r, r) * np.eye(3) - np.outer(r, r))
+
+    inertia -= shift(m_body, c_body - seg.com_m)
+    for c in pads:
+        inertia -= shift(pad_mass[c.name], c.center_m - seg.com_m) + _PAD_INERTIA * np.eye(3)
+    _check_inertia(seg.name, inertia, seg.inertia_kgm2, len(pads))
+    return m_body, c_body, inertia
+
+
+def _check_inertia(name: str, inertia: np.ndarray, table: np.ndarray, n_pads: int) -> None:
+    """One sentence when a segment's inertia matrix belongs to no rigid body (MuJoCo would refuse it)."""
+    moments = np.sort(np.linalg.eigvalsh(0.5 * (inertia + inertia.T)))
+    a, b, c = moments
+    if a > 0 and c <= (a + b) * (1 + 1e-9):
+        return
+    pads = f" after its {n_pads} tissue pad{'s' * (n_pads > 1)} are taken out" if n_pads else ""
+    rule = (f"the largest, {c:.4g}, exceeds the sum of the other two, {a + b:.4g}" if a > 0
+            else "one is not positive")
+    raise ImpossibleInertia(
+        f"segment {name!r} would have principal moments of inertia {a:.4g}, {b:.4g}, {c:.4g} kg m^2{pads} (table "
+        f"values Ixx, Iyy, Izz {', '.join(f'{v:.4g}' for v in table)}), which no rigid body has ({rule}); "
+        "correct its inertia (or mass and shape) in the segment table.", name, moments, rule)
+
+
+def _build_error(exc: Exception) -> InputError:
+    """MuJoCo's compiler message as one sentence: what it refused, and where."""
+    text = str(exc).strip()
+    where = re.search(r"Element name '([^']*)'", text)
+    first = text.splitlines()[0].removeprefix("Error:").strip().rstrip(".") if text else type(exc).__name__
+    first = re.sub(r";?\s*use '\w+' to fix", "", first)
+    at = f" at model element {where.group(1)!r} (a segment, joint, contact or seat surface of that name)" if where else ""
+    return InputError(f"the model could not be built: MuJoCo refused it{at}: {first}; check that element's values "
+                      "in the body tables and the parameter file.")
+
+
+#: Seat-geometry parameters that place each seat surface (for messages).
+_SURFACE_PARAMS = {"seat_pan": "seat.pan_height_m and seat.pan_angle_deg", "floor": "seat.floor_height_m",
+                   "backrest_lower": "seat.backrest_x_m, seat.backrest_angle_deg, seat.lower_pad_height_m and "
+                                     "seat.lower_pad_thickness_m",
+                   "backrest_upper": "seat.backrest_x_m, seat.backrest_angle_deg, seat.upper_pad_height_m and "
+                                     "seat.upper_pad_thickness_m"}
+
+
+def check_seat(seat: SeatGeometry, params: Parameters, body: Body) -> None:
+    """The seat's geometry fits together and fits the body (one InputError sentence otherwise): the pan above the
+    floor, the backrest pads behind the pelvis, the lower pad above the pan and below the upper pad, and every
+    contact ellipsoid's centre in front of (above) the surface it presses on."""
+    s = params.section("seat")
+    pan, floor = s["pan_height_m"], s["floor_height_m"]
+    if not pan > floor:
+        raise InputError(f"seat.pan_height_m = {pan:g} m puts the seat pan {floor - pan:.3g} m below the floor "
+                         f"(seat.floor_height_m = {floor:g} m); the pan must be above the floor.")
+    if not pan < s["lower_pad_height_m"] < s["upper_pad_height_m"]:
+        raise InputError(f"the backrest pads must sit on the backrest above the seat pan, the lower one below the "
+                         f"upper one: seat.pan_height_m = {pan:g} m, seat.lower_pad_height_m = "
+                         f"{s['lower_pad_height_m']:g} m, seat.upper_pad_height_m = {s['upper_pad_height_m']:g} m.")
+    pelvis = body.segment("pelvis").com_m
+    for surface in ("backrest_lower", "backrest_upper"):
+        point, normal = seat.planes[surface]
+        gap = float(np.dot(pelvis - point, normal))
+        if gap <= 0:
+            raise InputError(f"the {surface.replace('_', ' ')} pad lies {-gap:.3g} m in front of the pelvis's centre "
+                             f"of gravity; the backrest must be behind the pelvis (check {_SURFACE_PARAMS[surface]}).")
+    for c in body.contacts:
+        if c.surface not in _SURFACE_PARAMS:
+            continue  # bolsters are placed from the contacts themselves
+        point, normal = seat.planes[c.surface]
+        gap = float(np.dot(c.center_m - point, normal))
+        if gap <= 0:
+            side = "below" if c.surface in ("seat_pan", "floor") else "behind"
+            raise InputError(f"contact {c.name!r} (segment {c.segment}) starts with its centre {-gap:.3g} m {side} "
+                             f"the {c.surface.replace('_', ' ')} surface it presses on; move the surface (check "
+                             f"{_SURFACE_PARAMS[c.surface]}) or the contact (contacts table).")
+
+
+_MAX_WARNINGS = 20
+_warnings: list[str] = []  #: MuJoCo's own warnings captured since :func:`take_warnings` last ran.
+
+
+def _keep_warning(message: str) -> None:
+    if len(_warnings) < _MAX_WARNINGS:
+        _warnings.append(str(message).strip())
+
+
+@contextlib.contextmanager
+def captured_warnings():
+    """While inside, MuJoCo's warnings are kept (for :func:`take_warnings` and divergence messages) instead of
+    being printed raw; the previous handler comes back on leaving."""
+    previous = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(_keep_warning)
+    try:
+        yield
+    finally:
+        mujoco.set_mju_user_warning(previous)
+
+
+def take_warnings() -> list[str]:
+    """MuJoCo's warnings captured since the last call (and not yet folded into an error), oldest first."""
+    out = list(_warnings)
+    _warnings.clear()
+    return out
+
+
+def _warning_sentence(model: "Model", message: str) -> tuple[str, float | None]:
+    """A captured MuJoCo warning in ehm's terms (degree of freedom named), and the time it gives, if any."""
+    text = re.sub(r"\s*The simulation is unstable\.?", "", message).strip()
+    number = r"([-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)"
+    when = re.search(r"Time = " + number, text)
+    text = re.sub(r"\.?\s*Time = " + number + r"\.?", "", text).strip().rstrip(".")
+    dof = re.search(r"at DOF (\d+)", text)
+    if dof:
+        text = text.replace(dof.group(0), f"at degree of freedom {dof_name(model, int(dof.group(1)))}")
+    return text, float(when.group(1)) if when else None
+
+
+def dof_name(model: "Model", index: int) -> str:
+    """``<joint>.<dof>`` of a MuJoCo degree of freedom (pelvis: ``pelvis.x`` ... ``pelvis.yaw``)."""
+    mj = model.mj
+    if not 0 <= index < mj.nv:
+        return f"#{index}"
+    jnt = int(mj.dof_jntid[index])
+    name = mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_JOINT, jnt) or f"joint {jnt}"
+    if mj.jnt_type[jnt] == mujoco.mjtJoint.mjJNT_FREE:
+        return f"{name}.{('x', 'y', 'z', 'roll', 'pitch', 'yaw')[index - int(mj.jnt_dofadr[jnt])]}"
+    return name
+
+
 SEAT_DOFS = ("yaw", "pitch", "roll")  #: Hinges of a rotating seat, outermost first (intrinsic z-y-x).
 _SEAT_INERTIA = 1e5  #: Moment of inertia of a rotating seat about its pivot [kg m^2]: the person barely moves it.
 _SEAT_BANDWIDTH_HZ = 20.0  #: Bandwidth of the seat's tracking controller (on top of feed-forward).
@@ -178,6 +348,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     sim = params.section("simulation")
     posture = params.section("posture")
     seat = SeatGeometry.from_params(params, body)
+    check_seat(seat, params, body)
 
     spec = mujoco.MjSpec()
     spec.modelname = "ehm_seated_human"
@@ -219,6 +390,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     # inertia exactly as in the table.
     pads = {s.name: [c for c in body.contacts if c.segment == s.name and c.tissue_pad] for s in body.segments}
     pad_mass = {c.name: float(params.value(f"contacts.{c.name}.pad_mass_kg")) for c in body.contacts if c.tissue_pad}
+    pad_armature = float(sim["pad_armature_kg"])
 
     children: dict[str, list] = {}
     for j in body.joints:
@@ -249,20 +421,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
                 dof_names.append(jn)
                 if joint.name in integral_joints and k > 0:
                     actuated.append((jn, k / ti))
-        # Mass properties: table values minus the pads riding on this segment.
-        m_pads = sum(pad_mass[c.name] for c in pads[seg_name])
-        m_body = seg.mass_kg - m_pads
-        if m_body <= 0:
-            raise InputError(f"the tissue pads on segment {seg_name!r} weigh more than the segment ({seg.mass_kg} kg).")
-        c_body = (seg.mass_kg * seg.com_m - sum(pad_mass[c.name] * c.center_m for c in pads[seg_name])) / m_body
-        inertia = np.diag(seg.inertia_kgm2).astype(float)
-
-        def shift(mass, r):
-            return mass * (np.dot(r, r) * np.eye(3) - np.outer(r, r))
-
-        inertia -= shift(m_body, c_body - seg.com_m)
-        for c in pads[seg_name]:
-            inertia -= shift(pad_mass[c.name], c.center_m - seg.com_m) + _PAD_INERTIA * np.eye(3)
+        m_body, c_body, inertia = segment_mass_properties(seg, pads[seg_name], pad_mass)
         b.explicitinertial = True
         b.mass = m_body
         b.ipos = c_body - frame_pos
@@ -289,7 +448,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
                 cs = float(params.value(f"contacts.{c.name}.shear_damping_Ns_per_m"))
                 for i, t in enumerate(seat.tangents(c.surface)):
                     holder.add_joint(name=f"pad_{c.name}.t{i + 1}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=t,
-                                     stiffness=ks, damping=cs)
+                                     stiffness=ks, damping=cs, armature=pad_armature)
                 segment_bodies[seg_name].append(f"pad_{c.name}")
                 gpos = np.zeros(3)
             else:
@@ -321,9 +480,10 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
             spec.add_sensor(name=f"{point}_{kind}", type=getattr(mujoco.mjtSensor, f"mjSENS_{kind.upper()}"),
                             objtype=mujoco.mjtObj.mjOBJ_SITE, objname=point)
     try:
-        mj = spec.compile()
+        with captured_warnings():
+            mj = spec.compile()
     except ValueError as exc:
-        raise InputError(f"the model could not be built: {exc}") from None
+        raise _build_error(exc) from None
 
     # Linear contact spring K and damper B on penetration (feasibility notes): with constant impedance d,
     # solref = (-K (1-d) A, -B (1-d) A), A = the pair's inverse weight in the normal direction.
@@ -372,7 +532,13 @@ def _instability(model: Model, d: mujoco.MjData) -> str | None:
 
 
 def _diverged(model: Model, t: float, why: str, phase: str = "") -> DivergenceError:
+    """The divergence sentence, with MuJoCo's own warning folded in (its time replaces ``t``: MuJoCo resets the
+    state, and with it the time, when it finds a bad acceleration)."""
     dt = model.mj.opt.timestep
+    for message in take_warnings()[:1]:
+        said, when = _warning_sentence(model, message)
+        why = f"{why}; MuJoCo: {said}"
+        t = when if when is not None else t
     return DivergenceError(
         f"the simulation diverged at t = {t:.3f} s{phase} ({why}); try a smaller time step than dt = {dt:g} s "
         "or check the stiffness and damping parameters."
@@ -408,14 +574,15 @@ def settle(model: Model, duration_s: float | None = None) -> dict:
     friction = mj.pair_friction[back].copy()
     mj.pair_friction[back, :2] = 0.0
     try:
-        for i in range(n):
-            if i == n_slide:
-                mj.pair_friction[back] = friction
-            mujoco.mj_step(mj, d)
-            if i % CHECK_EVERY == 0:
-                why = _instability(model, d)
-                if why:
-                    raise _diverged(model, d.time, why, " while settling into the seat, before the run")
+        with captured_warnings():
+            for i in range(n):
+                if i == n_slide:
+                    mj.pair_friction[back] = friction
+                mujoco.mj_step(mj, d)
+                if i % CHECK_EVERY == 0:
+                    why = _instability(model, d)
+                    if why:
+                        raise _diverged(model, d.time, why, " while settling into the seat, before the run")
     finally:
         mj.pair_friction[back] = friction
     why = _instability(model, d)
@@ -458,7 +625,10 @@ def support_forces(model: Model, d: mujoco.MjData) -> dict:
     return out
 
 
-SENSOR_KINDS = ("framelinacc", "frameangacc", "framepos", "framequat", "frameangvel")  #: Per output point.
+#: Per output point.  ``framelinvel`` and ``frameangvel`` give the accelerations (see :func:`point_accelerations`);
+#: ``framelinacc`` and ``frameangacc`` are MuJoCo's explicit accelerations, kept because an acceleration sensor makes
+#: MuJoCo compute the contact forces on each body (``cfrc_ext``, the support forces) in every step.
+SENSOR_KINDS = ("framelinacc", "frameangacc", "framepos", "framequat", "framelinvel", "frameangvel")
 
 
 def sliding_contacts(model: Model, d: mujoco.MjData, ratio: float = 0.98) -> list[str]:
@@ -509,11 +679,43 @@ def set_state(model: Model, d: mujoco.MjData, state: np.ndarray) -> None:
     mujoco.mj_setState(model.mj, d, state, mujoco.mjtState.mjSTATE_INTEGRATION)
 
 
-def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool = False) -> np.ndarray:
-    """Advance one time step with a seat acceleration (static seat); returns the sensor data of the step.
+def evaluate_velocities(model: Model, d: mujoco.MjData) -> np.ndarray:
+    """Velocity-stage kinematics and sensors of the current state of ``d``; returns ``d.sensordata``.
 
-    The same operations as one iteration of :func:`run`, so stepping reproduces whole runs exactly.
-    ``check`` tests for divergence after the step.
+    After :func:`mujoco.mj_step` the sensors hold the step's start state; this brings the velocity sensors
+    (``framelinvel``, ``frameangvel``) to the new state without changing the state (the next step recomputes
+    everything), so that the acceleration of the step can be taken from them (:func:`point_accelerations`).
+    """
+    mj = model.mj
+    mujoco.mj_kinematics(mj, d)
+    mujoco.mj_comPos(mj, d)
+    mujoco.mj_comVel(mj, d)
+    mujoco.mj_sensorVel(mj, d)
+    return d.sensordata
+
+
+def point_accelerations(v_lin: np.ndarray, v_ang: np.ndarray, seat_acc_mps2: np.ndarray, dt_s: float):
+    """Absolute translational and angular acceleration of a point over each step, from its velocities.
+
+    ``v_lin`` and ``v_ang`` (n + 1, 3) are the point's linear [m/s] and angular [rad/s] velocity in world
+    axes at the start of steps 0 ... n (the last one: after the last step); ``seat_acc_mps2`` (n, 3) is the
+    seat's acceleration held over each step, world axes.  Returns (n, 3) arrays [m/s^2], [rad/s^2].
+
+    These are the accelerations of the motion the integrator produces.  MuJoCo's acceleration sensors report
+    the explicit acceleration M^-1 f at the start of the step, whereas the implicit integrator advances the
+    velocity with (M + h D)^-1 f; where the damping h D is not small against the inertia M (neck, spine,
+    tissue pads) the two differ by far more than the motion's own step error.
+    """
+    return np.diff(v_lin, axis=0) / dt_s + seat_acc_mps2, np.diff(v_ang, axis=0) / dt_s
+
+
+def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Advance one time step with a seat acceleration (static seat).
+
+    Returns the sensor data of the step's start state and the sensor data after :func:`evaluate_velocities`
+    of its end state (velocity sensors valid), from which :func:`point_accelerations` gives the step's
+    accelerations.  The same operations as one iteration of :func:`run`, so stepping reproduces whole runs
+    exactly.  ``check`` tests for divergence after the step.
     """
     g = model.mj.opt.gravity
     g[:] = G0 - seat_acc_mps2
@@ -521,11 +723,12 @@ def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool 
         mujoco.mj_step(model.mj, d)
     finally:
         g[:] = G0
+    start = d.sensordata.copy()
     if check:
         why = _instability(model, d)
         if why:
             raise _diverged(model, d.time, why)
-    return d.sensordata
+    return start, evaluate_velocities(model, d)
 
 
 @dataclass(frozen=True)
@@ -536,9 +739,11 @@ class RawRun:
     ----------
     time_s : (n,) array
     sensors : dict
-        ``<point>_framelinacc`` (proper acceleration in the seat frame, [m/s^2]), ``<point>_frameangacc``
-        (angular acceleration, seat axes [rad/s^2]), ``<point>_framepos`` [m],
-        ``<point>_framequat`` (w, x, y, z), each (n, 3) or (n, 4).
+        ``<point>_acc`` (absolute translational acceleration over each step, world axes [m/s^2]),
+        ``<point>_angacc`` (angular acceleration, world axes [rad/s^2]), both from
+        :func:`point_accelerations`; and the raw sensors of each step's start state:
+        ``<point>_framepos`` [m], ``<point>_framequat`` (w, x, y, z), ``<point>_framelinvel`` [m/s],
+        ``<point>_frameangvel`` [rad/s], each (n, 3) or (n, 4).
     support_N : dict
         Force of each seat surface on the body, (n, 3) [N].
     """
@@ -646,7 +851,13 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
             raise _diverged(model, d.time, why)
     finally:
         mj.opt.gravity[:] = G0
-    sensors = {name: sens[:, sl] for name, sl in sensor_slices(model).items()}
+    slices = sensor_slices(model)
+    end = evaluate_velocities(model, d)
+    sensors = {name: sens[:, sl] for name, sl in slices.items()}
+    for p in POINTS:
+        lin, ang = slices[f"{p}_framelinvel"], slices[f"{p}_frameangvel"]
+        sensors[f"{p}_acc"], sensors[f"{p}_angacc"] = point_accelerations(
+            np.vstack([sens[:, lin], end[lin]]), np.vstack([sens[:, ang], end[ang]]), acc, mj.opt.timestep)
     support = {s: -forces[:, b - lo, :] for s, b in model.surface_bodies.items()}
     poses = {"step": pose_steps, "pos": pose_pos, "quat": pose_quat} if pose_every else None
     return RawRun(time_s=np.arange(n) * mj.opt.timestep, sensors=sensors, support_N=support, poses=poses)
@@ -659,13 +870,16 @@ OUTPUT_DOFS = ("ax", "ay", "az", "x", "y", "z", "roll", "pitch", "yaw", "roll_ac
 
 @dataclass(frozen=True)
 class LinearModel:
-    """Discrete-time linear model around the settled posture: x+ = A x + B u, y = C x + D u.
+    """Discrete-time linear model around the settled posture: x+ = A x + B u, y = y0 + C x + D u.
 
     The state x is MuJoCo's tangent-space state (qpos tangent, qvel, act) relative to the settled state;
-    the input u is the seat acceleration (x, y, z) [m/s^2]; the outputs y are, for each point, the absolute
-    acceleration [m/s^2], displacement [m], rotation (roll, pitch, yaw) [rad] and angular acceleration
-    [rad/s^2], named ``<point>.<dof>``
-    with dof in :data:`OUTPUT_DOFS`.  Contacts are linearised as they are at rest: all stuck.
+    the input u is the seat acceleration (x, y, z) [m/s^2].  The outputs are, per point, ``<point>.<dof>``
+    with dof in :data:`OUTPUT_DOFS`: absolute acceleration [m/s^2], displacement [m], rotation (roll, pitch,
+    yaw) [rad] and angular acceleration [rad/s^2], the accelerations over the step as in
+    :func:`point_accelerations`; then ``support.<group>.f{x,y,z}``, the force of each support group
+    (:data:`SUPPORT_GROUPS`) on the body [N]; then ``contact.<name>.fn``, ``.ft1``, ``.ft2``, the normal and
+    tangential forces [N] of each contact that touches at rest (contact frame, see :func:`contact_forces`).  ``y0`` holds the outputs in the settled state (the support
+    forces carry the body's weight there).  Contacts are linearised as they are at rest: all stuck.
     """
 
     A: np.ndarray
@@ -675,9 +889,15 @@ class LinearModel:
     dt_s: float
     output_names: tuple
     input_names: tuple = ("x", "y", "z")
+    y0: np.ndarray | None = None
+    #: Per point, linear then angular velocity (world axes) as outputs of the state: rows of C and D.
+    velocity_C: np.ndarray | None = None
+    velocity_D: np.ndarray | None = None
 
 
-def _outputs(d: mujoco.MjData, ref: dict, slices: dict) -> np.ndarray:
+def _state_outputs(model: Model, d: mujoco.MjData, ref: dict, slices: dict, contacts: list) -> np.ndarray:
+    """Outputs of the state whose sensors ``d`` holds (a step's start): per point displacement, rotation
+    vector, linear and angular velocity (world axes); then the support forces by group."""
     out = []
     for p in POINTS:
         vals = {kind: d.sensordata[slices[f"{p}_{kind}"]] for kind in SENSOR_KINDS}
@@ -687,14 +907,43 @@ def _outputs(d: mujoco.MjData, ref: dict, slices: dict) -> np.ndarray:
         mujoco.mju_mulQuat(qrel, vals["framequat"], q0inv)
         rotvec = np.empty(3)
         mujoco.mju_quat2Vel(rotvec, qrel, 1.0)
-        out += [vals["framelinacc"] + G0, vals["framepos"] - ref[p][0], rotvec, vals["frameangacc"]]
+        out += [vals["framepos"] - ref[p][0], rotvec, vals["framelinvel"], vals["frameangvel"]]
+    forces = support_forces(model, d)
+    out += [sum(forces[s] for s in surfaces if s in forces) for surfaces in SUPPORT_GROUPS.values()]
+    out.append(contact_forces(model, d, contacts))
     return np.concatenate(out)
 
 
-def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
+def contact_forces(model: Model, d: mujoco.MjData, names) -> np.ndarray:
+    """Normal and the two tangential force components [N] (contact frame) of the named contacts now, in that
+    order per contact; zeros for a contact that does not touch."""
+    out = np.zeros(3 * len(names))
+    index = {n: i for i, n in enumerate(names)}
+    f6 = np.zeros(6)
+    for i in range(d.ncon):
+        k = index.get(_contact_name(model, d.contact[i]))
+        if k is not None:
+            mujoco.mj_contactForce(model.mj, d, i, f6)
+            out[3 * k:3 * k + 3] += f6[:3]
+    return out
+
+
+def touching_contacts(model: Model) -> list[str]:
+    """Names (contacts.csv) of the contacts that touch in the settled state, with friction (the linear model
+    holds them stuck)."""
+    d = settled_data(model)
+    return sorted({_contact_name(model, d.contact[i]) for i in range(d.ncon) if d.contact[i].dim >= 3})
+
+
+def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None) -> LinearModel:
     """Linearise the settled model by central finite differences of one time step.
 
-    Costs 2 (n_state + 3) time steps (a few milliseconds).
+    The state outputs (positions, rotations, velocities, support forces and the forces of the touching
+    contacts at a step's start state) are differentiated directly; the accelerations are the velocity change
+    over the step plus the seat acceleration, exactly as :func:`run` computes them: with V the velocity rows,
+    C_acc = (V A - V) / h and D_acc = V B / h (+ the identity for the seat acceleration).  ``step_s``
+    linearises one step of another length h around the same settled state (default: the model's step).
+    Costs 2 (n_state + 3) time steps.
     """
     mj = model.mj
     if model.settled is None:
@@ -702,6 +951,9 @@ def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
     s = model.settled
     ref = settled_point_poses(model)
     slices = sensor_slices(model)
+    contacts = touching_contacts(model)
+    own_step = float(mj.opt.timestep)
+    h = own_step if step_s is None else float(step_s)
     d = new_data(model)
     nv, na = mj.nv, mj.na
     nx = 2 * nv + na
@@ -716,34 +968,63 @@ def linearize(model: Model, eps: float = 1e-6) -> LinearModel:
         d.act[:] = s["act"] + dx[2 * nv:]
         d.qacc_warmstart[:] = warm
         mj.opt.gravity[:] = G0 - du
+        mj.opt.timestep = h
         try:
             mujoco.mj_step(mj, d)
         finally:
             mj.opt.gravity[:] = G0
-        y = _outputs(d, ref, slices)
+            mj.opt.timestep = own_step
+        y = _state_outputs(model, d, ref, slices, contacts)
         x_next = np.empty(nx)
         mujoco.mj_differentiatePos(mj, x_next[:nv], 1.0, s["qpos"], d.qpos)
         x_next[nv:2 * nv] = d.qvel - s["qvel"]
         x_next[2 * nv:] = d.act - s["act"]
         return x_next, y
 
-    x0, y0 = evaluate(np.zeros(nx), np.zeros(3))
+    _, y0 = evaluate(np.zeros(nx), np.zeros(3))
     ny = y0.size
-    A, C = np.empty((nx, nx)), np.empty((ny, nx))
-    B, D = np.empty((nx, 3)), np.empty((ny, 3))
+    A, Cs = np.empty((nx, nx)), np.empty((ny, nx))
+    B, Ds = np.empty((nx, 3)), np.empty((ny, 3))
     for i in range(nx):
         e = np.zeros(nx)
         e[i] = eps
         xp, yp = evaluate(e, np.zeros(3))
         xm, ym = evaluate(-e, np.zeros(3))
         A[:, i] = (xp - xm) / (2 * eps)
-        C[:, i] = (yp - ym) / (2 * eps)
+        Cs[:, i] = (yp - ym) / (2 * eps)
     for k in range(3):
         e = np.zeros(3)
         e[k] = eps * 1e3  # seat acceleration perturbation [m/s^2]
         xp, yp = evaluate(np.zeros(nx), e)
         xm, ym = evaluate(np.zeros(nx), -e)
         B[:, k] = (xp - xm) / (2 * e[k])
-        D[:, k] = (yp - ym) / (2 * e[k])
-    names = tuple(f"{p}.{dof}" for p in POINTS for dof in OUTPUT_DOFS)
-    return LinearModel(A=A, B=B, C=C, D=D, dt_s=float(mj.opt.timestep), output_names=names)
+        Ds[:, k] = (yp - ym) / (2 * e[k])
+    return _with_accelerations(A, B, Cs, Ds, y0, h, contacts)
+
+
+def _with_accelerations(A, B, Cs, Ds, y0, dt, contacts):
+    """Rearrange the state outputs of :func:`linearize` into :data:`OUTPUT_DOFS` per point plus the support
+    forces, adding the acceleration rows (velocity change over the step, plus the seat acceleration)."""
+    rows_C, rows_D, rows_y0, names = [], [], [], []
+    for i, p in enumerate(POINTS):
+        base = 12 * i  # displacement 3, rotation 3, linear velocity 3, angular velocity 3
+        disp, rot, lin, ang = (slice(base + 3 * j, base + 3 * j + 3) for j in range(4))
+        acc_C = lambda v: (Cs[v] @ A - Cs[v]) / dt  # noqa: E731
+        acc_D = lambda v: Cs[v] @ B / dt  # noqa: E731
+        rows_C += [acc_C(lin), Cs[disp], Cs[rot], acc_C(ang)]
+        rows_D += [acc_D(lin) + np.eye(3), Ds[disp], Ds[rot], acc_D(ang)]
+        rows_y0 += [np.zeros(3), y0[disp], y0[rot], np.zeros(3)]
+        names += [f"{p}.{dof}" for dof in OUTPUT_DOFS]
+    forces = slice(12 * len(POINTS), None)
+    rows_C.append(Cs[forces])
+    rows_D.append(Ds[forces])
+    rows_y0.append(y0[forces])
+    names += [f"support.{g}.f{a}" for g in SUPPORT_GROUPS for a in "xyz"]
+    names += [f"contact.{c}.{k}" for c in contacts for k in ("fn", "ft1", "ft2")]
+    return LinearModel(A=A, B=B, C=np.vstack(rows_C), D=np.vstack(rows_D), dt_s=dt, output_names=tuple(names),
+                       y0=np.concatenate(rows_y0), velocity_C=Cs[_velocity_rows()], velocity_D=Ds[_velocity_rows()])
+
+
+def _velocity_rows() -> np.ndarray:
+    """Rows of the per-point linear and angular velocities among the state outputs of :func:`linearize`."""
+    return np.concatenate([np.arange(12 * i + 6, 12 * i + 12) for i in range(len(POINTS))])

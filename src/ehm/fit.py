@@ -7,6 +7,14 @@ settling); the search runs in log space within each parameter's bounds with
 :func:`scipy.optimize.least_squares` (trust-region reflective).  The least-squares objective is the
 weighted mean of the curves' squared criteria; the reported figure is the paper's total criterion (the
 weighted mean of the curves' criteria).  The result is checked with time-domain runs.
+
+Honest outcomes: the evaluation budget ``max_evals`` counts every evaluation of the linearised model (the
+start, each candidate, each finite-difference column) and is never exceeded; the time-domain check (one
+set of random-vibration runs for the start and one for the result) comes on top of it.  The result says
+how the search ended (:attr:`FitResult.stopped`: ``"converged"`` or ``"budget"``) and which values count
+as identified (:attr:`FitResult.identified`): those that moved from their start, when the search converged,
+lowered the criterion and, if the time-domain check ran, lowered its criterion too.  Values that moved
+without meeting that are written with grade ``assumed`` and a source saying why.
 """
 
 from __future__ import annotations
@@ -18,7 +26,7 @@ import os
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -35,6 +43,8 @@ from .tables import Body, load_body, resolve_locks
 FITTABLE = ("joints.*", "contacts.*", "posture.integral_time_s")
 DEFAULT_BOUND_FACTOR = 10.0  #: Without explicit bounds a value may move by this factor either way.
 _FAILED = 1e3  #: Residual given to a candidate that cannot be simulated.
+MOVED_REL = 1e-4  #: A value counts as moved when it changed by more than this share of its start value.
+_FD_STEP = 1e-3  #: Finite-difference step in log space.
 
 
 def free_parameters(params: Parameters, patterns: list[str], locked=frozenset()) -> list[str]:
@@ -86,9 +96,22 @@ class FitResult:
         Least-squares objective sqrt(sum of squared weighted residuals) of every candidate the optimiser
         evaluated (finite-difference columns excluded), in order.
     status, message : int, str
-        From :func:`scipy.optimize.least_squares`.
+        From :func:`scipy.optimize.least_squares` (status 0 and a message saying so when the budget ran out).
     n_eval : int
+        Evaluations of the linearised model, never more than ``max_evals``.
     wall_s : float
+    stopped : str
+        ``"converged"`` (the optimiser's tolerances were met) or ``"budget"`` (``max_evals`` ran out first).
+    max_evals : int
+    crit_before_time : float or None
+        Time-domain criterion of the start values (when the time-domain check ran).
+    moved : tuple of str
+        Free parameters whose value changed by more than :data:`MOVED_REL` of the start value (the others
+        keep their start value exactly).
+    identified : tuple of str
+        The moved values that count as identified (see the module docstring).
+    verdict : str
+        One sentence: how the fit ended and what it identified.
     """
 
     params: Parameters
@@ -103,6 +126,28 @@ class FitResult:
     message: str = ""
     n_eval: int = 0
     wall_s: float = 0.0
+    stopped: str = "converged"
+    max_evals: int = 0
+    crit_before_time: float | None = None
+    moved: tuple = ()
+    identified: tuple = ()
+    verdict: str = ""
+
+    @property
+    def improved(self) -> bool:
+        """The criterion went down (linear model; and in the time domain, when checked)."""
+        linear = bool(self.moved) and self.crit_after < self.crit_before
+        timed = self.crit_after_time is None or self.crit_before_time is None or self.crit_after_time < self.crit_before_time
+        return linear and timed
+
+    @property
+    def ok(self) -> bool:
+        """Converged, improved and every moved value identified."""
+        return self.stopped == "converged" and self.improved and bool(self.identified)
+
+
+class _BudgetSpent(Exception):
+    """The next evaluation would exceed the evaluation budget."""
 
 
 class _Objective:
@@ -134,20 +179,22 @@ class _Objective:
         return linear_frf(human, "all" if len(axes) > 1 else axes[0], freq_hz=self.freqs)
 
     def __call__(self, log_x: np.ndarray) -> np.ndarray:
+        return self.evaluate(log_x)[0]
+
+    def evaluate(self, log_x: np.ndarray) -> tuple[np.ndarray, float]:
+        """Residuals and total criterion of one candidate, from one model evaluation (inf: cannot be simulated)."""
         try:
             table = self.model_table(log_x)
         except EhmError:
-            return np.full(sum(band_select(self.data.curves[k].freq_hz, self.band).sum() for k in self.keys), _FAILED)
+            n = sum(band_select(self.data.curves[k].freq_hz, self.band).sum() for k in self.keys)
+            return np.full(n, _FAILED), math.inf
         out = []
         for k, s in zip(self.keys, self.scale):
             m = self.data.curves[k]
             sel = band_select(m.freq_hz, self.band)
             mod = table.curve(*k)
             out.append(s * residuals(m.freq_hz[sel], m.gain[sel], np.interp(m.freq_hz[sel], mod.freq_hz, mod.gain)))
-        return np.concatenate(out)
-
-    def total(self, log_x: np.ndarray) -> float:
-        return compare(self.data, self.model_table(log_x), self.band).total
+        return np.concatenate(out), compare(self.data, table, self.band).total
 
 
 _WORKER_OBJECTIVE: _Objective | None = None
@@ -181,10 +228,13 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
         Glob patterns of the parameters to fit (default: every joint stiffness and damping of the spine and
         neck).
     max_evals : int
-        Budget of model evaluations, finite-difference columns included (the optimiser's iteration limit
-        is derived from it: max_evals / (n_free + 1)).
+        Budget of linearised-model evaluations: the start, every candidate and every finite-difference
+        column count, and the fit stops before it would exceed the budget (``stopped = "budget"``).  The
+        time-domain check comes on top.
     workers : int
         Processes evaluating finite-difference columns in parallel (default: min(2, number of cores)).
+    time_check : bool
+        Check start and result with time-domain runs (random vibration, H1 estimates).
     progress : callable(str) or None
         Receives one line per optimiser iteration.
     executor : concurrent.futures.Executor, optional
@@ -195,7 +245,7 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     base = params if params is not None else Parameters.load()
     body = body if body is not None else load_body()
     locked = resolve_locks(body, lock, unlock)
-    if not isinstance(max_evals, int) or max_evals < 1:
+    if isinstance(max_evals, bool) or not isinstance(max_evals, int) or max_evals < 1:
         raise InputError(f"the evaluation budget must be a whole number >= 1, not {max_evals!r}.")
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise InputError(f"workers = {workers!r}: use 1 or more processes.")
@@ -204,68 +254,153 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     lohi = np.log(np.array([bounds(base, p) for p in free_paths]))
     x0 = np.log(np.array([float(base.value(p)) for p in free_paths]))
     objective = _Objective(data, base, free_paths, lock, unlock, body, band_hz)
-    trace: list[float] = []
-    n_evals = [0]
     say = progress or (lambda line: None)
     n_workers = workers if workers is not None else min(2, os.cpu_count() or 1)
+    search = _Search(objective, max_evals, say, t0, executor, n_workers)
+    try:
+        crit_before = search.start(x0)
+        say(f"start: criterion {crit_before:.5g} with {len(free_paths)} free parameters "
+            f"(budget {max_evals} evaluations)")
+        try:
+            sol = least_squares(search.fun, x0, jac=search.jac, bounds=(lohi[:, 0], lohi[:, 1]), method="trf",
+                                x_scale=1.0, max_nfev=max_evals, xtol=1e-4, ftol=1e-6, gtol=1e-8)
+            x_end, status, message = sol.x, int(sol.status), str(sol.message)
+        except _BudgetSpent:
+            x_end, status = search.best_x, 0
+            message = f"the evaluation budget ({max_evals}) ran out before the optimiser converged"
+    finally:
+        search.close()
+    stopped = "converged" if status > 0 else "budget"
+    if not search.known(x_end) or search.objective_of(x_end) > search.objective_of(search.best_x):
+        x_end = search.best_x  # the best candidate evaluated
+    moved = tuple(p for p, a, b in zip(free_paths, x0, x_end) if abs(math.expm1(b - a)) > MOVED_REL)
+    x_end = np.array([b if p in moved else a for p, a, b in zip(free_paths, x0, x_end)])  # others: start values
+    crit_after = search.final_total(x_end) if moved else crit_before
+    final = {p: float(math.exp(v)) if p in moved else float(base.value(p)) for p, v in zip(free_paths, x_end)}
+    fitted = base.with_values({p: final[p] for p in moved}) if moved else base
+    crit_time = crit_time_before = None
+    if time_check and moved and crit_after < crit_before:
+        crit_time_before = _time_criterion(objective, base, body, lock, unlock, band_hz)
+        crit_time = _time_criterion(objective, fitted, body, lock, unlock, band_hz)
+    start = {p: float(base.value(p)) for p in free_paths}
+    result = FitResult(params=fitted, free=tuple(free_paths), start=start, final=final, crit_before=crit_before,
+                       crit_after=crit_after, crit_after_time=crit_time, trace=search.trace, status=status,
+                       message=message, n_eval=search.n_eval, wall_s=time.perf_counter() - t0, stopped=stopped,
+                       max_evals=max_evals, crit_before_time=crit_time_before, moved=moved)
+    identified = moved if stopped == "converged" and result.improved else ()
+    return replace(result, identified=identified, verdict=_verdict(replace(result, identified=identified)))
 
-    last: dict = {}
 
-    def fun(x):
-        r = objective(x)
-        n_evals[0] += 1
-        trace.append(float(np.sqrt(np.sum(r ** 2))))
-        last["x"], last["r"] = x.copy(), r
-        return r
+def _time_criterion(objective: _Objective, params: Parameters, body: Body, lock, unlock, band_hz) -> float:
+    """Total criterion of a parameter set from time-domain runs (the fit's check)."""
+    from .simulation import SeatedHuman
 
-    pool = ProcessPoolExecutor(max_workers=n_workers, initializer=_init_worker, initargs=(objective,)) \
-        if n_workers > 1 and executor is None else None
-    step = 1e-3
+    human = SeatedHuman(params=params, body=body, lock=lock, unlock=unlock)
+    axes = sorted({k[0] for k in objective.keys}, key=AXES.index)
+    # excite the fitting band, starting one estimate bin (0.1 Hz) lower so that its edge is covered
+    table = time_domain_frf(human, "all" if len(axes) > 1 else axes[0],
+                            band_hz=(max(band_hz[0] - 0.1, 0.05), band_hz[1] + 0.1))
+    return compare(objective.data, table, band_hz).total
 
-    def jac(x):
-        cols = [x + step * np.eye(x.size)[i] for i in range(x.size)]
-        f0 = last["r"] if "x" in last and np.array_equal(last["x"], x) else fun(x)
-        if executor is not None:
+
+def _verdict(r: FitResult) -> str:
+    """One sentence on how the fit ended."""
+    used = f"{r.n_eval} of {r.max_evals} evaluations"
+    if not r.moved:
+        why = "stopped on its evaluation budget" if r.stopped == "budget" else "converged"
+        return (f"the fit {why} ({used}) without moving any free value from its start (criterion "
+                f"{r.crit_before:.5g}): nothing was identified.")
+    if r.crit_after >= r.crit_before:
+        return (f"the fit did not lower the criterion ({r.crit_before:.5g} -> {r.crit_after:.5g}, {used}): "
+                "nothing was identified.")
+    if r.crit_after_time is not None and r.crit_before_time is not None and r.crit_after_time >= r.crit_before_time:
+        return (f"the time-domain check does not confirm the fit (criterion {r.crit_before_time:.5g} -> "
+                f"{r.crit_after_time:.5g} from runs, {r.crit_before:.5g} -> {r.crit_after:.5g} linear): the "
+                f"{len(r.moved)} moved values are not marked identified.")
+    if r.stopped == "budget":
+        return (f"the fit stopped on its evaluation budget ({used}) before converging (criterion "
+                f"{r.crit_before:.5g} -> {r.crit_after:.5g}): the {len(r.moved)} moved values are not marked "
+                "identified; raise the budget (--max-evals) to finish it.")
+    return (f"converged in {used}: criterion {r.crit_before:.5g} -> {r.crit_after:.5g}; "
+            f"{len(r.identified)} of {len(r.free)} free values identified.")
+
+
+class _Search:
+    """The objective as the optimiser sees it, counting every model evaluation against the budget.
+
+    Candidates are cached by value, so the start and the optimiser's repeated points cost nothing twice;
+    finite-difference columns run on the executor or the process pool.
+    """
+
+    def __init__(self, objective: _Objective, max_evals: int, say, t0: float, executor, n_workers: int):
+        self.objective, self.max_evals, self.say, self.t0, self.executor = objective, max_evals, say, t0, executor
+        self.pool = ProcessPoolExecutor(max_workers=n_workers, initializer=_init_worker, initargs=(objective,)) \
+            if n_workers > 1 and executor is None else None
+        self.n_eval = 0
+        self.cache: dict[bytes, tuple[np.ndarray, float]] = {}
+        self.trace: list[float] = []
+        self.best_x: np.ndarray | None = None
+        self.iterations = 0
+        self.reserve = 0  # evaluations kept back during the search for the final point (see final_total)
+
+    def _spend(self, n: int) -> None:
+        if self.n_eval + n > self.max_evals - self.reserve:
+            raise _BudgetSpent()
+        self.n_eval += n
+
+    def known(self, x: np.ndarray) -> bool:
+        return np.asarray(x, dtype=float).tobytes() in self.cache
+
+    def _evaluate(self, x: np.ndarray) -> tuple[np.ndarray, float]:
+        key = np.asarray(x, dtype=float).tobytes()
+        if key not in self.cache:
+            self._spend(1)
+            r, total = self.objective.evaluate(x)
+            self.cache[key] = (r, total)
+            self.trace.append(float(np.sqrt(np.sum(r ** 2))))
+            if self.best_x is None or self.trace[-1] < self.objective_of(self.best_x):
+                self.best_x = np.array(x, dtype=float)
+        return self.cache[key]
+
+    def objective_of(self, x: np.ndarray) -> float:
+        """sqrt(sum of squared residuals) of an evaluated candidate."""
+        r = self.cache[np.asarray(x, dtype=float).tobytes()][0]
+        return float(np.sqrt(np.sum(r ** 2)))
+
+    def final_total(self, x: np.ndarray) -> float:
+        """The criterion at the result: known from the search, or (values that barely moved reset to their
+        start) one more evaluation from the one kept in reserve."""
+        self.reserve = 0
+        return self._evaluate(x)[1]
+
+    def start(self, x0: np.ndarray) -> float:
+        total = self._evaluate(x0)[1]
+        self.reserve = 1
+        return total
+
+    def fun(self, x: np.ndarray) -> np.ndarray:
+        return self._evaluate(x)[0]
+
+    def jac(self, x: np.ndarray) -> np.ndarray:
+        f0 = self.fun(x)
+        cols = [x + _FD_STEP * np.eye(x.size)[i] for i in range(x.size)]
+        self._spend(len(cols))
+        if self.executor is not None:
             from functools import partial
 
-            results = list(executor.map(partial(_eval_with, objective), cols))
-        elif pool:
-            results = list(pool.map(_worker_eval, cols))
+            results = list(self.executor.map(partial(_eval_with, self.objective), cols))
+        elif self.pool:
+            results = list(self.pool.map(_worker_eval, cols))
         else:
-            results = [objective(c) for c in cols]
-        n_evals[0] += len(cols)
-        J = np.column_stack([(r - f0) / step for r in results])
-        say(f"  iteration {len(jac_calls) + 1}: objective {np.sqrt(np.sum(f0 ** 2)):.5g} "
-            f"({n_evals[0]} evaluations, {time.perf_counter() - t0:.0f} s)")
-        jac_calls.append(1)
-        return J
+            results = [self.objective(c) for c in cols]
+        self.iterations += 1
+        self.say(f"  iteration {self.iterations}: objective {np.sqrt(np.sum(f0 ** 2)):.5g} "
+                 f"({self.n_eval} of {self.max_evals} evaluations, {time.perf_counter() - self.t0:.0f} s)")
+        return np.column_stack([(r - f0) / _FD_STEP for r in results])
 
-    jac_calls: list[int] = []
-    try:
-        crit_before = objective.total(x0)
-        say(f"start: criterion {crit_before:.5g} with {len(free_paths)} free parameters")
-        sol = least_squares(fun, x0, jac=jac, bounds=(lohi[:, 0], lohi[:, 1]), method="trf", x_scale=1.0,
-                            max_nfev=max(1, max_evals // (len(free_paths) + 1)), xtol=1e-4, ftol=1e-6, gtol=1e-8)
-    finally:
-        if pool:
-            pool.shutdown()
-    crit_after = objective.total(sol.x)
-    fitted = objective.params_at(sol.x)
-    crit_time = None
-    if time_check:
-        from .simulation import SeatedHuman
-
-        human = SeatedHuman(params=fitted, body=body, lock=lock, unlock=unlock)
-        axes = sorted({k[0] for k in objective.keys}, key=AXES.index)
-        # excite the fitting band, starting one estimate bin (0.1 Hz) lower so that its edge is covered
-        table = time_domain_frf(human, "all" if len(axes) > 1 else axes[0],
-                                band_hz=(max(band_hz[0] - 0.1, 0.05), band_hz[1] + 0.1))
-        crit_time = compare(data, table, band_hz).total
-    start = {p: float(math.exp(v)) for p, v in zip(free_paths, x0)}
-    final = {p: float(math.exp(v)) for p, v in zip(free_paths, sol.x)}
-    return FitResult(params=fitted, free=tuple(free_paths), start=start, final=final, crit_before=crit_before,
-                     crit_after=crit_after, crit_after_time=crit_time, trace=trace, status=int(sol.status),
-                     message=str(sol.message), n_eval=n_evals[0], wall_s=time.perf_counter() - t0)
+    def close(self) -> None:
+        if self.pool:
+            self.pool.shutdown()
 
 
 def file_sha256(path: Path | str) -> str:
@@ -274,27 +409,39 @@ def file_sha256(path: Path | str) -> str:
 
 
 def identified_parameters(result: FitResult, data_path: Path | str) -> Parameters:
-    """The fitted parameter set with its provenance recorded: grade ``identified`` on every fitted value,
-    a ``[sources]`` entry naming the data file and its hash, and the criteria in ``[about]``."""
+    """The fitted parameter set with its provenance recorded: a ``[sources]`` entry naming the data file, its
+    hash and how the fit ended; grade ``identified`` on the identified values, ``assumed`` (with that source)
+    on values that moved without being identified; values that did not move keep their grade and source;
+    the criteria and the outcome in ``[about]``."""
     digest = file_sha256(data_path)
     key = f"fit_{digest[:12]}"
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     text = (f"ehm fit to {Path(data_path).name} (sha256 {digest}) on {stamp}: criterion (Eqs. 2-3) "
             f"{result.crit_before:.6g} -> {result.crit_after:.6g} (linear model)")
     if result.crit_after_time is not None:
-        text += f", {result.crit_after_time:.6g} (time-domain check)"
+        text += f", {result.crit_before_time:.6g} -> {result.crit_after_time:.6g} (time-domain check)"
+    text += f"; {result.verdict}"
     p = result.params.with_source(key, text)
-    p = p.with_values(result.final, grade="identified", source=key)
+    identified = {k: result.final[k] for k in result.identified}
+    unconfirmed = {k: result.final[k] for k in result.moved if k not in result.identified}
+    if identified:
+        p = p.with_values(identified, grade="identified", source=key)
+    if unconfirmed:
+        p = p.with_values(unconfirmed, grade="assumed", source=key)
     return p.with_about({
         "fit_data": Path(data_path).name, "fit_data_sha256": digest, "fit_date": stamp,
-        "fit_free": list(result.free), "fit_criterion_before": result.crit_before,
-        "fit_criterion_after": result.crit_after,
-        **({"fit_criterion_after_time_domain": result.crit_after_time} if result.crit_after_time is not None else {}),
+        "fit_free": list(result.free), "fit_identified": list(result.identified),
+        "fit_stopped": result.stopped, "fit_evaluations": result.n_eval, "fit_max_evals": result.max_evals,
+        "fit_verdict": result.verdict,
+        "fit_criterion_before": result.crit_before, "fit_criterion_after": result.crit_after,
+        **({"fit_criterion_before_time_domain": result.crit_before_time,
+            "fit_criterion_after_time_domain": result.crit_after_time} if result.crit_after_time is not None else {}),
     })
 
 
 def write_identified(result: FitResult, data_path: Path | str, out: Path | str) -> Parameters:
-    """Write the identified parameter file; refuses to overwrite the shipped defaults."""
+    """Write the fitted parameter file (see :func:`identified_parameters`); refuses to overwrite the shipped
+    defaults."""
     p = identified_parameters(result, data_path)
     p.export(out)
     return p

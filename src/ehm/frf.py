@@ -164,10 +164,13 @@ def run_curves(run, axis: str, band_hz: tuple[float, float] = (0.1, 12.0), segme
 
 
 def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2: float = 0.3, seed: int = 0,
-                    band_hz: tuple[float, float] = (0.1, 12.0), segment_s: float = 10.0) -> FrfTable:
+                    band_hz: tuple[float, float] = (0.1, 12.0), segment_s: float = 10.0,
+                    route: str = "nonlinear") -> FrfTable:
     """Transfer functions from random-vibration runs, one run per input axis (paper Eq. 1, H1 estimate).
 
     Each run excites one seat axis with band-limited random acceleration (``band_hz``, ``rms_mps2``).
+    ``route`` is the simulation route of the runs: ``nonlinear`` (MuJoCo, the default) or ``linear`` (the
+    linearised person, :mod:`ehm.linear`: milliseconds per run; refuses inputs that make a contact slide).
     """
     from .motion import random_vibration
 
@@ -177,26 +180,37 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
     dt = float(human.params.value("simulation.dt_s"))
     curves = {}
     for axis_name in _axes(axis):
-        run = human.simulate(random_vibration(axis_name, duration_s, rms_mps2, seed=seed, dt_s=dt, band_hz=band_hz))
+        run = human.simulate(random_vibration(axis_name, duration_s, rms_mps2, seed=seed, dt_s=dt, band_hz=band_hz),
+                             method=route)
         curves.update(run_curves(run, axis_name, band_hz, segment_s))
-    meta = {"duration_s": duration_s, "rms_mps2": rms_mps2, "seed": seed, "segment_s": segment_s}
+    meta = {"duration_s": duration_s, "rms_mps2": rms_mps2, "seed": seed, "segment_s": segment_s, "route": route}
     return FrfTable(curves=curves, method="time", meta=meta)
 
 
-def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, linear_model=None) -> FrfTable:
+def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, linear_model=None,
+               discrete: bool = False) -> FrfTable:
     """Exact frequency response of the model linearised around its settled posture.
 
-    ``freq_hz`` defaults to 0.1 to 12 Hz in 0.05 Hz steps.  Contacts are linearised as stuck.
+    ``freq_hz`` defaults to 0.1 to 12 Hz in 0.05 Hz steps.  Contacts are linearised as stuck.  By default
+    the continuous-time model of the linear route (:meth:`ehm.SeatedHuman.linear_model`, no step error);
+    ``discrete=True`` (or an :class:`ehm.engine.LinearModel` as ``linear_model``) gives the response of one
+    MuJoCo step at the person's own time step, with that step's error (what ``ehm check-step`` compares).
     """
     from . import engine
+    from .linear import frequency_response
     from .transfer import discrete_frequency_response
 
     f = np.arange(0.1, 12.0 + 1e-9, 0.05) if freq_hz is None else np.asarray(freq_hz, dtype=float)
-    lm = linear_model if linear_model is not None else engine.linearize(human.model)
-    names = list(lm.output_names)
     axes = _axes(axis)
-    H = discrete_frequency_response(lm.A, lm.B[:, [AXES.index(a) for a in axes]], lm.C,
-                                    lm.D[:, [AXES.index(a) for a in axes]], lm.dt_s, f)
+    cols = [AXES.index(a) for a in axes]
+    if discrete or linear_model is not None:
+        lm = linear_model if linear_model is not None else engine.linearize(human.model)
+        names = list(lm.output_names)
+        H = discrete_frequency_response(lm.A, lm.B[:, cols], lm.C, lm.D[:, cols], lm.dt_s, f)
+    else:
+        ss = human.linear_model()
+        names = list(ss.output_names)
+        H = frequency_response(ss, f)[:, :, cols]
     nan = np.full(f.size, np.nan)
     curves = {}
     for i, a in enumerate(axes):

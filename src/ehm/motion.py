@@ -869,18 +869,22 @@ def seat_kinematics(time_s: np.ndarray, angvel_radps: np.ndarray) -> SeatKinemat
     ang = np.linalg.norm(rv, axis=1)
     half = 0.5 * ang
     scale = np.where(ang > 1e-12, np.sin(half) / np.where(ang > 1e-12, ang, 1.0), 0.5)
-    steps = np.column_stack([np.cos(half), rv * scale[:, None]]).tolist()
-    # sequential Hamilton products in plain floats (a few microseconds per sample)
+    steps = np.column_stack([np.cos(half), rv * scale[:, None]])
+    del rv, ang, half, scale
+    # sequential Hamilton products in plain floats (a few microseconds per sample), a block of steps at a time
+    # (plain floats take about 40 bytes each: a whole long drive of them would hold hundreds of MB)
     quats = np.empty((t.size, 4))
     qw, qx, qy, qz = 1.0, 0.0, 0.0, 0.0
     quats[0] = (qw, qx, qy, qz)
-    for k, (sw, sx, sy, sz) in enumerate(steps, start=1):
-        qw, qx, qy, qz = (qw * sw - qx * sx - qy * sy - qz * sz, qw * sx + qx * sw + qy * sz - qz * sy,
-                          qw * sy - qx * sz + qy * sw + qz * sx, qw * sz + qx * sy - qy * sx + qz * sw)
-        if k % 1024 == 0:  # keep unit length against round-off
-            n = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-            qw, qx, qy, qz = qw / n, qx / n, qy / n, qz / n
-        quats[k] = (qw, qx, qy, qz)
+    for b in range(0, steps.shape[0], 8192):
+        for k, (sw, sx, sy, sz) in enumerate(steps[b:b + 8192].tolist(), start=b + 1):
+            qw, qx, qy, qz = (qw * sw - qx * sx - qy * sy - qz * sz, qw * sx + qx * sw + qy * sz - qz * sy,
+                              qw * sy - qx * sz + qy * sw + qz * sx, qw * sz + qx * sy - qy * sx + qz * sw)
+            if k % 1024 == 0:  # keep unit length against round-off
+                n = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+                qw, qx, qy, qz = qw / n, qx / n, qy / n, qz / n
+            quats[k] = (qw, qx, qy, qz)
+    del steps
     quats = quats[:, [1, 2, 3, 0]]  # scipy's (x, y, z, w) order
     yaw, pitch, roll = Rotation.from_quat(quats).as_euler("ZYX").T
     if np.abs(pitch).max() > np.radians(80):

@@ -25,10 +25,10 @@ _META = ("grade", "source", "bounds", "grades", "sources")
 
 #: Numeric keys allowed in each section, with the check they must pass.
 _SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "back_slide_s": "nonnegative", "noslip_iterations": "count",
-               "solver_iterations": "count", "contact_impedance": "fraction"}
+               "solver_iterations": "count", "contact_impedance": "fraction", "pad_armature_kg": "nonnegative"}
 #: Keys a file may leave out (added after files were first exported), with the value they then take; load()
 #: fills them in (grade assumed, source "ehm").
-OPTIONAL = {"simulation.back_slide_s": 0.0}
+OPTIONAL = {"simulation.back_slide_s": 0.0, "simulation.pad_armature_kg": 0.0}
 _POSTURE = {"integral_time_s": "positive", "integral_joints": "joints"}
 _SEAT = {"pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
          "backrest_x_m": "finite", "lower_pad_height_m": "finite", "lower_pad_thickness_m": "nonnegative",
@@ -235,7 +235,11 @@ class Parameters:
         sources = d.get("sources", {})
         if not isinstance(sources, dict):
             raise InputError(f"{label}: [sources] must be a table of source names and citations.")
-        for section in ("simulation", "posture", "seat", "joints", "contacts"):
+        required = ("simulation", "posture", "seat", "joints", "contacts")
+        if not any(isinstance(d.get(section), dict) for section in required):
+            raise InputError(f"{label}: not an ehm parameter file (none of its sections [{'], ['.join(required)}]); "
+                             "write one with 'ehm params --export FILE.toml'.")
+        for section in required:
             if not isinstance(d.get(section), dict):
                 raise InputError(f"{label}: missing section [{section}].")
         unknown = set(d) - {"about", "sources", "simulation", "posture", "seat", "joints", "contacts"}

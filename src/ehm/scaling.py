@@ -156,6 +156,8 @@ def scale_params(params: Parameters, size: BodySize, body: Body | None = None) -
                 updates[path] = v * g_m / math.sqrt(L)
             elif key == "pad_mass_kg":
                 updates[path] = v * g_m
+        elif path == "simulation.pad_armature_kg":  # an inertia of the pads' shear motion: scales as their mass
+            updates[path] = v * g_m
         elif parts[0] == "seat" and path.endswith("_m"):
             name = parts[1]
             if name == "floor_height_m":  # the floor sits under the feet: pelvis-to-floor height is legs
@@ -166,3 +168,32 @@ def scale_params(params: Parameters, size: BodySize, body: Body | None = None) -
                 updates[path] = v * size.width
     about = f"scaled to stature {size.stature_m:g} m, mass {size.mass_kg:g} kg, sitting height {size.sitting_height_m:g} m"
     return params.with_values(updates).with_about({"scaled": about})
+
+
+def check_buildable(size: BodySize, body: Body, params: Parameters, scaled_body: Body, scaled_params: Parameters) -> None:
+    """One sentence when a person of ``size`` (``body`` and ``params`` scaled to ``scaled_body`` and
+    ``scaled_params``) would have a segment that is no rigid body, naming the segment and the masses that can
+    be built at this stature instead."""
+    from .engine import inertia_problem
+
+    problem = inertia_problem(scaled_body, scaled_params)
+    if problem is None:
+        return
+    ok = []
+    for m in np.arange(30.0, 200.0 + 1e-9, 1.0):
+        s = BodySize(size.stature_m, m, size.sitting_height_m)
+        if inertia_problem(scale_body(body, s), scale_params(params, s, body)) is None:
+            ok.append(m)
+    spans, start = [], None
+    for i, m in enumerate(ok):
+        start = m if start is None else start
+        if i + 1 == len(ok) or ok[i + 1] - m > 1.5:
+            spans.append(f"{start:g}-{m:g} kg" if m > start else f"{m:g} kg")
+            start = None
+    where = f"at stature {size.stature_m:g} m and sitting height {size.sitting_height_m:.3g} m"
+    hint = (f"{where} it can be built with a mass of {', '.join(spans)}: choose one there or another stature"
+            if spans else f"no mass from 30 to 200 kg can be built {where}: choose another stature or sitting height")
+    a, b, c = problem.moments
+    raise InputError(f"a person of {size.stature_m:g} m and {size.mass_kg:g} kg cannot be built: scaled to that size, "
+                     f"segment {problem.segment!r} would have principal moments of inertia {a:.4g}, {b:.4g}, "
+                     f"{c:.4g} kg m^2, which no rigid body has ({problem.rule}); {hint}.")

@@ -17,7 +17,6 @@ from scipy.spatial.transform import Rotation
 
 from . import engine
 from .errors import InputError
-from .io import replace_atomically, write_csv_atomic, write_json_atomic
 from .motion import SeatMotion, seat_kinematics, seat_rotation_matrices
 from .params import Parameters
 from .tables import Body, load_body, resolve_locks
@@ -118,26 +117,18 @@ class RunResult:
 
     def summary(self) -> dict:
         """Scalars describing the run (what ``summary.json`` holds)."""
-        out = {
-            "mass_kg": self.mass_kg,
-            "dof": self.dof,
-            "locked": list(self.locked),
-            "duration_s": self.duration_s,
-            "dt_s": self.dt_s,
-            "wall_s": self.wall_s,
-            "realtime_factor": self.realtime_factor,
-            "input": self.description,
-            "params": self.params_origin,
-            "support_force_mean_N": self.support_total_N().mean(axis=0).tolist(),
-            "support_force_mean_by_surface_N": {k: v.mean(axis=0).tolist() for k, v in self.support_N.items()},
-            "body_weight_N": self.mass_kg * -engine.G0[2],
-            "seat_acc_rms_mps2": np.sqrt(np.mean(self.seat_acc_mps2 ** 2, axis=0)).tolist(),
-        }
-        for p, m in self.points.items():
-            out[f"{p}_acc_rms_mps2"] = np.sqrt(np.mean(m.acc_mps2 ** 2, axis=0)).tolist()
-            out[f"{p}_rot_rms_rad"] = np.sqrt(np.mean(m.rot_rad ** 2, axis=0)).tolist()
-        out.update(self.extra)
-        return out
+        from .runfiles import SummaryAccumulator
+
+        acc = SummaryAccumulator()
+        acc.add(self)
+        return acc.summary()
+
+    def take(self, rows) -> "RunResult":
+        """The run at some rows only (a slice or index array; poses left out), e.g. for a figure."""
+        pts = {p: PointMotion(p, *(getattr(m, f)[rows] for f in _POINT_FIELDS)) for p, m in self.points.items()}
+        return replace(self, time_s=self.time_s[rows], seat_acc_mps2=self.seat_acc_mps2[rows], points=pts,
+                       support_N={k: v[rows] for k, v in self.support_N.items()}, poses=None,
+                       seat_angles_rad=None if self.seat_angles_rad is None else self.seat_angles_rad[rows])
 
     def columns(self) -> tuple[list[str], np.ndarray]:
         """Header and (n, k) data of ``timeseries.csv``."""
@@ -153,22 +144,44 @@ class RunResult:
             cols.append(f)
         return header, np.hstack(cols)
 
-    def write(self, out_dir: Path | str) -> dict:
-        """Write ``timeseries.csv`` and ``summary.json`` into ``out_dir``; return the file paths."""
+    def write(self, out_dir: Path | str, output_rate_hz: float | None = None, formats=("csv",)) -> dict:
+        """Write the run folder ``out_dir`` (``timeseries.csv`` and/or ``.parquet``, ``summary.json``, ``poses.npz``
+        when the run has poses) as one unit (:mod:`ehm.outdir`: an earlier run's folder there is replaced whole);
+        ``output_rate_hz`` thins the time series (default: every step).  Returns the file paths."""
+        from .outdir import RunFolder
+        from .runfiles import output_every, write_run
+
+        every = output_every(output_rate_hz, self.dt_s)
         out = Path(out_dir)
-        header, data = self.columns()
-        paths = {"timeseries": out / "timeseries.csv", "summary": out / "summary.json"}
-        write_csv_atomic(paths["timeseries"], header, data)
-        write_json_atomic(paths["summary"], self.summary())
-        if self.poses is not None:
-            paths["poses"] = out / "poses.npz"
-            _write_npz_atomic(paths["poses"], self.poses)
-        return paths
+        with RunFolder(out) as tmp:
+            write_run(tmp, [self], output_every=every, formats=formats)
+        return _paths(out, formats, self.poses is not None)
 
 
-def _write_npz_atomic(path: Path, arrays: dict) -> None:
-    """Write a .npz whole or not at all."""
-    replace_atomically(path, lambda tmp: np.savez_compressed(tmp, **arrays), "the pose file")
+def _paths(out: Path, formats, poses: bool) -> dict:
+    paths = {"summary": out / "summary.json"}
+    if "csv" in formats:
+        paths["timeseries"] = out / "timeseries.csv"
+    if "parquet" in formats:
+        paths["parquet"] = out / "timeseries.parquet"
+    if poses:
+        paths["poses"] = out / "poses.npz"
+    return paths
+
+
+def concatenate_runs(chunks: list) -> RunResult:
+    """One :class:`RunResult` from consecutive chunks (as :meth:`SeatedHuman.stream` yields them)."""
+    first = chunks[0]
+    cat = lambda get: np.concatenate([get(c) for c in chunks])  # noqa: E731
+    points = {p: PointMotion(p, *(cat(lambda c, f=f: getattr(c.points[p], f)) for f in _POINT_FIELDS))
+              for p in first.points}
+    return replace(first, time_s=cat(lambda c: c.time_s), seat_acc_mps2=cat(lambda c: c.seat_acc_mps2), points=points,
+                   support_N={k: cat(lambda c, k=k: c.support_N[k]) for k in first.support_N},
+                   wall_s=sum(c.wall_s for c in chunks),
+                   seat_angles_rad=None if first.seat_angles_rad is None else cat(lambda c: c.seat_angles_rad),
+                   poses=None if first.poses is None else {
+                       **{k: v for k, v in first.poses.items() if k not in ("time_s", "pos", "quat")},
+                       **{k: cat(lambda c, k=k: c.poses[k]) for k in ("time_s", "pos", "quat")}})
 
 
 class SeatedHuman:
@@ -186,16 +199,29 @@ class SeatedHuman:
         Build the seat so that it can rotate (for motions with angular velocity; about 40 % slower).
     size : ehm.scaling.BodySize, optional
         Scale the person (and the seat's fit) to a stature, mass and sitting height.
+    dt_s : float, optional
+        Time step [s] (default: the parameter file's, 0.5 ms for the shipped defaults).  A step coarser
+        than the one at which the model is converged gives a :class:`ehm.convergence.StepWarning` with the
+        error to expect; ``ehm check-step`` measures it.
     """
 
     def __init__(self, params: Parameters | str | Path | None = None, lock=(), unlock=(),
-                 body: Body | None = None, rotating_seat: bool = False, size=None):
+                 body: Body | None = None, rotating_seat: bool = False, size=None, dt_s: float | None = None):
+        from .convergence import warn_if_coarse
+
         self.body = body if body is not None else load_body()
         self.params = params if isinstance(params, Parameters) else Parameters.load(params)
+        if dt_s is not None:
+            if not (isinstance(dt_s, (int, float)) and np.isfinite(dt_s) and dt_s > 0):
+                raise InputError(f"dt_s must be a positive time step in seconds, not {dt_s!r}.")
+            self.params = self.params.with_values({"simulation.dt_s": float(dt_s)})
+        warn_if_coarse(float(self.params.value("simulation.dt_s")))
         if size is not None:  # an individual body size (ehm.scaling.BodySize)
-            from .scaling import scale_body, scale_params
+            from .scaling import check_buildable, scale_body, scale_params
 
+            body0, params0 = self.body, self.params
             self.body, self.params = scale_body(self.body, size), scale_params(self.params, size, self.body)
+            check_buildable(size, body0, params0, self.body, self.params)  # one sentence, with masses that work
         self.size = size
         self.locked = resolve_locks(self.body, lock, unlock)
         self.model = engine.build(self.body, self.params, self.locked, rotating_seat=rotating_seat)
@@ -232,34 +258,94 @@ class SeatedHuman:
         """Let the person sink into the seat (done automatically before the first run)."""
         engine.settle(self.model)
 
-    def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None) -> RunResult:
-        """Run the settled person with a seat motion (resampled to the model's time step).
+    def linear_model(self):
+        """The person linearised at the settled posture, continuous time (:func:`ehm.linear.continuous_model`;
+        computed once, about 0.1 s after settling)."""
+        if getattr(self, "_linear", None) is None:
+            from .linear import continuous_model
 
-        A motion with angular velocity needs a person built with ``rotating_seat=True``.  For long drives
-        use :meth:`stream`, which holds one chunk at a time.
+            if self.model.seat is not None:
+                raise InputError("the linear route models a static seat; build the person without rotating_seat.")
+            self._linear = continuous_model(self.model)
+        return self._linear
+
+    def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None,
+                 method: str = "nonlinear") -> RunResult:
+        """Run the settled person with a seat motion.
+
+        ``method="nonlinear"`` (default) steps the MuJoCo model (the motion resampled to the model's time
+        step); a motion with angular velocity needs a person built with ``rotating_seat=True``; for long
+        drives use :meth:`stream`, which holds one chunk at a time.  ``method="linear"`` runs the person
+        linearised at rest, exactly discretised at the motion's own step (:mod:`ehm.linear`): about a
+        thousand times faster, for translation inputs small enough that no contact lifts off or slides
+        (checked while it runs: :class:`ehm.linear.LinearRouteError` otherwise).
         """
-        chunks = list(self.stream(motion, progress=progress, pose_rate_hz=pose_rate_hz))
-        first = chunks[0]
-        cat = lambda get: np.concatenate([get(c) for c in chunks])  # noqa: E731
-        points = {p: PointMotion(p, *(cat(lambda c, f=f: getattr(c.points[p], f)) for f in _POINT_FIELDS))
-                  for p in POINT_NAMES}
-        return RunResult(time_s=cat(lambda c: c.time_s), seat_acc_mps2=cat(lambda c: c.seat_acc_mps2), points=points,
-                         support_N={k: cat(lambda c, k=k: c.support_N[k]) for k in first.support_N},
-                         mass_kg=self.mass_kg, dof=self.dof, dt_s=first.dt_s, wall_s=sum(c.wall_s for c in chunks),
-                         description=first.description, locked=first.locked, params_origin=self.params.origin,
-                         seat_angles_rad=None if first.seat_angles_rad is None else cat(lambda c: c.seat_angles_rad),
-                         poses=None if first.poses is None else {
-                             **{k: v for k, v in first.poses.items() if k not in ("time_s", "pos", "quat")},
-                             **{k: cat(lambda c, k=k: c.poses[k]) for k in ("time_s", "pos", "quat")}})
+        if method == "linear":
+            if not isinstance(motion, SeatMotion):
+                raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
+            from .linear import simulate_linear
 
-    def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None):
+            return simulate_linear(self, motion)
+        if method != "nonlinear":
+            raise InputError(f"method must be 'nonlinear' or 'linear', not {method!r}.")
+        return concatenate_runs(list(self.stream(motion, progress=progress, pose_rate_hz=pose_rate_hz)))
+
+    def simulate_to(self, out_dir: Path | str, motion: SeatMotion, output_rate_hz: float | None = None,
+                    formats=("csv",), pose_rate_hz: float | None = 25.0, progress=None, chunk_s: float = 10.0,
+                    plot: bool = False, method: str = "nonlinear") -> dict:
+        """Run a seat motion and write its run folder while it runs; returns the summary.
+
+        Chunks of ``chunk_s`` go to disk as they are computed (:mod:`ehm.runfiles`), so memory does not grow
+        with the motion's length; the folder ``out_dir`` is put in place as one unit when the run has ended
+        (:mod:`ehm.outdir`), and a failure or an interrupt leaves an earlier folder there as it was.
+        ``output_rate_hz`` thins the time series (it must divide the model's rate; default
+        :data:`ehm.runfiles.DEFAULT_OUTPUT_RATE_HZ`, or the nearest whole fraction of the model's rate above it);
+        ``formats``: ``"csv"`` and/or ``"parquet"``; ``plot`` also draws ``time_histories.png`` (from at most
+        :data:`ehm.runfiles.PREVIEW_ROWS` evenly spread rows).  ``method`` as for :meth:`simulate` (the linear
+        route samples at the motion's own step and records no poses).
+        """
+        from .outdir import RunFolder, check_output_folder
+        from .runfiles import PREVIEW_ROWS, default_output_every, output_every, pyarrow_modules, write_run
+
+        if method == "linear":
+            steps = np.diff(motion.time_s)
+            dt, pose_rate_hz = float(np.median(steps)), None
+        else:
+            dt = float(self.model.mj.opt.timestep)
+        every = default_output_every(dt) if output_rate_hz is None else output_every(output_rate_hz, dt)
+        if "parquet" in formats:
+            pyarrow_modules()
+        check_output_folder(out_dir)
+        n_steps = int(np.floor(motion.duration_s / dt + 1e-9)) + 1 if isinstance(motion, SeatMotion) else None
+        with RunFolder(out_dir) as tmp:
+            chunks = self.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz, method=method)
+            summary, preview = write_run(tmp, chunks, output_every=every, formats=formats,
+                                         preview_rows=PREVIEW_ROWS if plot else 0, n_steps=n_steps)
+            if plot:
+                from .plotting import plot_time_histories
+
+                step = float(preview.time_s[1] - preview.time_s[0]) if len(preview.time_s) > 1 else dt
+                title = preview.description + (f" (figure: every {step:g} s)" if step > dt * 1.5 else "")
+                plot_time_histories(preview, tmp / "time_histories.png", title=title)
+        return summary
+
+    def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
+               method: str = "nonlinear"):
         """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
 
         Memory stays constant whatever the motion's length: the motion is interpolated onto the model's time
-        step one chunk at a time.  ``progress(done_s, total_s)`` is called after every chunk.
+        step one chunk at a time.  ``progress(done_s, total_s)`` is called after every chunk.  ``method`` as
+        for :meth:`simulate` (the linear route runs at the motion's own step; no poses).
         """
         if not isinstance(motion, SeatMotion):
             raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
+        if method == "linear":
+            from .linear import stream_linear
+
+            yield from stream_linear(self, motion, chunk_s=chunk_s, progress=progress)
+            return
+        if method != "nonlinear":
+            raise InputError(f"method must be 'nonlinear' or 'linear', not {method!r}.")
         if motion.angvel_radps is not None and self.model.seat is None:
             raise InputError("this motion rotates the seat (it has angular velocities); build the person with "
                              "SeatedHuman(rotating_seat=True).")
@@ -284,7 +370,11 @@ class SeatedHuman:
             geometry = {f"geometry_{k}": v for k, v in engine.drawing_geometry(self.model).items()}
         for start in range(0, n_total, per_chunk):
             t = np.arange(start, min(n_total, start + per_chunk)) * dt
-            acc_seat = np.column_stack([np.interp(t, t_rel, motion.acc_mps2[:, j]) for j in range(3)])
+            # the samples around this chunk only (the same interpolation as over the whole motion, without
+            # whole-motion temporaries)
+            near = slice(max(0, int(np.searchsorted(t_rel, t[0], side="right")) - 1),
+                         int(np.searchsorted(t_rel, t[-1], side="left")) + 1)
+            acc_seat = np.column_stack([np.interp(t, t_rel[near], motion.acc_mps2[near, j]) for j in range(3)])
             if rotating:
                 angles, rates, accs = kin.at(t)
                 R = seat_rotation_matrices(angles)
@@ -293,7 +383,8 @@ class SeatedHuman:
             else:
                 R, acc_world, rotation, angles = None, acc_seat, None, None
             t0 = time.perf_counter()
-            raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation, pose_every=pose_every)
+            with engine.captured_warnings():  # MuJoCo's warnings go into ehm's sentences, not raw to the terminal
+                raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation, pose_every=pose_every)
             wall = time.perf_counter() - t0
             result = self._chunk_result(raw, t, acc_seat, R, angles, poses, pivot, wall, description)
             if pose_every:
@@ -312,13 +403,13 @@ class SeatedHuman:
             settled_pos, settled_quat = poses[p]
             world = Rotation.from_quat(raw.sensors[f"{p}_framequat"], scalar_first=True)
             rel = (world if seat_rot is None else seat_rot.inv() * world) * Rotation.from_quat(settled_quat, scalar_first=True).inv()
-            acc_world = raw.sensors[f"{p}_framelinacc"] + engine.G0[None, :]
+            acc_world = raw.sensors[f"{p}_acc"]
             points[p] = PointMotion(
                 name=p,
                 acc_mps2=to_seat(acc_world),
                 disp_m=to_seat(raw.sensors[f"{p}_framepos"] - pivot) - (settled_pos - pivot),
                 rot_rad=rel.as_euler("ZYX")[:, ::-1].copy(),
-                angacc_radps2=to_seat(raw.sensors[f"{p}_frameangacc"]),
+                angacc_radps2=to_seat(raw.sensors[f"{p}_angacc"]),
                 angvel_radps=world.inv().apply(raw.sensors[f"{p}_frameangvel"]),
                 gia_mps2=world.inv().apply(acc_world - engine.G0[None, :]),
             )

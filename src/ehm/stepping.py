@@ -105,7 +105,7 @@ class Simulator:
         self._poses = engine.settled_point_poses(self.model)
         self._inv0 = {p: _conjugate(q0) for p, (_, q0) in self._poses.items()}
         slices = engine.sensor_slices(self.model)
-        self._point_slices = {p: tuple(slices[f"{p}_{k}"] for k in ("framelinacc", "framepos", "framequat",
+        self._point_slices = {p: tuple(slices[f"{p}_{k}"] for k in ("framelinvel", "framepos", "framequat",
                                                                      "frameangvel")) for p in POINT_NAMES}
         self.comfort = comfort
         self.comfort_every = max(1, int(comfort_every))
@@ -159,15 +159,16 @@ class Simulator:
         a = np.asarray(seat_acc_mps2, dtype=float)
         if a.shape != (3,) or not np.all(np.isfinite(a)):
             raise InputError(f"seat_acc_mps2 must be 3 finite numbers [m/s^2], got {seat_acc_mps2!r}.")
-        data = engine.step(self.model, self._d, a, check=self._step % engine.CHECK_EVERY == 0).copy()
+        data, end = engine.step(self.model, self._d, a, check=self._step % engine.CHECK_EVERY == 0)
         t = self._step * self.dt_s
         self._step += 1
         points = {}
         for p in POINT_NAMES:
-            s_acc, s_pos, s_quat, s_angvel = self._point_slices[p]
+            s_vel, s_pos, s_quat, s_angvel = self._point_slices[p]
             q = data[s_quat].tolist()
             w_body = _rotate(_conjugate(q), data[s_angvel].tolist())
-            points[p] = PointState(acc_mps2=data[s_acc] + engine.G0, disp_m=data[s_pos] - self._poses[p][0],
+            acc = (end[s_vel] - data[s_vel]) / self.dt_s + a  # engine.point_accelerations of one step
+            points[p] = PointState(acc_mps2=acc, disp_m=data[s_pos] - self._poses[p][0],
                                    rot_rad=_euler_zyx(_quat_mul(q, self._inv0[p])), angvel_radps=w_body)
         if self.comfort:
             row = np.concatenate([a] + [points[p].acc_mps2 for p in POINT_NAMES])
@@ -268,20 +269,21 @@ def run_realtime(sim: Simulator, acc_mps2: np.ndarray, pace: bool = True, on_ste
     overruns = 0
     dt = sim.dt_s
     t0 = time.perf_counter()
-    for i, a in enumerate(acc):
-        start = time.perf_counter()
-        state = sim.step(a)
-        end = time.perf_counter()
-        lat[i] = end - start
-        deadline = t0 + (i + 1) * dt
-        if pace:
-            if end > deadline:
-                overruns += 1
-            else:  # spin (sleeping lets the core cool down and doubles the next step's latency)
-                while time.perf_counter() < deadline:
-                    pass
-        if on_step is not None:
-            on_step(state)
+    with engine.captured_warnings():  # MuJoCo's warnings go into ehm's divergence sentence, not to the terminal
+        for i, a in enumerate(acc):
+            start = time.perf_counter()
+            state = sim.step(a)
+            end = time.perf_counter()
+            lat[i] = end - start
+            deadline = t0 + (i + 1) * dt
+            if pace:
+                if end > deadline:
+                    overruns += 1
+                else:  # spin (sleeping lets the core cool down and doubles the next step's latency)
+                    while time.perf_counter() < deadline:
+                        pass
+            if on_step is not None:
+                on_step(state)
     wall = time.perf_counter() - t0
     return RealtimeReport(n_steps=acc.shape[0], median_s=float(np.median(lat)), p99_s=float(np.percentile(lat, 99)),
                           worst_s=float(lat.max()), overruns=overruns, wall_s=wall)

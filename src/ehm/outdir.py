@@ -1,0 +1,316 @@
+"""Output folders written as one unit, and output locations checked before any work starts.
+
+A command that writes a folder (``ehm simulate``, ``assess``, ``demo``, ``study``; ``RunResult.write``) puts
+every file into a hidden staging folder beside the target, ``.NAME.partial-PID-XXXX``, and only when all of
+them are written swaps it into place: in one step where the system can exchange two directories (Linux,
+``renameat2`` with ``RENAME_EXCHANGE``), otherwise by two renames with SIGINT and SIGTERM held back in
+between.  The earlier folder is then removed.  So a folder always holds the files of one run: a new run's
+files never sit beside an earlier run's (an old figure, an old ``poses.npz``), and a failure or an interrupt
+at any moment leaves the earlier folder as it was (or no folder, and no parent folders the command made).
+
+A folder is replaced whole, so only a folder that ehm could have written is replaced: an empty one, or one
+holding nothing but the names ehm writes (:data:`EHM_NAMES`, animations, and sub-folders of the same kind).
+Anything else is refused, before the run starts, with one sentence.  Staging folders left by a process that
+no longer runs (killed with SIGKILL, a power cut) are removed the next time the same target is written.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import errno
+import fnmatch
+import os
+import shutil
+import signal
+import stat
+import sys
+import tempfile
+import threading
+from pathlib import Path
+
+from .errors import InputError
+
+#: Files and folders that ehm commands write into an output folder.
+EHM_NAMES = frozenset({
+    "timeseries.csv", "timeseries.parquet", "summary.json", "poses.npz", "time_histories.png",  # simulate
+    "assessment.json", "weighted_spectra.png", "running_rms.png", "sickness.png", "report.html",  # assess
+    "demo_summary.json", "transmissibility.csv", "transmissibility.png", "animation.gif",  # demo
+    "locking.csv", "locking.json", "locking.png",  # study locking
+})
+#: Name patterns that ehm writes as well (study FRF tables; animations drawn from a run with ``ehm animate``).
+EHM_PATTERNS = ("frf_*.csv", "*.gif", "*.mp4")
+_STAGING = ".{name}.partial-{pid}-"
+_OLD = ".{name}.old-{pid}-"
+
+
+def _is_ehm_entry(entry: Path, depth: int = 0) -> bool:
+    """Whether a folder entry is something ehm writes (a known file, or a sub-folder holding only such)."""
+    if entry.is_symlink():
+        return False
+    if entry.is_dir():
+        return depth < 2 and all(_is_ehm_entry(e, depth + 1) for e in entry.iterdir())
+    return entry.name in EHM_NAMES or any(fnmatch.fnmatch(entry.name, p) for p in EHM_PATTERNS)
+
+
+def _nearest_existing(path: Path) -> Path:
+    p = path
+    while not p.exists() and p != p.parent:
+        p = p.parent
+    return p
+
+
+def _check_creatable(path: Path, what: str) -> None:
+    """The folder that would hold ``path`` exists as a writable folder, or can be made."""
+    base = _nearest_existing(path.parent)
+    if not base.is_dir():
+        raise InputError(f"{path}: cannot write the {what} there: {base} is a file, not a folder.")
+    if not os.access(base, os.W_OK | os.X_OK):
+        raise InputError(f"{path}: cannot write the {what} there: the folder {base} is not writable.")
+
+
+def check_output_folder(path: Path | str, what: str = "output") -> Path:
+    """Make sure a run's output folder can be written and replaced whole; before any work starts.
+
+    The folder may be absent, empty or hold only what ehm writes (see the module docstring).  Returns the
+    path.  Raises InputError with one sentence otherwise (a file in the way, a folder holding other files,
+    the current folder, no write permission).
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise InputError(f"{path} is a file; give a folder for the {what}.")
+    here = Path.cwd().resolve()
+    resolved = path.resolve()
+    if resolved == here or resolved in here.parents:
+        raise InputError(f"{path}: the {what} folder would hold the current folder; give a new folder, "
+                         "e.g. --out runs/first (ehm replaces its output folder whole).")
+    if path.is_dir():
+        try:
+            entries = sorted(path.iterdir())
+        except OSError as exc:
+            raise InputError(f"{path}: cannot read the {what} folder ({exc.strerror or exc}).") from None
+        foreign = [e for e in entries if not _is_ehm_entry(e)]
+        if foreign:
+            raise InputError(f"{path} holds {foreign[0].name}, which ehm did not write; give a new or empty folder "
+                             f"(ehm replaces its {what} folder whole, so that no file of an earlier run stays).")
+    _check_creatable(path, what + " folder")
+    return path
+
+
+def check_output_file(path: Path | str, what: str = "output file") -> Path:
+    """Make sure a single output file can be written (before any work starts); returns the path."""
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{path} is a folder; give a file name for the {what}.")
+    if path.exists() and not os.access(path.parent, os.W_OK | os.X_OK):
+        raise InputError(f"{path}: cannot write the {what}: the folder {path.parent} is not writable.")
+    _check_creatable(path, what)
+    return path
+
+
+@contextlib.contextmanager
+def signals_held():
+    """Hold SIGINT and SIGTERM back while inside: they are noted and handled on leaving (by the handlers that
+    were in place), so that what happens inside is not cut short.  Only the main thread handles signals; in
+    other threads this does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    pending: list[int] = []
+    held = (signal.SIGINT, signal.SIGTERM)
+    previous = {s: signal.signal(s, lambda signum, frame: pending.append(signum)) for s in held}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+        for s in pending:
+            handler = previous[s]
+            if callable(handler):
+                handler(s, None)
+            elif handler in (signal.SIG_DFL, None):
+                os.kill(os.getpid(), s)
+
+
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two directory entries in one step (Linux renameat2); False where the system cannot."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        fn = ctypes.CDLL(None, use_errno=True).renameat2
+    except (OSError, AttributeError):
+        return False
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    fn.restype = ctypes.c_int
+    if fn(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP, errno.ENOTSUP):
+        return False  # this file system cannot exchange: two renames instead
+    raise OSError(err, os.strerror(err), str(b))
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def remove_stale(target: Path) -> None:
+    """Remove staging folders of ``target`` left by processes that no longer run."""
+    parent = target.parent
+    if not parent.is_dir():
+        return
+    for pattern in (_STAGING, _OLD):
+        prefix = pattern.format(name=target.name, pid="").removesuffix("-")
+        for entry in parent.glob(glob_escape(prefix) + "*"):
+            pid = entry.name[len(prefix):].split("-", 1)[0]
+            if pid.isdigit() and int(pid) != os.getpid() and not _alive(int(pid)):
+                shutil.rmtree(entry, ignore_errors=True)
+
+
+def glob_escape(text: str) -> str:
+    """A literal text for Path.glob."""
+    return "".join(f"[{c}]" if c in "*?[" else c for c in text)
+
+
+def _fsync_dir(directory: Path) -> None:
+    try:
+        fd = os.open(directory, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+class RunFolder:
+    """Write a folder as one unit: ``with RunFolder(path) as tmp:`` write into ``tmp``; on leaving without an
+    exception ``tmp`` replaces ``path`` (see the module docstring); on an exception (an interrupt included)
+    ``tmp`` and any parent folders made for it are removed and ``path`` stays as it was.
+
+    Nested use (a run folder inside a demo folder) works: the inner unit is committed into the outer staging
+    folder.
+    """
+
+    def __init__(self, target: Path | str, what: str = "output"):
+        self.target = Path(target)
+        self.what = what
+        self.staging: Path | None = None
+        self._made: list[Path] = []
+
+    def __enter__(self) -> Path:
+        check_output_folder(self.target, self.what)
+        parent = self.target.parent
+        missing = []
+        p = parent
+        while not p.exists():
+            missing.append(p)
+            p = p.parent
+        try:
+            for d in reversed(missing):
+                d.mkdir()
+                self._made.append(d)
+            remove_stale(self.target)
+            self.staging = Path(tempfile.mkdtemp(prefix=_STAGING.format(name=self.target.name, pid=os.getpid()),
+                                                 dir=parent))
+        except OSError as exc:
+            self._remove_made()
+            raise InputError(f"{self.target}: cannot create the {self.what} folder ({exc.strerror or exc}).") from None
+        return self.staging
+
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        if exc_type is None:
+            try:
+                self._commit()
+            except OSError as exc2:
+                self._discard()
+                raise InputError(f"{self.target}: cannot put the {self.what} folder in place "
+                                 f"({exc2.strerror or exc2}).") from None
+        else:
+            self._discard()
+        return False
+
+    def _commit(self) -> None:
+        staging, target = self.staging, self.target
+        mode = stat.S_IMODE(target.stat().st_mode) if target.is_dir() else 0o777 & ~_umask()
+        os.chmod(staging, mode)
+        with signals_held():
+            old = None
+            if target.exists():
+                if _exchange(staging, target):
+                    old = staging  # now holds the earlier folder
+                else:
+                    old = Path(tempfile.mkdtemp(prefix=_OLD.format(name=target.name, pid=os.getpid()),
+                                                dir=target.parent))
+                    os.rename(target, old / target.name)
+                    os.rename(staging, target)
+            else:
+                os.rename(staging, target)
+            _fsync_dir(target.parent)
+            self.staging = None
+            if old is not None:
+                shutil.rmtree(old, ignore_errors=True)
+
+    def _discard(self) -> None:
+        with signals_held():
+            if self.staging is not None:
+                shutil.rmtree(self.staging, ignore_errors=True)
+                self.staging = None
+            self._remove_made()
+
+    def _remove_made(self) -> None:
+        for d in reversed(self._made):
+            try:
+                d.rmdir()
+            except OSError:
+                break
+        self._made = []
+
+
+@contextlib.contextmanager
+def folder_kept_tidy(path: Path | str):
+    """For a folder that is added to over several commands (a batch study's results): create it, and remove it
+    again if the command fails or is interrupted while it still holds nothing but empty folders."""
+    path = Path(path)
+    existed = path.exists()
+    made = []
+    p = path
+    while not p.exists():
+        made.append(p)
+        p = p.parent
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot create the folder ({exc.strerror or exc}).") from None
+    try:
+        yield path
+    except BaseException:
+        if not existed:
+            with signals_held():
+                for d in sorted((q for q in path.rglob("*") if q.is_dir()), key=lambda q: -len(q.parts)):
+                    with contextlib.suppress(OSError):
+                        d.rmdir()
+                for d in made:
+                    try:
+                        d.rmdir()
+                    except OSError:
+                        break
+        raise

@@ -1,0 +1,113 @@
+"""Messages a user can act on: MuJoCo's own output folded into ehm's one sentence, build errors translated, seat
+geometry checked, truncated or foreign files, running out of memory."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+import ehm
+from ehm import engine
+from ehm.cli import main
+from ehm.errors import InputError
+from ehm.params import Parameters
+
+
+def _one_line(err: str) -> str:
+    assert "Traceback" not in err and "WARNING" not in err, err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("ehm: error: "), err
+    return lines[0]
+
+
+def test_mujoco_warning_is_folded_into_the_divergence_sentence(tmp_path, capfd):
+    # An ankle spring of 3e9 N m/rad on a 1 kg foot cannot be integrated at 1 ms: MuJoCo warns of a bad
+    # acceleration and resets its state; the user sees ehm's sentence with MuJoCo's finding in it, nothing raw.
+    path = tmp_path / "stiff.toml"
+    Parameters.load().with_values({"joints.ankle_r.pitch.stiffness_Nm_per_rad": 3e9}).export(path)
+    assert main(["simulate", "--params", str(path), "--duration", "1", "--out", str(tmp_path / "run")]) == 2
+    out, err = capfd.readouterr()  # the file descriptors: MuJoCo prints from C
+    line = _one_line(err)
+    assert "diverged at t =" in line and "MuJoCo: Nan, Inf or huge value in QACC at degree of freedom" in line
+    assert re.search(r"degree of freedom \w+\.\w+", line), line  # a named joint dof (which one: the step's)
+    assert "WARNING" not in out and engine.take_warnings() == []
+
+
+def test_build_errors_are_translated():
+    exc = ValueError("Error: inertia must satisfy A + B >= C; use 'balanceinertia' to fix\nElement name 'pelvis', id 9")
+    msg = str(engine._build_error(exc))
+    assert "\n" not in msg and "balanceinertia" not in msg
+    assert "'pelvis'" in msg and "inertia must satisfy A + B >= C" in msg
+
+
+def test_impossible_body_size_names_segment_and_masses_that_build(capsys):
+    # Inside the documented ranges (1.2-2.2 m, 30-200 kg) some pairs scale a segment into something that is no
+    # rigid body; the sentence names the segment and the masses that do build at that stature.
+    assert main(["info", "--stature", "1.5", "--mass", "150"]) == 2
+    line = _one_line(capsys.readouterr().err)
+    assert "cannot be built" in line and "which no rigid body has" in line
+    seg = re.search(r"segment '(\w+)'", line).group(1)
+    assert seg in {s.name for s in ehm.load_body().segments}
+    lo, hi = (float(v) for v in re.search(r"a mass of (\d+)-(\d+) kg", line).groups())
+    assert lo < hi < 150
+    assert main(["info", "--stature", "1.5", "--mass", f"{(lo + hi) / 2:g}"]) == 0  # the advice works
+
+
+@pytest.mark.parametrize("values, words", [
+    ({"seat.pan_height_m": -5.0}, r"seat\.pan_height_m = -5 m puts the seat pan 4\.65 m below the floor"),
+    ({"seat.backrest_x_m": 0.3}, r"pad lies .* in front of the pelvis.*backrest must be behind the pelvis"),
+    ({"seat.lower_pad_height_m": 0.5}, r"backrest pads must sit on the backrest above the seat pan"),
+    ({"seat.pan_height_m": 0.05}, r"contact 'buttock_\w' .* below the seat pan surface"),
+])
+def test_seat_geometry_is_checked(values, words):
+    # the floor is at -0.348 m (default_params.toml): 5 m down the pan is 4.652 m below it
+    with pytest.raises(InputError, match=words):
+        ehm.SeatedHuman(params=Parameters.load().with_values(values))
+
+
+@pytest.mark.parametrize("damage", ["truncated", "crc", "random", "empty"])
+def test_truncated_or_foreign_pose_file_is_one_sentence(tmp_path, capsys, damage):
+    run = tmp_path / "run"
+    human = ehm.SeatedHuman()
+    human.simulate_to(run, ehm.random_vibration("z", 1.0, 0.3, seed=0))
+    data = bytearray((run / "poses.npz").read_bytes())
+    if damage == "truncated":
+        data = data[: len(data) // 2]
+    elif damage == "crc":
+        data[len(data) // 2] ^= 0xFF
+    elif damage == "random":
+        data = bytearray(np.random.default_rng(0).integers(0, 256, 4000, dtype=np.uint8).tobytes())
+    else:
+        data = bytearray()
+    (run / "poses.npz").write_bytes(bytes(data))
+    assert main(["animate", str(run), "--out", str(tmp_path / "a.gif"), "--max-frames", "2"]) == 2
+    line = _one_line(capsys.readouterr().err)
+    assert "poses.npz: cannot read it as a pose file" in line
+    assert not (tmp_path / "a.gif").exists()
+
+
+def test_foreign_parameter_and_study_files_are_one_sentence(tmp_path, capsys):
+    study = tmp_path / "study.toml"
+    study.write_text('[study]\nname = "x"\n[input]\naxes = ["z"]\n')
+    assert main(["info", "--params", str(study)]) == 2
+    assert "not an ehm parameter file" in _one_line(capsys.readouterr().err)
+    params = tmp_path / "params.toml"
+    Parameters.load().export(params)
+    assert main(["batch", str(params), "--out", str(tmp_path / "res")]) == 2
+    assert "unknown section" in _one_line(capsys.readouterr().err)
+    truncated = tmp_path / "half.toml"
+    truncated.write_text(params.read_text()[:1000])
+    assert main(["info", "--params", str(truncated)]) == 2
+    assert "half.toml" in _one_line(capsys.readouterr().err)
+    assert not (tmp_path / "res").exists()
+
+
+def test_out_of_memory_is_one_sentence(monkeypatch, capsys):
+    def exhausted(self):
+        raise MemoryError()
+
+    monkeypatch.setattr(ehm.SeatedHuman, "info", exhausted)
+    assert main(["info"]) == 2
+    assert "out of memory" in _one_line(capsys.readouterr().err)
