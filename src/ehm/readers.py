@@ -116,7 +116,8 @@ class _Source:
 
     def raw(self, name: str, row: int) -> str:
         """The row's value as the source holds it, for messages."""
-        return repr(self.values(name)[row])
+        value = self.values(name)[row]
+        return repr(value.item() if hasattr(value, "item") else value)
 
     def values(self, name: str) -> np.ndarray:
         raise NotImplementedError
@@ -174,10 +175,6 @@ class _TextSource(_Source):
         self.names = layout["header"]
         self._data = None
         self._lines = None
-        for n in self.names:
-            m = re.search(r"\[([^\]]+)\]\s*$", n)
-            if m:
-                self.units[n] = m.group(1).strip()
 
     def load(self, wanted: list) -> None:
         """Read the wanted columns (positions in the header) at once."""
@@ -338,7 +335,8 @@ class _FrameSource(_Source):
         return f"row {row} (index {self.frame.index[row]!r})"
 
     def raw(self, name: str, row: int) -> str:
-        return repr(self.values(name)[row])
+        value = self.values(name)[row]
+        return repr(value.item() if hasattr(value, "item") else value)
 
 
 class _ParquetSource(_Source):
@@ -671,6 +669,9 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
 
 def _unit_of(src: _Source, key: str, name: str, units: dict) -> str:
     own = src.unit_of(name) if isinstance(src, _MdfSource) else src.units.get(name, "")
+    if not own:  # a unit in brackets at the end of the name: "acc_x [g]"
+        m = re.search(r"\[([^\]]+)\]\s*$", name)
+        own = m.group(1).strip() if m else ""
     given = units.get(key)
     if own and given and _factor(own, key, src.label, name) != _factor(given, key, src.label, name):
         raise InputError(f"{src.label}, channel {key} ({name!r}): the file gives the unit {own!r}, the units argument "
@@ -691,8 +692,7 @@ def _check_finite(src: _Source, key: str, name: str, values: np.ndarray) -> None
         if not src.field_text(name, i):
             raise InputError(f"{src.label}, {src.where(i)}, {where}: value is empty, expected a number.")
     elif np.isnan(values[i]) and isinstance(src, (_ParquetSource, _FrameSource)):
-        raise InputError(f"{src.label}, {src.where(i)}, {where}: value is missing ({src.raw(name, i)}), expected a "
-                         "number.")
+        raise InputError(f"{src.label}, {src.where(i)}, {where}: value is missing (NaN), expected a number.")
     raise InputError(f"{src.label}, {src.where(i)}, {where}: {src.raw(name, i)} is not a finite number (NaN or "
                      "infinite).")
 
