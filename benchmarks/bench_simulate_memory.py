@@ -3,7 +3,9 @@ the drive's length (goal: a 60 min drive under 500 MB and within 1.2x of a 10 mi
 
 Writes SYNTHETIC city drives (`ehm drive city`, 100 Hz, with vehicle rotation) of each length, runs
 `ehm simulate --motion DRIVE --out RUN` for each in its own process and prints the process's peak resident
-memory (ru_maxrss from wait4), wall time, real-time factor and the sizes of the files written.
+memory (ru_maxrss from wait4), wall time, real-time factor and the sizes of the files written.  For
+comparison it also prints the peak of a process that only reads the drive file and integrates its rotation
+(the input side, which holds the whole drive), after importing ehm and building the person as simulate does.
 
 Usage: python benchmarks/bench_simulate_memory.py [--durations 600 3600] [--output-rate 200] [--format csv]
 """
@@ -18,6 +20,17 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+
+_INPUT_ONLY = """
+import sys
+import ehm
+from ehm.motion import load_motion_csv, seat_kinematics
+human = ehm.SeatedHuman(rotating_seat=True)
+human.settle()
+motion = load_motion_csv(sys.argv[1])
+kin = seat_kinematics(motion.time_s - motion.time_s[0], motion.angvel_radps)
+"""
 
 
 def _run(args: list[str], env: dict, log: Path) -> tuple[int, float, float]:
@@ -46,6 +59,7 @@ def main() -> None:
         drive = work / f"city_{duration:g}.csv"
         subprocess.run(ehm + ["drive", "city", "--duration", f"{duration:g}", "--seed", "0", "--out", str(drive)],
                        env=env, check=True, stdout=subprocess.DEVNULL)
+        _, _, input_peak = _run([sys.executable, "-c", _INPUT_ONLY, str(drive)], env, work / f"input_{duration:g}.log")
         out = work / f"run_{duration:g}"
         cmd = ehm + ["simulate", "--motion", str(drive), "--out", str(out), "--format", args.format]
         if args.output_rate:
@@ -57,7 +71,8 @@ def main() -> None:
         summary = json.loads((out / "summary.json").read_text())
         sizes = ", ".join(f"{p.name} {p.stat().st_size / 2**20:.0f} MB" for p in sorted(out.iterdir()))
         peaks[duration] = peak
-        print(f"city drive {duration / 60:g} min (SYNTHETIC, with rotation): peak RSS {peak:.0f} MB, wall {wall:.0f} s "
+        print(f"city drive {duration / 60:g} min (SYNTHETIC, with rotation): peak RSS {peak:.0f} MB (reading the drive "
+              f"and integrating its rotation alone: {input_peak:.0f} MB), wall {wall:.0f} s "
               f"({summary['realtime_factor']:.1f}x real time in the run), {summary['output_rate_hz']:g} rows/s; {sizes}")
         if not args.keep:
             for p in out.iterdir():

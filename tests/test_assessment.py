@@ -113,7 +113,7 @@ def test_city_drive_assessment(tmp_path):
     s = res.summary()
     assert "SYNTHETIC" in s["input"]
     # the seat metrics equal the ISO metrics of the input itself (independent route: the whole drive resampled
-    # onto the model's step at once, then evaluated as one record, against the chunk-by-chunk run)
+    # onto the model's step at once by the runs' resampler, then evaluated as one record)
     dt = float(ehm.Parameters.load().value("simulation.dt_s"))
     ay = drive.resample(dt).acc_mps2[:, 1]
     assert res.metrics["seat"]["y"].a_w == pytest.approx(metrics(ay, 1 / dt, "Wd").a_w, rel=1e-6)

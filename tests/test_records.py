@@ -115,6 +115,17 @@ def test_swap_with_and_without_an_atomic_exchange(tmp_path, monkeypatch, exchang
         assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]
 
 
+def test_a_linked_run_folder_is_replaced_behind_its_link(tmp_path):
+    real = tmp_path / "real"
+    with RunFolder(real) as tmp:
+        (tmp / "summary.json").write_text('{"run": 1}')
+    (tmp_path / "link").symlink_to(real)
+    with RunFolder(tmp_path / "link") as tmp:
+        (tmp / "summary.json").write_text('{"run": 2}')
+    assert (tmp_path / "link").is_symlink() and json.loads((tmp_path / "link" / "summary.json").read_text()) == {"run": 2}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link", "real"]
+
+
 def test_signals_are_held_while_a_folder_is_swapped():
     got = []
     previous = signal.signal(signal.SIGTERM, lambda *a: got.append("term"))
@@ -266,8 +277,9 @@ def test_streamed_run_equals_the_in_memory_run(tmp_path, human):
     # a lower output rate writes every k-th row; the summary still uses every step
     summary5 = human.simulate_to(tmp_path / "thin", motion, chunk_s=0.33)
     header, thin = _csv(tmp_path / "thin" / "timeseries.csv")
-    k = int(round(1 / (summary5["output_rate_hz"] * run.dt_s)))
-    assert summary5["output_rate_hz"] == runfiles.DEFAULT_OUTPUT_RATE_HZ and k == round(1 / (200.0 * run.dt_s))
+    k = runfiles.default_output_every(run.dt_s)
+    assert summary5["output_rate_hz"] == pytest.approx(1 / (k * run.dt_s))
+    assert summary5["output_rate_hz"] >= runfiles.DEFAULT_OUTPUT_RATE_HZ
     assert np.array_equal(thin, np.loadtxt(tmp_path / "memory" / "timeseries.csv", delimiter=",", skiprows=1)[::k])
     assert summary5["head_acc_rms_mps2"] == pytest.approx(expected["head_acc_rms_mps2"], rel=1e-12)
 
@@ -309,8 +321,9 @@ def test_memory_does_not_grow_with_the_run(tmp_path, human, monkeypatch):
 
 
 def test_output_rate_must_divide_the_model_rate(tmp_path, capsys):
-    for rate, words in (("300", "does not divide the model's 2000 Hz"), ("0", "above 0"), ("4000", "at most")):
-        assert main(["simulate", "--duration", "1", "--output-rate", rate, "--out", str(tmp_path / "r")]) == 2
+    for rate, words in (("300", "does not divide the model's 1000 Hz"), ("0", "above 0"), ("2000", "at most")):
+        assert main(["simulate", "--duration", "1", "--dt", "0.001", "--output-rate", rate,
+                     "--out", str(tmp_path / "r")]) == 2
         assert words in _one_error_line(capsys.readouterr().err)
     assert not (tmp_path / "r").exists()
     assert main(["simulate", "--duration", "1", "--dt", "0.002", "--out", str(tmp_path / "r")]) == 0
@@ -331,8 +344,9 @@ def test_plot_of_a_long_run_uses_a_bounded_preview(tmp_path, human, monkeypatch)
 
     monkeypatch.setattr(plotting, "plot_time_histories", spy)
     human.simulate_to(tmp_path / "run", ehm.random_vibration("z", 2.0, 0.3, seed=0), chunk_s=0.5, plot=True)
-    # at the default 0.5 ms step: ceil(4001 / 200) = 21 steps of 0.5 ms
-    assert drawn["rows"] <= 200 and "figure: every 0.0105 s" in drawn["title"]
+    dt = float(human.params.value("simulation.dt_s"))
+    every = -(-(int(round(2.0 / dt)) + 1) // 200)  # ceil(steps / rows): 11 at 1 ms
+    assert drawn["rows"] <= 200 and f"figure: every {every * dt:g} s" in drawn["title"]
     assert (tmp_path / "run" / "time_histories.png").stat().st_size > 0
 
 

@@ -19,6 +19,8 @@ city_drive, rough_road    SYNTHETIC drives
 assess, Assessment       ISO 2631-1 comfort and motion sickness of a drive, seat and body
 FrfTable, linear_frf, time_domain_frf, read_frf    transmissibility and apparent mass tables
 compare            the paper's criterion (Eqs. 2-3) of measured against model curves
+check_step, StepWarning    transfer functions at a time step against the same model at finer steps
+LinearRouteError   an input too large for the linear route (a contact lifts off or slides)
 Parameters         a checked parameter file (``Parameters.load``, ``.with_values``, ``.export``)
 BodySize           individual body sizes (stature, mass, sitting height)
 load_body          the body tables (segments, joints, contacts)
@@ -36,6 +38,7 @@ ehm.study          the joint-locking study: locking_study
 ehm.comfort        ISO 2631-1 weightings (any sampling rate) and metrics
 ehm.sickness       subjective vertical conflict motion sickness model
 ehm.linear         the linearised person as a state-space model (the linear route)
+ehm.convergence    is the time step small enough? (``ehm check-step``)
 ehm.batch          batch studies on Dask; ehm.fmu FMI export; ehm.animation pictures; ehm.plotting figures
 
 Conventions: SI units, radians inside; axes x forward, y left, z up; origin at the pelvis centre of
@@ -58,6 +61,8 @@ from .assessment import Assessment, assess
 from .frf import FrfTable, linear_frf, read_frf, time_domain_frf
 from .criterion import compare
 from .scaling import BodySize
+from .convergence import StepWarning, check_step
+from .linear import LinearRouteError
 
 __all__ = [
     "DivergenceError", "EhmError", "InputError",
@@ -65,5 +70,6 @@ __all__ = [
     "SeatMotion", "random_vibration", "sine", "sweep", "read_motion", "load_motion_csv", "from_imu",
     "city_drive", "rough_road", "assess", "Assessment",
     "FrfTable", "linear_frf", "time_domain_frf", "read_frf", "compare",
-    "Parameters", "BodySize", "load_body", "Curve", "h1_estimate", "__version__",
+    "Parameters", "BodySize", "load_body", "Curve", "h1_estimate", "check_step", "StepWarning",
+    "LinearRouteError", "__version__",
 ]

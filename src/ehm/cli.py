@@ -495,13 +495,31 @@ def cmd_drive(args) -> int:
 def cmd_export_fmu(args) -> int:
     import time
 
-    from .fmu import INPUTS, OUTPUTS, export_fmu
-
     t0 = time.perf_counter()
-    path = export_fmu(args.out, params=args.params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock))
-    print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
-          f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "
-          f"{len(OUTPUTS)} outputs (pelvis, trunk, head); the host's Python must be able to import ehm")
+    if args.python:
+        from .fmu import INPUTS, OUTPUTS, export_fmu
+
+        extra = [o for o, v in (("--segments", args.segments), ("--joints", args.joints), ("--contacts", args.contacts),
+                                ("--stature", args.stature), ("--mass", args.mass),
+                                ("--sitting-height", args.sitting_height), ("--dt", args.dt)) if v is not None]
+        if extra:
+            raise InputError(f"export-fmu --python takes only --params, --lock and --unlock, not {', '.join(extra)}; "
+                             "export the native unit (without --python) for these.")
+        path = export_fmu(args.out, params=args.params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+                          python=True)
+        print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
+              f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "
+              f"{len(OUTPUTS)} outputs (pelvis, trunk, head); the host's Python must be able to import ehm")
+        return 0
+    from .fmu_native import INPUTS, OUTPUTS, PLATFORM, export_native_fmu
+
+    human = _human(args)
+    path = export_native_fmu(args.out, human)
+    print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (native C on MuJoCo, "
+          f"{PLATFORM}), {human.mass_kg:.1f} kg, {human.dof} degrees of freedom, model step "
+          f"{human.model.mj.opt.timestep * 1000:g} ms; {len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular "
+          f"velocity must stay 0), {len(OUTPUTS)} outputs (pelvis, trunk, head, support forces); no Python needed "
+          "to run it")
     return 0
 
 
@@ -701,9 +719,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("export-fmu", help="write an FMI 2.0 co-simulation unit (FMU) of the person for vehicle tools")
     p.add_argument("--out", required=True, metavar="FILE.fmu", help="FMU file to write")
-    p.add_argument("--params", metavar="FILE.toml", help="parameter file to embed (default: the shipped defaults)")
-    p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
-    p.add_argument("--unlock", action="append", metavar="JOINT", help="unlock a joint, e.g. waist")
+    _model_options(p)
+    p.add_argument("--dt", type=float, help="model step [s] (default from the parameter file)")
+    p.add_argument("--python", action="store_true",
+                   help="build the older pythonfmu unit (its host must run ehm in Python) instead of the native one")
     p.set_defaults(func=cmd_export_fmu)
 
     p = sub.add_parser("animate", help="draw a run's person and seat into a .gif or .mp4 (offscreen, no display)")

@@ -212,6 +212,8 @@ class RunFolder:
 
     def __init__(self, target: Path | str, what: str = "output"):
         self.target = Path(target)
+        if self.target.is_symlink():  # replace the folder the link points at; the link stays
+            self.target = self.target.resolve()
         self.what = what
         self.staging: Path | None = None
         self._made: list[Path] = []
