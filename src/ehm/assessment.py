@@ -129,7 +129,8 @@ def _block_means(x: np.ndarray, k: int) -> np.ndarray:
     return x[:n].reshape(n // k, k, *x.shape[1:]).mean(axis=1)
 
 
-def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None, method: str = "nonlinear") -> Assessment:
+def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
+           method: str = "nonlinear") -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
 
     Parameters

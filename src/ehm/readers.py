@@ -255,7 +255,8 @@ def _not_utf8(path: Path, label: str) -> str:
             try:
                 line.decode("utf-8")
             except UnicodeDecodeError as exc:
-                return f"{label}, line {line_no}: the file is not UTF-8 text (byte {line[exc.start]:#04x} cannot be decoded)."
+                return (f"{label}, line {line_no}: the file is not UTF-8 text (byte {line[exc.start]:#04x} cannot be "
+                        "decoded).")
     return f"{label}: the file is not UTF-8 text."
 
 
@@ -429,6 +430,15 @@ class _MdfSource(_Source):
                  if any(masters.get(g) != i for g, i in places)]  # the data channels, not the time stamps
         super().__init__(label=label, names=names, kind="channels", per_channel_time=True)
         self._masters = {}
+        self.first_comment = self._comment()
+
+    def _comment(self) -> str:
+        """The file's or its first channel group's comment, as plain text (it describes the log)."""
+        for text in [getattr(self.mdf.header, "comment", "")] + [g.channel_group.comment for g in self.mdf.groups]:
+            plain = re.sub(r"<[^>]*>", " ", str(text or "")).strip()
+            if plain:
+                return " ".join(plain.split())
+        return ""
 
     def _where(self, name: str):
         masters = self.mdf.masters_db
