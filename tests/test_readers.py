@@ -242,7 +242,8 @@ def test_bad_values_name_the_row(tmp_path):
         read_motion(df, NAMES, IN_G)
     bad = frame_in_g(t, acc)
     bad.loc[30, NAMES["time"]] = bad.loc[29, NAMES["time"]]
-    with pytest.raises(InputError, match=r"row 30 \(index 30\), column Zeit \(channel time\): time 0\.29 s is not after the "
+    with pytest.raises(InputError, match=r"row 30 \(index 30\), column Zeit \(channel time\): time 0\.29 s is not "
+                                         r"after the "
                                          r"time 0\.29 s on row 29 \(index 29\); times must be strictly increasing\."):
         read_motion(bad, NAMES, IN_G)
 

@@ -95,7 +95,9 @@ class SeatMotion:
     Notes
     -----
     The arrays are copied to float64 on construction and made read-only, so a
-    ``SeatMotion`` cannot change after it is made.  Invalid arrays raise
+    ``SeatMotion`` cannot change after it is made (an array that is already
+    float64, read-only and owns its data is taken as it is: nothing can
+    change it, and a long log is not held twice).  Invalid arrays raise
     :class:`~ehm.errors.InputError`.
     """
 
@@ -106,8 +108,8 @@ class SeatMotion:
 
     def __post_init__(self) -> None:
         try:
-            time_s = np.array(self.time_s, dtype=float)
-            acc = np.array(self.acc_mps2, dtype=float)
+            time_s = _owned_copy(self.time_s)
+            acc = _owned_copy(self.acc_mps2)
         except (TypeError, ValueError) as exc:
             raise InputError(
                 f"SeatMotion: time_s and acc_mps2 must be numeric arrays ({exc})."
@@ -155,7 +157,7 @@ class SeatMotion:
             )
         if self.angvel_radps is not None:
             try:
-                w = np.array(self.angvel_radps, dtype=float)
+                w = _owned_copy(self.angvel_radps)
             except (TypeError, ValueError) as exc:
                 raise InputError(f"SeatMotion: angvel_radps must be a numeric array ({exc}).") from None
             if w.shape != (n, 3):
@@ -282,16 +284,16 @@ class Resampler:
     ----------
     time_s : (n,) array
         Sample times [s], strictly increasing.
-    values : (n, k) array
-        The samples.
+    values : (n, k) array, or a list of such arrays (kept apart, not copied into one)
+        The samples; blocks hold their columns side by side.
     dt_s : float
         Interval of the grid [s].
     """
 
     def __init__(self, time_s, values, dt_s: float):
         t = np.asarray(time_s, dtype=float)
-        x = np.asarray(values, dtype=float)
-        x = x[:, None] if x.ndim == 1 else x
+        xs = [np.asarray(v, dtype=float) for v in (values if isinstance(values, (list, tuple)) else [values])]
+        xs = [x[:, None] if x.ndim == 1 else x for x in xs]
         self.dt_s = float(dt_s)
         duration = float(t[-1] - t[0])
         #: Number of grid samples within the record: t = 0, dt_s, ... up to its duration.
@@ -300,8 +302,8 @@ class Resampler:
         if np.max(np.abs(t - t[0] - np.arange(t.size) * step)) > UNIFORM_TOLERANCE * step:
             step = float(np.median(np.diff(t)))
             grid = np.arange(int(np.floor(duration / step + 1e-9)) + 1) * step
-            x = np.column_stack([np.interp(grid, t - t[0], x[:, j]) for j in range(x.shape[1])])
-        self._x = x
+            xs = [np.column_stack([np.interp(grid, t - t[0], x[:, j]) for j in range(x.shape[1])]) for x in xs]
+        self._xs = xs  # the record's arrays as given (not copied into one)
         ratio = Fraction(step / self.dt_s).limit_denominator(_POLY_MAX_DENOMINATOR)
         self.up, self.down = ratio.numerator, ratio.denominator
         if self.up == self.down == 1:
@@ -318,22 +320,32 @@ class Resampler:
     def of_motion(cls, motion: SeatMotion, dt_s: float) -> Resampler:
         """A resampler of a motion's acceleration (columns 0-2) and angular velocity (3-5, when it has one)."""
         cols = [motion.acc_mps2] + ([motion.angvel_radps] if motion.angvel_radps is not None else [])
-        return cls(motion.time_s, np.hstack(cols), dt_s)
+        return cls(motion.time_s, cols, dt_s)
 
     def block(self, start: int, stop: int) -> np.ndarray:
         """Grid samples ``start`` to ``stop - 1`` (``0 <= start < stop <= n_samples``), shape (stop - start, k)."""
         if self._h is None:
-            return self._x[start:stop].copy()
+            return np.hstack([x[start:stop] for x in self._xs])
         up, down = self.up, self.down
         # first record sample used: a multiple of `down`, so that the block's output falls on the grid
         first = max(0, (start * down // up - self._margin) // down) * down
-        last = min(self._x.shape[0], (stop - 1) * down // up + self._margin + 2)
-        y = signal.resample_poly(self._x[first:last], up, down, axis=0, window=self._h, padtype="edge")
+        last = min(self._xs[0].shape[0], (stop - 1) * down // up + self._margin + 2)
+        seg = np.hstack([x[first:last] for x in self._xs])
+        y = signal.resample_poly(seg, up, down, axis=0, window=self._h, padtype="edge")
         offset = first * up // down
         out = y[start - offset: stop - offset]
         if out.shape[0] < stop - start:  # the grid's last sample at the record's very end (round-off)
             out = np.vstack([out, np.repeat(y[-1:], stop - start - out.shape[0], axis=0)])
         return out
+
+
+def _owned_copy(values) -> np.ndarray:
+    """float64 array for a SeatMotion: a copy, unless ``values`` already is a read-only float64 array that owns
+    its data (then no one can change it, and it is used as it is)."""
+    if (isinstance(values, np.ndarray) and values.dtype == np.float64 and not values.flags.writeable
+            and values.base is None and values.flags.c_contiguous):
+        return values
+    return np.array(values, dtype=float)
 
 
 # --------------------------------------------------------------------------

@@ -156,7 +156,8 @@ def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None,
         for j in range(n_cols):
             if (i, j) not in cells:
                 axes[i, j].set_visible(False)
-    fig.suptitle(title or f"seat {input_axis} input: gains; translations {_DOF_UNITS['x']}, rotations {_DOF_UNITS['roll']}"
+    fig.suptitle(title or f"seat {input_axis} input: gains; translations {_DOF_UNITS['x']}, "
+                          f"rotations {_DOF_UNITS['roll']}"
                  + ("; apparent mass: support force per seat acceleration [kg]" if masses else ""))
     fig.tight_layout()
     return _save(fig, path)

@@ -255,7 +255,8 @@ def _not_utf8(path: Path, label: str) -> str:
             try:
                 line.decode("utf-8")
             except UnicodeDecodeError as exc:
-                return f"{label}, line {line_no}: the file is not UTF-8 text (byte {line[exc.start]:#04x} cannot be decoded)."
+                return (f"{label}, line {line_no}: the file is not UTF-8 text (byte {line[exc.start]:#04x} cannot be "
+                        "decoded).")
     return f"{label}: the file is not UTF-8 text."
 
 
@@ -429,6 +430,15 @@ class _MdfSource(_Source):
                  if any(masters.get(g) != i for g, i in places)]  # the data channels, not the time stamps
         super().__init__(label=label, names=names, kind="channels", per_channel_time=True)
         self._masters = {}
+        self.first_comment = self._comment()
+
+    def _comment(self) -> str:
+        """The file's or its first channel group's comment, as plain text (it describes the log)."""
+        for text in [getattr(self.mdf.header, "comment", "")] + [g.channel_group.comment for g in self.mdf.groups]:
+            plain = re.sub(r"<[^>]*>", " ", str(text or "")).strip()
+            if plain:
+                return " ".join(plain.split())
+        return ""
 
     def _where(self, name: str):
         masters = self.mdf.masters_db
@@ -627,19 +637,22 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
     if isinstance(src, _TextSource):
         src.load(list(use.values()))
     data, stamps = {}, {}
-    for key, name in use.items():
-        data[key] = _as_floats(src, name, key, src.values(name))
+    for key, name in use.items():  # one channel at a time: checked, in SI, each held once
+        raw = src.values(name)
+        values = _as_floats(src, name, key, raw)
+        _check_finite(src, key, name, values)
+        factor = _factor(_unit_of(src, key, name, units), key, src.label, name)
+        if factor != 1.0:
+            owned = values is not raw or not isinstance(src, _FrameSource)  # never change a caller's DataFrame
+            values = np.multiply(values, factor, out=values if owned and values.flags.writeable else None)
+        data[key] = values
+        del raw, values
         if src.per_channel_time:
             stamps[key] = src.time_of(name)
     n = min(v.size for v in data.values())
     if any(v.size != n for v in data.values()) and not src.per_channel_time:
         raise InputError(f"{src.label}: the channels have different lengths "
                          f"({', '.join(f'{k} {v.size}' for k, v in data.items())}).")
-    for key, name in use.items():
-        _check_finite(src, key, name, data[key])
-        factor = _factor(_unit_of(src, key, name, units), key, src.label, name)
-        if factor != 1.0:
-            data[key] = data[key] * factor
     if src.per_channel_time:
         time_s, data = _common_time(src, use, data, stamps)
     elif "time" in data:
@@ -653,18 +666,32 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         raise InputError(f"{src.label}{where}: motion file has {time_s.size} data row(s) after the header; at least 2 "
                          "are needed.")
     description = _describe(src, source, time_s)
-    acc = np.column_stack([data[k] for k in _ACC])
-    rates = np.column_stack([data[k] for k in _RATES]) if all(k in data for k in _RATES) else None
+    acc = _stack(data, _ACC)
+    rates = _stack(data, _RATES) if all(k in data for k in _RATES) else None
+    time_s = _frozen(np.array(time_s, dtype=float) if isinstance(src, _FrameSource) else time_s)
     if imu:
         from .imu import from_imu
 
         motion = from_imu(time_s, acc, rates, mounting=mounting, description=f"IMU log {description}",
                           label=src.label)
     else:
-        motion = SeatMotion(time_s, acc, description, rates)
+        motion = SeatMotion(time_s, acc, description, rates)  # takes the read-only arrays as they are
     if rate_hz is not None:
         motion = motion.resample(1.0 / rate_hz)
     return motion
+
+
+def _stack(data: dict, keys) -> np.ndarray:
+    """Columns into one (n, 3) read-only array, each channel's own array let go as soon as it is copied in."""
+    out = np.empty((data[keys[0]].size, len(keys)))
+    for j, k in enumerate(keys):
+        out[:, j] = data.pop(k)
+    return _frozen(out)
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
 
 
 def _unit_of(src: _Source, key: str, name: str, units: dict) -> str:
