@@ -181,7 +181,7 @@ def cmd_demo(args) -> int:
 def _demo_runs(args, human, dt: float, out: Path) -> dict:
     """The demo's runs, tables and figures, written into ``out``; returns the transmissibility peaks."""
     from .animation import animate
-    from .frf import FrfTable, run_curves
+    from .frf import POINTS, FrfTable, run_curves
     from .plotting import plot_time_histories, plot_transmissibility
 
     curves, summaries = {}, {}
@@ -200,7 +200,7 @@ def _demo_runs(args, human, dt: float, out: Path) -> dict:
                           title="Seat-to-body transmissibility of the default model (H1 estimate; synthetic input)")
     peaks = {}
     for (a, p, dof), c in table.curves.items():
-        if dof == a:
+        if dof == a and p in POINTS:  # transmissibility (the apparent masses are in the CSV too)
             f_pk, g_pk = c.peak((0.5, 12.0))
             peaks[f"{a}->{p}"] = {"peak_hz": f_pk, "peak_gain": g_pk, "gain_at_0.5_hz": c.at(0.5)}
     write_json_atomic(out / "demo_summary.json", {"runs": summaries, "transmissibility_peaks": peaks})

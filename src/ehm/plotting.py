@@ -78,7 +78,7 @@ def plot_transmissibility(table, path: Path | str | None = None, band_hz=(0.2, 1
     ``table`` is an :class:`ehm.frf.FrfTable` (e.g. the demo's time-domain estimates).
     """
     axes_in = sorted({k[0] for k in table.curves}, key="xyz".index)
-    points = list(dict.fromkeys(k[1] for k in table.keys()))
+    points = list(dict.fromkeys(k[1] for k in table.keys() if k[1] not in _MASS_ORDER))  # gains, not masses
     fig, axes = plt.subplots(len(axes_in), len(points), figsize=(4 * len(points), 3 * len(axes_in)),
                              squeeze=False, sharex=True)
     for i, a in enumerate(axes_in):

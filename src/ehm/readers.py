@@ -342,9 +342,10 @@ class _FrameSource(_Source):
 
 class _ParquetSource(_Source):
     def __init__(self, path: Path, label: str):
-        from .runfiles import pyarrow_modules
-
-        _, pq = pyarrow_modules()
+        try:
+            import pyarrow.parquet as pq
+        except ImportError:
+            raise InputError(f"{label}: Parquet files need pyarrow: pip install 'ehm[parquet]'.") from None
         try:
             self.file = pq.ParquetFile(path)
         except Exception as exc:  # noqa: BLE001 - pyarrow raises several kinds for a file that is not Parquet
