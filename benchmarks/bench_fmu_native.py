@@ -143,9 +143,10 @@ def main() -> None:
         print(f"Python ehm.stepping.Simulator.step (comfort off), {rep.n_steps} steps: p50 {rep.median_s * 1e6:.1f} us, "
               f"p99 {rep.p99_s * 1e6:.1f} us, max {rep.worst_s * 1e6:.0f} us; {before}")
         best = min(native, key=lambda v: v[1])
-        print(f"Python / native (best native run): p50 {rep.median_s * 1e6 / best[0]:.1f}x, "
-              f"p99 {rep.p99_s * 1e6 / best[1]:.1f}x; goal p99 <= 40 us: {'met' if best[1] <= 40 else 'not met'}, "
-              f">= 10x lower than Python: {'met' if rep.p99_s * 1e6 >= 10 * best[1] else 'not met'}")
+        r50, r99 = rep.median_s * 1e6 / best[0], rep.p99_s * 1e6 / best[1]
+        print(f"Python / native (best native run): p50 {r50:.1f}x, p99 {r99:.1f}x (a p99 under load is the "
+              f"scheduler's more than the code's); goal p99 <= 40 us: {'met' if best[1] <= 40 else 'not met'}; "
+              f"goal >= 10x lower than Python: {'met' if min(r50, r99) >= 10 else 'not met'} on both p50 and p99")
     print(f"after: {_load()}")
 
 
