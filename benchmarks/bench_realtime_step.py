@@ -1,4 +1,4 @@
-"""Per-step latency of the stepping interface, paced to the wall clock (1 ms steps, 10 s of the
+"""Per-step latency of the stepping interface, paced to the wall clock (model steps, 0.5 ms by default; 10 s of the
 SYNTHETIC rough road, translation only), with and without the running comfort figures.
 
 Usage: python benchmarks/bench_realtime_step.py [--duration 10]
@@ -19,12 +19,12 @@ def main() -> None:
     ap.add_argument("--duration", type=float, default=10.0)
     args = ap.parse_args()
     path = Path(str(resources.files("ehm") / "data" / "drives" / "synthetic_rough_road.csv"))
-    motion = load_motion_csv(path).resample(0.001)
-    acc = motion.acc_mps2[: int(args.duration * 1000)]
     for comfort in (False, True):
-        r = run_realtime(Simulator(comfort=comfort), acc, pace=True)
+        sim = Simulator(comfort=comfort)
+        acc = load_motion_csv(path).resample(sim.dt_s).acc_mps2[: int(round(args.duration / sim.dt_s))]
+        r = run_realtime(sim, acc, pace=True)
         print(f"comfort figures {'on ' if comfort else 'off'}: median {r.median_s * 1e6:.0f} us, 99th percentile "
-              f"{r.p99_s * 1e6:.0f} us, worst {r.worst_s * 1e6:.0f} us per 1 ms step; overruns {r.overruns} of "
+              f"{r.p99_s * 1e6:.0f} us, worst {r.worst_s * 1e6:.0f} us per {sim.dt_s * 1e3:g} ms step; overruns {r.overruns} of "
               f"{r.n_steps}")
 
 

@@ -18,6 +18,7 @@ from ehm.comfort import (
     seat_value,
     total_value,
     weight,
+    weighting_deviation_db,
     weighting_sos,
 )
 from ehm.errors import InputError
@@ -120,25 +121,86 @@ def test_frequency_weighting_shape_and_case():
 # --------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("name", WEIGHTINGS)
-def test_digital_response_matches_analog(name):
-    """Within 0.5 dB and 2 degrees from 0.1 f1 to fs/9 (where |W| > -80 dB) at fs = 1 kHz.
+RATES_HZ = (50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 10000.0)
 
-    Measured at 1 kHz: at most 0.12 dB / 1.3 deg up to 80 Hz, the top of the ISO 2631-1 range, and
-    0.45 dB up to fs/9; 0.5 dB is first exceeded at 115 Hz (fs/8.7; 142 Hz for Wj).  At fs/5 = 200 Hz
-    the bilinear frequency compression costs -3.1 dB (Wj -1.8 dB), where Wk itself is at -36 dB
-    (Wj -12 dB).  Wf: within 0.002 dB and 0.01 deg from 0.008 Hz up.
+
+@pytest.mark.parametrize("fs", RATES_HZ)
+@pytest.mark.parametrize("name", WEIGHTINGS)
+def test_digital_response_follows_analog_up_to_0_4_fs(name, fs):
+    """Within 1 dB of the analog magnitude from f1/10 to 0.4 fs wherever |W| > -100 dB (the issue's target).
+
+    Measured (ehm.comfort.weighting_sos docstring): at most 0.42 dB over 24 rates from 50 Hz to 20 kHz.
     """
     f1 = {"Wf": 0.08}.get(name, 0.4)
-    f = np.logspace(np.log10(0.1 * f1), np.log10(FS / 9.0), 800)
-    _, hd = signal.sosfreqz(weighting_sos(name, FS), worN=f, fs=FS)
+    f = np.union1d(np.geomspace(0.1 * f1, 0.4 * fs, 1500), np.linspace(0.1 * f1, 0.4 * fs, 1500))
     ha = frequency_weighting(name, f)
-    sel = np.abs(ha) > 1e-4
-    assert np.max(np.abs(db(hd[sel]) - db(ha[sel]))) < 0.5
-    assert np.max(np.abs(np.degrees(np.angle(hd[sel] / ha[sel])))) < 2.0
-    if name != "Wf":
-        band = f <= 80.0
-        assert np.max(np.abs(db(hd[band]) - db(ha[band]))) < 0.15
+    sel = np.abs(ha) > 1e-5
+    _, hd = signal.sosfreqz(weighting_sos(name, fs), worN=f[sel], fs=fs)
+    assert np.max(np.abs(db(hd) - db(ha[sel]))) < 1.0
+
+
+@pytest.mark.parametrize("name", WEIGHTINGS)
+def test_digital_response_in_the_iso_range_at_1khz(name):
+    """At the simulation rate, over f1 to 80 Hz (the ISO 2631-1 range): within 0.1 dB and 2 degrees.
+
+    Measured: at most 0.05 dB and 1.63 degrees; the bilinear design it replaced had 0.12 dB / 1.3 deg.
+    """
+    f1 = {"Wf": 0.08}.get(name, 0.4)
+    f = np.geomspace(f1, 80.0, 800)
+    ha = frequency_weighting(name, f)
+    sel = np.abs(ha) > 1e-5
+    _, hd = signal.sosfreqz(weighting_sos(name, FS), worN=f[sel], fs=FS)
+    assert np.max(np.abs(db(hd) - db(ha[sel]))) < 0.1
+    assert np.max(np.abs(np.degrees(np.angle(hd / ha[sel])))) < 2.0
+
+
+def test_weighting_deviation_db_reports_the_measured_deviation():
+    # the same check as above, through the public helper: below 1 dB, and the frequency lies inside 0.4 fs
+    for name in WEIGHTINGS:
+        dev, at_hz = weighting_deviation_db(name, 100.0)
+        assert 0.0 <= dev < 1.0 and 0.0 < at_hz <= 40.0
+
+
+@pytest.mark.parametrize("kind", ["noise", "shocks"])
+@pytest.mark.parametrize("name", ["Wk", "Wd", "Wf", "Wj"])
+def test_a_log_at_100_hz_rates_like_the_same_signal_at_1_khz(name, kind):
+    """a_w within 2 % and VDV within 3 % of the 1 kHz values for content below 0.3 fs (the issue's target).
+
+    The 100 Hz record is every tenth sample of the 1 kHz one, which holds nothing above 30 Hz (an 8th-order
+    Butterworth band 0.2-30 Hz, forward-backward, faded in and out over 6 s so that no edge transient
+    dominates VDV), so both hold the same signal over the same 119.99 s.  Measured: at most 0.29 % (a_w) and
+    0.44 % (VDV).
+    """
+    rng = np.random.default_rng(1)
+    n = 119_991
+    if kind == "noise":
+        x = rng.standard_normal(n)
+    else:  # 40 isolated shocks: high crest factor, VDV >> a_w T^(1/4)
+        x = np.zeros(n)
+        x[rng.choice(n, 40, replace=False)] = 50.0 * rng.standard_normal(40)
+    x = signal.sosfiltfilt(signal.butter(8, [0.2, 30.0], btype="band", fs=FS, output="sos"), x)
+    x *= signal.windows.tukey(n, 0.1)
+    fine, coarse = metrics(x, FS, name), metrics(x[::10], 100.0, name)
+    assert coarse.a_w == pytest.approx(fine.a_w, rel=0.02)
+    assert coarse.vdv == pytest.approx(fine.vdv, rel=0.03)
+
+
+def test_band_beyond_nyquist_warns_once():
+    import warnings
+
+    from ehm import comfort
+
+    comfort._WARNED.clear()
+    with pytest.warns(UserWarning, match=r"Wk reaches up to 100 Hz but data sampled at 100 Hz hold nothing "
+                                         r"above 50 Hz") as record:
+        weight("Wk", np.ones(50), 100.0)
+        metrics(np.ones(500), 100.0, "Wk")
+        WeightingFilter("Wk", 100.0)
+    assert len([w for w in record if "Wk reaches" in str(w.message)]) == 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")      # no warning where the band fits: Wk at 200 Hz, Wf at 10 Hz
+        weighting_sos("Wk", 200.0)
+        weighting_sos("Wf", 10.0)
 
 
 def test_digital_wf_at_low_rate():
@@ -170,7 +232,8 @@ def test_weight_applies_the_weighting_once():
     for name, f in (("Wd", 1.0), ("Wk", 1.0), ("Wk", 20.0)):
         y = weight(name, sine(f, 1.0, 20.0), FS)[10_000:]
         gain = np.sqrt(2.0) * np.sqrt(np.mean(y ** 2))
-        assert gain == pytest.approx(abs(frequency_weighting(name, f)), rel=2e-3)
+        # |W| there is 0.48-1.01; the digital filter is within 0.05 dB (0.6 %) of it up to 80 Hz (measured 0.14 %)
+        assert gain == pytest.approx(abs(frequency_weighting(name, f)), rel=6e-3)
 
 
 def test_streaming_equals_batch():
@@ -196,7 +259,7 @@ def test_streaming_equals_batch():
 def test_weighted_rms_and_vdv_of_a_sinusoid(name, freq_hz, amp):
     x = sine(freq_hz, amp, 30.0)
     steady = weight(name, x, FS)[10_000:]             # 20 s after discarding 10 s of transient
-    gain = abs(frequency_weighting(name, freq_hz))
+    gain = abs(signal.sosfreqz(weighting_sos(name, FS), worN=[freq_hz], fs=FS)[1][0])  # the digital filter's
     m = metrics(steady, FS, weighting=None)
     t = steady.size / FS
     assert m.duration_s == pytest.approx(20.0)
@@ -206,9 +269,10 @@ def test_weighted_rms_and_vdv_of_a_sinusoid(name, freq_hz, amp):
     assert m.mtvv == pytest.approx(m.a_w, rel=1e-3)
     assert m.crest_factor == pytest.approx(np.sqrt(2.0), rel=2e-3)
     assert m.msdv is None
-    # the same record weighted inside metrics: only the transient differs
+    # the same record weighted inside metrics: only the transient differs; and the analog gain is within 0.6 %
     full = metrics(x, FS, name)
     assert full.a_w == pytest.approx(gain * amp / np.sqrt(2.0), rel=1e-2)  # measured <= 0.34 %
+    assert gain == pytest.approx(abs(frequency_weighting(name, freq_hz)), rel=6e-3)
 
 
 def test_msdv_of_a_sinusoid():
@@ -323,8 +387,8 @@ def one_sentence(exc: pytest.ExceptionInfo, word: str) -> None:
         (lambda: weighting_sos("Wk", 0.0), "fs_hz"),
         (lambda: weighting_sos("Wk", float("nan")), "fs_hz"),
         (lambda: weighting_sos("Wk", "fast"), "fs_hz"),
-        (lambda: weighting_sos("Wk", 200.0), "fs_hz"),
-        (lambda: weighting_sos("Wf", 1.0), "fs_hz"),
+        (lambda: weighting_sos("Wk", 1.9), "fs_hz"),     # below 5 f1 = 2 Hz
+        (lambda: weighting_sos("Wf", 0.3), "fs_hz"),     # below 5 f1 = 0.4 Hz
         (lambda: weight("Wk", np.ones((2, 5)), FS), "signal"),
         (lambda: weight("Wk", [], FS), "signal"),
         (lambda: weight("Wk", [0.0, np.inf], FS), "signal"),

@@ -108,7 +108,8 @@ def test_cli_fit(synthetic, tmp_path, capsys):
     assert main(["compare", "--data", str(path), "--frf", str(frf), "--json"]) == 0
     res = json.loads(capsys.readouterr().out)
     assert res["total"] == pytest.approx(after, rel=1e-4)
-    assert len(res["curves"]) == len(PATHS)
+    # every path is compared but those too small to carry signal (left out, as in the fit; listed in the JSON)
+    assert len(res["curves"]) + len(res["left_out"]) == len(PATHS)
 
 
 def test_cli_fit_refuses_locked_joint_and_bad_budget(synthetic, tmp_path, capsys):

@@ -1,5 +1,6 @@
-"""FMI 2.0 co-simulation export: build with pythonfmu, load and run with fmpy (an independent host), compare
-with whole runs of the same engine."""
+"""FMI 2.0 co-simulation export, the pythonfmu route (``python=True``, ``ehm export-fmu --python``): build with
+pythonfmu, load and run with fmpy (an independent host), compare with whole runs of the same engine.  The native
+unit (the default) is tested in test_fmu_native.py."""
 
 from __future__ import annotations
 
@@ -22,13 +23,14 @@ fmpy = pytest.importorskip("fmpy", reason="running the exported FMU needs fmpy (
 from ehm.fmu import INPUTS, OUTPUTS, PARAMS_RESOURCE, SETUP_RESOURCE, export_fmu  # noqa: E402
 
 POINTS = ("pelvis", "trunk", "head")
+DT = float(ehm.Parameters.load().value("simulation.dt_s"))  # the model step of the shipped parameters
 FIELDS = {"acc_mps2": ("ax_mps2", "ay_mps2", "az_mps2"), "rot_rad": ("roll_rad", "pitch_rad", "yaw_rad"),
           "disp_m": ("x_m", "y_m", "z_m"), "angvel_radps": ("wx_radps", "wy_radps", "wz_radps")}
 
 
 @pytest.fixture(scope="module")
 def default_fmu(tmp_path_factory):
-    return export_fmu(tmp_path_factory.mktemp("fmu") / "ehm.fmu")
+    return export_fmu(tmp_path_factory.mktemp("fmu") / "ehm.fmu", python=True)
 
 
 def _input_signal(motion, angvel=None):
@@ -43,14 +45,21 @@ def _input_signal(motion, angvel=None):
     return sig
 
 
+def _on_model_grid(motion):
+    """The motion as a whole run feeds it to the engine (resampled onto the model step), so that fmpy's linear
+    interpolation of the input at its step times gives the same samples."""
+    whole = ehm.SeatedHuman().simulate(motion)
+    return ehm.SeatMotion(whole.time_s, whole.seat_acc_mps2, f"{motion.description}, on the model grid")
+
+
 def _run(fmu_path, motion, start_values=None, angvel=None):
-    return fmpy.simulate_fmu(str(fmu_path), start_time=0.0, stop_time=motion.duration_s, step_size=1e-3,
-                             output_interval=1e-3, input=_input_signal(motion, angvel), output=list(OUTPUTS),
+    return fmpy.simulate_fmu(str(fmu_path), start_time=0.0, stop_time=motion.duration_s, step_size=DT,
+                             output_interval=DT, input=_input_signal(motion, angvel), output=list(OUTPUTS),
                              start_values=start_values or {}, debug_logging=True)
 
 
 def _assert_matches(res, whole, atol=1e-9):
-    """The outputs recorded after doStep(t, 1 ms) are the sample at t (see ehm.fmu): row k + 1 of the FMU's
+    """The outputs recorded after doStep(t, dt) are the sample at t (see ehm.fmu): row k + 1 of the FMU's
     results is row k of the whole run; row 0 is the response at t = 0 to the start inputs (whole run row 0)."""
     n = whole.time_s.size
     assert res.shape[0] == n
@@ -72,7 +81,7 @@ def test_model_description_and_resources(default_fmu):
     assert validate_fmu(str(default_fmu)) == []
     md = fmpy.read_model_description(str(default_fmu))
     assert md.fmiVersion == "2.0" and md.coSimulation is not None and md.modelExchange is None
-    assert md.defaultExperiment.stepSize == "0.001"
+    assert float(md.defaultExperiment.stepSize) == DT
     kinds = {v.name: (v.causality, v.variability, v.type) for v in md.modelVariables}
     for name in INPUTS:
         assert kinds[name] == ("input", "continuous", "Real")
@@ -83,15 +92,15 @@ def test_model_description_and_resources(default_fmu):
     with zipfile.ZipFile(default_fmu) as z:
         assert z.read(f"resources/{PARAMS_RESOURCE}").decode() == ehm.Parameters.load().to_toml()
         setup = json.loads(z.read(f"resources/{SETUP_RESOURCE}"))
-        assert setup["lock"] == [] and setup["locked"] == ["waist"] and setup["dt_s"] == 0.001
+        assert setup["lock"] == [] and setup["locked"] == ["waist"] and setup["dt_s"] == DT
         names = z.namelist()
         assert "binaries/linux64/EhmSeatedHuman.so" in names and "binaries/win64/EhmSeatedHuman.dll" in names
 
 
 def test_fmu_run_equals_whole_run(default_fmu):
-    # Same engine both ways: fmpy sets the input at each 1 ms communication point, the unit runs one model step
-    # with it; the whole run interpolates the same samples.  Equal to round-off (1e-9 in SI units).
-    motion = ehm.random_vibration("xyz", 0.5, 0.3, seed=3)
+    # Same engine both ways: fmpy sets the input at each communication point (one model step apart), the unit
+    # runs one model step with it; the whole run gets the same samples.  Equal to round-off (1e-9 in SI units).
+    motion = _on_model_grid(ehm.random_vibration("xyz", 0.5, 0.3, seed=3))
     res = _run(default_fmu, motion)
     whole = ehm.SeatedHuman().simulate(motion)
     _assert_matches(res, whole)
@@ -104,8 +113,8 @@ def test_embedded_params_and_locks_and_params_file(tmp_path, default_fmu):
     params = ehm.Parameters.load().with_values({"joints.t12.pitch.stiffness_Nm_per_rad": 40.0,
                                                 "joints.upper_neck.pitch.damping_Nms_per_rad": 0.5})
     params.export(tmp_path / "stiff.toml")
-    motion = ehm.random_vibration("x", 0.3, 0.5, seed=5)
-    locked = export_fmu(tmp_path / "locked.fmu", params=tmp_path / "stiff.toml", lock=["lower_neck"])
+    motion = _on_model_grid(ehm.random_vibration("x", 0.3, 0.5, seed=5))
+    locked = export_fmu(tmp_path / "locked.fmu", params=tmp_path / "stiff.toml", lock=["lower_neck"], python=True)
     _assert_matches(_run(locked, motion), ehm.SeatedHuman(params=params, lock=["lower_neck"]).simulate(motion))
     res = _run(default_fmu, motion, start_values={"params_file": str(tmp_path / "stiff.toml")})
     whole = ehm.SeatedHuman(params=params).simulate(motion)
@@ -128,7 +137,7 @@ def test_rotating_seat_and_bad_params_file_are_refused(default_fmu, tmp_path, ca
 
 def test_cli_export_fmu(tmp_path, capsys):
     out = tmp_path / "sub" / "x.fmu"
-    assert main(["export-fmu", "--out", str(out), "--lock", "lower_neck"]) == 0
+    assert main(["export-fmu", "--python", "--out", str(out), "--lock", "lower_neck"]) == 0
     assert "wrote" in capsys.readouterr().out
     with zipfile.ZipFile(out) as z:
         root = ET.fromstring(z.read("modelDescription.xml"))
@@ -163,9 +172,13 @@ def test_export_errors_leave_no_file(tmp_path, monkeypatch, capsys):
 
     monkeypatch.setattr(pythonfmu.builder.FmuBuilder, "build_FMU", staticmethod(broken))
     with pytest.raises(InputError, match="could not build the FMU.*disk full"):
-        export_fmu(out)
+        export_fmu(out, python=True)
     monkeypatch.setitem(sys.modules, "pythonfmu.builder", None)  # as if pythonfmu were not installed
     with pytest.raises(InputError, match=r"install ehm\[fmu\]"):
-        export_fmu(out)
+        export_fmu(out, python=True)
+    with pytest.raises(InputError, match="takes no body size or time step"):
+        export_fmu(out, python=True, dt_s=1e-3)
+    assert main(["export-fmu", "--python", "--out", str(out), "--stature", "1.9"]) == 2
+    assert "not --stature" in capsys.readouterr().err
     assert out.read_bytes() == b"old"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["e.fmu", "file"]  # no temporary file left behind

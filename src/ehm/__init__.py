@@ -6,24 +6,40 @@ contacts to a seat pan, a two-pad backrest and the floor.
 
 Public API
 ----------
-SeatedHuman        one person on one seat: ``info()``, ``simulate(motion)``
+SeatedHuman        one person on one seat: ``info()``, ``simulate(motion)``, ``stream``, ``linear_model()``
 RunResult          a run's time histories by name: ``run.point("head").acc_mps2``
 PointMotion        acceleration, displacement and rotation of pelvis, trunk or head
-SeatMotion         a seat acceleration history
-random_vibration, sine, sweep, load_motion_csv    seat motions
+Simulator, StepState    step by step (one seat acceleration per call) and real time
+SeatMotion         a seat acceleration history (``resample``: anti-aliased polyphase)
+random_vibration, sine, sweep    generated seat motions
+read_motion        a measured motion from .csv/.txt, .parquet, .mat, .mf4/.mdf or a DataFrame, any names,
+                   units and rate (``load_motion_csv``: the same with the default names)
+from_imu           the seat's motion from an IMU log (specific force and gyro rates)
+city_drive, rough_road    SYNTHETIC drives
+assess, Assessment       ISO 2631-1 comfort and motion sickness of a drive, seat and body
+FrfTable, linear_frf, time_domain_frf, read_frf    transmissibility and apparent mass tables
+compare            the paper's criterion (Eqs. 2-3) of measured against model curves
+check_step, StepWarning    transfer functions at a time step against the same model at finer steps
+LinearRouteError   an input too large for the linear route (a contact lifts off or slides)
 Parameters         a checked parameter file (``Parameters.load``, ``.with_values``, ``.export``)
+BodySize           individual body sizes (stature, mass, sitting height)
 load_body          the body tables (segments, joints, contacts)
-h1_estimate        seat-to-body transfer function from time histories
+Curve, h1_estimate seat-to-body transfer function from time histories
+EhmError, InputError, DivergenceError    what goes wrong, in one sentence
 
 Modules
 -------
-ehm.frf            FRF tables: time_domain_frf, linear_frf, read_frf_csv
-ehm.criterion      the paper's criterion (Eqs. 2-3): compare, curve_criterion
+ehm.readers        outside data formats (the one door for them)
+ehm.imu            IMU logs to seat motion
+ehm.frf            FRF tables: time_domain_frf, linear_frf, read_frf_csv, read_frf
+ehm.criterion      the paper's criterion (Eqs. 2-3): compare, curve_criterion, small_curves
 ehm.fit            parameter identification: fit, write_identified
 ehm.study          the joint-locking study: locking_study
-ehm.comfort        ISO 2631-1 weightings and metrics
+ehm.comfort        ISO 2631-1 weightings (any sampling rate) and metrics
 ehm.sickness       subjective vertical conflict motion sickness model
-EhmError, InputError, DivergenceError    what goes wrong, in one sentence
+ehm.linear         the linearised person as a state-space model (the linear route)
+ehm.convergence    is the time step small enough? (``ehm check-step``)
+ehm.batch          batch studies on Dask; ehm.fmu FMI export; ehm.animation pictures; ehm.plotting figures
 
 Conventions: SI units, radians inside; axes x forward, y left, z up; origin at the pelvis centre of
 gravity of the reference posture.
@@ -35,11 +51,25 @@ from .errors import DivergenceError, EhmError, InputError
 from .motion import SeatMotion, load_motion_csv, random_vibration, sine, sweep
 from .params import Parameters
 from .simulation import PointMotion, RunResult, SeatedHuman
+from .stepping import Simulator, StepState
 from .tables import load_body
 from .transfer import Curve, h1_estimate
+from .readers import read_motion
+from .imu import from_imu
+from .drives import city_drive, rough_road
+from .assessment import Assessment, assess
+from .frf import FrfTable, linear_frf, read_frf, time_domain_frf
+from .criterion import compare
+from .scaling import BodySize
+from .convergence import StepWarning, check_step
+from .linear import LinearRouteError
 
 __all__ = [
-    "DivergenceError", "EhmError", "InputError", "SeatMotion", "load_motion_csv", "random_vibration", "sine",
-    "sweep", "Parameters", "PointMotion", "RunResult", "SeatedHuman", "load_body", "Curve",
-    "h1_estimate", "__version__",
+    "DivergenceError", "EhmError", "InputError",
+    "SeatedHuman", "RunResult", "PointMotion", "Simulator", "StepState",
+    "SeatMotion", "random_vibration", "sine", "sweep", "read_motion", "load_motion_csv", "from_imu",
+    "city_drive", "rough_road", "assess", "Assessment",
+    "FrfTable", "linear_frf", "time_domain_frf", "read_frf", "compare",
+    "Parameters", "BodySize", "load_body", "Curve", "h1_estimate", "check_step", "StepWarning",
+    "LinearRouteError", "__version__",
 ]

@@ -18,6 +18,8 @@ A study file (TOML) names what varies and what to compute::
     [input]
     axes = ["x", "y", "z"]      # transmissibility: seat axes (linear model; method = "time" for runs)
     drive = "city"              # comfort: "city", "road", a drive file, or "random" (vibration of `axes`)
+    # channels = { ax = "AccX", ay = "AccY", az = "AccZ" }   a log's own names (any format ehm.read_motion reads)
+    # units = { ax = "g", ay = "g", az = "g" }                units the file does not carry; imu = true for an IMU
     duration_s = 30.0
     route = "nonlinear"         # simulation route of runs: "nonlinear" (MuJoCo) or "linear" (ehm.linear)
 
@@ -120,7 +122,8 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
         if not isinstance(v, list) or not v:
             raise InputError(f"{label}: [grid] {k!r} must be a non-empty list of values.")
     inp = dict(doc.get("input", {}))
-    allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed"}
+    allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed", "channels", "units", "imu",
+                     "rate_hz"}
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
@@ -212,6 +215,10 @@ def _check_input(label: str, inp: dict) -> None:
         if not isinstance(drive, str) or not drive_path(drive).is_file():
             raise InputError(f"{label}: [input] drive {drive!r}: use \"random\", \"city\", \"road\" or a motion "
                              "file's path.")
+        try:  # channels, units, imu: read the drive once here, so that a bad mapping stops the study at once
+            _read_drive(inp)
+        except InputError as exc:
+            raise InputError(f"{label}: [input] drive: {exc}") from None
 
 
 def _check_before_running(label: str, people: list, grid: dict, locks: list) -> None:
@@ -244,17 +251,26 @@ def _check_before_running(label: str, people: list, grid: dict, locks: list) -> 
 
 
 def _drive(inp: dict, dt_s: float):
-    from .motion import load_motion_csv, random_vibration
+    from .motion import random_vibration
 
     drive = inp.get("drive", "random")
     duration = float(inp.get("duration_s", 30.0))
     if drive == "random":
         return random_vibration("".join(inp.get("axes", ["z"])), duration, float(inp.get("rms_mps2", 0.3)),
                                 seed=int(inp.get("seed", 0)), dt_s=dt_s)
-    from .drives import drive_path
+    return cut_by_time(_read_drive(inp), duration)
 
-    motion = load_motion_csv(drive_path(drive))
-    return cut_by_time(motion, duration)
+
+def _read_drive(inp: dict):
+    """The [input] drive file through ehm.readers.read_motion, with its channels, units, imu and rate_hz keys."""
+    from .drives import drive_path
+    from .readers import read_motion
+
+    imu = inp.get("imu", False)
+    if not isinstance(imu, bool):
+        raise InputError(f"imu {imu!r}: use true or false.")
+    return read_motion(drive_path(inp["drive"]), channels=inp.get("channels"), units=inp.get("units"),
+                       rate_hz=inp.get("rate_hz"), imu=imu)
 
 
 def cut_by_time(motion, duration_s: float):

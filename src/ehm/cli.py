@@ -17,7 +17,7 @@ from . import __version__
 from .errors import EhmError, InputError
 from .io import write_json_atomic
 from .outdir import RunFolder, check_output_file, check_output_folder, folder_kept_tidy
-from .motion import load_motion_csv, random_vibration, sine, sweep
+from .motion import random_vibration, sine, sweep
 from .params import Parameters
 from .simulation import SeatedHuman
 from .drives import drive_path
@@ -115,6 +115,29 @@ def _motion(args, dt: float):
     return sweep(args.axis, args.duration, args.amplitude, args.f0, args.f1, dt_s=dt)
 
 
+def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: str) -> None:
+    """--motion FILE and how to read it: --channel, --unit (both repeatable), --imu, --rate."""
+    p.add_argument("--motion", required=required, metavar="FILE", help=help_text)
+    p.add_argument("--channel", action="append", metavar="KEY=NAME",
+                   help="the file's name for a channel (KEY: time, ax, ay, az, wx, wy, wz; repeat; --channel time= "
+                        "for a file without time stamps); default: time_s, ax_mps2, ..., wx_radps, ...")
+    p.add_argument("--unit", action="append", metavar="KEY=UNIT",
+                   help="unit of a channel the file does not label, e.g. ax=g, wx=deg/s, time=ms (repeat; default SI)")
+    p.add_argument("--imu", action="store_true",
+                   help="the file is an IMU at the seat: ax, ay, az its specific force (gravity included), wx, wy, wz "
+                        "its gyro rates; the log must start with 1 s at rest")
+    p.add_argument("--rate", type=float, metavar="HZ",
+                   help="sample rate of a file without time stamps (otherwise: resample the file to this rate)")
+
+
+def _read_motion_file(args):
+    """The --motion file (or a shipped SYNTHETIC drive) through ehm.readers.read_motion."""
+    from .readers import parse_assignments, read_motion
+
+    return read_motion(drive_path(args.motion), channels=parse_assignments(args.channel, "--channel"),
+                       units=parse_assignments(args.unit, "--unit"), rate_hz=args.rate, imu=args.imu)
+
+
 def cmd_simulate(args) -> int:
     from .runfiles import pyarrow_modules
 
@@ -123,7 +146,7 @@ def cmd_simulate(args) -> int:
         pyarrow_modules()
     out = check_output_folder(args.out)
     if args.motion:  # a drive file with angular velocities needs the rotating seat
-        motion = load_motion_csv(args.motion)
+        motion = _read_motion_file(args)
         human = _human(args, rotating_seat=motion.angvel_radps is not None)
     else:
         human = _human(args)
@@ -158,7 +181,7 @@ def cmd_demo(args) -> int:
 def _demo_runs(args, human, dt: float, out: Path) -> dict:
     """The demo's runs, tables and figures, written into ``out``; returns the transmissibility peaks."""
     from .animation import animate
-    from .frf import FrfTable, run_curves
+    from .frf import POINTS, FrfTable, run_curves
     from .plotting import plot_time_histories, plot_transmissibility
 
     curves, summaries = {}, {}
@@ -177,7 +200,7 @@ def _demo_runs(args, human, dt: float, out: Path) -> dict:
                           title="Seat-to-body transmissibility of the default model (H1 estimate; synthetic input)")
     peaks = {}
     for (a, p, dof), c in table.curves.items():
-        if dof == a:
+        if dof == a and p in POINTS:  # transmissibility (the apparent masses are in the CSV too)
             f_pk, g_pk = c.peak((0.5, 12.0))
             peaks[f"{a}->{p}"] = {"peak_hz": f_pk, "peak_gain": g_pk, "gain_at_0.5_hz": c.at(0.5)}
     write_json_atomic(out / "demo_summary.json", {"runs": summaries, "transmissibility_peaks": peaks})
@@ -190,6 +213,8 @@ def cmd_frf(args) -> int:
     band = _band(args.band)
     check_output_file(args.out, "FRF table")
     human = _human(args)
+    if args.motion and args.method == "linear":
+        raise InputError("--motion: a measured seat motion needs the time method (--method time).")
     if args.method == "linear":
         if not (np.isfinite(args.df) and args.df > 0) or (band[1] - band[0]) / args.df > 1e5:
             raise InputError(f"--df {args.df:g}: the frequency step must be positive and give at most 100000 "
@@ -197,17 +222,17 @@ def cmd_frf(args) -> int:
         table = linear_frf(human, args.axis, freq_hz=np.arange(band[0], band[1] + 1e-9, args.df))
     else:
         table = time_domain_frf(human, args.axis, duration_s=args.duration, rms_mps2=args.rms, seed=args.seed,
-                                band_hz=band, route=args.route)
-    table.to_csv(args.out)
+                                band_hz=band, route=args.route, motion=_read_motion_file(args) if args.motion else None)
+    table.write(args.out)  # CSV, or Parquet for a .parquet name
     print(f"wrote {args.out}: {len(table.curves)} curves ({args.method} method)")
     return 0
 
 
 def cmd_compare(args) -> int:
     from .criterion import compare
-    from .frf import read_frf_csv
+    from .frf import read_frf
 
-    result = compare(read_frf_csv(args.data), read_frf_csv(args.frf), _band(args.band))
+    result = compare(read_frf(args.data), read_frf(args.frf), _band(args.band), keep_small=args.keep_small_curves)
     if args.json:
         print(json.dumps(result.as_dict(), indent=2))
     else:
@@ -219,13 +244,13 @@ def cmd_compare(args) -> int:
 
 def cmd_fit(args) -> int:
     from .fit import fit, print_progress, write_identified
-    from .frf import read_frf_csv
+    from .frf import read_frf
 
     if _size(args) is not None:
         raise InputError("--stature/--mass/--sitting-height: ehm fit identifies the reference person's parameters; "
                          "fit without them (body sizes scale a parameter file when it is used).")
     band = _band(args.band)
-    data = read_frf_csv(args.data)
+    data = read_frf(args.data)
     params = Parameters.load(args.params)
     body = load_body(args.segments, args.joints, args.contacts)
     check_output_file(args.out, "parameter file")
@@ -233,7 +258,8 @@ def cmd_fit(args) -> int:
         raise InputError(f"--workers {args.workers}: use 1 or more processes.")
     result = fit(data, params=params, free=args.free, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
                  body=body, band_hz=band, max_evals=args.max_evals, workers=args.workers,
-                 time_check=not args.no_time_check, progress=print_progress)
+                 time_check=not args.no_time_check, progress=print_progress,
+                 keep_small_curves=args.keep_small_curves)
     written = result.moved and result.crit_after < result.crit_before
     if written:
         write_identified(result, args.data, args.out)
@@ -254,16 +280,16 @@ def cmd_fit(args) -> int:
 
 
 def cmd_plot_frf(args) -> int:
-    from .frf import AXES, read_frf_csv
+    from .frf import AXES, read_frf
     from .plotting import plot_frf_grid
 
     check_output_file(args.out, "figure")
     tables = []
     for path in args.frf:
-        t = read_frf_csv(path)
+        t = read_frf(path)
         tables.append((Path(path).stem, t.__class__(t.curves, method="model")))
     if args.data:
-        tables.append(("measured", read_frf_csv(args.data)))
+        tables.append(("measured", read_frf(args.data)))
     axes = [a for a in AXES if any(k[0] == a for _, t in tables for k in t.curves)]
     out = Path(args.out)
     written = []
@@ -359,7 +385,7 @@ def cmd_assess(args) -> int:
     from .report import write_report
 
     final = check_output_folder(args.out)
-    motion = load_motion_csv(drive_path(args.motion))
+    motion = _read_motion_file(args)
     human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
     params = human.params
     result = assess(motion, human, progress=_progress_bar("assess"), method=args.method)
@@ -392,7 +418,7 @@ def cmd_assess(args) -> int:
 def cmd_realtime(args) -> int:
     from .stepping import Simulator, run_realtime
 
-    motion = load_motion_csv(drive_path(args.motion))
+    motion = _read_motion_file(args)
     if motion.angvel_radps is not None and np.any(motion.angvel_radps != 0):
         if not args.ignore_rotation:
             raise InputError(f"{args.motion} rotates the seat; real-time stepping supports seat translation only "
@@ -469,13 +495,31 @@ def cmd_drive(args) -> int:
 def cmd_export_fmu(args) -> int:
     import time
 
-    from .fmu import INPUTS, OUTPUTS, export_fmu
-
     t0 = time.perf_counter()
-    path = export_fmu(args.out, params=args.params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock))
-    print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
-          f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "
-          f"{len(OUTPUTS)} outputs (pelvis, trunk, head); the host's Python must be able to import ehm")
+    if args.python:
+        from .fmu import INPUTS, OUTPUTS, export_fmu
+
+        extra = [o for o, v in (("--segments", args.segments), ("--joints", args.joints), ("--contacts", args.contacts),
+                                ("--stature", args.stature), ("--mass", args.mass),
+                                ("--sitting-height", args.sitting_height), ("--dt", args.dt)) if v is not None]
+        if extra:
+            raise InputError(f"export-fmu --python takes only --params, --lock and --unlock, not {', '.join(extra)}; "
+                             "export the native unit (without --python) for these.")
+        path = export_fmu(args.out, params=args.params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+                          python=True)
+        print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
+              f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "
+              f"{len(OUTPUTS)} outputs (pelvis, trunk, head); the host's Python must be able to import ehm")
+        return 0
+    from .fmu_native import INPUTS, OUTPUTS, PLATFORM, export_native_fmu
+
+    human = _human(args)
+    path = export_native_fmu(args.out, human)
+    print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (native C on MuJoCo, "
+          f"{PLATFORM}), {human.mass_kg:.1f} kg, {human.dof} degrees of freedom, model step "
+          f"{human.model.mj.opt.timestep * 1000:g} ms; {len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular "
+          f"velocity must stay 0), {len(OUTPUTS)} outputs (pelvis, trunk, head, support forces); no Python needed "
+          "to run it")
     return 0
 
 
@@ -535,6 +579,10 @@ def cmd_params(args) -> int:
     return 0
 
 
+_KEEP_SMALL_HELP = ("keep measured curves whose peak is below 10 %% of the largest of their kind for the same seat "
+                    "axis (left out of the criterion, with a warning listing them, by default)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="ehm", description="Efficient seated human model on MuJoCo.")
     parser.add_argument("--version", action="version", version=f"ehm {__version__}")
@@ -554,7 +602,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--freq", type=float, default=4.0, help="sine frequency [Hz]")
     p.add_argument("--f0", type=float, default=0.5, help="sweep start frequency [Hz]")
     p.add_argument("--f1", type=float, default=12.0, help="sweep end frequency [Hz]")
-    p.add_argument("--motion", metavar="FILE.csv", help="seat acceleration file (time_s, ax_mps2, ay_mps2, az_mps2)")
+    _motion_file_options(p, False, "seat motion file (.csv/.txt, .parquet, .mat, .mf4, or city / road): time_s, "
+                                   "ax_mps2, ay_mps2, az_mps2 [, wx_radps, wy_radps, wz_radps] unless --channel says")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced whole: one run per folder)")
     p.add_argument("--output-rate", type=float, metavar="HZ",
                    help=f"rows per second of the time series, dividing the model's rate (default "
@@ -584,13 +633,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--df", type=float, default=0.05, help="frequency step of the linear method [Hz] (default 0.05)")
     p.add_argument("--route", choices=("nonlinear", "linear"), default="nonlinear",
                    help="simulation route of the time method's runs (default nonlinear)")
-    p.add_argument("--out", required=True, metavar="FRF.csv")
+    _motion_file_options(p, False, "time method: run the model with this measured seat motion instead of random "
+                                   "vibration (H1 per excited seat axis)")
+    p.add_argument("--out", required=True, metavar="FRF.csv|FRF.parquet")
     p.set_defaults(func=cmd_frf)
 
     p = sub.add_parser("compare", help="the paper's criterion (Eqs. 2-3) of measured gains against model gains")
     p.add_argument("--data", required=True, metavar="EXP.csv", help="measured gains (long format)")
-    p.add_argument("--frf", required=True, metavar="MODEL.csv", help="model gains from 'ehm frf'")
+    p.add_argument("--frf", required=True, metavar="MODEL.csv", help="model gains from 'ehm frf' (.csv or .parquet)")
     p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"))
+    p.add_argument("--keep-small-curves", action="store_true", help=_KEEP_SMALL_HELP)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_compare)
 
@@ -605,6 +657,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "status 3 when the fit stops on it")
     p.add_argument("--workers", type=int, help="processes for the finite differences (default: 2 or the cores)")
     p.add_argument("--no-time-check", action="store_true", help="skip the time-domain check of the result")
+    p.add_argument("--keep-small-curves", action="store_true", help=_KEEP_SMALL_HELP)
     p.add_argument("--out", required=True, metavar="FITTED.toml")
     p.set_defaults(func=cmd_fit)
 
@@ -628,9 +681,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("assess", help="comfort (ISO 2631-1) and motion sickness of a drive, at the seat and the body")
     _model_options(p)
-    p.add_argument("--motion", required=True, metavar="DRIVE.csv",
-                   help="drive file (time_s, ax_mps2, ay_mps2, az_mps2 [, wx_radps, wy_radps, wz_radps]) "
-                        "or 'city' / 'road' for the shipped SYNTHETIC drives")
+    _motion_file_options(p, True, "drive file (.csv/.txt, .parquet, .mat, .mf4: time_s, ax_mps2, ay_mps2, az_mps2 "
+                                  "[, wx_radps, wy_radps, wz_radps] unless --channel says) or 'city' / 'road' for the "
+                                  "shipped SYNTHETIC drives")
     p.add_argument("--out", required=True, metavar="DIR")
     p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
                    help="simulation route (default nonlinear; linear: translation only, small inputs)")
@@ -638,7 +691,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("realtime", help="step the model paced to the wall clock; report per-step latency")
     _model_options(p)
-    p.add_argument("--motion", required=True, metavar="DRIVE.csv", help="seat acceleration file, or city / road")
+    _motion_file_options(p, True, "seat motion file (.csv/.txt, .parquet, .mat, .mf4), or city / road")
     p.add_argument("--duration", type=float, help="run only this many seconds of the motion")
     p.add_argument("--no-pace", action="store_true", help="run as fast as possible (latency figures only)")
     p.add_argument("--no-comfort", action="store_true", help="skip the running comfort figures")
@@ -666,9 +719,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("export-fmu", help="write an FMI 2.0 co-simulation unit (FMU) of the person for vehicle tools")
     p.add_argument("--out", required=True, metavar="FILE.fmu", help="FMU file to write")
-    p.add_argument("--params", metavar="FILE.toml", help="parameter file to embed (default: the shipped defaults)")
-    p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
-    p.add_argument("--unlock", action="append", metavar="JOINT", help="unlock a joint, e.g. waist")
+    _model_options(p)
+    p.add_argument("--dt", type=float, help="model step [s] (default from the parameter file)")
+    p.add_argument("--python", action="store_true",
+                   help="build the older pythonfmu unit (its host must run ehm in Python) instead of the native one")
     p.set_defaults(func=cmd_export_fmu)
 
     p = sub.add_parser("animate", help="draw a run's person and seat into a .gif or .mp4 (offscreen, no display)")

@@ -8,19 +8,29 @@ For one curve with measured gains G_exp at frequencies f (limited to a band, def
 The 1/f^2 factor gives low frequencies (0.1-3 Hz) priority, as the paper intends for comfort.  Model
 gains are interpolated linearly onto the measured frequencies.  The total criterion is the mean of the
 curves' criteria, weighted by the curves' ``weight`` (1 unless the data file gives one).
+
+Measured curves that carry no signal would dominate it: Eq. 2's relative gain of a path that is zero by
+symmetry (lateral response to fore-aft input) or buried in noise is tiny, so any model gain there makes a
+huge criterion.  Such curves, whose peak in the band lies below :data:`SMALL_CURVE_FRACTION` of the largest
+measured curve of the same kind (translational gains, rotational gains, apparent masses) for the same seat
+axis, are left out, with a warning that lists them, unless ``keep_small=True`` (``--keep-small-curves``).
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from .errors import InputError
-from .frf import FrfTable
+from .frf import MASS_POINTS, FrfTable
 from .transfer import band_select
 
 DEFAULT_BAND_HZ = (0.1, 12.0)
+#: A measured curve whose peak is below this fraction of the largest curve of its kind for the same seat axis
+#: is left out of the criterion (unless kept): 10 %.
+SMALL_CURVE_FRACTION = 0.1
 
 
 @dataclass(frozen=True)
@@ -41,11 +51,13 @@ class Comparison:
 
     curves: tuple
     total: float
+    left_out: tuple = ()  #: keys of the measured curves left out as too small (see the module docstring)
 
     def as_dict(self) -> dict:
         """Plain data for JSON output."""
         return {
             "total": self.total,
+            "left_out": [{"input_axis": a, "point": p, "dof": d} for a, p, d in self.left_out],
             "curves": [{"input_axis": c.input_axis, "point": c.point, "dof": c.dof, "crit": c.crit,
                         "n_freq": c.n_freq, "weight": c.weight} for c in self.curves],
         }
@@ -74,13 +86,56 @@ def curve_criterion(freq_hz: np.ndarray, gain_exp: np.ndarray, gain_model: np.nd
     return float(np.sqrt(np.mean(r ** 2)))
 
 
-def compare(measured: FrfTable, model: FrfTable, band_hz: tuple[float, float] = DEFAULT_BAND_HZ) -> Comparison:
+def _kind(key: tuple) -> str:
+    _, point, dof = key
+    if point in MASS_POINTS:
+        return "apparent mass"
+    return "rotation" if dof in ("roll", "pitch", "yaw") else "translation"
+
+
+def small_curves(measured: FrfTable, band_hz: tuple[float, float] = DEFAULT_BAND_HZ,
+                 fraction: float = SMALL_CURVE_FRACTION) -> dict:
+    """Measured curves whose peak in the band is below ``fraction`` of the largest curve of the same kind
+    (translation, rotation, apparent mass) for the same seat axis: key -> (peak, largest peak)."""
+    peaks = {}
+    for key in measured.keys():
+        c = measured.curves[key]
+        sel = band_select(c.freq_hz, band_hz)
+        if sel.any():
+            peaks[key] = float(np.max(c.gain[sel]))
+    largest = {}
+    for key, pk in peaks.items():
+        group = (key[0], _kind(key))
+        largest[group] = max(largest.get(group, 0.0), pk)
+    return {k: (pk, largest[(k[0], _kind(k))]) for k, pk in peaks.items()
+            if pk < fraction * largest[(k[0], _kind(k))]}
+
+
+def curves_to_compare(measured: FrfTable, band_hz: tuple[float, float] = DEFAULT_BAND_HZ, keep_small: bool = False,
+                      warn: bool = True) -> tuple[list, tuple]:
+    """The measured curves the criterion uses, and those left out as too small (with a warning listing them)."""
+    small = {} if keep_small else small_curves(measured, band_hz)
+    if small and warn:
+        listed = "; ".join(f"seat {a} -> {p} {d} (peak {pk:.3g}, {100 * pk / big:.0f} % of {big:.3g})"
+                           for (a, p, d), (pk, big) in small.items())
+        warnings.warn(f"left out of the criterion: {len(small)} measured curve{'s' * (len(small) > 1)} whose peak is "
+                      f"below {100 * SMALL_CURVE_FRACTION:.0f} % of the largest curve of the same kind for the same "
+                      f"seat axis (noise, or paths near zero by symmetry): {listed}; keep them with keep_small=True "
+                      "(--keep-small-curves).", UserWarning, stacklevel=3)
+    return [k for k in measured.keys() if k not in small], tuple(small)
+
+
+def compare(measured: FrfTable, model: FrfTable, band_hz: tuple[float, float] = DEFAULT_BAND_HZ,
+            keep_small: bool = False, warn: bool = True) -> Comparison:
     """Criterion of every measured curve against the model table, and their weighted mean.
 
-    Raises :class:`InputError` when the model lacks a measured curve or does not cover its frequencies.
+    Curves too small to carry signal are left out unless ``keep_small`` (see the module docstring); ``warn``
+    lists them in a warning.  Raises :class:`InputError` when the model lacks a measured curve or does not
+    cover its frequencies.
     """
+    keys, left_out = curves_to_compare(measured, band_hz, keep_small, warn)
     out = []
-    for key in measured.keys():
+    for key in keys:
         m = measured.curves[key]
         sel = band_select(m.freq_hz, band_hz)
         if not sel.any():
@@ -102,4 +157,4 @@ def compare(measured: FrfTable, model: FrfTable, band_hz: tuple[float, float] = 
     if w.sum() <= 0:
         raise InputError("all curve weights are zero.")
     total = float(np.sum(w * np.array([c.crit for c in out])) / w.sum())
-    return Comparison(curves=tuple(out), total=total)
+    return Comparison(curves=tuple(out), total=total, left_out=left_out)

@@ -615,6 +615,44 @@ def settled_point_poses(model: Model) -> dict:
     return out
 
 
+def save_binary(model: Model, path) -> None:
+    """Write the compiled model as a MuJoCo binary model file (MJB) at ``path``, for the native FMU.
+
+    The MJB holds the model exactly as compiled here (solver, contact pairs and their solref set after
+    compilation, sensors), with gravity G0: the C unit loads it with ``mj_loadModel`` and steps it as
+    :func:`step` does.
+    """
+    mujoco.mj_saveModel(model.mj, str(path), None)
+
+
+def c_library() -> dict:
+    """Where the installed MuJoCo keeps its C library and headers, for building the native FMU.
+
+    Returns ``version`` (e.g. ``"4.0.0"``), ``include_dir`` (holding ``mujoco/mujoco.h``), ``library``
+    (the shared library ``libmujoco.so.<version>`` on Linux) and ``licenses`` (the wheel's licence files, to
+    ship with the library), or raises :class:`InputError` naming what is missing.
+    """
+    from importlib import metadata
+    from pathlib import Path
+
+    root = Path(mujoco.__file__).resolve().parent
+    version = mujoco.mj_versionString()
+    include = root / "include"
+    libs = sorted(root.glob("libmujoco.so*"))
+    if not (include / "mujoco" / "mujoco.h").is_file():
+        raise InputError(f"the installed mujoco package ({root}) ships no C headers (include/mujoco/mujoco.h).")
+    if not libs:
+        raise InputError(f"the installed mujoco package ({root}) ships no shared library libmujoco.so for this "
+                         "platform.")
+    try:
+        licenses = [Path(f.locate()) for f in metadata.distribution("mujoco").files or ()
+                    if "LICENSE" in f.name.upper()]
+    except metadata.PackageNotFoundError:
+        licenses = []
+    return {"version": version, "include_dir": include, "library": libs[-1],
+            "licenses": [p for p in licenses if p.is_file()]}
+
+
 def support_forces(model: Model, d: mujoco.MjData) -> dict:
     """Force [N] that each seat surface exerts on the body now, world axes, by surface."""
     out = {}

@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import least_squares
 
-from .criterion import DEFAULT_BAND_HZ, band_select, compare, residuals
+from .criterion import DEFAULT_BAND_HZ, band_select, compare, curves_to_compare, residuals
 from .errors import EhmError, InputError
 from .frf import AXES, FrfTable, linear_frf, time_domain_frf
 from .params import Parameters
@@ -154,10 +154,11 @@ class _Objective:
     """Residuals of one candidate: build, settle, linearise, compare at the measured frequencies."""
 
     def __init__(self, data: FrfTable, base: Parameters, free: list[str], lock, unlock, body: Body,
-                 band_hz: tuple[float, float]):
+                 band_hz: tuple[float, float], keep_small: bool = False):
         self.data, self.base, self.free, self.body, self.band = data, base, free, body, band_hz
-        self.lock, self.unlock = tuple(lock), tuple(unlock)
-        self.keys = [k for k in data.keys() if band_select(data.curves[k].freq_hz, band_hz).any()]
+        self.lock, self.unlock, self.keep_small = tuple(lock), tuple(unlock), keep_small
+        used, _ = curves_to_compare(data, band_hz, keep_small)  # curves too small to carry signal: left out
+        self.keys = [k for k in used if band_select(data.curves[k].freq_hz, band_hz).any()]
         if not self.keys:
             raise InputError(f"no measured frequencies lie in {band_hz[0]:g}-{band_hz[1]:g} Hz.")
         w = np.array([data.curves[k].weight for k in self.keys])
@@ -194,7 +195,7 @@ class _Objective:
             sel = band_select(m.freq_hz, self.band)
             mod = table.curve(*k)
             out.append(s * residuals(m.freq_hz[sel], m.gain[sel], np.interp(m.freq_hz[sel], mod.freq_hz, mod.gain)))
-        return np.concatenate(out), compare(self.data, table, self.band).total
+        return np.concatenate(out), compare(self.data, table, self.band, self.keep_small, warn=False).total
 
 
 _WORKER_OBJECTIVE: _Objective | None = None
@@ -215,7 +216,8 @@ def _eval_with(objective: _Objective, log_x: np.ndarray) -> np.ndarray:
 
 def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None = None, lock=(), unlock=(),
         body: Body | None = None, band_hz: tuple[float, float] = DEFAULT_BAND_HZ, max_evals: int = 400,
-        workers: int | None = None, time_check: bool = True, progress=None, executor=None) -> FitResult:
+        workers: int | None = None, time_check: bool = True, progress=None, executor=None,
+        keep_small_curves: bool = False) -> FitResult:
     """Identify the free parameters that minimise the criterion against measured gains.
 
     Parameters
@@ -240,6 +242,9 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     executor : concurrent.futures.Executor, optional
         Where to evaluate the finite-difference columns instead of local processes, e.g. a Dask cluster's
         ``client.get_executor()``.
+    keep_small_curves : bool
+        Keep measured curves whose peak is below :data:`ehm.criterion.SMALL_CURVE_FRACTION` of the largest of
+        their kind for the same seat axis (left out with a warning by default).
     """
     t0 = time.perf_counter()
     base = params if params is not None else Parameters.load()
@@ -253,7 +258,7 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     free_paths = free_parameters(base, patterns, locked)
     lohi = np.log(np.array([bounds(base, p) for p in free_paths]))
     x0 = np.log(np.array([float(base.value(p)) for p in free_paths]))
-    objective = _Objective(data, base, free_paths, lock, unlock, body, band_hz)
+    objective = _Objective(data, base, free_paths, lock, unlock, body, band_hz, keep_small_curves)
     say = progress or (lambda line: None)
     n_workers = workers if workers is not None else min(2, os.cpu_count() or 1)
     search = _Search(objective, max_evals, say, t0, executor, n_workers)
@@ -300,7 +305,7 @@ def _time_criterion(objective: _Objective, params: Parameters, body: Body, lock,
     # excite the fitting band, starting one estimate bin (0.1 Hz) lower so that its edge is covered
     table = time_domain_frf(human, "all" if len(axes) > 1 else axes[0],
                             band_hz=(max(band_hz[0] - 0.1, 0.05), band_hz[1] + 0.1))
-    return compare(objective.data, table, band_hz).total
+    return compare(objective.data, table, band_hz, objective.keep_small, warn=False).total
 
 
 def _verdict(r: FitResult) -> str:

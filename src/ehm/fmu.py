@@ -1,9 +1,15 @@
 """FMI 2.0 co-simulation export: the seated person as an FMU for vehicle and driving-simulator tools.
 
->>> export_fmu("ehm.fmu", params="my.toml", lock=["lower_neck"])
+>>> export_fmu("ehm.fmu", params="my.toml", lock=["lower_neck"])               # native C unit (default)
+>>> export_fmu("ehm-py.fmu", params="my.toml", lock=["lower_neck"], python=True)  # pythonfmu unit
 
-The unit is built with the PyPI builder `pythonfmu` (``pip install ehm[fmu]``); ehm writes no FMI code of
-its own.  Its slave is a few lines generated from :data:`SLAVE_TEMPLATE` that import this module and
+The default unit is native: C on the MuJoCo C library, built at export time (:mod:`ehm.fmu_native`); it
+needs no Python when it runs.  The rest of this module is the older pythonfmu route, kept behind
+``python=True`` (``ehm export-fmu --python``) for Python hosts that want to choose the parameter file at
+run time (its ``params_file`` parameter).
+
+The pythonfmu unit is built with the PyPI builder `pythonfmu` (``pip install ehm[fmu]``); ehm writes no FMI
+code of its own for it.  Its slave is a few lines generated from :data:`SLAVE_TEMPLATE` that import this module and
 delegate to :class:`SlaveCore`, which runs :class:`ehm.stepping.Simulator`.  The parameter set (its TOML
 text) and the joint locks are embedded in the FMU's ``resources`` folder.
 
@@ -21,7 +27,7 @@ Interface (all Real unless noted; seat axes x forward, y left, z up):
   ``<p>_{x,y,z}_m`` and angular velocity in the segment's own axes ``<p>_w{x,y,z}_radps``; and
   ``output_time_s``, the model time of the sample the outputs belong to.
 
-Timing: ``doStep(t, h)`` runs round(h / dt) model steps (dt = 1 ms by default) with the inputs held at
+Timing: ``doStep(t, h)`` runs round(h / dt) model steps (dt from the parameter file) with the inputs held at
 their values at t.  Each model step reports the sample at its start (the response to that step's input,
 as a whole run reports its row), so after ``doStep(t, h)`` the outputs are the sample at t + h - dt, and
 ``output_time_s`` says so.  Before the first step they are the response at the start time to the start
@@ -312,7 +318,8 @@ def _install_atomic(built: Path, out: Path) -> None:
     replace_atomically(out, write, "the FMU")
 
 
-def export_fmu(out_path, params=None, lock=(), unlock=()) -> Path:
+def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, size=None,
+               dt_s: float | None = None) -> Path:
     """Write an FMI 2.0 co-simulation FMU of the seated person to ``out_path`` (a ``.fmu`` file).
 
     Parameters
@@ -320,17 +327,35 @@ def export_fmu(out_path, params=None, lock=(), unlock=()) -> Path:
     out_path : str or Path
         Destination file; written whole or not at all (built in a temporary folder, then renamed).
     params : Parameters, path or None
-        Parameter set to embed (default: the shipped defaults).  The host may select another file with the
-        FMU's ``params_file`` parameter.
+        Parameter set to embed (default: the shipped defaults).  The pythonfmu unit's host may select
+        another file with the FMU's ``params_file`` parameter.
     lock, unlock : iterable of str
         Joints to lock or unlock, as for :class:`ehm.SeatedHuman`; embedded in the FMU.
+    python : bool
+        Build the pythonfmu unit (its host must run ehm in Python) instead of the native C unit.
+    size : ehm.scaling.BodySize, optional
+        Body size of the person (native unit only).
+    dt_s : float, optional
+        Model step [s] instead of the parameter file's (native unit only).
 
-    Returns the path written.  Needs the ``pythonfmu`` package (``pip install ehm[fmu]``); the host that
-    runs the FMU needs ehm importable in its Python (see the module notes).
+    Returns the path written.  The native unit needs a C compiler and fmpy at export time
+    (:func:`ehm.fmu_native.export_native_fmu`); the pythonfmu unit needs the ``pythonfmu`` package
+    (``pip install ehm[fmu]``), and the host that runs it needs ehm importable in its Python.
     """
     from . import __version__
     from .params import Parameters
     from .simulation import SeatedHuman
+
+    if not python:
+        from .fmu_native import export_native_fmu
+
+        _check_destination(Path(out_path))
+        human = SeatedHuman(params=params, lock=[str(j) for j in lock], unlock=[str(j) for j in unlock], size=size,
+                            dt_s=dt_s)
+        return export_native_fmu(out_path, human)
+    if size is not None or dt_s is not None:
+        raise InputError("the pythonfmu unit (--python) takes no body size or time step; set them in the parameter "
+                         "file, or export the native unit.")
 
     try:
         from pythonfmu.builder import FmuBuilder

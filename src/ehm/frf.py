@@ -2,9 +2,13 @@
 
 A :class:`FrfTable` holds curves addressed by ``(input_axis, point, dof)``: input axis ``x``, ``y`` or
 ``z``; point ``pelvis``, ``trunk`` or ``head``; dof ``x``, ``y``, ``z`` (translational gain,
-(m/s^2)/(m/s^2)) or ``roll``, ``pitch``, ``yaw`` (rotational gain, (rad/s^2)/(m/s^2)).  Its CSV form has
-the columns ``input_axis, point, dof, freq_hz, gain, phase_deg, coherence`` (plus ``gain_sd`` and
-``weight`` in measured data).
+(m/s^2)/(m/s^2)) or ``roll``, ``pitch``, ``yaw`` (rotational gain, (rad/s^2)/(m/s^2)).  Apparent mass
+(ISO 5982), the force on the body per unit seat acceleration [kg], has the points ``support`` (all
+surfaces: seat pan, backrest and floor together) and ``seat_pan`` (the seat pan alone, with its cushion
+bolsters), dof the input axis: ``(axis, "support", axis)``, ``(axis, "seat_pan", axis)``.  At low
+frequencies, where the body moves with the seat, the vertical apparent mass is the mass the surfaces
+carry.  Its CSV (or Parquet) form has the columns ``input_axis, point, dof, freq_hz, gain, phase_deg,
+coherence`` (plus ``gain_sd`` and ``weight`` in measured data).
 
 Two routes compute a model's table: :func:`time_domain_frf` (random seat vibration, the paper's 0-12 Hz
 Butterworth filter on input and output, Welch H1 estimate) and :func:`linear_frf` (exact frequency
@@ -25,6 +29,9 @@ from .transfer import Curve, band_select
 
 AXES = ("x", "y", "z")
 POINTS = ("pelvis", "trunk", "head")
+#: Apparent-mass "points": all support surfaces together, and the seat pan alone [kg].
+MASS_POINTS = ("support", "seat_pan")
+ALL_POINTS = POINTS + MASS_POINTS
 DOFS = ("x", "y", "z", "roll", "pitch", "yaw")
 COLUMNS = ("input_axis", "point", "dof", "freq_hz", "gain", "phase_deg", "coherence")
 #: Linear-model output holding each FRF dof.
@@ -59,7 +66,7 @@ class FrfTable:
 
     def keys(self) -> list:
         """Curve keys in the canonical order (axis, point, dof)."""
-        return sorted(self.curves, key=lambda k: (AXES.index(k[0]), POINTS.index(k[1]), DOFS.index(k[2])))
+        return sorted(self.curves, key=lambda k: (AXES.index(k[0]), ALL_POINTS.index(k[1]), DOFS.index(k[2])))
 
     def to_csv(self, path: Path | str) -> None:
         """Write the long-format CSV (whole or not at all); ``gain_sd`` and ``weight`` only when they carry data."""
@@ -73,6 +80,28 @@ class FrfTable:
                 row += [_fmt(sd)] * with_sd + [f"{c.weight:g}"] * with_w
                 lines.append(",".join(row))
         write_text_atomic(path, "\n".join(lines) + "\n")
+
+    def to_parquet(self, path: Path | str) -> None:
+        """Write the same long table as Parquet (pyarrow; whole or not at all)."""
+        from .io import replace_atomically
+        from .runfiles import pyarrow_modules
+
+        pa, pq = pyarrow_modules()
+        keys = self.keys()
+        curves = [self.curves[k] for k in keys]
+        cat = lambda get: np.concatenate([get(c) for c in curves]) if curves else np.zeros(0)  # noqa: E731
+        table = pa.table({
+            **{col: [k[i] for k, c in zip(keys, curves) for _ in c.freq_hz]
+               for i, col in enumerate(("input_axis", "point", "dof"))},
+            "freq_hz": cat(lambda c: c.freq_hz), "gain": cat(lambda c: c.gain),
+            "phase_deg": cat(lambda c: c.phase_deg), "coherence": cat(lambda c: c.coherence),
+            "gain_sd": cat(lambda c: c.gain_sd), "weight": cat(lambda c: np.full(c.freq_hz.size, c.weight)),
+        })
+        replace_atomically(path, lambda tmp: pq.write_table(table, tmp), "the FRF table")
+
+    def write(self, path: Path | str) -> None:
+        """Write as Parquet when ``path`` ends in ``.parquet``, else as CSV."""
+        (self.to_parquet if str(path).lower().endswith(".parquet") else self.to_csv)(path)
 
 
 def _fmt(v: float) -> str:
@@ -98,7 +127,7 @@ def read_frf_csv(path: Path | str) -> FrfTable:
     weights: dict = {}
     for lineno, get in table.rows:
         key = tuple(table.choice(lineno, get, col, allowed, col.replace("_", " "))
-                    for col, allowed in (("input_axis", AXES), ("point", POINTS), ("dof", DOFS)))
+                    for col, allowed in (("input_axis", AXES), ("point", ALL_POINTS), ("dof", DOFS)))
 
         def number(col: str, optional: bool = False) -> float:
             """A number; NaN for an optional column that is absent or empty."""
@@ -135,6 +164,36 @@ def read_frf_csv(path: Path | str) -> FrfTable:
     return FrfTable(curves=curves, method="measured", meta={"file": label})
 
 
+def read_frf(path: Path | str) -> FrfTable:
+    """An FRF table from CSV (:func:`read_frf_csv`) or from Parquet written by :meth:`FrfTable.to_parquet`."""
+    if not str(path).lower().endswith(".parquet"):
+        return read_frf_csv(path)
+    from .readers import _ParquetSource
+
+    src = _ParquetSource(Path(path), str(path))
+    missing = [c for c in COLUMNS[:5] if c not in src.names]
+    if missing:
+        raise InputError(f"{path}: missing column {missing[0]!r}.")
+    cols = {c: src.values(c) for c in src.names if c in COLUMNS + ("gain_sd", "weight")}
+    n = len(cols["gain"])
+    curves: dict = {}
+    for i in range(n):
+        key = (str(cols["input_axis"][i]), str(cols["point"][i]), str(cols["dof"][i]))
+        for name, value, allowed in zip(("input_axis", "point", "dof"), key, (AXES, ALL_POINTS, DOFS)):
+            if value not in allowed:
+                raise InputError(f"{path}, row {i}, column {name}: {value!r} is not one of {', '.join(allowed)}.")
+        curves.setdefault(key, []).append(i)
+    get = lambda c, rows: (np.asarray(cols[c], dtype=float)[rows] if c in cols  # noqa: E731
+                           else np.full(len(rows), np.nan))
+    out = {}
+    for key, rows in curves.items():
+        rows = np.array(rows)
+        w = get("weight", rows)
+        out[key] = Curve(get("freq_hz", rows), get("gain", rows), get("phase_deg", rows), get("coherence", rows),
+                         get("gain_sd", rows), float(w[0]) if np.isfinite(w[0]) else 1.0)
+    return FrfTable(curves=out, method="measured", meta={"file": str(path)})
+
+
 def _axes(axis: str) -> tuple[str, ...]:
     if axis == "all":
         return AXES
@@ -144,7 +203,8 @@ def _axes(axis: str) -> tuple[str, ...]:
 
 
 def run_curves(run, axis: str, band_hz: tuple[float, float] = (0.1, 12.0), segment_s: float = 10.0) -> dict:
-    """Curves of one run that excited seat axis ``axis``: H1 estimates of every point and dof (Eq. 1).
+    """Curves of one run that excited seat axis ``axis``: H1 estimates of every point and dof (Eq. 1), and the
+    apparent masses along ``axis`` of all supports and of the seat pan [kg].
 
     Input and outputs pass the paper's 12 Hz Butterworth low-pass; gains are kept within ``band_hz``.
     """
@@ -160,19 +220,43 @@ def run_curves(run, axis: str, band_hz: tuple[float, float] = (0.1, 12.0), segme
             e = h1_estimate(x, y, 1.0 / run.dt_s, segment_s=segment_s, lowpass_hz=12.0)
             sel = band_select(e.freq_hz, band_hz)
             curves[(axis, p, dof)] = Curve(e.freq_hz[sel], e.gain[sel], e.phase_deg[sel], e.coherence[sel])
+    # apparent mass: force of the supports on the body per unit seat acceleration [kg]
+    for p, force in (("support", run.support_total_N()), ("seat_pan", run.support_N["seat_pan"])):
+        e = h1_estimate(x, force[:, k], 1.0 / run.dt_s, segment_s=segment_s, lowpass_hz=12.0)
+        sel = band_select(e.freq_hz, band_hz)
+        curves[(axis, p, axis)] = Curve(e.freq_hz[sel], e.gain[sel], e.phase_deg[sel], e.coherence[sel])
     return curves
 
 
 def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2: float = 0.3, seed: int = 0,
                     band_hz: tuple[float, float] = (0.1, 12.0), segment_s: float = 10.0,
-                    route: str = "nonlinear") -> FrfTable:
+                    route: str = "nonlinear", motion=None) -> FrfTable:
     """Transfer functions from random-vibration runs, one run per input axis (paper Eq. 1, H1 estimate).
 
     Each run excites one seat axis with band-limited random acceleration (``band_hz``, ``rms_mps2``).
     ``route`` is the simulation route of the runs: ``nonlinear`` (MuJoCo, the default) or ``linear`` (the
     linearised person, :mod:`ehm.linear`: milliseconds per run; refuses inputs that make a contact slide).
+
+    With ``motion`` (a measured seat motion, e.g. from :func:`ehm.readers.read_motion`) the person runs that
+    motion once instead, and each requested seat axis that it moves gives its curves (single-input H1:
+    when the motion moves several axes at once, correlated inputs bias each other's estimates).
     """
     from .motion import random_vibration
+
+    if motion is not None:
+        if motion.duration_s < segment_s:
+            raise InputError(f"the motion '{motion.description}' lasts {motion.duration_s:g} s: it must last at "
+                             f"least one {segment_s:g} s estimation segment.")
+        run = human.simulate(motion, method=route)
+        moved = [a for a in _axes(axis) if np.any(run.seat_acc_mps2[:, AXES.index(a)] != 0)]
+        if not moved:
+            raise InputError(f"the motion '{motion.description}' does not move the seat along "
+                             f"{' or '.join(_axes(axis))}.")
+        curves = {}
+        for a in moved:
+            curves.update(run_curves(run, a, band_hz, segment_s))
+        meta = {"input": motion.description, "segment_s": segment_s, "route": route}
+        return FrfTable(curves=curves, method="time", meta=meta)
 
     if not duration_s >= segment_s:
         raise InputError(f"duration_s = {duration_s:g} s: a run must last at least one {segment_s:g} s estimation "
@@ -213,9 +297,19 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
         H = frequency_response(ss, f)[:, :, cols]
     nan = np.full(f.size, np.nan)
     curves = {}
+    groups = {"support": [g for g in _support_groups()], "seat_pan": ["seat_pan"]}
     for i, a in enumerate(axes):
         for p in POINTS:
             for dof in DOFS:
                 h = H[:, names.index(f"{p}.{_LINEAR_OUTPUT[dof]}"), i]
                 curves[(a, p, dof)] = Curve(f, np.abs(h), np.degrees(np.angle(h)), nan)
+        for p, members in groups.items():  # apparent mass [kg]: support forces per unit seat acceleration
+            h = sum(H[:, names.index(f"support.{g}.f{a}"), i] for g in members)
+            curves[(a, p, a)] = Curve(f, np.abs(h), np.degrees(np.angle(h)), nan)
     return FrfTable(curves=curves, method="linear", meta={})
+
+
+def _support_groups() -> tuple:
+    from .engine import SUPPORT_GROUPS
+
+    return tuple(SUPPORT_GROUPS)

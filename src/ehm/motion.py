@@ -3,7 +3,13 @@
 A :class:`SeatMotion` holds the acceleration of the seat in the seat's own
 axes (x forward, y left, z up) as a function of time.  Motions are either
 generated here (band-limited random vibration, a sine, a logarithmic sweep) or
-loaded from a CSV file with :func:`load_motion_csv`.
+read from a file or a DataFrame with :func:`ehm.readers.read_motion`.
+
+Motions are brought onto another sample interval (the model's time step) by
+anti-aliased polyphase resampling (:class:`Resampler`, :meth:`SeatMotion.resample`),
+never by plain interpolation: a file sampled faster than the model would alias,
+and a slower log would lose its upper content (linear interpolation of a 100 Hz
+log costs about 5 % of its weighted rms).
 
 Generated motions start at ``t = 0`` and fade in and out with a raised-cosine
 (Tukey) taper, so the seat acceleration is exactly zero at the first and last
@@ -18,13 +24,10 @@ where.
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 import os
-import warnings
-from array import array
 from dataclasses import dataclass
+from fractions import Fraction
 from numbers import Integral, Real
 
 import numpy as np
@@ -36,6 +39,7 @@ __all__ = [
     "AXIS_NAMES",
     "CSV_COLUMNS",
     "MAX_SAMPLES",
+    "Resampler",
     "SeatMotion",
     "load_motion_csv",
     "parse_axes",
@@ -91,7 +95,9 @@ class SeatMotion:
     Notes
     -----
     The arrays are copied to float64 on construction and made read-only, so a
-    ``SeatMotion`` cannot change after it is made.  Invalid arrays raise
+    ``SeatMotion`` cannot change after it is made (an array that is already
+    float64, read-only and owns its data is taken as it is: nothing can
+    change it, and a long log is not held twice).  Invalid arrays raise
     :class:`~ehm.errors.InputError`.
     """
 
@@ -102,8 +108,8 @@ class SeatMotion:
 
     def __post_init__(self) -> None:
         try:
-            time_s = np.array(self.time_s, dtype=float)
-            acc = np.array(self.acc_mps2, dtype=float)
+            time_s = _owned_copy(self.time_s)
+            acc = _owned_copy(self.acc_mps2)
         except (TypeError, ValueError) as exc:
             raise InputError(
                 f"SeatMotion: time_s and acc_mps2 must be numeric arrays ({exc})."
@@ -151,7 +157,7 @@ class SeatMotion:
             )
         if self.angvel_radps is not None:
             try:
-                w = np.array(self.angvel_radps, dtype=float)
+                w = _owned_copy(self.angvel_radps)
             except (TypeError, ValueError) as exc:
                 raise InputError(f"SeatMotion: angvel_radps must be a numeric array ({exc}).") from None
             if w.shape != (n, 3):
@@ -205,11 +211,14 @@ class SeatMotion:
         return self.acc_mps2[:, AXIS_NAMES.index(key)]
 
     def resample(self, dt_s: float) -> SeatMotion:
-        """Resample onto a uniform grid starting at 0 s, by linear interpolation.
+        """Resample onto a uniform grid starting at 0 s, with an anti-alias (polyphase) filter.
 
         The record is shifted in time so that it starts at 0, then sampled at
         ``t = 0, dt_s, 2 dt_s, ...`` up to and including the duration (the
-        last point lies at most ``dt_s`` before the end of the record).
+        last point lies at most ``dt_s`` before the end of the record), by
+        :class:`Resampler` (``scipy.signal.resample_poly``): content below
+        0.4 times the lower of the two sampling rates passes within 0.001 dB,
+        content above 0.6 times it is suppressed by more than 80 dB.
 
         Parameters
         ----------
@@ -236,15 +245,107 @@ class SeatMotion:
                 f"{duration!r} s."
             )
         n = _sample_count("resample", duration, dt)
-        t_new = np.arange(n) * dt
-        t_old = self.time_s - self.time_s[0]
-        acc = np.empty((n, 3))
-        for j in range(3):
-            acc[:, j] = np.interp(t_new, t_old, self.acc_mps2[:, j])
-        w = None
-        if self.angvel_radps is not None:
-            w = np.column_stack([np.interp(t_new, t_old, self.angvel_radps[:, j]) for j in range(3)])
-        return SeatMotion(t_new, acc, f"{self.description}, resampled to dt {dt:g} s", w)
+        data = Resampler.of_motion(self, dt).block(0, n)
+        w = None if self.angvel_radps is None else data[:, 3:]
+        return SeatMotion(np.arange(n) * dt, data[:, :3], f"{self.description}, resampled to dt {dt:g} s", w)
+
+
+# --------------------------------------------------------------------------
+# Resampling
+# --------------------------------------------------------------------------
+
+#: A record counts as uniformly sampled when every sample time lies within this fraction of a step of the
+#: uniform grid through its first and last samples (loggers' time stamps jitter; their samples do not).
+UNIFORM_TOLERANCE = 0.1
+#: Half-length of the polyphase filter, in samples of the slower rate, and its Kaiser window parameter:
+#: within 0.001 dB up to 0.4 times the slower rate, at least 80 dB down from 0.6 times it.
+_POLY_HALF_LENGTH = 20
+_POLY_KAISER_BETA = 8.0
+#: Largest denominator of the rational rate ratio (whole-number rates in Hz are exact).
+_POLY_MAX_DENOMINATOR = 1000
+
+
+class Resampler:
+    """Samples of a record on the uniform grid ``t = k dt_s`` (from the record's start), a block at a time.
+
+    Polyphase resampling (``scipy.signal.resample_poly`` with a Kaiser-windowed sinc of
+    :data:`_POLY_HALF_LENGTH` samples of the slower rate either side, edges extended with the edge values):
+    an anti-alias filter when the record is faster than the grid, an interpolation filter when slower.
+    The rate ratio is the nearest fraction with a denominator of at most 1000 (exact for whole-number rates
+    in Hz; otherwise the time scale is off by less than 1e-6 of the duration, typically).  A block computed
+    here equals the same samples of the whole record resampled at once: each block reads the record with
+    a margin of the filter's length.
+
+    A record whose time stamps depart from a uniform grid by more than :data:`UNIFORM_TOLERANCE` of a step
+    (gaps, varying rates) is first interpolated linearly onto a uniform grid at its median step, which is
+    the best a varying rate allows.
+
+    Parameters
+    ----------
+    time_s : (n,) array
+        Sample times [s], strictly increasing.
+    values : (n, k) array, or a list of such arrays (kept apart, not copied into one)
+        The samples; blocks hold their columns side by side.
+    dt_s : float
+        Interval of the grid [s].
+    """
+
+    def __init__(self, time_s, values, dt_s: float):
+        t = np.asarray(time_s, dtype=float)
+        xs = [np.asarray(v, dtype=float) for v in (values if isinstance(values, (list, tuple)) else [values])]
+        xs = [x[:, None] if x.ndim == 1 else x for x in xs]
+        self.dt_s = float(dt_s)
+        duration = float(t[-1] - t[0])
+        #: Number of grid samples within the record: t = 0, dt_s, ... up to its duration.
+        self.n_samples = int(np.floor(duration / self.dt_s + 1e-9)) + 1
+        step = duration / (t.size - 1)
+        if np.max(np.abs(t - t[0] - np.arange(t.size) * step)) > UNIFORM_TOLERANCE * step:
+            step = float(np.median(np.diff(t)))
+            grid = np.arange(int(np.floor(duration / step + 1e-9)) + 1) * step
+            xs = [np.column_stack([np.interp(grid, t - t[0], x[:, j]) for j in range(x.shape[1])]) for x in xs]
+        self._xs = xs  # the record's arrays as given (not copied into one)
+        ratio = Fraction(step / self.dt_s).limit_denominator(_POLY_MAX_DENOMINATOR)
+        self.up, self.down = ratio.numerator, ratio.denominator
+        if self.up == self.down == 1:
+            self._h = None
+            return
+        if self.up < 1:
+            raise InputError(f"resample: dt_s = {dt_s!r} s is too long for a record sampled every {step:g} s.")
+        widest = max(self.up, self.down)
+        self._h = signal.firwin(2 * _POLY_HALF_LENGTH * widest + 1, 1.0 / widest,
+                                window=("kaiser", _POLY_KAISER_BETA))
+        self._margin = _POLY_HALF_LENGTH * widest // self.up + 2  # record samples the filter reaches
+
+    @classmethod
+    def of_motion(cls, motion: SeatMotion, dt_s: float) -> Resampler:
+        """A resampler of a motion's acceleration (columns 0-2) and angular velocity (3-5, when it has one)."""
+        cols = [motion.acc_mps2] + ([motion.angvel_radps] if motion.angvel_radps is not None else [])
+        return cls(motion.time_s, cols, dt_s)
+
+    def block(self, start: int, stop: int) -> np.ndarray:
+        """Grid samples ``start`` to ``stop - 1`` (``0 <= start < stop <= n_samples``), shape (stop - start, k)."""
+        if self._h is None:
+            return np.hstack([x[start:stop] for x in self._xs])
+        up, down = self.up, self.down
+        # first record sample used: a multiple of `down`, so that the block's output falls on the grid
+        first = max(0, (start * down // up - self._margin) // down) * down
+        last = min(self._xs[0].shape[0], (stop - 1) * down // up + self._margin + 2)
+        seg = np.hstack([x[first:last] for x in self._xs])
+        y = signal.resample_poly(seg, up, down, axis=0, window=self._h, padtype="edge")
+        offset = first * up // down
+        out = y[start - offset: stop - offset]
+        if out.shape[0] < stop - start:  # the grid's last sample at the record's very end (round-off)
+            out = np.vstack([out, np.repeat(y[-1:], stop - start - out.shape[0], axis=0)])
+        return out
+
+
+def _owned_copy(values) -> np.ndarray:
+    """float64 array for a SeatMotion: a copy, unless ``values`` already is a read-only float64 array that owns
+    its data (then no one can change it, and it is used as it is)."""
+    if (isinstance(values, np.ndarray) and values.dtype == np.float64 and not values.flags.writeable
+            and values.base is None and values.flags.c_contiguous):
+        return values
+    return np.array(values, dtype=float)
 
 
 # --------------------------------------------------------------------------
@@ -595,88 +696,24 @@ def sweep(
 
 
 # --------------------------------------------------------------------------
-# CSV input
+# Files
 # --------------------------------------------------------------------------
 
 
-def _parse_number(text: str) -> float | None:
-    """The float in `text`, or None if it is not a plain decimal number."""
-    stripped = text.strip()
-    if not stripped or "_" in stripped:
-        return None
-    try:
-        return float(stripped)
-    except ValueError:
-        return None
-
-
-def _iter_lines(text: str):
-    """The lines of a text without their newlines, one at a time (no list of them all)."""
-    start = 0
-    while start <= len(text):
-        end = text.find("\n", start)
-        if end < 0:
-            yield text[start:]
-            return
-        yield text[start:end]
-        start = end + 1
-
-
-def _fast_rows(raw: bytes, header_line: int, n_fields: int, usecols: list) -> np.ndarray | None:
-    """The data rows after the header as an (n, len(usecols)) array when every row is plain numbers with valid
-    times (finite values, times >= 0 and strictly increasing); None otherwise, so that the row-by-row parser
-    can name the line and column at fault."""
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # "input contained no data": the row count check below says it
-            # all columns, so that a row with a field too many or too few is refused (numpy: "the number of
-            # columns changed") and left to the row-by-row reader
-            every = np.loadtxt(io.BytesIO(raw), delimiter=",", comments="#", skiprows=header_line, ndmin=2,
-                               dtype=float, encoding="utf-8-sig")
-    except (ValueError, IndexError):
-        return None
-    if every.shape[0] < 2 or every.shape[1] != n_fields:
-        return None
-    table = every[:, usecols]
-    if not np.isfinite(table).all():
-        return None
-    t = table[:, 0]
-    if t[0] < 0 or not (np.diff(t) > 0).all():
-        return None
-    return table
-
-
 def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
-    """Load a seat motion from a CSV file.
+    """Read a seat motion from a file with the default channel names; the same as
+    :func:`ehm.readers.read_motion` ``(path)`` (kept for existing code).
 
-    The file is UTF-8 text (a byte-order mark is allowed).  Blank lines and
-    lines whose first non-blank character is ``#`` are skipped.  The first
-    other line is the header; it must contain the columns ``time_s``,
-    ``ax_mps2``, ``ay_mps2`` and ``az_mps2`` in any order, and optionally all
-    three angular velocities ``wx_radps``, ``wy_radps``, ``wz_radps`` (roll,
-    pitch and yaw rates of the seat about its own axes); other columns are
-    ignored.  Every following line is one sample with as many fields as the
-    header.  Times [s] must be finite, >= 0 and strictly increasing; the
-    sample interval may vary (use :meth:`SeatMotion.resample` to make it
-    uniform).  Accelerations are in m/s^2 and must be finite.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The CSV file.
-
-    Returns
-    -------
-    SeatMotion
-        The motion with the file's own time values.
+    The default columns are ``time_s``, ``ax_mps2``, ``ay_mps2``, ``az_mps2``
+    and optionally all of ``wx_radps``, ``wy_radps``, ``wz_radps`` (roll,
+    pitch and yaw rates of the seat about its own axes).  Times [s] must be
+    finite, >= 0 and strictly increasing; the sample interval may vary.  A
+    comment line before the header describes the motion.
 
     Raises
     ------
     InputError
-        If the file cannot be read, is empty, lacks a required column, or
-        has a malformed row, a non-numeric, NaN or infinite value,
-        non-increasing or negative times, or fewer than 2 data rows.  The
-        message names the file, the 1-based line number and the column.
+        One sentence naming the file, line (or row), column and value.
 
     Examples
     --------
@@ -687,140 +724,9 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
         0.000,0.0,0.0,0.00
         0.001,0.0,0.0,0.12
     """
-    name = os.fspath(path) if isinstance(path, (str, os.PathLike)) else repr(path)
-    if not isinstance(name, str):  # a bytes path
-        name = os.fsdecode(name)
-    try:
-        with open(path, "rb") as handle:
-            raw = handle.read()
-    except FileNotFoundError:
-        raise InputError(f"{name}: motion file not found.") from None
-    except IsADirectoryError:
-        raise InputError(f"{name}: is a directory, not a motion CSV file.") from None
-    except PermissionError:
-        raise InputError(f"{name}: motion file cannot be read (permission denied).") from None
-    except (OSError, TypeError, ValueError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc)
-        raise InputError(f"{name}: motion file cannot be read ({reason}).") from None
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        line_no = raw[: exc.start].count(b"\n") + 1
-        raise InputError(
-            f"{name}, line {line_no}: the file is not UTF-8 text "
-            f"(byte {raw[exc.start]:#04x} cannot be decoded)."
-        ) from None
-    if not text.strip():
-        raise InputError(f"{name}: motion file is empty.")
+    from .readers import read_motion
 
-    header: list[str] | None = None
-    header_line = 0
-    first_comment = ""
-    index: dict[str, int] = {}
-    flat = array("d")  # data rows, flattened: 8 bytes per value (an hour at 100 Hz is about 20 MB)
-    last_time, last_time_text, last_line = -math.inf, "", 0
-    for line_no, line in enumerate(_iter_lines(text), start=1):
-        line = line.rstrip("\r")
-        stripped = line.strip()
-        if not stripped or stripped.startswith("#"):
-            if header is None and not first_comment and stripped.startswith("#"):
-                first_comment = stripped.lstrip("#").strip()
-            continue
-        try:
-            fields = next(csv.reader([line]))
-        except csv.Error as exc:
-            raise InputError(f"{name}, line {line_no}: malformed CSV ({exc}).") from None
-
-        if header is None:
-            header = [field.strip() for field in fields]
-            header_line = line_no
-            for column in CSV_COLUMNS + CSV_ROTATION_COLUMNS:
-                if header.count(column) > 1:
-                    raise InputError(
-                        f"{name}, line {line_no}: column {column} appears more than "
-                        "once in the header."
-                    )
-            missing = [column for column in CSV_COLUMNS if column not in header]
-            if missing:
-                listed = ", ".join(missing)
-                raise InputError(
-                    f"{name}, line {line_no}: header is missing column(s) {listed} "
-                    f"(required: {', '.join(CSV_COLUMNS)})."
-                )
-            present = [column for column in CSV_ROTATION_COLUMNS if column in header]
-            if present and len(present) < 3:
-                absent = ", ".join(c for c in CSV_ROTATION_COLUMNS if c not in header)
-                raise InputError(
-                    f"{name}, line {line_no}: header has {', '.join(present)} but not {absent}; "
-                    "give all three angular velocities or none."
-                )
-            columns = CSV_COLUMNS + (CSV_ROTATION_COLUMNS if present else ())
-            index = {column: header.index(column) for column in columns}
-            fast = _fast_rows(raw, header_line, len(header), list(index.values()))
-            if fast is not None:  # plain, valid numbers throughout: no need to look at each row
-                flat = fast
-                break
-            continue
-
-        if len(fields) != len(header):
-            raise InputError(
-                f"{name}, line {line_no}: expected {len(header)} fields as in the "
-                f"header (line {header_line}), found {len(fields)}."
-            )
-        values = []
-        for column in index:
-            field = fields[index[column]]
-            value = _parse_number(field)
-            if value is None:
-                if not field.strip():
-                    raise InputError(
-                        f"{name}, line {line_no}, column {column}: value is empty, "
-                        "expected a number."
-                    )
-                raise InputError(
-                    f"{name}, line {line_no}, column {column}: {field.strip()!r} is "
-                    "not a number."
-                )
-            if not math.isfinite(value):
-                raise InputError(
-                    f"{name}, line {line_no}, column {column}: {field.strip()!r} is not "
-                    "a finite number (NaN or infinite)."
-                )
-            values.append(value)
-        time = values[0]
-        time_text = fields[index["time_s"]].strip()
-        if time < 0.0:
-            raise InputError(
-                f"{name}, line {line_no}, column time_s: time {time_text} s is "
-                "negative; times must be >= 0."
-            )
-        if time <= last_time:
-            raise InputError(
-                f"{name}, line {line_no}, column time_s: time {time_text} s is not "
-                f"after the time {last_time_text} s on line {last_line}; "
-                "times must be strictly increasing."
-            )
-        last_time, last_time_text, last_line = time, time_text, line_no
-        flat.extend(values)
-
-    if header is None:
-        raise InputError(f"{name}: motion file has only comments and no header row.")
-    table = np.frombuffer(flat, dtype=float).reshape(-1, len(index)) if isinstance(flat, array) else flat
-    if table.shape[0] < 2:
-        raise InputError(
-            f"{name}, line {header_line}: motion file has {table.shape[0]} data row(s) after "
-            "the header; at least 2 are needed."
-        )
-    time_s = table[:, 0].copy()
-    data = table[:, 1:].copy()
-    description = (
-        f"from {os.path.basename(name)}, {table.shape[0]} samples, "
-        f"{float(time_s[-1] - time_s[0]):g} s"
-    )
-    if first_comment:  # a file's first comment line describes it (e.g. "SYNTHETIC city drive ...")
-        description = f"{first_comment} ({description})"
-    return SeatMotion(time_s, data[:, :3], description, data[:, 3:6] if data.shape[1] == 6 else None)
-
+    return read_motion(path)
 
 
 # --------------------------------------------------------------------------
@@ -850,6 +756,41 @@ class SeatKinematics:
         return out[0], out[1], out[2]
 
 
+def integrate_attitude(time_s: np.ndarray, angvel_radps: np.ndarray, initial_quat=None) -> np.ndarray:
+    """Attitude quaternions (n, 4), scipy's scalar-last order, from body-axis angular velocity [rad/s].
+
+    q(k+1) = q(k) * exp(w dt / 2) with w the mean of the two samples' rates (exact for rates constant over
+    a step), starting from ``initial_quat`` (default: the identity), renormalised every 1024 steps.
+    """
+    t = np.asarray(time_s, dtype=float)
+    w = np.asarray(angvel_radps, dtype=float)
+    # step rotations as quaternions (w, x, y, z) from rotation vectors, vectorised
+    rv = 0.5 * (w[1:] + w[:-1]) * np.diff(t)[:, None]
+    ang = np.linalg.norm(rv, axis=1)
+    half = 0.5 * ang
+    scale = np.where(ang > 1e-12, np.sin(half) / np.where(ang > 1e-12, ang, 1.0), 0.5)
+    steps = np.column_stack([np.cos(half), rv * scale[:, None]])
+    del rv, ang, half, scale
+    # sequential Hamilton products in plain floats (a few microseconds per sample), a block of steps at a time
+    # (plain floats take about 40 bytes each: a whole long drive of them would hold hundreds of MB)
+    quats = np.empty((t.size, 4))
+    if initial_quat is None:
+        qw, qx, qy, qz = 1.0, 0.0, 0.0, 0.0
+    else:
+        qx, qy, qz, qw = (float(v) for v in initial_quat)
+    quats[0] = (qw, qx, qy, qz)
+    for b in range(0, steps.shape[0], 8192):
+        for k, (sw, sx, sy, sz) in enumerate(steps[b:b + 8192].tolist(), start=b + 1):
+            qw, qx, qy, qz = (qw * sw - qx * sx - qy * sy - qz * sz, qw * sx + qx * sw + qy * sz - qz * sy,
+                              qw * sy - qx * sz + qy * sw + qz * sx, qw * sz + qx * sy - qy * sx + qz * sw)
+            if k % 1024 == 0:  # keep unit length against round-off
+                n = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+                qw, qx, qy, qz = qw / n, qx / n, qy / n, qz / n
+            quats[k] = (qw, qx, qy, qz)
+    del steps
+    return quats[:, [1, 2, 3, 0]]  # scipy's (x, y, z, w) order
+
+
 def seat_kinematics(time_s: np.ndarray, angvel_radps: np.ndarray) -> SeatKinematics:
     """Integrate the seat's body-axis angular velocity (roll, pitch, yaw rates) into z-y-x Euler angles.
 
@@ -864,28 +805,7 @@ def seat_kinematics(time_s: np.ndarray, angvel_radps: np.ndarray) -> SeatKinemat
 
     t = np.asarray(time_s, dtype=float)
     w = np.asarray(angvel_radps, dtype=float)
-    # step rotations as quaternions (w, x, y, z) from rotation vectors, vectorised
-    rv = 0.5 * (w[1:] + w[:-1]) * np.diff(t)[:, None]
-    ang = np.linalg.norm(rv, axis=1)
-    half = 0.5 * ang
-    scale = np.where(ang > 1e-12, np.sin(half) / np.where(ang > 1e-12, ang, 1.0), 0.5)
-    steps = np.column_stack([np.cos(half), rv * scale[:, None]])
-    del rv, ang, half, scale
-    # sequential Hamilton products in plain floats (a few microseconds per sample), a block of steps at a time
-    # (plain floats take about 40 bytes each: a whole long drive of them would hold hundreds of MB)
-    quats = np.empty((t.size, 4))
-    qw, qx, qy, qz = 1.0, 0.0, 0.0, 0.0
-    quats[0] = (qw, qx, qy, qz)
-    for b in range(0, steps.shape[0], 8192):
-        for k, (sw, sx, sy, sz) in enumerate(steps[b:b + 8192].tolist(), start=b + 1):
-            qw, qx, qy, qz = (qw * sw - qx * sx - qy * sy - qz * sz, qw * sx + qx * sw + qy * sz - qz * sy,
-                              qw * sy - qx * sz + qy * sw + qz * sx, qw * sz + qx * sy - qy * sx + qz * sw)
-            if k % 1024 == 0:  # keep unit length against round-off
-                n = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-                qw, qx, qy, qz = qw / n, qx / n, qy / n, qz / n
-            quats[k] = (qw, qx, qy, qz)
-    del steps
-    quats = quats[:, [1, 2, 3, 0]]  # scipy's (x, y, z, w) order
+    quats = integrate_attitude(t, w)
     yaw, pitch, roll = Rotation.from_quat(quats).as_euler("ZYX").T
     if np.abs(pitch).max() > np.radians(80):
         i = int(np.argmax(np.abs(pitch) > np.radians(80)))

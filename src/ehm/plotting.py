@@ -78,7 +78,7 @@ def plot_transmissibility(table, path: Path | str | None = None, band_hz=(0.2, 1
     ``table`` is an :class:`ehm.frf.FrfTable` (e.g. the demo's time-domain estimates).
     """
     axes_in = sorted({k[0] for k in table.curves}, key="xyz".index)
-    points = list(dict.fromkeys(k[1] for k in table.keys()))
+    points = list(dict.fromkeys(k[1] for k in table.keys() if k[1] not in _MASS_ORDER))  # gains, not masses
     fig, axes = plt.subplots(len(axes_in), len(points), figsize=(4 * len(points), 3 * len(axes_in)),
                              squeeze=False, sharex=True)
     for i, a in enumerate(axes_in):
@@ -109,42 +109,56 @@ _DOF_UNITS = {"x": "(m/s²)/(m/s²)", "y": "(m/s²)/(m/s²)", "z": "(m/s²)/(m/s
               "roll": "(rad/s²)/(m/s²)", "pitch": "(rad/s²)/(m/s²)", "yaw": "(rad/s²)/(m/s²)"}
 _DOF_ORDER = ("x", "y", "z", "roll", "pitch", "yaw")
 _POINT_ORDER = ("head", "trunk", "pelvis")
+_MASS_ORDER = ("support", "seat_pan")
+_MASS_LABEL = {"support": "all supports", "seat_pan": "seat pan"}
 
 
 def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None, title: str | None = None,
                   band_hz=(0.1, 12.0)):
-    """Gains of one input axis: rows head, trunk, pelvis; one column per output dof (as the paper's Figs. 3-5).
+    """Gains of one input axis: rows head, trunk, pelvis; one column per output dof (as the paper's Figs. 3-5);
+    and, when the tables hold them, a last row with the apparent masses (all supports, seat pan) [kg].
 
     ``tables`` is a list of ``(label, FrfTable)``; a table whose method is ``measured`` is drawn as
     markers (with gain_sd error bars when given), the others as lines.
     """
     dofs = [d for d in _DOF_ORDER if any((input_axis, p, d) in t.curves for _, t in tables for p in _POINT_ORDER)]
-    if not dofs:
+    masses = [p for p in _MASS_ORDER if any((input_axis, p, input_axis) in t.curves for _, t in tables)]
+    if not dofs and not masses:
         raise ValueError(f"no curves for input axis {input_axis}")
-    fig, axes = plt.subplots(len(_POINT_ORDER), len(dofs), figsize=(3.3 * len(dofs), 7.5), squeeze=False, sharex=True)
-    for i, p in enumerate(_POINT_ORDER):
-        for j, d in enumerate(dofs):
-            ax = axes[i, j]
-            for k, (label, t) in enumerate(tables):
-                c = t.curves.get((input_axis, p, d))
-                if c is None:
-                    continue
-                sel = band_select(c.freq_hz, band_hz)
-                if t.method == "measured":
-                    sd = c.gain_sd[sel] if np.isfinite(c.gain_sd[sel]).any() else None
-                    ax.errorbar(c.freq_hz[sel], c.gain[sel], yerr=sd, fmt="o", ms=3, color="k", lw=0.8, label=label)
-                else:
-                    ax.plot(c.freq_hz[sel], c.gain[sel], lw=1.3, label=label, color=f"C{k}")
-            ax.set_xscale("log")
-            ax.grid(alpha=0.3, which="both")
-            ax.set_title(f"{p} {d}", fontsize=9)
-            if j == 0:
-                ax.set_ylabel("gain")
-            if i == len(_POINT_ORDER) - 1:
-                ax.set_xlabel("frequency [Hz]")
-            if i == 0 and j == 0:
-                ax.legend(fontsize=7)
-    fig.suptitle(title or f"seat {input_axis} input: gains; translations {_DOF_UNITS['x']}, rotations {_DOF_UNITS['roll']}")
+    rows = [(p, d) for p in _POINT_ORDER for d in dofs]
+    n_rows, n_cols = len(_POINT_ORDER) * bool(dofs) + bool(masses), max(len(dofs), len(masses))
+    fig, axes = plt.subplots(n_rows, n_cols, figsize=(3.3 * n_cols, 2.5 * n_rows), squeeze=False, sharex=True)
+    cells = {(i, j): (p, d) for i, p in enumerate(_POINT_ORDER) for j, d in enumerate(dofs)} if dofs else {}
+    cells.update({(n_rows - 1, j): (p, input_axis) for j, p in enumerate(masses)})
+    for (i, j), (p, d) in cells.items():
+        ax = axes[i, j]
+        for k, (label, t) in enumerate(tables):
+            c = t.curves.get((input_axis, p, d))
+            if c is None:
+                continue
+            sel = band_select(c.freq_hz, band_hz)
+            if t.method == "measured":
+                sd = c.gain_sd[sel] if np.isfinite(c.gain_sd[sel]).any() else None
+                ax.errorbar(c.freq_hz[sel], c.gain[sel], yerr=sd, fmt="o", ms=3, color="k", lw=0.8, label=label)
+            else:
+                ax.plot(c.freq_hz[sel], c.gain[sel], lw=1.3, label=label, color=f"C{k}")
+        ax.set_xscale("log")
+        ax.grid(alpha=0.3, which="both")
+        mass = p in _MASS_ORDER
+        ax.set_title(f"apparent mass, {_MASS_LABEL[p]} {d} [kg]" if mass else f"{p} {d}", fontsize=9)
+        if j == 0:
+            ax.set_ylabel("kg" if mass else "gain")
+        if i == n_rows - 1 or (i == n_rows - 2 and j >= len(masses) and masses):
+            ax.set_xlabel("frequency [Hz]")
+        if (i, j) == min(cells):
+            ax.legend(fontsize=7)
+    for i in range(n_rows):
+        for j in range(n_cols):
+            if (i, j) not in cells:
+                axes[i, j].set_visible(False)
+    fig.suptitle(title or f"seat {input_axis} input: gains; translations {_DOF_UNITS['x']}, "
+                          f"rotations {_DOF_UNITS['roll']}"
+                 + ("; apparent mass: support force per seat acceleration [kg]" if masses else ""))
     fig.tight_layout()
     return _save(fig, path)
 

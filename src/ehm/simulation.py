@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 
 from . import engine
 from .errors import InputError
-from .motion import SeatMotion, seat_kinematics, seat_rotation_matrices
+from .motion import Resampler, SeatMotion, seat_kinematics, seat_rotation_matrices
 from .params import Parameters
 from .tables import Body, load_body, resolve_locks
 
@@ -333,8 +333,9 @@ class SeatedHuman:
                method: str = "nonlinear"):
         """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
 
-        Memory stays constant whatever the motion's length: the motion is interpolated onto the model's time
-        step one chunk at a time.  ``progress(done_s, total_s)`` is called after every chunk.  ``method`` as
+        Memory stays constant whatever the motion's length: the motion is resampled onto the model's time
+        step (anti-aliased polyphase filter, :class:`ehm.motion.Resampler`) one chunk at a time.
+        ``progress(done_s, total_s)`` is called after every chunk.  ``method`` as
         for :meth:`simulate` (the linear route runs at the motion's own step; no poses).
         """
         if not isinstance(motion, SeatMotion):
@@ -356,8 +357,8 @@ class SeatedHuman:
         if rotating:
             angvel = motion.angvel_radps if motion.angvel_radps is not None else np.zeros_like(motion.acc_mps2)
             kin = seat_kinematics(motion.time_s, angvel)
-        t_rel = motion.time_s - motion.time_s[0]
-        n_total = int(np.floor(motion.duration_s / dt + 1e-9)) + 1
+        grid = Resampler.of_motion(motion, dt)  # anti-aliased polyphase resampling, chunk by chunk
+        n_total = grid.n_samples
         per_chunk = max(1, int(round(chunk_s / dt)))
         d = engine.settled_data(self.model)
         poses = engine.settled_point_poses(self.model)
@@ -370,11 +371,7 @@ class SeatedHuman:
             geometry = {f"geometry_{k}": v for k, v in engine.drawing_geometry(self.model).items()}
         for start in range(0, n_total, per_chunk):
             t = np.arange(start, min(n_total, start + per_chunk)) * dt
-            # the samples around this chunk only (the same interpolation as over the whole motion, without
-            # whole-motion temporaries)
-            near = slice(max(0, int(np.searchsorted(t_rel, t[0], side="right")) - 1),
-                         int(np.searchsorted(t_rel, t[-1], side="left")) + 1)
-            acc_seat = np.column_stack([np.interp(t, t_rel[near], motion.acc_mps2[near, j]) for j in range(3)])
+            acc_seat = grid.block(start, start + t.size)[:, :3]  # from the samples around this chunk only
             if rotating:
                 angles, rates, accs = kin.at(t)
                 R = seat_rotation_matrices(angles)

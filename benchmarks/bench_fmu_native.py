@@ -1,0 +1,154 @@
+"""Step latency of the native FMU in a plain C host, against the Python stepping interface.
+
+Exports the default person's native unit (``ehm.fmu_native``), compiles ehm's example C host
+(``native/fmu_host.c``) and runs it with an empty environment (``env -i``) over STEPS communication steps of
+one model step each (the default step of the parameter file), unpaced: each step is fmi2SetReal (3 inputs),
+fmi2DoStep, fmi2GetReal (all outputs).  Input: the SYNTHETIC rough road shipped with ehm (translation only),
+resampled to the model step.  For reference it also times MuJoCo's own work per step (mj_step plus the
+velocity evaluation the unit does after a communication step) in a small C program on the unit's libmujoco,
+and ``ehm.stepping.Simulator.step`` (comfort figures off) on the same input.
+
+The machine may be shared: the load average before and after each measurement is printed with it.
+
+Usage: python benchmarks/bench_fmu_native.py [--steps 100000] [--python-steps 100000] [--repeat 1]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import tempfile
+import time
+import xml.etree.ElementTree as ET
+import zipfile
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from ehm import engine, fmu_native
+from ehm.motion import load_motion_csv
+from ehm.stepping import Simulator, run_realtime
+
+MUJOCO_ONLY_C = r"""
+#define _POSIX_C_SOURCE 200809L
+#include <mujoco/mujoco.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec + 1e-9 * t.tv_nsec; }
+static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
+int main(int argc, char **argv) {  /* MJB, steps; stdin: the settled qpos, qvel, act, then rows of ax ay az */
+    mjModel *m = mj_loadModel(argv[1], NULL);
+    mjData *d = mj_makeData(m);
+    long n = atol(argv[2]), i;
+    double *a = malloc(3 * n * sizeof(double)), *lat = malloc(n * sizeof(double));
+    for (i = 0; i < m->nq; i++) if (scanf("%lf", &d->qpos[i]) != 1) return 2;
+    for (i = 0; i < m->nv; i++) if (scanf("%lf", &d->qvel[i]) != 1) return 2;
+    for (i = 0; i < m->na; i++) if (scanf("%lf", &d->act[i]) != 1) return 2;
+    for (i = 0; i < 3 * n; i++) if (scanf("%lf", &a[i]) != 1) return 2;
+    mj_forward(m, d);
+    for (i = 0; i < n; i++) {
+        double t0 = now();
+        m->opt.gravity[0] = -a[3 * i]; m->opt.gravity[1] = -a[3 * i + 1]; m->opt.gravity[2] = -9.81 - a[3 * i + 2];
+        mj_step(m, d);
+        mj_kinematics(m, d); mj_comPos(m, d); mj_comVel(m, d); mj_sensorVel(m, d);
+        lat[i] = now() - t0;
+    }
+    qsort(lat, n, sizeof(double), cmp);
+    printf("%.3f %.3f %.3f\n", 1e6 * lat[n / 2], 1e6 * lat[(long)(0.99 * (n - 1))], 1e6 * lat[n - 1]);
+    return 0;
+}
+"""
+
+
+def _load() -> str:
+    one, five, _ = os.getloadavg()
+    return f"load average {one:.2f} (1 min), {five:.2f} (5 min) on {os.cpu_count()} cores"
+
+
+def _road(dt: float, steps: int) -> np.ndarray:
+    path = Path(str(resources.files("ehm") / "data" / "drives" / "synthetic_rough_road.csv"))
+    acc = load_motion_csv(path).resample(dt).acc_mps2
+    reps = int(np.ceil(steps / acc.shape[0]))
+    return np.tile(acc, (reps, 1))[:steps]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--steps", type=int, default=100_000, help="communication steps of the native unit")
+    ap.add_argument("--python-steps", type=int, default=100_000, help="steps of the Python Simulator (0: skip)")
+    ap.add_argument("--repeat", type=int, default=1, help="runs of the native measurement")
+    args = ap.parse_args()
+    cc = fmu_native.find_compiler()
+    with tempfile.TemporaryDirectory(prefix="ehm_bench_fmu_") as tmp:
+        tmp = Path(tmp)
+        t0 = time.perf_counter()
+        fmu = fmu_native.export_native_fmu(tmp / "person.fmu")
+        print(f"exported {fmu.name} in {time.perf_counter() - t0:.1f} s")
+        unit = tmp / "unit"
+        with zipfile.ZipFile(fmu) as z:
+            z.extractall(unit)
+        setup = json.loads((unit / "resources" / fmu_native.SETUP_RESOURCE).read_text())
+        guid = ET.parse(unit / "modelDescription.xml").getroot().get("guid")
+        dt = setup["dt_s"]
+        acc = _road(dt, args.steps)
+        host_src = tmp / "fmu_host.c"
+        host_src.write_bytes(resources.files("ehm").joinpath("native", "fmu_host.c").read_bytes())
+        host = tmp / "fmu_host"
+        subprocess.run([*cc, "-std=c11", "-O2", "-I", str(fmu_native.fmi_headers()), str(host_src), "-o", str(host),
+                        "-ldl"], check=True)
+        inp = tmp / "road.csv"
+        rows = min(args.steps, acc.shape[0])
+        with open(inp, "w") as f:
+            f.write("time_s," + ",".join(fmu_native.INPUTS) + "\n")
+            for i in range(rows):
+                f.write(",".join(repr(float(v)) for v in (i * dt, *acc[i], 0.0, 0.0, 0.0)) + "\n")
+        print(f"input: SYNTHETIC rough road, translation only, model step {dt * 1e3:g} ms, {args.steps} steps")
+        native = []
+        for r in range(args.repeat):
+            before = _load()
+            out = subprocess.run(["env", "-i", str(host), str(unit), fmu_native.MODEL_IDENTIFIER, guid,
+                                  str(len(fmu_native.OUTPUTS)), str(inp), "--bench", str(args.steps)],
+                                 check=True, capture_output=True, text=True).stdout.split()
+            p50, p99, worst, mean = (float(v) for v in out[:4])
+            native.append((p50, p99, worst))
+            print(f"native FMU in a C host (env -i), run {r + 1}: p50 {p50:.1f} us, p99 {p99:.1f} us, max "
+                  f"{worst:.0f} us, mean {mean:.1f} us per step (set inputs, doStep, get {len(fmu_native.OUTPUTS)} "
+                  f"outputs); {before}")
+
+        lib = engine.c_library()
+        only = tmp / "mujoco_only"
+        (tmp / "mujoco_only.c").write_text(MUJOCO_ONLY_C)
+        libmujoco = unit / "binaries" / fmu_native.PLATFORM / lib["library"].name
+        subprocess.run([*cc, "-O2", "-I", str(lib["include_dir"]), str(tmp / "mujoco_only.c"), "-o", str(only),
+                        str(libmujoco), f"-Wl,-rpath,{libmujoco.parent}"], check=True)
+        state = {line.split()[0]: line.split()[2:] for line in
+                 (unit / "resources" / fmu_native.STATE_RESOURCE).read_text().splitlines()
+                 if line.startswith(("qpos ", "qvel ", "act "))}
+        text = " ".join(state["qpos"] + state["qvel"] + state["act"]) + "\n"
+        text += "\n".join(" ".join(repr(float(v)) for v in a) for a in acc)
+        before = _load()
+        mj = subprocess.run([str(only), str(unit / "resources" / fmu_native.MODEL_RESOURCE), str(len(acc))],
+                            input=text, check=True, capture_output=True, text=True).stdout.split()
+        print(f"MuJoCo alone (mj_step + velocity evaluation, C): p50 {float(mj[0]):.1f} us, p99 {float(mj[1]):.1f} us, "
+              f"max {float(mj[2]):.0f} us; {before}")
+
+    if args.python_steps:
+        sim = Simulator(comfort=False)
+        before = _load()
+        rep = run_realtime(sim, _road(sim.dt_s, args.python_steps), pace=False)
+        print(f"Python ehm.stepping.Simulator.step (comfort off), {rep.n_steps} steps: p50 {rep.median_s * 1e6:.1f} us, "
+              f"p99 {rep.p99_s * 1e6:.1f} us, max {rep.worst_s * 1e6:.0f} us; {before}")
+        best = min(native, key=lambda v: v[1])
+        r50, r99 = rep.median_s * 1e6 / best[0], rep.p99_s * 1e6 / best[1]
+        print(f"Python / native (best native run): p50 {r50:.1f}x, p99 {r99:.1f}x (a p99 under load is the "
+              f"scheduler's more than the code's); goal p99 <= 40 us: {'met' if best[1] <= 40 else 'not met'}; "
+              f"goal >= 10x lower than Python: {'met' if min(r50, r99) >= 10 else 'not met'} on both p50 and p99")
+    print(f"after: {_load()}")
+
+
+if __name__ == "__main__":
+    main()
