@@ -45,6 +45,13 @@ def _input_signal(motion, angvel=None):
     return sig
 
 
+def _on_model_grid(motion):
+    """The motion as a whole run feeds it to the engine (resampled onto the model step), so that fmpy's linear
+    interpolation of the input at its step times gives the same samples."""
+    whole = ehm.SeatedHuman().simulate(motion)
+    return ehm.SeatMotion(whole.time_s, whole.seat_acc_mps2, f"{motion.description}, on the model grid")
+
+
 def _run(fmu_path, motion, start_values=None, angvel=None):
     return fmpy.simulate_fmu(str(fmu_path), start_time=0.0, stop_time=motion.duration_s, step_size=DT,
                              output_interval=DT, input=_input_signal(motion, angvel), output=list(OUTPUTS),
@@ -91,9 +98,9 @@ def test_model_description_and_resources(default_fmu):
 
 
 def test_fmu_run_equals_whole_run(default_fmu):
-    # Same engine both ways: fmpy sets the input at each communication point (one model step apart), the unit runs one model step
-    # with it; the whole run interpolates the same samples.  Equal to round-off (1e-9 in SI units).
-    motion = ehm.random_vibration("xyz", 0.5, 0.3, seed=3, dt_s=DT)
+    # Same engine both ways: fmpy sets the input at each communication point (one model step apart), the unit
+    # runs one model step with it; the whole run gets the same samples.  Equal to round-off (1e-9 in SI units).
+    motion = _on_model_grid(ehm.random_vibration("xyz", 0.5, 0.3, seed=3))
     res = _run(default_fmu, motion)
     whole = ehm.SeatedHuman().simulate(motion)
     _assert_matches(res, whole)
@@ -106,7 +113,7 @@ def test_embedded_params_and_locks_and_params_file(tmp_path, default_fmu):
     params = ehm.Parameters.load().with_values({"joints.t12.pitch.stiffness_Nm_per_rad": 40.0,
                                                 "joints.upper_neck.pitch.damping_Nms_per_rad": 0.5})
     params.export(tmp_path / "stiff.toml")
-    motion = ehm.random_vibration("x", 0.3, 0.5, seed=5, dt_s=DT)
+    motion = _on_model_grid(ehm.random_vibration("x", 0.3, 0.5, seed=5))
     locked = export_fmu(tmp_path / "locked.fmu", params=tmp_path / "stiff.toml", lock=["lower_neck"], python=True)
     _assert_matches(_run(locked, motion), ehm.SeatedHuman(params=params, lock=["lower_neck"]).simulate(motion))
     res = _run(default_fmu, motion, start_values={"params_file": str(tmp_path / "stiff.toml")})
@@ -119,7 +126,7 @@ def test_embedded_params_and_locks_and_params_file(tmp_path, default_fmu):
 def test_rotating_seat_and_bad_params_file_are_refused(default_fmu, tmp_path, capfd):
     # A seat angular velocity: doStep returns fmi2Discard with the reason logged; fmpy then ends the run at the
     # last good time (t = 0).  A parameter file that cannot be read: exitInitializationMode fails (fatal).
-    motion = ehm.random_vibration("z", 0.01, 0.3, seed=1, dt_s=DT)
+    motion = ehm.random_vibration("z", 0.01, 0.3, seed=1)
     res = _run(default_fmu, motion, angvel=(0.0, 0.0, 0.1))
     assert res["time"].max() == 0.0
     assert "seat translation only" in capfd.readouterr().out

@@ -148,18 +148,20 @@ def _modal(ss: StateSpace, dt_s: float) -> _Modal:
 def _modal_chunk(m: _Modal, u: np.ndarray, carry: list) -> np.ndarray:
     """Outputs (deviations from y0) for input samples ``u`` (n, 3); ``carry`` holds the real and complex modal
     states at the chunk's first sample (zeros at the start of a run) and is advanced past its last sample."""
-    parts = []
+    n, nr, npair = u.shape[0], m.lam_real.size, m.lam_pair.size
+    Z = np.empty((nr + 2 * npair, n))  # one contiguous row per modal state: real modes, Re and Im of pairs
     for i, (lam, B) in enumerate(((m.lam_real, m.B_real), (m.lam_pair, m.B_pair))):
-        drive = u @ B.T
-        z = np.empty_like(drive)
-        z[0] = carry[i]
+        drive = B @ u.T  # (modes, n), rows contiguous
         for k in range(lam.size):  # z[n + 1] = lam z[n] + drive[n]
-            w, _ = signal.lfilter([1.0], [1.0, -lam[k]], drive[:, k], zi=[lam[k] * carry[i][k]])
-            z[1:, k] = w[:-1]
+            w, _ = signal.lfilter([1.0], [1.0, -lam[k]], drive[k], zi=[lam[k] * carry[i][k]])
+            if i == 0:
+                Z[k, 0], Z[k, 1:] = carry[0][k], w[:-1]
+            else:
+                z0 = carry[1][k]
+                Z[nr + k, 0], Z[nr + k, 1:] = z0.real, w[:-1].real
+                Z[nr + npair + k, 0], Z[nr + npair + k, 1:] = z0.imag, w[:-1].imag
             carry[i][k] = w[-1]
-        parts.append(z)
-    Z = np.hstack([parts[0], parts[1].real, parts[1].imag])
-    return Z @ m.C + u @ m.D
+    return Z.T @ m.C + u @ m.D
 
 
 def _validity(ss: StateSpace, y: np.ndarray, t: np.ndarray) -> None:
