@@ -79,7 +79,9 @@ def continuous_model(model: engine.Model, refine: int = REFINE) -> StateSpace:
     L = linalg.logm(block)
     if np.iscomplexobj(L):
         if np.abs(L.imag).max() > 1e-8 * max(1.0, np.abs(L.real).max()):
-            raise RuntimeError("the linearised step has no real logarithm; the model is not smooth at rest")
+            raise InputError("the linear route cannot be built for this person: its linearised step has no real "
+                             "logarithm (a mode faster than the step / 8 it is linearised at); use the nonlinear "
+                             "route.")
         L = L.real
     A, B = L[:nx, :nx] / h, L[:nx, nx:] / h
 
