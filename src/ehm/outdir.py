@@ -30,6 +30,7 @@ import threading
 from pathlib import Path
 
 from .errors import InputError
+from .io import _fsync_directory
 
 #: Files and folders that ehm commands write into an output folder.
 EHM_NAMES = frozenset({
@@ -182,17 +183,6 @@ def glob_escape(text: str) -> str:
     return "".join(f"[{c}]" if c in "*?[" else c for c in text)
 
 
-def _fsync_dir(directory: Path) -> None:
-    try:
-        fd = os.open(directory, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
 
 
 def _umask() -> int:
@@ -266,7 +256,7 @@ class RunFolder:
                     os.rename(staging, target)
             else:
                 os.rename(staging, target)
-            _fsync_dir(target.parent)
+            _fsync_directory(target.parent)
             self.staging = None
             if old is not None:
                 shutil.rmtree(old, ignore_errors=True)

@@ -225,6 +225,7 @@ class SeatedHuman:
         self.size = size
         self.locked = resolve_locks(self.body, lock, unlock)
         self.model = engine.build(self.body, self.params, self.locked, rotating_seat=rotating_seat)
+        self._linear = None  # the linear route's model, built on first use (linear_model)
 
     @property
     def dof(self) -> int:
@@ -261,7 +262,7 @@ class SeatedHuman:
     def linear_model(self):
         """The person linearised at the settled posture, continuous time (:func:`ehm.linear.continuous_model`;
         computed once, about 0.1 s after settling)."""
-        if getattr(self, "_linear", None) is None:
+        if self._linear is None:
             from .linear import continuous_model
 
             if self.model.seat is not None:
