@@ -50,7 +50,7 @@ typedef struct {
 
 typedef struct {
     char name[64];
-    int n, body[EHM_MAX_SURFACES];      /* the seat surfaces (bodies) of a support group */
+    int n, sensor[EHM_MAX_SURFACES];    /* sensordata addresses of support_<surface> for its seat surfaces */
 } Group;
 
 /* What the outputs of one sample take from the state at the sample's start (copied after mj_step). */
@@ -364,8 +364,7 @@ static int read_state(Ehm *e, const char *path, char *why, size_t size) {
             g->n = (int)n;
             for (j = 0; j < g->n; j++) {
                 read_word(&r, word, sizeof word);
-                g->body[j] = mj_name2id(e->m, mjOBJ_BODY, word);
-                if (g->body[j] < 0) { snprintf(why, size, "the model has no seat surface %s", word); goto done; }
+                if (sensor_adr(e, "support", word, &g->sensor[j], why, size) < 0) goto done;
             }
             e->ngroups++;
         } else {
@@ -489,10 +488,10 @@ static void take_sample(Ehm *e, Sample *s) {
         mju_copy3(s->linvel[p], sd + pt->linvel);
         mju_copy3(s->angvel[p], sd + pt->angvel);
     }
-    for (g = 0; g < e->ngroups; g++) { /* force of the surfaces on the body: minus cfrc_ext of the surface */
+    for (g = 0; g < e->ngroups; g++) { /* force of the surfaces on the body: their contact sensors */
         for (j = 0; j < 3; j++) s->support[g][j] = 0.0;
         for (b = 0; b < e->group[g].n; b++)
-            for (j = 0; j < 3; j++) s->support[g][j] += -e->d->cfrc_ext[6 * e->group[g].body[b] + 3 + j];
+            for (j = 0; j < 3; j++) s->support[g][j] += sd[e->group[g].sensor[b] + j];
     }
 }
 
