@@ -85,6 +85,7 @@ typedef struct {
     char failed[EHM_MSG];               /* why the model cannot go on (divergence, MuJoCo error); "" if it can */
     int nstate;                         /* mj_stateSize(mjSTATE_INTEGRATION) */
     mjtNum *scratch;                    /* a state buffer for the initial outputs */
+    int pos_ready;                      /* 1: the position stage of the current state is done (evaluate_velocities) */
 } Ehm;
 
 typedef struct {
@@ -440,6 +441,7 @@ static void to_settled(Ehm *e) {
     mju_copy(e->d->qvel, e->qvel0, e->nv);
     mju_copy(e->d->act, e->act0, e->na);
     mj_forward(e->m, e->d);
+    e->pos_ready = 0;
 }
 
 static int settled_work(Ehm *e, void *arg) {
@@ -448,13 +450,29 @@ static int settled_work(Ehm *e, void *arg) {
     return 0;
 }
 
-/* One model step with the seat acceleration a [m/s^2] held: the d'Alembert seat load as gravity (ehm.engine.step). */
+/* One model step with the seat acceleration a [m/s^2] held: the d'Alembert seat load as gravity (ehm.engine.step).
+ * When evaluate_velocities has already run the position stage of this state (the end of the last communication
+ * step), the step skips it: the same operations as mj_step (checks, forward dynamics, checkAcc, integrator), so
+ * the same numbers, with the position stage (kinematics, inertia, collision, constraints) done once instead of twice.
+ * The position stage does not depend on gravity, so it can run before the inputs are known. */
 static void model_step(Ehm *e, const double a[3]) {
     mjtNum *g = e->m->opt.gravity;
+    const mjModel *m = e->m;
     g[0] = G0[0] - a[0];
     g[1] = G0[1] - a[1];
     g[2] = G0[2] - a[2];
-    mj_step(e->m, e->d);
+    if (e->pos_ready && (m->opt.integrator == mjINT_IMPLICITFAST || m->opt.integrator == mjINT_IMPLICIT ||
+                         m->opt.integrator == mjINT_EULER)) {
+        mj_checkPos(m, e->d);
+        mj_checkVel(m, e->d);
+        mj_forwardSkip(m, e->d, mjSTAGE_POS, 0);
+        mj_checkAcc(m, e->d);
+        if (m->opt.integrator == mjINT_EULER) mj_Euler(m, e->d);
+        else mj_implicit(m, e->d);
+    } else {
+        mj_step(e->m, e->d);
+    }
+    e->pos_ready = 0;
     g[0] = G0[0];
     g[1] = G0[1];
     g[2] = G0[2];
@@ -495,12 +513,14 @@ static void take_sample(Ehm *e, Sample *s) {
     }
 }
 
-/* Velocity-stage kinematics and sensors of the current state (ehm.engine.evaluate_velocities). */
+/* Velocity-stage kinematics and sensors of the current state (ehm.engine.evaluate_velocities).  It runs the whole
+ * position stage (a superset of mj_kinematics and mj_comPos), which the next model step then skips. */
 static void evaluate_velocities(Ehm *e) {
-    mj_kinematics(e->m, e->d);
-    mj_comPos(e->m, e->d);
+    mj_fwdPosition(e->m, e->d);
+    mj_sensorPos(e->m, e->d);
     mj_comVel(e->m, e->d);
     mj_sensorVel(e->m, e->d);
+    e->pos_ready = 1;
 }
 
 /* The outputs of one sample, as ehm.simulation.SeatedHuman reports its row (static seat: world = seat axes):
@@ -569,6 +589,7 @@ static int initial_work(Ehm *e, void *arg) {
     mj_getState(e->m, e->d, e->scratch, mjSTATE_INTEGRATION);
     rc = steps_work(e, s);
     mj_setState(e->m, e->d, e->scratch, mjSTATE_INTEGRATION);
+    e->pos_ready = 0;
     return rc;
 }
 
@@ -612,7 +633,10 @@ static fmi2Status run_steps(Ehm *e, long long n, int initial) {
     if (s.why) snprintf(e->failed, sizeof e->failed, "the simulation diverged at t = %.4f s (%s): the seat input may be "
                         "more than a seated, unbelted person withstands, or try a smaller time step than dt = %g s",
                         e->t0 + (e->steps + s.done) * e->dt, s.why, e->dt);
-    if (initial) mj_setState(e->m, e->d, e->scratch, mjSTATE_INTEGRATION);
+    if (initial) {
+        mj_setState(e->m, e->d, e->scratch, mjSTATE_INTEGRATION);
+        e->pos_ready = 0;
+    }
     LOG_ERROR(e, "%s; reset the unit (fmi2Reset) or instantiate it again.", e->failed);
     return fmi2Error;
 }
@@ -992,6 +1016,7 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state) {
         return fmi2Error;
     }
     mj_setState(e->m, e->d, s->mj, mjSTATE_INTEGRATION);
+    e->pos_ready = 0;
     e->steps = s->steps;
     e->t0 = s->t0;
     memcpy(e->u, s->u, sizeof e->u);
