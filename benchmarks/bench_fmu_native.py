@@ -10,7 +10,10 @@ and ``ehm.stepping.Simulator.step`` (comfort figures off) on the same input.
 
 The machine may be shared: the load average before and after each measurement is printed with it.
 
-Usage: python benchmarks/bench_fmu_native.py [--steps 100000] [--python-steps 100000] [--repeat 1]
+With --rotating, the unit is exported with a rotating seat and driven by the SYNTHETIC city drive with seat
+rotation (ehm.drives.city_drive: translation and angular velocity), and only the unit is timed.
+
+Usage: python benchmarks/bench_fmu_native.py [--steps 100000] [--python-steps 100000] [--repeat 1] [--rotating]
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+import ehm
 from ehm import engine, fmu_native
 from ehm.motion import load_motion_csv
 from ehm.stepping import Simulator, run_realtime
@@ -76,17 +80,27 @@ def _road(dt: float, steps: int) -> np.ndarray:
     return np.tile(acc, (reps, 1))[:steps]
 
 
+def _city(dt: float, steps: int) -> np.ndarray:
+    """Seat acceleration and angular velocity (n, 6) of the SYNTHETIC city drive, resampled to dt, repeated."""
+    from ehm.drives import city_drive
+
+    motion = city_drive(60.0, seed=0).resample(dt)
+    rows = np.column_stack([motion.acc_mps2, motion.angvel_radps])
+    return np.tile(rows, (int(np.ceil(steps / rows.shape[0])), 1))[:steps]
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--steps", type=int, default=100_000, help="communication steps of the native unit")
     ap.add_argument("--python-steps", type=int, default=100_000, help="steps of the Python Simulator (0: skip)")
     ap.add_argument("--repeat", type=int, default=1, help="runs of the native measurement")
+    ap.add_argument("--rotating", action="store_true", help="a rotating-seat unit on the SYNTHETIC city drive")
     args = ap.parse_args()
     cc = fmu_native.find_compiler()
     with tempfile.TemporaryDirectory(prefix="ehm_bench_fmu_") as tmp:
         tmp = Path(tmp)
         t0 = time.perf_counter()
-        fmu = fmu_native.export_native_fmu(tmp / "person.fmu")
+        fmu = fmu_native.export_native_fmu(tmp / "person.fmu", ehm.SeatedHuman(rotating_seat=args.rotating))
         print(f"exported {fmu.name} in {time.perf_counter() - t0:.1f} s")
         unit = tmp / "unit"
         with zipfile.ZipFile(fmu) as z:
@@ -94,7 +108,8 @@ def main() -> None:
         setup = json.loads((unit / "resources" / fmu_native.SETUP_RESOURCE).read_text())
         guid = ET.parse(unit / "modelDescription.xml").getroot().get("guid")
         dt = setup["dt_s"]
-        acc = _road(dt, args.steps)
+        acc = _city(dt, args.steps) if args.rotating else np.hstack([_road(dt, args.steps),
+                                                                     np.zeros((args.steps, 3))])
         host_src = tmp / "fmu_host.c"
         host_src.write_bytes(resources.files("ehm").joinpath("native", "fmu_host.c").read_bytes())
         host = tmp / "fmu_host"
@@ -105,8 +120,9 @@ def main() -> None:
         with open(inp, "w") as f:
             f.write("time_s," + ",".join(fmu_native.INPUTS) + "\n")
             for i in range(rows):
-                f.write(",".join(repr(float(v)) for v in (i * dt, *acc[i], 0.0, 0.0, 0.0)) + "\n")
-        print(f"input: SYNTHETIC rough road, translation only, model step {dt * 1e3:g} ms, {args.steps} steps")
+                f.write(",".join(repr(float(v)) for v in (i * dt, *acc[i])) + "\n")
+        what = "city drive with seat rotation (rotating-seat unit)" if args.rotating else "rough road, translation only"
+        print(f"input: SYNTHETIC {what}, model step {dt * 1e3:g} ms, {args.steps} steps")
         native = []
         for r in range(args.repeat):
             before = _load()
@@ -119,6 +135,10 @@ def main() -> None:
                   f"{worst:.0f} us, mean {mean:.1f} us per step (set inputs, doStep, get {len(fmu_native.OUTPUTS)} "
                   f"outputs); {before}")
 
+        if args.rotating:  # MuJoCo alone and the Python Simulator run a static seat only
+            print(f"after: {_load()}")
+            return
+        acc = acc[:, :3]
         lib = engine.c_library()
         only = tmp / "mujoco_only"
         (tmp / "mujoco_only.c").write_text(MUJOCO_ONLY_C)

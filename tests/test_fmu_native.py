@@ -458,3 +458,114 @@ def test_cmake_build_description_builds_a_working_binary(unit, host, tmp_path):
     ref = _run_host(host, unit, time_s, acc, tmp_path / "ref.csv")
     for name in OUTPUTS:
         np.testing.assert_allclose(got[name], ref[name], rtol=0, atol=1e-12, err_msg=name)
+
+
+# ------------------------------------------------------------------------------------------ rotating seat
+def _rotating_reference(human, acc_seat, w):
+    """The rotating-seat unit's definition, computed independently with scipy and ehm's Python engine: per
+    model step, the seat attitude q at the step's start gives z-y-x angles (yaw unwrapped), the held body rates
+    w give the angle rates, their backward difference the angle accelerations; q then advances by exp(w dt / 2).
+    Returns the RunResult of ``engine.run`` with that seat rotation, in seat axes (SeatedHuman's own transform)."""
+    from scipy.spatial.transform import Rotation
+
+    from ehm import engine
+
+    model, dt = human.model, human.model.mj.opt.timestep
+    n = len(acc_seat)
+    q = Rotation.identity()
+    angles, rates, R = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3, 3))
+    for i in range(n):
+        yaw, pitch, roll = q.as_euler("ZYX")
+        if i:
+            yaw = angles[i - 1, 0] + np.remainder(yaw - angles[i - 1, 0] + np.pi, 2 * np.pi) - np.pi
+        turn = w[i, 1] * np.sin(roll) + w[i, 2] * np.cos(roll)
+        angles[i] = yaw, pitch, roll
+        rates[i] = turn / np.cos(pitch), w[i, 1] * np.cos(roll) - w[i, 2] * np.sin(roll), w[i, 0] + np.tan(pitch) * turn
+        R[i] = q.as_matrix()
+        q = q * Rotation.from_rotvec(w[i] * dt)
+    accs = np.vstack([np.zeros((1, 3)), np.diff(rates, axis=0) / dt])
+    raw = engine.run(model, np.einsum("nij,nj->ni", R, acc_seat), d=engine.settled_data(model),
+                     seat_rotation=(angles, rates, accs))
+    t = np.arange(n) * dt
+    return human._chunk_result(raw, t, np.asarray(acc_seat, float), R, angles, engine.settled_point_poses(model),
+                               model.seat["pivot"], 0.0, "reference")
+
+
+@pytest.fixture(scope="module")
+def rotating_unit(tmp_path_factory):
+    human = ehm.SeatedHuman(rotating_seat=True)
+    folder = tmp_path_factory.mktemp("rotating")
+    path = fmu_native.export_native_fmu(folder / "rotating.fmu", human)
+    unzipped = folder / "unzipped"
+    with zipfile.ZipFile(path) as z:
+        z.extractall(unzipped)
+    return (path, unzipped, fmpy.read_model_description(str(path))), human
+
+
+def test_rotating_seat_unit_equals_its_definition_in_python(rotating_unit):
+    # 1 s of SYNTHETIC seat motion: random translation plus roll, pitch and yaw rates of 0.2-0.6 rad/s, one
+    # model step per communication step.  The unit's outputs equal the independent Python computation of the same
+    # definition to round-off; the seat really turned (yaw 0.6 rad) and the outputs are in seat axes.
+    unit, human = rotating_unit
+    dt = human.model.mj.opt.timestep
+    n = int(round(1.0 / dt))
+    t = np.arange(n) * dt
+    rng = np.random.default_rng(11)
+    acc = rng.normal(0.0, 0.5, (n, 3))
+    w = np.column_stack([0.2 * np.sin(2 * np.pi * 1.5 * t), 0.3 * np.sin(2 * np.pi * 0.8 * t), 0.6 * np.ones(n)])
+    s = _slave(unit)
+    try:
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        s.setReal([VR[k] for k in INPUTS], [*acc[0], *w[0]])
+        s.exitInitializationMode()
+        rows = [s.getReal(ALL_OUT)]
+        for k in range(n):
+            s.setReal([VR[name] for name in INPUTS], [*acc[k], *w[k]])
+            s.doStep(currentCommunicationPoint=k * dt, communicationStepSize=dt)
+            rows.append(s.getReal(ALL_OUT))
+    finally:
+        s.terminate()
+        s.freeInstance()
+    got = np.array(rows)
+    ref = _rotating_reference(human, acc, w)
+    got = {name: got[1:, j] for j, name in enumerate(OUTPUTS)}  # row k + 1: the sample at t_k
+    _assert_outputs_equal(got, np.arange(n), ref, atol=1e-9)
+    assert ref.seat_angles_rad[-1, 0] == pytest.approx(0.6, rel=0.01)  # 0.6 rad/s about seat z for 1 s
+    # in seat axes the seat pan carries the weight along seat z whichever way the seat has turned
+    assert got["seat_pan_fz_N"].mean() > 0.5 * human.mass_kg * 9.81
+    assert abs(got["seat_pan_fy_N"].mean()) < 0.1 * got["seat_pan_fz_N"].mean()
+
+
+def test_rotating_seat_unit_against_a_whole_drive(rotating_unit):
+    # SeatedHuman.simulate of a rotating drive takes the angle accelerations by central differences over the whole
+    # drive; the unit, which sees no future inputs, by backward differences.  Over 2 s of SYNTHETIC roll and
+    # pitch motion they agree closely (head and pelvis accelerations within 1 % of their rms).
+    unit, human = rotating_unit
+    dt = human.model.mj.opt.timestep
+    n = int(round(2.0 / dt)) + 1
+    t = np.arange(n) * dt
+    acc = np.column_stack([0.5 * np.sin(2 * np.pi * 1.1 * t), 0.4 * np.sin(2 * np.pi * 0.7 * t), np.zeros(n)])
+    w = np.column_stack([0.3 * np.sin(2 * np.pi * 0.9 * t), 0.2 * np.sin(2 * np.pi * 1.3 * t), np.zeros(n)])
+    whole = human.simulate(ehm.SeatMotion(t, acc, "SYNTHETIC roll and pitch", angvel_radps=w))
+    ref = _rotating_reference(human, acc, w)
+    for p in ("head", "pelvis"):
+        a, b = whole.point(p).acc_mps2, ref.point(p).acc_mps2
+        assert np.sqrt(np.mean((a - b) ** 2)) < 0.01 * np.sqrt(np.mean(a ** 2)), p
+
+
+def test_rotating_seat_unit_refuses_bad_rates(rotating_unit, capfd):
+    unit, _ = rotating_unit
+    s = _slave(unit)
+    try:
+        _start(s)
+        h = s_dt(unit)
+        s.setReal([VR["seat_wz_radps"]], [float("nan")])
+        with pytest.raises(FMICallException) as exc:
+            s.doStep(currentCommunicationPoint=0.0, communicationStepSize=h)
+        assert _status(exc) == DISCARD and "not a seat angular velocity" in capfd.readouterr().out
+        s.setReal([VR["seat_wz_radps"]], [0.5])
+        s.doStep(currentCommunicationPoint=0.0, communicationStepSize=h)  # a turning seat is fine
+    finally:
+        s.terminate()
+        s.freeInstance()

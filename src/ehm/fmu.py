@@ -319,7 +319,7 @@ def _install_atomic(built: Path, out: Path) -> None:
 
 
 def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, size=None,
-               dt_s: float | None = None) -> Path:
+               dt_s: float | None = None, rotating_seat: bool = False) -> Path:
     """Write an FMI 2.0 co-simulation FMU of the seated person to ``out_path`` (a ``.fmu`` file).
 
     Parameters
@@ -337,6 +337,9 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
         Body size of the person (native unit only).
     dt_s : float, optional
         Model step [s] instead of the parameter file's (native unit only).
+    rotating_seat : bool
+        The seat turns with the unit's angular velocity inputs (native unit only; each model step costs
+        about half as much again, see the README).
 
     Returns the path written.  The native unit needs a C compiler and fmpy at export time
     (:func:`ehm.fmu_native.export_native_fmu`); the pythonfmu unit needs the ``pythonfmu`` package
@@ -351,11 +354,11 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
 
         _check_destination(Path(out_path))
         human = SeatedHuman(params=params, lock=[str(j) for j in lock], unlock=[str(j) for j in unlock], size=size,
-                            dt_s=dt_s)
+                            dt_s=dt_s, rotating_seat=rotating_seat)
         return export_native_fmu(out_path, human)
-    if size is not None or dt_s is not None:
-        raise InputError("the pythonfmu unit (--python) takes no body size or time step; set them in the parameter "
-                         "file, or export the native unit.")
+    if size is not None or dt_s is not None or rotating_seat:
+        raise InputError("the pythonfmu unit (--python) takes no body size, time step or rotating seat; set the size "
+                         "and step in the parameter file, or export the native unit.")
 
     try:
         from pythonfmu.builder import FmuBuilder

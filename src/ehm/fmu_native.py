@@ -152,6 +152,8 @@ def _state_text(human) -> str:
     for g, surfaces in engine.SUPPORT_GROUPS.items():
         present = [srf for srf in surfaces if srf in model.surface_bodies]
         lines.append(f"group {g} {len(present)} " + " ".join(present))
+    if model.seat is not None:  # the seat's moment of inertia about its hinges [kg m^2] and its pivot [m]
+        lines.append(f"rotating_seat {num(engine._SEAT_INERTIA)} " + " ".join(num(v) for v in model.seat["pivot"]))
     lines.append("end")
     return "\n".join(lines) + "\n"
 
@@ -170,7 +172,7 @@ def _config_header(guid: str) -> str:
             f"static const char *const ehm_variable_names[] = {{\n    {names}\n}};\n")
 
 
-def _model_description(guid: str, dt_s: float, description: str) -> bytes:
+def _model_description(guid: str, dt_s: float, description: str, rotating_seat: bool = False) -> bytes:
     from . import __version__
 
     root = ET.Element("fmiModelDescription", {
@@ -198,8 +200,11 @@ def _model_description(guid: str, dt_s: float, description: str) -> bytes:
     variables = ET.SubElement(root, "ModelVariables")
     for vr, name in enumerate(INPUTS):
         angular = name.startswith("seat_w")
-        desc = (f"seat angular velocity about {name[6]}; must stay 0 (seat translation only)" if angular
-                else f"seat acceleration along {name[6]} (x forward, y left, z up), held over the step")
+        if angular:
+            desc = (f"seat angular velocity about seat {name[6]}, held over the step" if rotating_seat
+                    else f"seat angular velocity about {name[6]}; must stay 0 (seat translation only)")
+        else:
+            desc = f"seat acceleration along seat {name[6]} (x forward, y left, z up), held over the step"
         sv = ET.SubElement(variables, "ScalarVariable", {"name": name, "valueReference": str(vr), "description": desc,
                                                          "causality": "input", "variability": "continuous"})
         ET.SubElement(sv, "Real", {"unit": "rad/s" if angular else "m/s2", "start": "0"})
@@ -242,8 +247,9 @@ def compile_binary(cc: list, sources: Path, fmi_dir: Path, mujoco_include: Path,
 
 
 def export_native_fmu(out_path, human=None) -> Path:
-    """Write a native FMI 2.0 co-simulation FMU of ``human`` (a :class:`ehm.SeatedHuman` with a static seat;
-    default: the default person) to ``out_path`` (a ``.fmu`` file), whole or not at all.
+    """Write a native FMI 2.0 co-simulation FMU of ``human`` (a :class:`ehm.SeatedHuman`; default: the default
+    person) to ``out_path`` (a ``.fmu`` file), whole or not at all.  A person built with ``rotating_seat=True``
+    gives a unit whose seat turns with its angular velocity inputs (seat axes); otherwise those must stay 0.
 
     Needs 64-bit Linux, a C compiler and fmpy (``pip install ehm[fmu]``) at export time; the unit then runs
     in any FMI 2.0 host on 64-bit Linux without Python.
@@ -265,9 +271,7 @@ def export_native_fmu(out_path, human=None) -> Path:
     if human is None:
         human = SeatedHuman()
     model = human.model
-    if model.seat is not None:
-        raise InputError("the native FMU runs a static seat (seat translation only); build the person without "
-                         "rotating_seat.")
+    rotating = model.seat is not None
     state = _state_text(human)
     c_source = _native_file(C_SOURCE)
     dt = float(model.mj.opt.timestep)
@@ -276,9 +280,11 @@ def export_native_fmu(out_path, human=None) -> Path:
              "mass_kg": human.mass_kg, "dof": human.dof,
              "size": None if human.size is None else {k: float(v) for k, v in vars(human.size).items()
                                                       if isinstance(v, (int, float))},
-             "inputs": list(INPUTS), "outputs": list(OUTPUTS), "max_seat_acc_mps2": MAX_SEAT_ACC_MPS2}
+             "rotating_seat": rotating, "inputs": list(INPUTS), "outputs": list(OUTPUTS),
+             "max_seat_acc_mps2": MAX_SEAT_ACC_MPS2}
     description = (f"Seated human (ehm {__version__}, 12-segment efficient human model on MuJoCo {lib['version']}): "
-                   f"body motion and support forces from seat translation; {human.mass_kg:.1f} kg, "
+                   f"body motion and support forces from seat {'translation and rotation' if rotating else 'translation'}; "
+                   f"{human.mass_kg:.1f} kg, "
                    f"{human.dof} degrees of freedom, model step {dt:g} s. Native C, no Python needed.")
 
     with tempfile.TemporaryDirectory(prefix="ehm_fmu_") as tmp:
@@ -299,7 +305,7 @@ def export_native_fmu(out_path, human=None) -> Path:
         libcopy = binaries / lib["library"].name
         shutil.copyfile(lib["library"], libcopy)
         compile_binary(cc, sources, fmi_dir, lib["include_dir"], libcopy, binaries / f"{MODEL_IDENTIFIER}.so")
-        (root / "modelDescription.xml").write_bytes(_model_description(guid, dt, description))
+        (root / "modelDescription.xml").write_bytes(_model_description(guid, dt, description, rotating))
 
         def write(tmp_zip: str) -> None:
             with zipfile.ZipFile(tmp_zip, "w", zipfile.ZIP_DEFLATED) as z:

@@ -16,6 +16,15 @@
  *
  * Value references: inputs 0 .. EHM_N_INPUTS-1 (seat_a{x,y,z}_mps2, seat_w{x,y,z}_radps), then the
  * outputs in the order of compute_outputs() below.
+ *
+ * A unit exported with a rotating seat (resources/ehm_state.txt has a 'rotating_seat' line) drives the seat's
+ * yaw, pitch and roll hinges from the angular velocity inputs (seat axes, held over the communication step), as
+ * ehm.engine.run does with a seat rotation: per model step, the seat attitude q (seat -> world) at the step's
+ * start gives the z-y-x angles (yaw unwrapped), the body rates give the angle rates, their change over the last
+ * model step the angle accelerations (backward difference: the unit sees no future inputs); the hinges get the
+ * angles and rates as set-points and I * accelerations as feed-forward torque, gravity is G0 - R a_seat, and q
+ * advances by the held rates, q <- q exp(w dt / 2).  Outputs are then in seat axes (R^T applied) and rotations are
+ * taken relative to the seat, as ehm.simulation.SeatedHuman reports them.
  */
 
 #include <math.h>
@@ -37,6 +46,7 @@
 #define EHM_POINT_OUTPUTS 15  /* a{x,y,z}, roll, pitch, yaw, {x,y,z}, w{x,y,z}, {roll,pitch,yaw}_acc */
 #define EHM_MSG 1024
 #define EHM_STATE_MAGIC 4.2e7  /* first number of a serialized FMU state */
+#define EHM_MAX_SEAT_RATE 20.0 /* largest seat angular velocity a rotating-seat unit takes [rad/s] */
 
 static const double G0[3] = {0.0, 0.0, -9.81}; /* standard gravity in the seat frame [m/s^2], as ehm.engine.G0 */
 
@@ -48,6 +58,19 @@ typedef struct {
     mjtNum pos0[3], quat0_inv[4];       /* settled position [m], inverse of the settled orientation */
 } Point;
 
+/* A rotating seat: its hinges and the attitude the unit integrates from the angular velocity inputs. */
+typedef struct {
+    int on;                             /* 1: the model has a rotating seat */
+    int dof[3], ctrl[3];                /* dof and first control address of the yaw, pitch, roll hinges */
+    double inertia;                     /* the seat's moment of inertia about each hinge [kg m^2] */
+    mjtNum pivot[3];                    /* the seat's pivot (world, settled) [m] */
+    /* kinematic state */
+    mjtNum q[4];                        /* attitude at the next step's start, seat -> world (w x y z) */
+    double yaw, pitch;                  /* unwrapped yaw and pitch of the last step's start [rad] */
+    double rates[3];                    /* angle rates (yaw', pitch', roll') of the last step's start [rad/s] */
+    int started;                        /* 0 until the first step: no previous rates */
+} Seat;
+
 typedef struct {
     char name[64];
     int n, sensor[EHM_MAX_SURFACES];    /* sensordata addresses of support_<surface> for its seat surfaces */
@@ -57,6 +80,7 @@ typedef struct {
 typedef struct {
     mjtNum pos[EHM_MAX_POINTS][3], quat[EHM_MAX_POINTS][4], linvel[EHM_MAX_POINTS][3], angvel[EHM_MAX_POINTS][3];
     mjtNum support[EHM_MAX_GROUPS][3];
+    mjtNum R[9], seat_q[4];             /* the seat's attitude at the sample (identity for a static seat) */
 } Sample;
 
 typedef struct {
@@ -86,10 +110,13 @@ typedef struct {
     int nstate;                         /* mj_stateSize(mjSTATE_INTEGRATION) */
     mjtNum *scratch;                    /* a state buffer for the initial outputs */
     int pos_ready;                      /* 1: the position stage of the current state is done (evaluate_velocities) */
+    Seat seat;
+    mjtNum R[9], seat_q[4];             /* seat attitude of the step being taken (identity for a static seat) */
 } Ehm;
 
 typedef struct {
     int nstate;
+    Seat seat;
     mjtNum *mj;
     long long steps;
     double t0, u[EHM_N_INPUTS], y[EHM_N_OUTPUTS];
@@ -305,6 +332,29 @@ static int sensor_adr(Ehm *e, const char *point, const char *kind, int *adr, cha
     return 0;
 }
 
+/* 'rotating_seat <inertia> <pivot x y z>': the seat's hinges seat.yaw, seat.pitch, seat.roll and their tracking
+ * actuators seat_yaw, seat_pitch, seat_roll (ehm.engine.build with rotating_seat=True). */
+static int read_seat(Ehm *e, Reader *r) {
+    static const char *const dofs[3] = {"yaw", "pitch", "roll"};
+    char name[64];
+    int k, j;
+    Seat *st = &e->seat;
+    if (read_number(r, "the seat inertia", &st->inertia) < 0) return -1;
+    for (k = 0; k < 3; k++) if (read_number(r, "the seat pivot", &st->pivot[k]) < 0) return -1;
+    for (k = 0; k < 3; k++) {
+        snprintf(name, sizeof name, "seat.%s", dofs[k]);
+        j = mj_name2id(e->m, mjOBJ_JOINT, name);
+        if (j < 0) { snprintf(r->why, r->why_size, "the model has no seat hinge %s", name); return -1; }
+        st->dof[k] = e->m->jnt_dofadr[j];
+        snprintf(name, sizeof name, "seat_%s", dofs[k]);
+        j = mj_name2id(e->m, mjOBJ_ACTUATOR, name);
+        if (j < 0) { snprintf(r->why, r->why_size, "the model has no seat actuator %s", name); return -1; }
+        st->ctrl[k] = e->m->actuator_ctrladr[j];  /* position set-point, then velocity set-point */
+    }
+    st->on = 1;
+    return 0;
+}
+
 /* Read resources/ehm_state.txt (written by ehm.fmu_native): the settled state, the output points with their
  * settled poses, the support groups, the divergence and input limits. */
 static int read_state(Ehm *e, const char *path, char *why, size_t size) {
@@ -368,6 +418,8 @@ static int read_state(Ehm *e, const char *path, char *why, size_t size) {
                 if (sensor_adr(e, "support", word, &g->sensor[j], why, size) < 0) goto done;
             }
             e->ngroups++;
+        } else if (strcmp(word, "rotating_seat") == 0) {
+            if (read_seat(e, &r) < 0) goto done;
         } else {
             snprintf(why, size, "%s: unknown entry '%s'", path, word);
             goto done;
@@ -442,6 +494,10 @@ static void to_settled(Ehm *e) {
     mju_copy(e->d->act, e->act0, e->na);
     mj_forward(e->m, e->d);
     e->pos_ready = 0;
+    mju_unit4(e->seat.q);
+    e->seat.yaw = 0.0;
+    e->seat.rates[0] = e->seat.rates[1] = e->seat.rates[2] = 0.0;
+    e->seat.started = 0;
 }
 
 static int settled_work(Ehm *e, void *arg) {
@@ -450,17 +506,56 @@ static int settled_work(Ehm *e, void *arg) {
     return 0;
 }
 
+/* The seat's hinge set-points and feed-forward torque for the step starting now, from the attitude at its start
+ * and the held body rates w [rad/s] (ehm.motion.seat_kinematics, with a backward difference for the angle
+ * accelerations); then the attitude advances over the step. */
+static void seat_drive(Ehm *e, const double w[3]) {
+    Seat *st = &e->seat;
+    const mjtNum *q = st->q;
+    double yaw, pitch, roll, sr, cr, rates[3], acc[3], turn;
+    int k;
+    yaw = atan2(2 * (q[0] * q[3] + q[1] * q[2]), 1 - 2 * (q[2] * q[2] + q[3] * q[3]));
+    pitch = asin(fmax(-1.0, fmin(1.0, 2 * (q[0] * q[2] - q[3] * q[1]))));
+    roll = atan2(2 * (q[0] * q[1] + q[2] * q[3]), 1 - 2 * (q[1] * q[1] + q[2] * q[2]));
+    if (st->started) yaw = st->yaw + remainder(yaw - st->yaw, 2 * mjPI);  /* unwrapped */
+    sr = sin(roll);
+    cr = cos(roll);
+    turn = w[1] * sr + w[2] * cr;
+    rates[0] = turn / cos(pitch);                  /* yaw' */
+    rates[1] = w[1] * cr - w[2] * sr;              /* pitch' */
+    rates[2] = w[0] + tan(pitch) * turn;           /* roll' */
+    for (k = 0; k < 3; k++) acc[k] = st->started ? (rates[k] - st->rates[k]) / e->dt : 0.0;
+    {
+        const double angles[3] = {yaw, pitch, roll};
+        for (k = 0; k < 3; k++) {
+            e->d->ctrl[st->ctrl[k]] = angles[k];
+            e->d->ctrl[st->ctrl[k] + 1] = rates[k];
+            e->d->qfrc_applied[st->dof[k]] = st->inertia * acc[k];
+        }
+    }
+    st->yaw = yaw;
+    st->pitch = pitch;
+    for (k = 0; k < 3; k++) st->rates[k] = rates[k];
+    st->started = 1;
+    mju_quatIntegrate(st->q, w, e->dt);
+}
+
 /* One model step with the seat acceleration a [m/s^2] held: the d'Alembert seat load as gravity (ehm.engine.step).
  * When evaluate_velocities has already run the position stage of this state (the end of the last communication
  * step), the step skips it: the same operations as mj_step (checks, forward dynamics, checkAcc, integrator), so
  * the same numbers, with the position stage (kinematics, inertia, collision, constraints) done once instead of twice.
  * The position stage does not depend on gravity, so it can run before the inputs are known. */
-static void model_step(Ehm *e, const double a[3]) {
+static void model_step(Ehm *e, const double a[3], const double w[3]) {
     mjtNum *g = e->m->opt.gravity;
     const mjModel *m = e->m;
-    g[0] = G0[0] - a[0];
-    g[1] = G0[1] - a[1];
-    g[2] = G0[2] - a[2];
+    mjtNum aw[3];
+    mju_copy4(e->seat_q, e->seat.q);
+    mju_quat2Mat(e->R, e->seat.q);
+    if (e->seat.on) seat_drive(e, w);
+    mju_mulMatVec3(aw, e->R, a);  /* the seat acceleration in world axes */
+    g[0] = G0[0] - aw[0];
+    g[1] = G0[1] - aw[1];
+    g[2] = G0[2] - aw[2];
     if (e->pos_ready && (m->opt.integrator == mjINT_IMPLICITFAST || m->opt.integrator == mjINT_IMPLICIT ||
                          m->opt.integrator == mjINT_EULER)) {
         mj_checkPos(m, e->d);
@@ -488,6 +583,10 @@ static const char *instability(Ehm *e, char *buf, size_t size) {
         return "the state became infinite or NaN";
     for (i = 0; i < e->nq; i++) if (!isfinite(d->qpos[i])) return "the state became infinite or NaN";
     for (i = 0; i < e->nv; i++) if (!isfinite(d->qvel[i])) return "the state became infinite or NaN";
+    if (e->seat.on && fabs(e->seat.pitch) > 80 * mjPI / 180) {
+        snprintf(buf, size, "the seat pitch reached %.0f deg; it must stay within +-80 deg", e->seat.pitch * 180 / mjPI);
+        return buf;
+    }
     if (fabs(pelvis[0]) > e->diverged_m || fabs(pelvis[1]) > e->diverged_m || fabs(pelvis[2]) > e->diverged_m) {
         snprintf(buf, size, "the pelvis moved %.3g m from its seated position", mju_norm3(pelvis));
         return buf;
@@ -506,6 +605,8 @@ static void take_sample(Ehm *e, Sample *s) {
         mju_copy3(s->linvel[p], sd + pt->linvel);
         mju_copy3(s->angvel[p], sd + pt->angvel);
     }
+    mju_copy(s->R, e->R, 9);
+    mju_copy4(s->seat_q, e->seat_q);
     for (g = 0; g < e->ngroups; g++) { /* force of the surfaces on the body: their contact sensors */
         for (j = 0; j < 3; j++) s->support[g][j] = 0.0;
         for (b = 0; b < e->group[g].n; b++)
@@ -523,42 +624,56 @@ static void evaluate_velocities(Ehm *e) {
     e->pos_ready = 1;
 }
 
-/* The outputs of one sample, as ehm.simulation.SeatedHuman reports its row (static seat: world = seat axes):
- * s: the step's start state; end: sensordata with the velocity sensors of the step's end state; a: the seat
- * acceleration held over the step [m/s^2]; t: the sample's time [s].  Per point (15 values):
- *   a{x,y,z}_mps2        absolute acceleration over the step, (v_end - v_start) / dt + a
- *   {roll,pitch,yaw}_rad intrinsic z-y-x angles of q q0^-1 (rotation from the settled posture)
- *   {x,y,z}_m            position - settled position
+/* The outputs of one sample, as ehm.simulation.SeatedHuman reports its row: s: the step's start state, with the
+ * seat's attitude R (seat -> world; identity for a static seat, whose world axes are the seat axes); end:
+ * sensordata with the velocity sensors of the step's end state; a: the seat acceleration held over the step, seat
+ * axes [m/s^2]; t: the sample's time [s].  Per point (15 values):
+ *   a{x,y,z}_mps2        absolute acceleration over the step, R^T ((v_end - v_start) / dt + R a)
+ *   {roll,pitch,yaw}_rad intrinsic z-y-x angles of q_seat^-1 q q0^-1 (rotation from the settled posture, seat axes)
+ *   {x,y,z}_m            R^T (position - pivot) - (settled position - pivot)
  *   w{x,y,z}_radps       angular velocity in the segment's own axes, q^-1 w q
- *   {roll,pitch,yaw}_acc_radps2  angular acceleration over the step, (w_end - w_start) / dt (seat axes)
- * then the force of each support group on the body f{x,y,z}_N, then output_time_s. */
+ *   {roll,pitch,yaw}_acc_radps2  angular acceleration over the step, R^T (w_end - w_start) / dt
+ * then the force of each support group on the body R^T f{x,y,z}_N, then output_time_s. */
 static void compute_outputs(Ehm *e, const Sample *s, const mjtNum *end, const double a[3], double t, double *y) {
     int p, g, j, k = 0;
+    mjtNum seat_inv[4], v[3], r[3];
+    mju_negQuat(seat_inv, s->seat_q);
     for (p = 0; p < e->npoints; p++) {
         const Point *pt = &e->point[p];
         const mjtNum *q = s->quat[p];
-        mjtNum rel[4], qinv[4], wb[3];
+        mjtNum rel[4], tmp[4], qinv[4], wb[3];
         mjtNum w, x, yy, z;
-        for (j = 0; j < 3; j++) y[k++] = (end[pt->linvel + j] - s->linvel[p][j]) / e->dt + a[j];
-        mju_mulQuat(rel, q, pt->quat0_inv);
+        /* absolute acceleration over the step in world axes (a: seat axes), then into seat axes */
+        mju_mulMatVec3(r, s->R, a);
+        for (j = 0; j < 3; j++) v[j] = (end[pt->linvel + j] - s->linvel[p][j]) / e->dt + r[j];
+        mju_mulMatTVec3(r, s->R, v);
+        for (j = 0; j < 3; j++) y[k++] = r[j];
+        mju_mulQuat(tmp, seat_inv, q);  /* orientation relative to the seat, then to the settled posture */
+        mju_mulQuat(rel, tmp, pt->quat0_inv);
         mju_normalize4(rel);
         w = rel[0]; x = rel[1]; yy = rel[2]; z = rel[3];
         y[k++] = atan2(2 * (w * x + yy * z), 1 - 2 * (x * x + yy * yy));
         y[k++] = asin(fmax(-1.0, fmin(1.0, 2 * (w * yy - z * x))));
         y[k++] = atan2(2 * (w * z + x * yy), 1 - 2 * (yy * yy + z * z));
-        for (j = 0; j < 3; j++) y[k++] = s->pos[p][j] - pt->pos0[j];
+        for (j = 0; j < 3; j++) v[j] = s->pos[p][j] - e->seat.pivot[j];  /* seat axes, about the pivot */
+        mju_mulMatTVec3(r, s->R, v);
+        for (j = 0; j < 3; j++) y[k++] = r[j] - (pt->pos0[j] - e->seat.pivot[j]);
         mju_negQuat(qinv, q);
         mju_normalize4(qinv);
         mju_rotVecQuat(wb, s->angvel[p], qinv);
         for (j = 0; j < 3; j++) y[k++] = wb[j];
-        for (j = 0; j < 3; j++) y[k++] = (end[pt->angvel + j] - s->angvel[p][j]) / e->dt;
+        for (j = 0; j < 3; j++) v[j] = (end[pt->angvel + j] - s->angvel[p][j]) / e->dt;
+        mju_mulMatTVec3(r, s->R, v);
+        for (j = 0; j < 3; j++) y[k++] = r[j];
     }
-    for (g = 0; g < e->ngroups; g++)
-        for (j = 0; j < 3; j++) y[k++] = s->support[g][j];
+    for (g = 0; g < e->ngroups; g++) {
+        mju_mulMatTVec3(r, s->R, s->support[g]);
+        for (j = 0; j < 3; j++) y[k++] = r[j];
+    }
     y[k] = t;
 }
 
-typedef struct { long long n, done; const double *a; const char *why; char buf[160]; } StepArgs;
+typedef struct { long long n, done; const double *a, *w; const char *why; char buf[160]; } StepArgs;
 
 /* n model steps with the seat acceleration a held; the sample of the last one into e->y (left as it was if
  * anything is not finite). */
@@ -568,7 +683,7 @@ static int steps_work(Ehm *e, void *arg) {
     double y[EHM_N_OUTPUTS];
     int j;
     for (s->done = 0; s->done < s->n;) {
-        model_step(e, s->a);
+        model_step(e, s->a, s->w);
         s->done++;
         s->why = instability(e, s->buf, sizeof s->buf);
         if (s->why) return -1;
@@ -607,10 +722,17 @@ static int check_inputs(Ehm *e, char *msg, size_t size) {
             return -1;
         }
     }
-    for (j = 3; j < 6; j++) {
+    for (j = 3; j < 6 && e->seat.on; j++) {
+        if (!isfinite(e->u[j]) || fabs(e->u[j]) > EHM_MAX_SEAT_RATE) {
+            snprintf(msg, size, "input %s = %g rad/s is not a seat angular velocity this unit takes (finite, |w| <= %g "
+                     "rad/s)", ehm_variable_names[j], e->u[j], EHM_MAX_SEAT_RATE);
+            return -1;
+        }
+    }
+    for (j = 3; j < 6 && !e->seat.on; j++) {
         if (e->u[j] != 0.0) {
             snprintf(msg, size, "input %s = %g: the seat angular velocities must stay 0 (this unit runs seat translation "
-                     "only; a rotating seat needs the whole drive in advance: 'ehm assess')", ehm_variable_names[j], e->u[j]);
+                     "only; export it with 'ehm export-fmu --rotating-seat' to turn the seat)", ehm_variable_names[j], e->u[j]);
             return -1;
         }
     }
@@ -619,13 +741,16 @@ static int check_inputs(Ehm *e, char *msg, size_t size) {
 
 static fmi2Status run_steps(Ehm *e, long long n, int initial) {
     StepArgs s;
-    double a[3] = {e->u[0], e->u[1], e->u[2]};
+    double a[3] = {e->u[0], e->u[1], e->u[2]}, w[3] = {e->u[3], e->u[4], e->u[5]};
+    Seat seat = e->seat;  /* the seat's kinematic state, for the initial outputs (taken back afterwards) */
     int rc;
     s.n = n;
     s.done = 0;
     s.a = a;
+    s.w = w;
     s.why = NULL;
     rc = guarded(e, initial ? initial_work : steps_work, &s);
+    if (initial) e->seat = seat;
     if (rc == 0) {
         e->outputs_valid = 1;
         return fmi2OK;
@@ -636,6 +761,7 @@ static fmi2Status run_steps(Ehm *e, long long n, int initial) {
     if (initial) {
         mj_setState(e->m, e->d, e->scratch, mjSTATE_INTEGRATION);
         e->pos_ready = 0;
+        e->seat = seat;
     }
     LOG_ERROR(e, "%s; reset the unit (fmi2Reset) or instantiate it again.", e->failed);
     return fmi2Error;
@@ -997,6 +1123,7 @@ fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state) {
         return fmi2Error;
     }
     mj_getState(e->m, e->d, s->mj, mjSTATE_INTEGRATION);
+    s->seat = e->seat;
     s->steps = e->steps;
     s->t0 = e->t0;
     memcpy(s->u, e->u, sizeof s->u);
@@ -1017,6 +1144,7 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state) {
     }
     mj_setState(e->m, e->d, s->mj, mjSTATE_INTEGRATION);
     e->pos_ready = 0;
+    e->seat = s->seat;
     e->steps = s->steps;
     e->t0 = s->t0;
     memcpy(e->u, s->u, sizeof e->u);
@@ -1037,10 +1165,27 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *state) {
     return fmi2OK;
 }
 
-/* Serialized: EHM_STATE_MAGIC, nstate, steps, t0, outputs_valid, u, y, the MuJoCo state (doubles), then the
- * failure text (EHM_MSG bytes). */
+/* Serialized: EHM_STATE_MAGIC, nstate, steps, t0, outputs_valid, u, y, the MuJoCo state (doubles), the seat's
+ * kinematic state (attitude, yaw, pitch, rates, started: 10 doubles), then the failure text (EHM_MSG bytes). */
+#define EHM_SEAT_DOUBLES 10
 static size_t serialized_size(int nstate) {
-    return (5 + EHM_N_INPUTS + EHM_N_OUTPUTS + (size_t)nstate) * sizeof(double) + EHM_MSG;
+    return (5 + EHM_N_INPUTS + EHM_N_OUTPUTS + (size_t)nstate + EHM_SEAT_DOUBLES) * sizeof(double) + EHM_MSG;
+}
+
+static void seat_to_doubles(const Seat *st, double *v) {
+    int k;
+    for (k = 0; k < 4; k++) v[k] = st->q[k];
+    v[4] = st->yaw; v[5] = st->pitch;
+    for (k = 0; k < 3; k++) v[6 + k] = st->rates[k];
+    v[9] = st->started;
+}
+
+static void seat_from_doubles(Seat *st, const double *v) {
+    int k;
+    for (k = 0; k < 4; k++) st->q[k] = v[k];
+    st->yaw = v[4]; st->pitch = v[5];
+    for (k = 0; k < 3; k++) st->rates[k] = v[6 + k];
+    st->started = (int)v[9];
 }
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate state, size_t *size) {
@@ -1065,6 +1210,11 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte b
     memcpy(p, s->u, sizeof s->u); p += sizeof s->u;
     memcpy(p, s->y, sizeof s->y); p += sizeof s->y;
     memcpy(p, s->mj, s->nstate * sizeof(mjtNum)); p += s->nstate * sizeof(mjtNum);
+    {
+        double seat[EHM_SEAT_DOUBLES];
+        seat_to_doubles(&s->seat, seat);
+        memcpy(p, seat, sizeof seat); p += sizeof seat;
+    }
     memcpy(p, s->failed, EHM_MSG);
     return fmi2OK;
 }
@@ -1097,6 +1247,12 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte bytes[], size
     memcpy(s->u, p, sizeof s->u); p += sizeof s->u;
     memcpy(s->y, p, sizeof s->y); p += sizeof s->y;
     memcpy(s->mj, p, s->nstate * sizeof(mjtNum)); p += s->nstate * sizeof(mjtNum);
+    {
+        double seat[EHM_SEAT_DOUBLES];
+        memcpy(seat, p, sizeof seat); p += sizeof seat;
+        s->seat = e->seat;  /* the hinges and pivot are the unit's own */
+        seat_from_doubles(&s->seat, seat);
+    }
     memcpy(s->failed, p, EHM_MSG);
     s->failed[EHM_MSG - 1] = '\0';
     *state = s;
