@@ -66,3 +66,24 @@ def test_cli_info_scaled(capsys):
     assert main(["info", "--stature", "1.90", "--mass", "95", "--json"]) == 0
     info = json.loads(capsys.readouterr().out)
     assert info["mass_kg"] == pytest.approx(95.0)
+
+
+def test_stretched_inertia_is_that_of_the_stretched_body():
+    # a solid box a x b x c of mass m: I_xx = m (b^2 + c^2) / 12 (hand formula); stretched by (2, 1, 0.5) and
+    # with 1.5 times the mass it is a box 2a x b x 0.5c of mass 1.5 m
+    from ehm.scaling import stretched_inertia
+
+    def box(m, a, b, c):
+        return m / 12 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+
+    got = stretched_inertia(box(3.0, 0.4, 0.2, 0.1), 1.5, np.array([2.0, 1.0, 0.5]))
+    np.testing.assert_allclose(got, box(4.5, 0.8, 0.2, 0.05), rtol=1e-12)
+
+
+@pytest.mark.parametrize("stature_m, mass_kg", [(1.76, 70.0), (1.76, 120.0), (2.0, 60.0), (1.5, 120.0), (1.2, 30.0),
+                                                (2.2, 200.0)])
+def test_sizes_across_the_documented_range_build(stature_m, mass_kg):
+    # 1.76 m and 70 kg used to fail: the table's foot sits on the rigid-body bound (I_yy = I_xx + I_zz) and the
+    # earlier per-axis rule pushed it across
+    h = ehm.SeatedHuman(size=BodySize(stature_m=stature_m, mass_kg=mass_kg))
+    assert h.mass_kg == pytest.approx(mass_kg, rel=1e-9)

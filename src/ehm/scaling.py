@@ -12,8 +12,11 @@ Rules (each documented with its source; the reference person is its own fixed po
   follow the stature ratio (geometric similarity).  Widths (y) and the upper body's depth (x) scale with
   sqrt(mass ratio / stature ratio), which keeps the body's density: volume ~ width * depth * height ~ mass.
 * Masses scale with the body-mass ratio (constant segment mass fractions, as in anthropometric tables
-  such as Dempster's); moments of inertia with mass times the squares of the scaled lengths of the two
-  axes perpendicular to each principal axis.
+  such as Dempster's); moments of inertia as those of the segment's mass stretched by its length factors:
+  the second moments of mass along each principal axis, C_x = (I_yy + I_zz - I_xx) / 2 and so on, scale
+  with the mass ratio times the square of that axis's length factor, and I_xx = C_y + C_z again.  (A
+  stretched rigid body stays a rigid body; the table's foot, whose I_yy equals I_xx + I_zz, keeps a
+  millionth of its trace as C_y so that it stays just inside that bound instead of crossing it.)
 * Stiffness and damping: the dimensionless scaling of Hof (1996, "Scaling gait data to body size",
   Gait & Posture 4: 222-223), with body mass m, length L and gravity g as base units: rotational
   stiffness ~ m g L, rotational damping ~ m L sqrt(g L), translational (and contact) stiffness ~ m g / L,
@@ -99,6 +102,19 @@ def _is_leg(name: str, prefixes: tuple[str, ...]) -> bool:
     return name.startswith(prefixes)
 
 
+def stretched_inertia(moments_kgm2: np.ndarray, mass_ratio: float, factors: np.ndarray) -> np.ndarray:
+    """Principal moments of inertia [kg m^2] of a body whose mass is multiplied by ``mass_ratio`` and whose
+    extent along its principal axes is stretched by ``factors`` (3,): second moments C_i = sum m x_i^2 =
+    (tr I) / 2 - I_ii scale with mass_ratio * factor_i^2, and I_ii = tr C - C_i."""
+    moments = np.asarray(moments_kgm2, dtype=float)
+    second = moments.sum() / 2 - moments
+    # a table on the bound (the foot: C_y = 0) keeps a millionth of the trace, so that round-off in the
+    # stretched moments cannot cross the bound MuJoCo checks (A + B >= C)
+    second = np.maximum(second, 1e-6 * moments.sum())
+    second = second * mass_ratio * np.asarray(factors, dtype=float) ** 2
+    return second.sum() - second
+
+
 def scale_body(body: Body, size: BodySize) -> Body:
     """The body tables of a person of ``size`` (the reference size returns the tables unchanged)."""
     if size.is_reference():
@@ -107,13 +123,8 @@ def scale_body(body: Body, size: BodySize) -> Body:
     for s in body.segments:
         leg = _is_leg(s.name, LEG_SEGMENTS)
         f, fs = size.factors(leg), size.shape_factors(leg)
-        # I_xx ~ m (Ly^2 + Lz^2): scale each term by its axis factors, split by the reference body's shape
-        a2 = np.maximum(s.shape_m, 1e-9) ** 2  # relative axis weights from the drawn ellipsoid
-        inertia = []
-        for i in range(3):
-            j, k = [n for n in range(3) if n != i]
-            inertia.append(s.inertia_kgm2[i] * size.mass * (a2[j] * fs[j] ** 2 + a2[k] * fs[k] ** 2) / (a2[j] + a2[k]))
-        segments.append(replace(s, mass_kg=s.mass_kg * size.mass, inertia_kgm2=np.array(inertia),
+        segments.append(replace(s, mass_kg=s.mass_kg * size.mass, inertia_kgm2=stretched_inertia(s.inertia_kgm2,
+                                                                                                 size.mass, fs),
                                 com_m=s.com_m * f, shape_m=s.shape_m * fs))
     joints = [replace(j, pos_m=j.pos_m * size.factors(_is_leg(j.name, LEG_JOINTS))) for j in body.joints]
     contacts = [replace(c, center_m=c.center_m * size.factors(_is_leg(c.segment, LEG_SEGMENTS)),
