@@ -24,7 +24,7 @@ from scipy import signal
 from .comfort import ComfortAccumulator, comfort_reaction
 from .errors import InputError
 from .motion import SeatMotion, seat_rotation_matrices
-from .sickness import subjective_vertical_conflict
+from .sickness import SicknessAccumulator
 
 LOCATIONS = ("seat", "pelvis", "trunk", "head")
 AXIS_WEIGHTING = {"x": "Wd", "y": "Wd", "z": "Wk"}  #: ISO 2631-1 seated, comfort/health axes
@@ -79,7 +79,7 @@ class Assessment:
     wall_s: float
     metrics: dict                    # location -> axis -> ComfortMetrics
     spectra: dict                    # location -> axis -> (freq_hz, psd (m/s^2)^2/Hz) of the weighted signal
-    sickness: dict                   # "head" / "seat" -> SicknessResult
+    sickness: dict                   # "head" / "seat" -> SicknessTrace (MSI and |conflict| at 20 Hz)
     trace_time_s: np.ndarray         # for the running rms traces
     max_displacement_m: dict = field(default_factory=dict)  # point -> (3,) largest |displacement|
     final_displacement_m: dict = field(default_factory=dict)
@@ -167,7 +167,9 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
     # Welch segments of about 4 s (0.25 Hz resolution), at most half the drive
     nper = int(2 ** np.floor(np.log2(min(4 * fs, motion.duration_s * fs / 2))))
     spectra = {loc: {a: _Spectrum(fs, nper) for a in "xyz"} for loc in LOCATIONS}
-    sick_in = {"head": ([], []), "seat": ([], [])}
+    # the sickness model runs along, piece by piece, on 20 Hz block means (SicknessAccumulator keeps 16 bytes a
+    # sample: the MSI and |conflict| traces that sickness.png draws)
+    sick = {key: SicknessAccumulator(k_sick * dt) for key in ("head", "seat")}
     max_disp = {p: np.zeros(3) for p in POINT_NAMES}
     final = {}
     g_seat = np.array([0.0, 0.0, 9.81])
@@ -180,8 +182,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
                 aw = acc[loc][a].add(a_xyz[:, j])
                 spectra[loc][a].add(aw)
         head = chunk.point("head")
-        sick_in["head"][0].append(_block_means(head.gia_mps2, k_sick))
-        sick_in["head"][1].append(_block_means(head.angvel_radps, k_sick))
+        sick["head"].add(_block_means(head.gia_mps2, k_sick), _block_means(head.angvel_radps, k_sick))
         # The seat's own GIA and rotation: specific force in seat axes, seat angular velocity.
         if rotating:
             R = seat_rotation_matrices(chunk.seat_angles_rad)
@@ -191,18 +192,13 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
         else:
             gia_seat = chunk.seat_acc_mps2 + g_seat
             w_seat = np.zeros_like(gia_seat)
-        sick_in["seat"][0].append(_block_means(gia_seat, k_sick))
-        sick_in["seat"][1].append(_block_means(w_seat, k_sick))
+        sick["seat"].add(_block_means(gia_seat, k_sick), _block_means(w_seat, k_sick))
         for p in POINT_NAMES:
             d = chunk.point(p).disp_m
             max_disp[p] = np.maximum(max_disp[p], np.abs(d).max(axis=0))
             final[p] = d[-1].copy()
     wall = time.perf_counter() - t0
-    sickness = {}
-    for key, (gia, w) in sick_in.items():
-        gia, w = np.concatenate(gia), np.concatenate(w)
-        t = np.arange(gia.shape[0]) * k_sick * dt
-        sickness[key] = subjective_vertical_conflict(t, gia, w)
+    sickness = {key: acc_.result() for key, acc_ in sick.items()}
     metrics = {loc: {a: acc[loc][a].result() for a in "xyz"} for loc in LOCATIONS}
     n_trace = metrics["seat"]["z"].running_rms.size
     return Assessment(
