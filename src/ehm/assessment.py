@@ -149,15 +149,14 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
     """
     from .simulation import POINT_NAMES, SeatedHuman
 
-    rotating = motion.angvel_radps is not None
+    # the linear route takes translation only (it refuses non-zero angular velocities): its seat does not turn
+    rotating = motion.angvel_radps is not None and method != "linear"
     if motion.duration_s < 2.0:
         raise InputError(f"the drive '{motion.description}' lasts {motion.duration_s:g} s; an assessment needs at "
                          "least 2 s (the running rms alone spans 1 s).")
     if human is None:
-        human = SeatedHuman(rotating_seat=rotating and method != "linear")
+        human = SeatedHuman(rotating_seat=rotating)
     dt = float(human.params.value("simulation.dt_s"))
-    if method == "linear":  # run on the model's step, so that the metrics see the same sample rate either way
-        motion = motion.resample(dt)
     fs = 1.0 / dt
     keep = max(1, int(round(fs / TRACE_RATE_HZ)))
     k_sick = max(1, int(round(fs / SICKNESS_RATE_HZ)))
@@ -175,7 +174,17 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
     g_seat = np.array([0.0, 0.0, 9.81])
     motion_t_rel = motion.time_s - motion.time_s[0] if rotating else None
     t0 = time.perf_counter()
-    for chunk in human.stream(motion, chunk_s=chunk_s, progress=progress, method=method):
+    description, duration = motion.description, motion.duration_s
+    if method == "linear":  # on the model's step, so that the metrics see the same sample rate either way
+        from .linear import stream_linear
+
+        # resampled a chunk at a time; the grid t = 0, dt, ... within the drive, as Resampler counts it
+        description = f"{motion.description}, resampled to dt {dt:g} s"
+        duration = int(np.floor(motion.duration_s / dt + 1e-9)) * dt
+        chunks = stream_linear(human, motion, chunk_s=chunk_s, progress=progress, dt_s=dt)
+    else:
+        chunks = human.stream(motion, chunk_s=chunk_s, progress=progress, method=method)
+    for chunk in chunks:
         signals = {"seat": chunk.seat_acc_mps2, **{p: chunk.point(p).acc_mps2 for p in POINT_NAMES}}
         for loc, a_xyz in signals.items():
             for j, a in enumerate("xyz"):
@@ -202,7 +211,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
     metrics = {loc: {a: acc[loc][a].result() for a in "xyz"} for loc in LOCATIONS}
     n_trace = metrics["seat"]["z"].running_rms.size
     return Assessment(
-        description=motion.description, duration_s=motion.duration_s, wall_s=wall, metrics=metrics,
+        description=description, duration_s=duration, wall_s=wall, metrics=metrics,
         spectra={loc: {a: spectra[loc][a].result() for a in "xyz"} for loc in LOCATIONS}, sickness=sickness,
         trace_time_s=np.arange(n_trace) * keep * dt, max_displacement_m=max_disp, final_displacement_m=final,
     )
