@@ -129,6 +129,76 @@ def _block_means(x: np.ndarray, k: int) -> np.ndarray:
     return x[:n].reshape(n // k, k, *x.shape[1:]).mean(axis=1)
 
 
+@dataclass
+class _Running:
+    """What :func:`assess` accumulates over a drive's chunks: comfort metrics and weighted spectra per location
+    and axis, the sickness model driven by the head and by the seat, and the body's displacement.  Nothing of
+    the chunks is kept but the traces the figures draw (running rms at 10 Hz, MSI and |conflict| at 20 Hz)."""
+
+    comfort: dict
+    spectra: dict
+    sickness: dict
+    k_sick: int
+    max_disp: dict
+    final_disp: dict = field(default_factory=dict)
+
+    @classmethod
+    def start(cls, fs: float, keep: int, nper: int, k_sick: int, dt: float) -> _Running:
+        from .simulation import POINT_NAMES
+
+        return cls(comfort={loc: {a: ComfortAccumulator(AXIS_WEIGHTING[a], fs, keep_every=keep) for a in "xyz"}
+                            for loc in LOCATIONS},
+                   spectra={loc: {a: _Spectrum(fs, nper) for a in "xyz"} for loc in LOCATIONS},
+                   # the sickness model runs along, piece by piece, on 20 Hz block means of the chunks
+                   sickness={key: SicknessAccumulator(k_sick * dt) for key in ("head", "seat")},
+                   k_sick=k_sick, max_disp={p: np.zeros(3) for p in POINT_NAMES})
+
+    def add(self, chunk, seat_angvel: np.ndarray | None) -> None:
+        """One chunk of the run; ``seat_angvel`` (n, 3) [rad/s] at its samples, None for a seat that does not turn."""
+        self._comfort(chunk)
+        self._sickness(chunk, seat_angvel)
+        self._displacement(chunk)
+
+    def _comfort(self, chunk) -> None:
+        from .simulation import POINT_NAMES
+
+        signals = {"seat": chunk.seat_acc_mps2, **{p: chunk.point(p).acc_mps2 for p in POINT_NAMES}}
+        for loc, a_xyz in signals.items():
+            for j, a in enumerate("xyz"):
+                self.spectra[loc][a].add(self.comfort[loc][a].add(a_xyz[:, j]))
+
+    def _sickness(self, chunk, seat_angvel: np.ndarray | None) -> None:
+        k = self.k_sick
+        head = chunk.point("head")
+        self.sickness["head"].add(_block_means(head.gia_mps2, k), _block_means(head.angvel_radps, k))
+        # The seat's own GIA and rotation: specific force in seat axes, seat angular velocity.
+        g_seat = np.array([0.0, 0.0, 9.81])
+        if seat_angvel is not None:
+            R = seat_rotation_matrices(chunk.seat_angles_rad)
+            gia_seat = chunk.seat_acc_mps2 + np.einsum("nji,j->ni", R, g_seat)
+            w_seat = seat_angvel
+        else:
+            gia_seat = chunk.seat_acc_mps2 + g_seat
+            w_seat = np.zeros_like(gia_seat)
+        self.sickness["seat"].add(_block_means(gia_seat, k), _block_means(w_seat, k))
+
+    def _displacement(self, chunk) -> None:
+        for p in self.max_disp:
+            d = chunk.point(p).disp_m
+            self.max_disp[p] = np.maximum(self.max_disp[p], np.abs(d).max(axis=0))
+            self.final_disp[p] = d[-1].copy()
+
+
+def _seat_angvel(motion: SeatMotion, t_rel: np.ndarray) -> np.ndarray:
+    """The drive's angular velocity (n, 3) [rad/s] linearly interpolated at ``t_rel`` [s from the drive's start],
+    from the window of its samples around those times (no array as long as the drive)."""
+    t = motion.time_s
+    lo = max(0, int(np.searchsorted(t, t[0] + t_rel[0])) - 2)
+    hi = min(t.size, int(np.searchsorted(t, t[0] + t_rel[-1])) + 2)
+    window = t[lo:hi] - t[0]
+    return np.column_stack([np.interp(t_rel, window, motion.angvel_radps[lo:hi, j]) for j in range(3)])
+
+
 def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
            method: str = "nonlinear") -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
@@ -147,7 +217,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
         ``nonlinear`` (default: MuJoCo) or ``linear`` (the linearised person, :mod:`ehm.linear`; translation
         only, refuses drives that make a contact lift off or slide).
     """
-    from .simulation import POINT_NAMES, SeatedHuman
+    from .simulation import SeatedHuman
 
     # the linear route takes translation only (it refuses non-zero angular velocities): its seat does not turn
     rotating = motion.angvel_radps is not None and method != "linear"
@@ -162,19 +232,11 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
     k_sick = max(1, int(round(fs / SICKNESS_RATE_HZ)))
     # whole sickness blocks per chunk, so that the block means of consecutive chunks sit back to back in time
     chunk_s = max(1, round(chunk_s * fs / k_sick)) * k_sick * dt
-    acc = {loc: {a: ComfortAccumulator(AXIS_WEIGHTING[a], fs, keep_every=keep) for a in "xyz"} for loc in LOCATIONS}
     # Welch segments of about 4 s (0.25 Hz resolution), at most half the drive
     nper = int(2 ** np.floor(np.log2(min(4 * fs, motion.duration_s * fs / 2))))
-    spectra = {loc: {a: _Spectrum(fs, nper) for a in "xyz"} for loc in LOCATIONS}
-    # the sickness model runs along, piece by piece, on 20 Hz block means (SicknessAccumulator keeps 16 bytes a
-    # sample: the MSI and |conflict| traces that sickness.png draws)
-    sick = {key: SicknessAccumulator(k_sick * dt) for key in ("head", "seat")}
-    max_disp = {p: np.zeros(3) for p in POINT_NAMES}
-    final = {}
-    g_seat = np.array([0.0, 0.0, 9.81])
-    motion_t_rel = motion.time_s - motion.time_s[0] if rotating else None
-    t0 = time.perf_counter()
+    running = _Running.start(fs, keep, nper, k_sick, dt)
     description, duration = motion.description, motion.duration_s
+    t0 = time.perf_counter()
     if method == "linear":  # on the model's step, so that the metrics see the same sample rate either way
         from .linear import stream_linear
 
@@ -185,33 +247,15 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
     else:
         chunks = human.stream(motion, chunk_s=chunk_s, progress=progress, method=method)
     for chunk in chunks:
-        signals = {"seat": chunk.seat_acc_mps2, **{p: chunk.point(p).acc_mps2 for p in POINT_NAMES}}
-        for loc, a_xyz in signals.items():
-            for j, a in enumerate("xyz"):
-                aw = acc[loc][a].add(a_xyz[:, j])
-                spectra[loc][a].add(aw)
-        head = chunk.point("head")
-        sick["head"].add(_block_means(head.gia_mps2, k_sick), _block_means(head.angvel_radps, k_sick))
-        # The seat's own GIA and rotation: specific force in seat axes, seat angular velocity.
-        if rotating:
-            R = seat_rotation_matrices(chunk.seat_angles_rad)
-            gia_seat = chunk.seat_acc_mps2 + np.einsum("nji,j->ni", R, g_seat)
-            w_seat = np.column_stack([np.interp(chunk.time_s, motion_t_rel, motion.angvel_radps[:, j])
-                                      for j in range(3)])
-        else:
-            gia_seat = chunk.seat_acc_mps2 + g_seat
-            w_seat = np.zeros_like(gia_seat)
-        sick["seat"].add(_block_means(gia_seat, k_sick), _block_means(w_seat, k_sick))
-        for p in POINT_NAMES:
-            d = chunk.point(p).disp_m
-            max_disp[p] = np.maximum(max_disp[p], np.abs(d).max(axis=0))
-            final[p] = d[-1].copy()
+        running.add(chunk, _seat_angvel(motion, chunk.time_s) if rotating else None)
+        del chunk  # the next chunk is made without this one held
     wall = time.perf_counter() - t0
-    sickness = {key: acc_.result() for key, acc_ in sick.items()}
-    metrics = {loc: {a: acc[loc][a].result() for a in "xyz"} for loc in LOCATIONS}
+    metrics = {loc: {a: running.comfort[loc][a].result() for a in "xyz"} for loc in LOCATIONS}
     n_trace = metrics["seat"]["z"].running_rms.size
     return Assessment(
         description=description, duration_s=duration, wall_s=wall, metrics=metrics,
-        spectra={loc: {a: spectra[loc][a].result() for a in "xyz"} for loc in LOCATIONS}, sickness=sickness,
-        trace_time_s=np.arange(n_trace) * keep * dt, max_displacement_m=max_disp, final_displacement_m=final,
+        spectra={loc: {a: running.spectra[loc][a].result() for a in "xyz"} for loc in LOCATIONS},
+        sickness={key: acc.result() for key, acc in running.sickness.items()},
+        trace_time_s=np.arange(n_trace) * keep * dt, max_displacement_m=running.max_disp,
+        final_displacement_m=running.final_disp,
     )

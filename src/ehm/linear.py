@@ -244,6 +244,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
         y += ss.y0
         result = _result(human, ss, y, u, t, dt, R0, description)
         yield replace(result, wall_s=time.perf_counter() - t0)
+        del result, y, u  # the next chunk is made without this one held here
         if progress:
             progress(min(t[-1] + dt, motion.duration_s), motion.duration_s)
 
