@@ -94,6 +94,11 @@ fourth-order Runge-Kutta scheme, written as one affine map per sample interval (
 interpolated at the mid-step), and the true gravity reaction is turned exactly (Rodrigues) so that
 its length is kept.  The sample interval must resolve the model: at most 0.5 rad of rotation and
 0.5 times the fastest linear time scale per sample.
+
+A long record can be fed in pieces (:class:`SicknessAccumulator`): the filters' states, the last sample
+of every path and the nine vertical states are carried from piece to piece, so the pieces take the same
+steps as the whole record (equal to round-off, tested to 1e-10) in memory set by the piece;
+:func:`subjective_vertical_conflict` is the whole record as one piece.
 """
 
 from __future__ import annotations
