@@ -16,7 +16,8 @@ Memory: every figure is accumulated chunk by chunk (comfort: :class:`ehm.comfort
 sickness: :class:`ehm.sickness.SicknessAccumulator`, the model run along on 20 Hz block means), so the working
 memory is set by the chunk, not by the drive.  What grows with the drive is only what the figures draw: the
 running rms of 12 signals at 10 Hz and the MSI and |conflict| of the two sickness runs at 20 Hz, about 6 MB
-per hour of drive (3.5 + 2.3 MB; a 200 Hz log's own time and three channels take 23 MB per hour).
+of numbers per hour of drive (3.5 + 2.3 MB), 9 MB with the overhead of the per-chunk pieces they are gathered
+in (measured; a 200 Hz log's own time and three channels take 23 MB per hour).
 """
 
 from __future__ import annotations
