@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from ehm.errors import InputError
-from ehm.sickness import SicknessResult, SvcParameters, hill_percent, subjective_vertical_conflict
+from ehm.sickness import (SicknessAccumulator, SicknessResult, SvcParameters, hill_percent,
+                          subjective_vertical_conflict)
 
 G = 9.81
 DT = 0.05  # s; coarse but resolves 1 Hz with 20 samples a cycle
@@ -158,6 +159,72 @@ def test_slow_static_head_tilt_leaves_no_lasting_conflict():
     assert res.conflict_magnitude_mps2[-1] < 1e-3
     np.testing.assert_allclose(res.subjective_vertical[-1], gia[-1], atol=1e-3)
     assert res.final_msi_percent < 0.1
+
+
+# --- streaming -----------------------------------------------------------------------------------------
+
+
+def _tilting_drive(duration_s: float = 400.0):
+    """Head pitching and rolling while the GIA sways: every state of the model moves (20 Hz)."""
+    t = _time(duration_s)
+    rng = np.random.default_rng(7)
+    roll = 0.15 * np.sin(2 * np.pi * 0.13 * t) + 0.002 * np.cumsum(rng.normal(size=t.size)) * np.sqrt(DT)
+    pitch = 0.1 * np.sin(2 * np.pi * 0.05 * t + 1.0)
+    gia = np.column_stack([-G * np.sin(pitch) + 0.8 * np.sin(2 * np.pi * 0.21 * t),
+                           G * np.sin(roll) + 1.5 * np.sin(2 * np.pi * 0.17 * t),
+                           G * np.cos(roll) * np.cos(pitch) + 0.5 * rng.normal(size=t.size)])
+    omega = np.column_stack([np.gradient(roll, t), np.gradient(pitch, t), 0.3 * np.sin(2 * np.pi * 0.02 * t)])
+    return t, gia, omega
+
+
+def test_pieces_give_the_whole_run():
+    # The accumulator carries every filter and state across pieces, so uneven pieces (down to one sample,
+    # across the step-map batches of 2048 samples) reproduce the whole-record run to round-off.
+    t, gia, omega = _tilting_drive()
+    whole = subjective_vertical_conflict(t, gia, omega)
+    assert whole.final_msi_percent > 0.01 and np.max(np.abs(omega)) > 0.1  # the states really move
+    acc = SicknessAccumulator(DT, start_s=t[0])
+    cuts = [0, 1, 2, 5, 40, 41, 2047, 2049, 2050, 4100, 6001, t.size - 1, t.size]
+    parts = [acc.add(gia[a:b], omega[a:b]) for a, b in zip(cuts[:-1], cuts[1:])]
+    for name in ("time_s", "msi_percent", "conflict_mps2", "subjective_vertical", "sensed_vertical_mps2"):
+        streamed = np.concatenate([getattr(r, name) for r in parts])
+        reference = getattr(whole, name)
+        scale = np.max(np.abs(reference))
+        np.testing.assert_allclose(streamed, reference, rtol=0, atol=1e-10 * scale, err_msg=name)
+    trace = acc.result()
+    assert acc.n_samples == t.size
+    np.testing.assert_allclose(trace.time_s, t, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(trace.msi_percent, whole.msi_percent, rtol=1e-10, atol=1e-14)
+    np.testing.assert_allclose(trace.conflict_magnitude_mps2, whole.conflict_magnitude_mps2, rtol=1e-10)
+    assert trace.final_msi_percent == pytest.approx(whole.final_msi_percent, rel=1e-10)
+    assert acc.last_msi_percent == pytest.approx(whole.final_msi_percent, rel=1e-10)
+    assert acc.max_conflict_mps2 == pytest.approx(float(np.max(whole.conflict_magnitude_mps2)), rel=1e-10)
+
+
+def test_a_refused_piece_leaves_the_accumulator_unchanged():
+    t, gia, omega = _tilting_drive(60.0)
+    whole = subjective_vertical_conflict(t, gia, omega)
+    acc = SicknessAccumulator(DT)
+    acc.add(gia[:500], omega[:500])
+    fast = omega[500:600].copy()
+    fast[:, 2] = 20.0  # 1 rad per sample
+    with pytest.raises(InputError, match="dt_s"):
+        acc.add(gia[500:600], fast)
+    with pytest.raises(InputError, match="omega_radps"):
+        acc.add(gia[500:600], omega[500:599])
+    acc.add(gia[500:], omega[500:])
+    np.testing.assert_allclose(acc.result().msi_percent, whole.msi_percent, rtol=1e-10, atol=1e-14)
+
+
+def test_accumulator_bad_arguments():
+    with pytest.raises(InputError, match="dt_s"):
+        SicknessAccumulator(0.0)
+    with pytest.raises(InputError, match="dt_s"):
+        SicknessAccumulator(1.0)  # too coarse for the 0.77 s time scale
+    with pytest.raises(InputError, match="no samples"):
+        SicknessAccumulator(DT).result()
+    with pytest.raises(InputError, match="gia_mps2"):
+        SicknessAccumulator(DT).add(np.zeros((4, 2)), np.zeros((4, 3)))
 
 
 # --- input checks ------------------------------------------------------------------------------------

@@ -36,7 +36,8 @@ ehm.criterion      the paper's criterion (Eqs. 2-3): compare, curve_criterion, s
 ehm.fit            parameter identification: fit, write_identified
 ehm.study          the joint-locking study: locking_study
 ehm.comfort        ISO 2631-1 weightings (any sampling rate) and metrics
-ehm.sickness       subjective vertical conflict motion sickness model
+ehm.sickness       subjective vertical conflict motion sickness model (whole record, or piece by piece:
+                   SicknessAccumulator)
 ehm.linear         the linearised person as a state-space model (the linear route)
 ehm.convergence    is the time step small enough? (``ehm check-step``)
 ehm.batch          batch studies on Dask; ehm.fmu FMI export; ehm.animation pictures; ehm.plotting figures

@@ -1,7 +1,7 @@
 """Comfort and sickness assessment of a whole drive, at the seat and through the body.
 
-:func:`assess` runs the seated person through a drive chunk by chunk (constant memory, whatever the
-drive's length) and evaluates, at the seat (the input) and at the pelvis, trunk and head:
+:func:`assess` runs the seated person through a drive chunk by chunk and evaluates, at the seat (the input)
+and at the pelvis, trunk and head:
 
 * ISO 2631-1 comfort: frequency-weighted rms a_w, MTVV, VDV, crest factor per axis (Wd for x and y, Wk
   for z, seated, seat-surface axes), the vibration total value (k = 1, comfort) with the standard's
@@ -11,6 +11,13 @@ drive's length) and evaluates, at the seat (the input) and at the pelvis, trunk 
   the seat).
 
 Output points are the segments' centres of gravity; their accelerations are in seat axes.
+
+Memory: every figure is accumulated chunk by chunk (comfort: :class:`ehm.comfort.ComfortAccumulator`;
+sickness: :class:`ehm.sickness.SicknessAccumulator`, the model run along on 20 Hz block means), so the working
+memory is set by the chunk, not by the drive.  What grows with the drive is only what the figures draw: the
+running rms of 12 signals at 10 Hz and the MSI and |conflict| of the two sickness runs at 20 Hz, about 6 MB
+of numbers per hour of drive (3.5 + 2.3 MB), 9 MB with the overhead of the per-chunk pieces they are gathered
+in (measured; a 200 Hz log's own time and three channels take 23 MB per hour).
 """
 
 from __future__ import annotations
@@ -24,7 +31,7 @@ from scipy import signal
 from .comfort import ComfortAccumulator, comfort_reaction
 from .errors import InputError
 from .motion import SeatMotion, seat_rotation_matrices
-from .sickness import subjective_vertical_conflict
+from .sickness import SicknessAccumulator
 
 LOCATIONS = ("seat", "pelvis", "trunk", "head")
 AXIS_WEIGHTING = {"x": "Wd", "y": "Wd", "z": "Wk"}  #: ISO 2631-1 seated, comfort/health axes
@@ -79,7 +86,7 @@ class Assessment:
     wall_s: float
     metrics: dict                    # location -> axis -> ComfortMetrics
     spectra: dict                    # location -> axis -> (freq_hz, psd (m/s^2)^2/Hz) of the weighted signal
-    sickness: dict                   # "head" / "seat" -> SicknessResult
+    sickness: dict                   # "head" / "seat" -> SicknessTrace (MSI and |conflict| at 20 Hz)
     trace_time_s: np.ndarray         # for the running rms traces
     max_displacement_m: dict = field(default_factory=dict)  # point -> (3,) largest |displacement|
     final_displacement_m: dict = field(default_factory=dict)
@@ -129,6 +136,76 @@ def _block_means(x: np.ndarray, k: int) -> np.ndarray:
     return x[:n].reshape(n // k, k, *x.shape[1:]).mean(axis=1)
 
 
+@dataclass
+class _Running:
+    """What :func:`assess` accumulates over a drive's chunks: comfort metrics and weighted spectra per location
+    and axis, the sickness model driven by the head and by the seat, and the body's displacement.  Nothing of
+    the chunks is kept but the traces the figures draw (running rms at 10 Hz, MSI and |conflict| at 20 Hz)."""
+
+    comfort: dict
+    spectra: dict
+    sickness: dict
+    k_sick: int
+    max_disp: dict
+    final_disp: dict = field(default_factory=dict)
+
+    @classmethod
+    def start(cls, fs: float, keep: int, nper: int, k_sick: int, dt: float) -> _Running:
+        from .simulation import POINT_NAMES
+
+        return cls(comfort={loc: {a: ComfortAccumulator(AXIS_WEIGHTING[a], fs, keep_every=keep) for a in "xyz"}
+                            for loc in LOCATIONS},
+                   spectra={loc: {a: _Spectrum(fs, nper) for a in "xyz"} for loc in LOCATIONS},
+                   # the sickness model runs along, piece by piece, on 20 Hz block means of the chunks
+                   sickness={key: SicknessAccumulator(k_sick * dt) for key in ("head", "seat")},
+                   k_sick=k_sick, max_disp={p: np.zeros(3) for p in POINT_NAMES})
+
+    def add(self, chunk, seat_angvel: np.ndarray | None) -> None:
+        """One chunk of the run; ``seat_angvel`` (n, 3) [rad/s] at its samples, None for a seat that does not turn."""
+        self._comfort(chunk)
+        self._sickness(chunk, seat_angvel)
+        self._displacement(chunk)
+
+    def _comfort(self, chunk) -> None:
+        from .simulation import POINT_NAMES
+
+        signals = {"seat": chunk.seat_acc_mps2, **{p: chunk.point(p).acc_mps2 for p in POINT_NAMES}}
+        for loc, a_xyz in signals.items():
+            for j, a in enumerate("xyz"):
+                self.spectra[loc][a].add(self.comfort[loc][a].add(a_xyz[:, j]))
+
+    def _sickness(self, chunk, seat_angvel: np.ndarray | None) -> None:
+        k = self.k_sick
+        head = chunk.point("head")
+        self.sickness["head"].add(_block_means(head.gia_mps2, k), _block_means(head.angvel_radps, k))
+        # The seat's own GIA and rotation: specific force in seat axes, seat angular velocity.
+        g_seat = np.array([0.0, 0.0, 9.81])
+        if seat_angvel is not None:
+            R = seat_rotation_matrices(chunk.seat_angles_rad)
+            gia_seat = chunk.seat_acc_mps2 + np.einsum("nji,j->ni", R, g_seat)
+            w_seat = seat_angvel
+        else:
+            gia_seat = chunk.seat_acc_mps2 + g_seat
+            w_seat = np.zeros_like(gia_seat)
+        self.sickness["seat"].add(_block_means(gia_seat, k), _block_means(w_seat, k))
+
+    def _displacement(self, chunk) -> None:
+        for p in self.max_disp:
+            d = chunk.point(p).disp_m
+            self.max_disp[p] = np.maximum(self.max_disp[p], np.abs(d).max(axis=0))
+            self.final_disp[p] = d[-1].copy()
+
+
+def _seat_angvel(motion: SeatMotion, t_rel: np.ndarray) -> np.ndarray:
+    """The drive's angular velocity (n, 3) [rad/s] linearly interpolated at ``t_rel`` [s from the drive's start],
+    from the window of its samples around those times (no array as long as the drive)."""
+    t = motion.time_s
+    lo = max(0, int(np.searchsorted(t, t[0] + t_rel[0])) - 2)
+    hi = min(t.size, int(np.searchsorted(t, t[0] + t_rel[-1])) + 2)
+    window = t[lo:hi] - t[0]
+    return np.column_stack([np.interp(t_rel, window, motion.angvel_radps[lo:hi, j]) for j in range(3)])
+
+
 def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
            method: str = "nonlinear") -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
@@ -147,66 +224,45 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
         ``nonlinear`` (default: MuJoCo) or ``linear`` (the linearised person, :mod:`ehm.linear`; translation
         only, refuses drives that make a contact lift off or slide).
     """
-    from .simulation import POINT_NAMES, SeatedHuman
+    from .simulation import SeatedHuman
 
-    rotating = motion.angvel_radps is not None
+    # the linear route takes translation only (it refuses non-zero angular velocities): its seat does not turn
+    rotating = motion.angvel_radps is not None and method != "linear"
     if motion.duration_s < 2.0:
         raise InputError(f"the drive '{motion.description}' lasts {motion.duration_s:g} s; an assessment needs at "
                          "least 2 s (the running rms alone spans 1 s).")
     if human is None:
-        human = SeatedHuman(rotating_seat=rotating and method != "linear")
+        human = SeatedHuman(rotating_seat=rotating)
     dt = float(human.params.value("simulation.dt_s"))
-    if method == "linear":  # run on the model's step, so that the metrics see the same sample rate either way
-        motion = motion.resample(dt)
     fs = 1.0 / dt
     keep = max(1, int(round(fs / TRACE_RATE_HZ)))
     k_sick = max(1, int(round(fs / SICKNESS_RATE_HZ)))
     # whole sickness blocks per chunk, so that the block means of consecutive chunks sit back to back in time
     chunk_s = max(1, round(chunk_s * fs / k_sick)) * k_sick * dt
-    acc = {loc: {a: ComfortAccumulator(AXIS_WEIGHTING[a], fs, keep_every=keep) for a in "xyz"} for loc in LOCATIONS}
     # Welch segments of about 4 s (0.25 Hz resolution), at most half the drive
     nper = int(2 ** np.floor(np.log2(min(4 * fs, motion.duration_s * fs / 2))))
-    spectra = {loc: {a: _Spectrum(fs, nper) for a in "xyz"} for loc in LOCATIONS}
-    sick_in = {"head": ([], []), "seat": ([], [])}
-    max_disp = {p: np.zeros(3) for p in POINT_NAMES}
-    final = {}
-    g_seat = np.array([0.0, 0.0, 9.81])
-    motion_t_rel = motion.time_s - motion.time_s[0] if rotating else None
+    running = _Running.start(fs, keep, nper, k_sick, dt)
+    description, duration = motion.description, motion.duration_s
     t0 = time.perf_counter()
-    for chunk in human.stream(motion, chunk_s=chunk_s, progress=progress, method=method):
-        signals = {"seat": chunk.seat_acc_mps2, **{p: chunk.point(p).acc_mps2 for p in POINT_NAMES}}
-        for loc, a_xyz in signals.items():
-            for j, a in enumerate("xyz"):
-                aw = acc[loc][a].add(a_xyz[:, j])
-                spectra[loc][a].add(aw)
-        head = chunk.point("head")
-        sick_in["head"][0].append(_block_means(head.gia_mps2, k_sick))
-        sick_in["head"][1].append(_block_means(head.angvel_radps, k_sick))
-        # The seat's own GIA and rotation: specific force in seat axes, seat angular velocity.
-        if rotating:
-            R = seat_rotation_matrices(chunk.seat_angles_rad)
-            gia_seat = chunk.seat_acc_mps2 + np.einsum("nji,j->ni", R, g_seat)
-            w_seat = np.column_stack([np.interp(chunk.time_s, motion_t_rel, motion.angvel_radps[:, j])
-                                      for j in range(3)])
-        else:
-            gia_seat = chunk.seat_acc_mps2 + g_seat
-            w_seat = np.zeros_like(gia_seat)
-        sick_in["seat"][0].append(_block_means(gia_seat, k_sick))
-        sick_in["seat"][1].append(_block_means(w_seat, k_sick))
-        for p in POINT_NAMES:
-            d = chunk.point(p).disp_m
-            max_disp[p] = np.maximum(max_disp[p], np.abs(d).max(axis=0))
-            final[p] = d[-1].copy()
+    if method == "linear":  # on the model's step, so that the metrics see the same sample rate either way
+        from .linear import stream_linear
+
+        # resampled a chunk at a time; the grid t = 0, dt, ... within the drive, as Resampler counts it
+        description = f"{motion.description}, resampled to dt {dt:g} s"
+        duration = int(np.floor(motion.duration_s / dt + 1e-9)) * dt
+        chunks = stream_linear(human, motion, chunk_s=chunk_s, progress=progress, dt_s=dt)
+    else:
+        chunks = human.stream(motion, chunk_s=chunk_s, progress=progress, method=method)
+    for chunk in chunks:
+        running.add(chunk, _seat_angvel(motion, chunk.time_s) if rotating else None)
+        del chunk  # the next chunk is made without this one held
     wall = time.perf_counter() - t0
-    sickness = {}
-    for key, (gia, w) in sick_in.items():
-        gia, w = np.concatenate(gia), np.concatenate(w)
-        t = np.arange(gia.shape[0]) * k_sick * dt
-        sickness[key] = subjective_vertical_conflict(t, gia, w)
-    metrics = {loc: {a: acc[loc][a].result() for a in "xyz"} for loc in LOCATIONS}
+    metrics = {loc: {a: running.comfort[loc][a].result() for a in "xyz"} for loc in LOCATIONS}
     n_trace = metrics["seat"]["z"].running_rms.size
     return Assessment(
-        description=motion.description, duration_s=motion.duration_s, wall_s=wall, metrics=metrics,
-        spectra={loc: {a: spectra[loc][a].result() for a in "xyz"} for loc in LOCATIONS}, sickness=sickness,
-        trace_time_s=np.arange(n_trace) * keep * dt, max_displacement_m=max_disp, final_displacement_m=final,
+        description=description, duration_s=duration, wall_s=wall, metrics=metrics,
+        spectra={loc: {a: running.spectra[loc][a].result() for a in "xyz"} for loc in LOCATIONS},
+        sickness={key: acc.result() for key, acc in running.sickness.items()},
+        trace_time_s=np.arange(n_trace) * keep * dt, max_displacement_m=running.max_disp,
+        final_displacement_m=running.final_disp,
     )

@@ -200,35 +200,51 @@ def _validity(ss: StateSpace, y: np.ndarray, t: np.ndarray) -> None:
             "use the nonlinear route (method='nonlinear', --method nonlinear).")
 
 
-def stream_linear(human, motion, chunk_s: float = 10.0, progress=None):
+def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: float | None = None):
     """Run ``motion`` (a translational :class:`ehm.motion.SeatMotion`) through the linear route, chunk by chunk.
 
     Yields one :class:`ehm.simulation.RunResult` per chunk (absolute times, the motion's own time step), like
     :meth:`ehm.SeatedHuman.stream`; raises :class:`LinearRouteError` as soon as a contact would lift off or
-    slide.  ``progress(done_s, total_s)`` is called after every chunk.
+    slide.  ``progress(done_s, total_s)`` is called after every chunk.  ``dt_s`` [s]: run on this step
+    instead, the motion resampled onto it one chunk at a time (:class:`ehm.motion.Resampler`, as the
+    nonlinear route does), so that no resampled copy of the whole motion is made.
     """
     if motion.angvel_radps is not None and np.any(motion.angvel_radps != 0):
         raise InputError("the linear route takes seat translation only; for a motion with seat rotation use the "
                          "nonlinear route (method='nonlinear') with SeatedHuman(rotating_seat=True).")
-    steps = np.diff(motion.time_s)
-    dt = float(np.median(steps))
-    if np.abs(steps - dt).max() > 1e-6 * dt:
-        motion = motion.resample(dt)
+    grid = None
+    if dt_s is None:
+        steps = np.diff(motion.time_s)
+        dt = float(np.median(steps))
+        if np.abs(steps - dt).max() > 1e-6 * dt:
+            motion = motion.resample(dt)
+        del steps
+    else:
+        from .motion import Resampler
+
+        dt = float(dt_s)
+        grid = Resampler(motion.time_s, motion.acc_mps2, dt)
     ss = human.linear_model()
     m = _modal(ss, dt)
     carry = [np.zeros(m.lam_real.size), np.zeros(m.lam_pair.size, dtype=complex)]
     settled = engine.settled_point_poses(human.model)
     R0 = {p: Rotation.from_quat(settled[p][1], scalar_first=True).as_matrix() for p in engine.POINTS}
-    t_rel = motion.time_s - motion.time_s[0]
-    per_chunk = len(t_rel) if not np.isfinite(chunk_s) else max(1, int(round(chunk_s / dt)))
-    for start in range(0, len(t_rel), per_chunk):
+    n_total = motion.time_s.size if grid is None else grid.n_samples
+    description = motion.description if grid is None else f"{motion.description}, resampled to dt {dt:g} s"
+    per_chunk = n_total if not np.isfinite(chunk_s) else max(1, int(round(chunk_s / dt)))
+    for start in range(0, n_total, per_chunk):
         t0 = time.perf_counter()
-        t, u = t_rel[start:start + per_chunk], motion.acc_mps2[start:start + per_chunk]
+        stop = min(n_total, start + per_chunk)
+        if grid is None:
+            t, u = motion.time_s[start:stop] - motion.time_s[0], motion.acc_mps2[start:stop]
+        else:
+            t, u = np.arange(start, stop) * dt, grid.block(start, stop)
         y = _modal_chunk(m, u, carry)
         _validity(ss, y, t)
         y += ss.y0
-        result = _result(human, ss, y, u, t, dt, R0, motion.description)
+        result = _result(human, ss, y, u, t, dt, R0, description)
         yield replace(result, wall_s=time.perf_counter() - t0)
+        del result, y, u  # the next chunk is made without this one held here
         if progress:
             progress(min(t[-1] + dt, motion.duration_s), motion.duration_s)
 

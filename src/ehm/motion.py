@@ -299,7 +299,7 @@ class Resampler:
         #: Number of grid samples within the record: t = 0, dt_s, ... up to its duration.
         self.n_samples = int(np.floor(duration / self.dt_s + 1e-9)) + 1
         step = duration / (t.size - 1)
-        if np.max(np.abs(t - t[0] - np.arange(t.size) * step)) > UNIFORM_TOLERANCE * step:
+        if _largest_departure(t, step) > UNIFORM_TOLERANCE * step:
             step = float(np.median(np.diff(t)))
             grid = np.arange(int(np.floor(duration / step + 1e-9)) + 1) * step
             xs = [np.column_stack([np.interp(grid, t - t[0], x[:, j]) for j in range(x.shape[1])]) for x in xs]
@@ -337,6 +337,15 @@ class Resampler:
         if out.shape[0] < stop - start:  # the grid's last sample at the record's very end (round-off)
             out = np.vstack([out, np.repeat(y[-1:], stop - start - out.shape[0], axis=0)])
         return out
+
+
+def _largest_departure(t: np.ndarray, step: float, block: int = 65536) -> float:
+    """Largest |t[i] - t[0] - i step| [s], a block at a time (no temporary array as long as a long record)."""
+    worst = 0.0
+    for start in range(0, t.size, block):
+        seg = t[start:start + block]
+        worst = max(worst, float(np.max(np.abs(seg - t[0] - np.arange(start, start + seg.size) * step))))
+    return worst
 
 
 def _owned_copy(values) -> np.ndarray:

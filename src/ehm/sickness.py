@@ -94,6 +94,11 @@ fourth-order Runge-Kutta scheme, written as one affine map per sample interval (
 interpolated at the mid-step), and the true gravity reaction is turned exactly (Rodrigues) so that
 its length is kept.  The sample interval must resolve the model: at most 0.5 rad of rotation and
 0.5 times the fastest linear time scale per sample.
+
+A long record can be fed in pieces (:class:`SicknessAccumulator`): the filters' states, the last sample
+of every path and the nine vertical states are carried from piece to piece, so the pieces take the same
+steps as the whole record (equal to round-off, tested to 1e-10) in memory set by the piece;
+:func:`subjective_vertical_conflict` is the whole record as one piece.
 """
 
 from __future__ import annotations
@@ -105,7 +110,8 @@ from scipy import signal
 
 from .errors import InputError
 
-__all__ = ["SvcParameters", "SicknessResult", "subjective_vertical_conflict", "hill_percent"]
+__all__ = ["SvcParameters", "SicknessResult", "SicknessTrace", "SicknessAccumulator", "subjective_vertical_conflict",
+           "hill_percent"]
 
 _MAX_STEP_RAD = 0.5  # largest accepted (rate x sample interval), rad
 _CHUNK = 2048  # samples per batch of step maps (memory: about 10 arrays of _CHUNK x 9 x 9 floats, 13 MB)
@@ -244,6 +250,9 @@ def hill_percent(conflict_magnitude_mps2: np.ndarray | float, params: SvcParamet
 def subjective_vertical_conflict(time_s, gia_mps2, omega_radps, params: SvcParameters | None = None) -> SicknessResult:
     """Run the six-degree-of-freedom SVC model and predict the motion sickness incidence.
 
+    The whole record in one piece; :class:`SicknessAccumulator` gives the same numbers for a record fed
+    in pieces, in memory that does not grow with the record.
+
     Parameters
     ----------
     time_s : (n,) array_like
@@ -269,46 +278,180 @@ def subjective_vertical_conflict(time_s, gia_mps2, omega_radps, params: SvcParam
     Notes
     -----
     The head is taken to be at rest, with every state adapted, at ``time_s[0]``: the true and
-    internal gravity reactions and both verticals start equal to ``gia_mps2[0]``.
+    internal gravity reactions and both verticals start equal to ``gia_mps2[0]``.  The model runs
+    at the mean sample interval; ``time_s`` is returned as given.
     """
     p = _params(params)
     t, f, w, h = _check_inputs(time_s, gia_mps2, omega_radps)
+    model = SicknessAccumulator(h, p, start_s=float(t[0]), keep_trace=False, _interval_name="time_s")
+    res = model._advance(f, w)
+    return SicknessResult(time_s=t, msi_percent=res.msi_percent, conflict_mps2=res.conflict_mps2,
+                          subjective_vertical=res.subjective_vertical, sensed_vertical_mps2=res.sensed_vertical_mps2)
 
-    # Linear angular-velocity paths, exact for piecewise-linear inputs.
-    td, ta = p.scc_cupula_time_constant_s, p.scc_adaptation_time_constant_s
-    scc_num = np.array([td * ta, 0.0, 0.0])
-    scc_den = np.polymul([td, 1.0], [ta, 1.0])
-    w_s = _filter(scc_num, scc_den, w, h)
-    # w^ = K_w w + K_wc (w_s - S w^)  =>  w^ = (K_w + K_wc S) / (1 + K_wc S) w
-    int_num = np.polyadd(p.k_omega * scc_den, p.k_omega_c * scc_num)
-    int_den = np.polyadd(scc_den, p.k_omega_c * scc_num)
-    w_hat = _filter(int_num, int_den, w, h)
-    w_hat_s = _filter(scc_num, scc_den, w_hat, h)
 
-    tau = p.vertical_time_constant_s
-    # fastest eigenvalue magnitude of the linear part: the low-pass 1/tau and the vertical-feedback loop
-    # s^2 + s/tau + K_vc / ((1 + K_ac) tau) = 0
-    linear_rate = max(1.0 / tau, np.sqrt(p.k_vc_per_s / ((1.0 + p.k_ac) * tau)))
-    rot_rate = max(float(np.max(np.linalg.norm(a, axis=1))) for a in (w, w_s, w_hat, w_hat_s))
-    if h * linear_rate > _MAX_STEP_RAD:
-        raise InputError(f"time_s has a sample interval of {h:g} s, too coarse for the model's fastest time scale "
-                         f"of {1.0 / linear_rate:g} s; sample at {_MAX_STEP_RAD / linear_rate:g} s or finer.")
-    if h * rot_rate > _MAX_STEP_RAD:
-        raise InputError(f"time_s has a sample interval of {h:g} s, too coarse for angular velocities up to "
-                         f"{rot_rate:g} rad/s; sample at {_MAX_STEP_RAD / rot_rate:g} s or finer.")
+@dataclass(frozen=True)
+class SicknessTrace:
+    """What a streamed run of the SVC model keeps: the MSI and the conflict magnitude over time.
 
-    u = _turn_with_head(f[0], w, h)  # true gravity reaction ("up"), head axes
-    vs, vh = _vertical_states(p, f, u, w_s, w_hat, w_hat_s, h)
+    Attributes
+    ----------
+    time_s : (n,) array
+        Sample times [s].
+    msi_percent : (n,) array
+        Motion sickness incidence [%].
+    conflict_magnitude_mps2 : (n,) array
+        |subjective minus sensed vertical| [m/s^2], the argument of the Hill function.
+    """
 
-    conflict = vh - vs
-    hill = hill_percent(np.linalg.norm(conflict, axis=1), p)
-    tau_i = p.msi_time_constant_s
-    msi = _filter(np.array([1.0]), np.polymul([tau_i, 1.0], [tau_i, 1.0]), hill, h)
-    # Round-off of the recursive filter must not turn a zero or a bounded input into a value outside
-    # the lag's exact range [0, P].
-    msi = np.clip(msi, 0.0, p.msi_max_percent)
-    return SicknessResult(time_s=t, msi_percent=msi, conflict_mps2=conflict, subjective_vertical=vh,
-                          sensed_vertical_mps2=vs)
+    time_s: np.ndarray
+    msi_percent: np.ndarray
+    conflict_magnitude_mps2: np.ndarray
+
+    @property
+    def final_msi_percent(self) -> float:
+        """MSI at the last sample [%]."""
+        return float(self.msi_percent[-1])
+
+
+class SicknessAccumulator:
+    """The SVC model of :func:`subjective_vertical_conflict` fed a record piece by piece.
+
+    Every filter and state is carried from one piece to the next, so the pieces give the same time
+    histories as the whole record in one run (same arithmetic, per sample), in working memory
+    proportional to the piece, not to the record.  What grows with the record is only the kept trace
+    (MSI and conflict magnitude, 16 bytes per sample; ``keep_trace=False`` keeps none of it).
+
+    Parameters
+    ----------
+    dt_s : float
+        Sample interval of the pieces' rows [s]; must resolve the model (see the module docstring).
+    params : SvcParameters, optional
+        Model parameters; defaults to Kamiji et al. (2007).
+    start_s : float
+        Time of the first sample [s]; the head is taken to be at rest, every state adapted, there.
+    keep_trace : bool
+        Keep the MSI and the conflict magnitude of every sample for :meth:`result`.
+
+    Raises
+    ------
+    InputError
+        For a sample interval that is not a positive number or too coarse for the model's dynamics.
+    """
+
+    def __init__(self, dt_s: float, params: SvcParameters | None = None, start_s: float = 0.0,
+                 keep_trace: bool = True, _interval_name: str = "dt_s"):
+        self.params = p = _params(params)
+        self._name = _interval_name
+        if isinstance(dt_s, bool) or not isinstance(dt_s, (int, float, np.integer, np.floating)) \
+                or not np.isfinite(dt_s) or dt_s <= 0:
+            raise InputError(f"dt_s must be a positive number of seconds, got {dt_s!r}.")
+        if isinstance(start_s, bool) or not isinstance(start_s, (int, float, np.integer, np.floating)) \
+                or not np.isfinite(start_s):
+            raise InputError(f"start_s must be a finite number of seconds, got {start_s!r}.")
+        self.dt_s = h = float(dt_s)
+        self.start_s = float(start_s)
+        self._check_linear_rate()
+        self._filters = _discrete_filters(p, h)
+        self._zi = {k: np.zeros((max(b.size, a.size) - 1, *(() if k == "msi" else (3,))))
+                    for k, (b, a) in self._filters.items()}
+        self._last = None  # the previous piece's last sample: w, u, w_s, w_hat, w_hat_s, g and the 9 states
+        self._keep = bool(keep_trace)
+        self._msi: list[np.ndarray] = []
+        self._conflict: list[np.ndarray] = []
+        #: Samples fed so far.
+        self.n_samples = 0
+        #: MSI at the latest sample [%] (0 before any sample).
+        self.last_msi_percent = 0.0
+        #: Largest conflict magnitude so far [m/s^2].
+        self.max_conflict_mps2 = 0.0
+
+    def add(self, gia_mps2, omega_radps) -> SicknessResult:
+        """Feed the next samples: gravito-inertial acceleration and angular velocity, (m, 3) each, head axes
+        [m/s^2, rad/s], at ``dt_s``; returns their time histories.
+
+        A piece that raises leaves the accumulator as it was.
+        """
+        f = _vectors("gia_mps2", gia_mps2)
+        w = _vectors("omega_radps", omega_radps, f.shape[0])
+        return self._advance(f, w)
+
+    def result(self) -> SicknessTrace:
+        """The kept trace of everything fed so far."""
+        if self.n_samples == 0:
+            raise InputError("no samples were added.")
+        if not self._keep:
+            raise InputError("this SicknessAccumulator keeps no trace (keep_trace=False).")
+        msi, conflict = np.concatenate(self._msi), np.concatenate(self._conflict)
+        self._msi, self._conflict = [msi], [conflict]
+        return SicknessTrace(time_s=self.start_s + np.arange(self.n_samples) * self.dt_s, msi_percent=msi,
+                             conflict_magnitude_mps2=conflict)
+
+    # -- steps of one piece ------------------------------------------------------------------------
+
+    def _check_linear_rate(self) -> None:
+        p, h = self.params, self.dt_s
+        tau = p.vertical_time_constant_s
+        # fastest eigenvalue magnitude of the linear part: the low-pass 1/tau and the vertical-feedback loop
+        # s^2 + s/tau + K_vc / ((1 + K_ac) tau) = 0
+        linear_rate = max(1.0 / tau, np.sqrt(p.k_vc_per_s / ((1.0 + p.k_ac) * tau)))
+        if h * linear_rate > _MAX_STEP_RAD:
+            raise InputError(f"{self._name} has a sample interval of {h:g} s, too coarse for the model's fastest time "
+                             f"scale of {1.0 / linear_rate:g} s; sample at {_MAX_STEP_RAD / linear_rate:g} s or finer.")
+
+    def _check_rotation_rate(self, *rates: np.ndarray) -> None:
+        h = self.dt_s
+        rot_rate = max(float(np.max(np.linalg.norm(a, axis=1))) for a in rates)
+        if h * rot_rate > _MAX_STEP_RAD:
+            raise InputError(f"{self._name} has a sample interval of {h:g} s, too coarse for angular velocities up "
+                             f"to {rot_rate:g} rad/s; sample at {_MAX_STEP_RAD / rot_rate:g} s or finer.")
+
+    def _angular_paths(self, w: np.ndarray):
+        """Canal and internal angular-velocity paths of the piece, with the filter states after it."""
+        (b_scc, a_scc), (b_int, a_int) = self._filters["scc"], self._filters["int"]
+        w_s, zi_scc = signal.lfilter(b_scc, a_scc, w, axis=0, zi=self._zi["scc"])
+        w_hat, zi_int = signal.lfilter(b_int, a_int, w, axis=0, zi=self._zi["int"])
+        w_hat_s, zi_hat = signal.lfilter(b_scc, a_scc, w_hat, axis=0, zi=self._zi["scc_hat"])
+        return (w_s, w_hat, w_hat_s), {"scc": zi_scc, "int": zi_int, "scc_hat": zi_hat}
+
+    def _advance(self, f: np.ndarray, w: np.ndarray) -> SicknessResult:
+        """One checked piece through the model; the state is committed only when nothing raised."""
+        m, p, h = f.shape[0], self.params, self.dt_s
+        if m == 0:
+            return _empty_result()
+        (w_s, w_hat, w_hat_s), zi = self._angular_paths(w)
+        self._check_rotation_rate(w, w_s, w_hat, w_hat_s)
+        last = self._last
+        if last is None:  # the first sample: at rest, adapted
+            u = _turn_with_head(f[0], w, h)
+            x0 = np.concatenate([f[0], u[0], f[0]])
+            states = _vertical_states(p, f, u, w_s, w_hat, w_hat_s, h, x0)
+        else:  # steps from the previous piece's last sample
+            ext = [np.concatenate([last[k][None], x]) for k, x in (("f", f), ("w", w), ("w_s", w_s),
+                                                                   ("w_hat", w_hat), ("w_hat_s", w_hat_s))]
+            u = _turn_with_head(last["u"], ext[1], h)
+            states = _vertical_states(p, ext[0], u, ext[2], ext[3], ext[4], h, last["x"])[1:]
+            u = u[1:]
+        vs, vh = states[:, 0:3], states[:, 6:9]
+        conflict = vh - vs
+        magnitude = np.linalg.norm(conflict, axis=1)
+        b_msi, a_msi = self._filters["msi"]
+        msi, zi_msi = signal.lfilter(b_msi, a_msi, hill_percent(magnitude, p), zi=self._zi["msi"])
+        # Round-off of the recursive filter must not turn a zero or a bounded input into a value outside
+        # the lag's exact range [0, P].
+        msi = np.clip(msi, 0.0, p.msi_max_percent)
+        # commit
+        self._zi = {**zi, "msi": zi_msi}
+        self._last = {"f": f[-1].copy(), "w": w[-1].copy(), "w_s": w_s[-1].copy(), "w_hat": w_hat[-1].copy(),
+                      "w_hat_s": w_hat_s[-1].copy(), "u": u[-1].copy(), "x": states[-1].copy()}
+        t = self.start_s + (self.n_samples + np.arange(m)) * h
+        self.n_samples += m
+        self.last_msi_percent = float(msi[-1])
+        self.max_conflict_mps2 = max(self.max_conflict_mps2, float(magnitude.max()))
+        if self._keep:
+            self._msi.append(msi.copy())
+            self._conflict.append(magnitude.copy())
+        return SicknessResult(time_s=t, msi_percent=msi, conflict_mps2=conflict, subjective_vertical=vh,
+                              sensed_vertical_mps2=vs)
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -336,31 +479,52 @@ def _check_inputs(time_s, gia_mps2, omega_radps):
     if dev > 0.01:
         raise InputError(f"time_s must be uniformly sampled within 1 %, but a step deviates by {100 * dev:.3g} % "
                          f"from the mean step of {h:g} s.")
-    arrays = []
-    for name, value in (("gia_mps2", gia_mps2), ("omega_radps", omega_radps)):
-        try:
-            a = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError(f"{name} must be an (n, 3) array of numbers, got {type(value).__name__} "
-                             f"{str(value)[:40]!r}.") from None
-        if a.shape != (t.size, 3):
-            raise InputError(f"{name} must have shape ({t.size}, 3) to match time_s, got {a.shape}.")
-        if not np.all(np.isfinite(a)):
-            k = int(np.argmin(np.all(np.isfinite(a), axis=1)))
-            raise InputError(f"{name} must be finite, but row {k} is {a[k].tolist()}.")
-        arrays.append(a)
-    return t, arrays[0], arrays[1], h
+    return t, _vectors("gia_mps2", gia_mps2, t.size, "time_s"), _vectors("omega_radps", omega_radps, t.size, "time_s"), h
 
 
-def _filter(num, den, x, h):
-    """Apply the continuous transfer function num/den to the samples x along axis 0.
+def _vectors(name: str, value, n: int | None = None, against: str = "gia_mps2") -> np.ndarray:
+    """An (n, 3) array of finite numbers (any n when None), or an InputError naming the argument."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be an (n, 3) array of numbers, got {type(value).__name__} "
+                         f"{str(value)[:40]!r}.") from None
+    if n is not None and a.shape != (n, 3):
+        raise InputError(f"{name} must have shape ({n}, 3) to match {against}, got {a.shape}.")
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise InputError(f"{name} must have shape (n, 3), got {a.shape}.")
+    if not np.all(np.isfinite(a)):
+        k = int(np.argmin(np.all(np.isfinite(a), axis=1)))
+        raise InputError(f"{name} must be finite, but row {k} is {a[k].tolist()}.")
+    return a
 
-    Exact for an input that is linear between samples (first-order hold).  The filter starts from a
-    zero state, i.e. from rest; the inputs passed here (angular velocities, Hill output) are zero
-    for a head at rest.
+
+def _discrete_filters(p: SvcParameters, h: float) -> dict:
+    """Discrete (b, a) of the linear paths at the interval h: canals ("scc", also applied to w^ as "scc_hat"),
+    the internal angular-velocity loop ("int") and the MSI lag ("msi").
+
+    Exact for an input that is linear between samples (first-order hold).  The filters start from a zero
+    state, i.e. from rest; their inputs (angular velocities, Hill output) are zero for a head at rest.
     """
-    numd, dend, _ = signal.cont2discrete((np.atleast_1d(num), np.atleast_1d(den)), h, method="foh")
-    return signal.lfilter(np.ravel(numd), dend, x, axis=0)
+    td, ta = p.scc_cupula_time_constant_s, p.scc_adaptation_time_constant_s
+    scc_num = np.array([td * ta, 0.0, 0.0])
+    scc_den = np.polymul([td, 1.0], [ta, 1.0])
+    # w^ = K_w w + K_wc (w_s - S w^)  =>  w^ = (K_w + K_wc S) / (1 + K_wc S) w
+    int_num = np.polyadd(p.k_omega * scc_den, p.k_omega_c * scc_num)
+    int_den = np.polyadd(scc_den, p.k_omega_c * scc_num)
+    tau_i = p.msi_time_constant_s
+    out = {}
+    for key, (num, den) in {"scc": (scc_num, scc_den), "int": (int_num, int_den),
+                            "msi": (np.array([1.0]), np.polymul([tau_i, 1.0], [tau_i, 1.0]))}.items():
+        numd, dend, _ = signal.cont2discrete((np.atleast_1d(num), np.atleast_1d(den)), h, method="foh")
+        out[key] = (np.ravel(numd), np.asarray(dend, dtype=float))
+    out["scc_hat"] = out["scc"]
+    return out
+
+
+def _empty_result() -> SicknessResult:
+    z1, z3 = np.zeros(0), np.zeros((0, 3))
+    return SicknessResult(time_s=z1, msi_percent=z1, conflict_mps2=z3, subjective_vertical=z3, sensed_vertical_mps2=z3)
 
 
 def _skew(v):
@@ -391,10 +555,11 @@ def _turn_with_head(u0, w, h):
     return u
 
 
-def _vertical_states(p: SvcParameters, f, u, w_s, w_hat, w_hat_s, h):
-    """Sensed vertical v_s and subjective vertical v^ by RK4 written as one affine map per step.
+def _vertical_states(p: SvcParameters, f, u, w_s, w_hat, w_hat_s, h, x0):
+    """States x = (v_s, u^, v^) at every sample, (n, 9), from x0 at the first, by RK4 written as one affine
+    map per step.
 
-    State x = (v_s, u^, v^), 9 values; dx/dt = A(t) x + g(t) with
+    dx/dt = A(t) x + g(t) with
         dv_s/dt = -w_s x v_s + (f - v_s) / tau
         du^/dt  = -w^ x u^ + K_vc (v_s - v^)
         dv^/dt  = -w^_s x v^ + (f^ - v^) / tau,  f^ = (K_a (f - u) + K_ac f + u^) / (1 + K_ac)
@@ -422,7 +587,7 @@ def _vertical_states(p: SvcParameters, f, u, w_s, w_hat, w_hat_s, h):
         a[:, 6:9, 6:9] -= _skew(whs)
         return a
 
-    x = np.concatenate([f[0], u[0], f[0]])
+    x = np.array(x0, dtype=float)
     out = np.empty((n, 9))
     out[0] = x
     eye9 = np.eye(9)
@@ -447,4 +612,4 @@ def _vertical_states(p: SvcParameters, f, u, w_s, w_hat, w_hat_s, h):
         for j in range(stop - start):
             x = step[j] @ x + shift[j]
             out[start + j + 1] = x
-    return out[:, 0:3], out[:, 6:9]
+    return out

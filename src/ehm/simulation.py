@@ -389,6 +389,7 @@ class SeatedHuman:
                 result = replace(result, poses={"time_s": t[raw.poses["step"]], "pos": raw.poses["pos"],
                                                 "quat": raw.poses["quat"], **geometry})
             yield result
+            del raw, result, acc_seat, acc_world, R  # the next chunk is made without this one held here
             if progress:
                 progress(min(t[-1] + dt, motion.duration_s), motion.duration_s)
 
