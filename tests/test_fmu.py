@@ -176,9 +176,11 @@ def test_export_errors_leave_no_file(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "pythonfmu.builder", None)  # as if pythonfmu were not installed
     with pytest.raises(InputError, match=r"install ehm\[fmu\]"):
         export_fmu(out, python=True)
-    with pytest.raises(InputError, match="takes no body size or time step"):
+    with pytest.raises(InputError, match="takes no body size, time step or rotating seat"):
         export_fmu(out, python=True, dt_s=1e-3)
     assert main(["export-fmu", "--python", "--out", str(out), "--stature", "1.9"]) == 2
     assert "not --stature" in capsys.readouterr().err
+    assert main(["export-fmu", "--python", "--out", str(out), "--rotating-seat"]) == 2
+    assert "not --rotating-seat" in capsys.readouterr().err
     assert out.read_bytes() == b"old"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["e.fmu", "file"]  # no temporary file left behind
