@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 import ehm
-from ehm.linear import _modal
+from ehm.linear import _block_form
 
 
 def main() -> None:
@@ -35,7 +35,7 @@ def main() -> None:
     for dt in (0.001, float(human.params.value("simulation.dt_s"))):
         motion = ehm.random_vibration("xyz", args.duration, 0.3, seed=0, dt_s=dt)
         t0 = time.perf_counter()
-        _modal(ss, dt)
+        _block_form(ss, dt)
         disc = time.perf_counter() - t0
         walls = []
         for _ in range(args.repeat):
