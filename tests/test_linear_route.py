@@ -213,7 +213,7 @@ def test_orientations_are_exact():
     rng = np.random.default_rng(0)
     L, nb = linear.BLOCK, 40
     R0 = Rotation.random(3, random_state=1).as_matrix()
-    for scale in (1e-3, 0.04, 0.5):
+    for scale in (1e-3, 0.02, 0.5):
         y = rng.standard_normal((78, L, nb))
         y[18:27] *= scale  # rotation vectors
         rot, angvel, gia = (linear._in_time_order(x) for x in linear._orientations(y, R0))

@@ -7,11 +7,18 @@ per mille) and converts that step to continuous time exactly (matrix logarithm o
 step, ``[[A_d, B_d], [0, I]] = expm([[A, B], [0, 0]] h)``).  Accelerations are then the derivative of the
 velocity outputs, ``V (A x + B u)`` plus the seat acceleration, so the model has no step error of its own.
 
-:func:`simulate_linear` discretises it exactly at the motion's own sample step (first-order hold: the seat
-acceleration linear between samples, as the nonlinear route interpolates it) and runs it in modal form, one
-first-order recursion per mode (``scipy.signal.lfilter``).  While it runs it checks that it still holds:
-every touching contact must keep pressing (normal force > 0) and stay inside its friction cone; otherwise
-it raises :class:`LinearRouteError` saying when, where and by how much the input was too large.
+A time run (:func:`simulate_linear`, :func:`stream_linear`) evaluates the model in modal form, with two
+reductions: modes that the input does not reach (time constant over 1000 s, input gain at the finite
+differences' round-off: the integral actuators' neutral directions) are left out, and modes above
+:data:`STATIC_ABOVE_HZ` (which follow the seat within half a millisecond) are taken as static, their
+quasi-static response added to the direct term; against the full model the outputs stay within 0.1 % of
+their rms (tested).  It discretises the rest exactly at the motion's own sample step (first-order hold: the
+seat acceleration linear between samples, as the nonlinear route interpolates it) and arranges it in blocks
+of :data:`BLOCK` samples, so that a whole run is one matrix product (block inputs and block start state to
+all the block's outputs) after a recursion over the block starts only (:func:`_block_form`).  While it runs
+it checks that the model still holds: every touching contact must keep pressing (normal force > 0) and
+stay inside its friction cone; otherwise it raises :class:`LinearRouteError` saying when, where and by how
+much the input was too large.
 
 :func:`ehm.frf.linear_frf` evaluates the same model's frequency response exactly; there is one
 linearisation and one state-space model.
@@ -425,7 +432,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None):
     if np.abs(steps - dt).max() > 1e-6 * dt:
         motion = motion.resample(dt)
     ss = human.linear_model()
-    blk = _block_form(ss, dt)
+    blk = _block_form(ss, float(f"{dt:.12g}"))  # one discretisation per step, not per rounding of it
     R0 = _settled_orientations(ss, human.model)
     carry = _initial_state(blk, motion.acc_mps2[0])
     t_rel = motion.time_s - motion.time_s[0]
@@ -450,57 +457,98 @@ def _settled_orientations(ss: StateSpace, model: engine.Model) -> dict:
     return ss.cache["R0"]
 
 
-def _small_angle_factors(t2: np.ndarray):
-    """a = sin t / t and b = (1 - cos t) / t^2 of the rotation angle t (t2 = t^2): Rodrigues' factors."""
-    if t2.max() <= 0.01:  # |t| <= 0.1: the series to t^8, exact to round-off (next terms below 3e-18)
-        a = 1 - t2 / 6 * (1 - t2 / 20 * (1 - t2 / 42 * (1 - t2 / 72)))
-        b = 0.5 * (1 - t2 / 12 * (1 - t2 / 30 * (1 - t2 / 56 * (1 - t2 / 90))))
-        return a, b
+#: Power series in x^2 (coefficients of x^0, x^2, ...) of sin x / x, (1 - cos x) / x^2, arctan x / x and
+#: arcsin x / x, for the small rotations of a linear run.
+_SINC = (1.0, -1 / 6, 1 / 120, -1 / 5040, 1 / 362880, -1 / 39916800, 1 / 6227020800)
+_VERSC = (1 / 2, -1 / 24, 1 / 720, -1 / 40320, 1 / 3628800, -1 / 479001600, 1 / 87178291200)
+_ATAN = (1.0, -1 / 3, 1 / 5, -1 / 7, 1 / 9, -1 / 11, 1 / 13)
+_ASIN = (1.0, 1 / 6, 3 / 40, 5 / 112, 35 / 1152, 63 / 2816, 231 / 13312)
+_SERIES_UP_TO = 0.06  #: |x| up to which the series are used (their terms reach round-off there)
+
+
+def _series(x2: np.ndarray, coeffs: tuple, x2_max: float) -> np.ndarray:
+    """sum_k coeffs[k] x^(2k) by Horner's scheme, with only the terms above 1e-17 of the first at x2_max."""
+    k = len(coeffs)
+    while k > 1 and abs(coeffs[k - 1]) * x2_max ** (k - 1) < 1e-17 * abs(coeffs[0]):
+        k -= 1
+    acc = np.multiply(x2, coeffs[k - 1])
+    for c in coeffs[k - 2:0:-1]:
+        acc += c
+        acc *= x2
+    acc += coeffs[0]
+    return acc
+
+
+def _rodrigues_factors(t2: np.ndarray):
+    """a = sin t / t and b = (1 - cos t) / t^2 of the rotation angle t (t2 = t^2)."""
+    t2_max = float(t2.max())
+    if t2_max <= _SERIES_UP_TO ** 2:
+        return _series(t2, _SINC, t2_max), _series(t2, _VERSC, t2_max)
     t = np.sqrt(t2)
     return np.sinc(t / np.pi), 0.5 * np.sinc(t / (2 * np.pi)) ** 2
 
 
-def _atan2(y: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """arctan2(y, x), by the series of arctan(y / x) where all |y / x| <= 0.06 with x > 0 (the rotations of
-    a linear run: terms to the 13th power, exact to round-off)."""
+def _atan2(y: np.ndarray, x: np.ndarray, out: np.ndarray) -> None:
+    """out = arctan2(y, x); by the series of arctan(y / x) where x > 0 and |y / x| is small."""
     if (x > 0).all():
         z = y / x
-        if np.abs(z).max() <= 0.06:
-            z2 = z * z
-            return z * (1 - z2 * (1 / 3 - z2 * (1 / 5 - z2 * (1 / 7 - z2 * (1 / 9 - z2 * (1 / 11 - z2 / 13))))))
-    return np.arctan2(y, x)
+        z2 = z * z
+        z2_max = float(z2.max())
+        if z2_max <= _SERIES_UP_TO ** 2:
+            np.multiply(_series(z2, _ATAN, z2_max), z, out=out)
+            return
+    np.arctan2(y, x, out=out)
 
 
-def _asin(x: np.ndarray) -> np.ndarray:
-    """arcsin(x), by its series where all |x| <= 0.06 (terms to the 13th power, exact to round-off)."""
-    if np.abs(x).max() <= 0.06:
-        x2 = x * x
-        return x * (1 + x2 * (1 / 6 + x2 * (3 / 40 + x2 * (5 / 112 + x2 * (35 / 1152 + x2 * (63 / 2816
-                                                                                            + x2 * 231 / 13312))))))
-    return np.arcsin(np.clip(x, -1.0, 1.0))
+def _neg_asin(x: np.ndarray, out: np.ndarray) -> None:
+    """out = -arcsin(x); by its series where |x| is small."""
+    x2 = x * x
+    x2_max = float(x2.max())
+    if x2_max <= _SERIES_UP_TO ** 2:
+        np.multiply(_series(x2, _ASIN, x2_max), x, out=out)
+    else:
+        np.arcsin(np.clip(x, -1.0, 1.0), out=out)
+    np.negative(out, out=out)
 
 
 def _orientations(y: np.ndarray, R0: np.ndarray):
     """The points' rotation (roll, pitch, yaw), angular velocity and gravito-inertial acceleration in their own
-    axes from the rotation vector r (R = R_rel R0, R_rel = exp([r]x)), all points and axes at once: arrays
-    (point, axis, L, blocks) like ``y[...]`` of :func:`_block_chunk`'s layout."""
+    axes from the rotation vector r (R = R_rel R0, R_rel = exp([r]x)), all points and axes at once: three
+    arrays (point, axis, L, blocks) like ``y[...]`` of :func:`_block_chunk`'s layout."""
     kind = lambda k: y[9 * k:9 * k + 9].reshape(3, 3, *y.shape[1:])  # noqa: E731  (point, axis, L, blocks)
     r, w, acc = kind(_ROTVEC), kind(_ANGVEL), kind(_ACC)
+    rot, angvel, gia = (np.empty_like(r) for _ in range(3))
     r0, r1, r2 = r[:, 0], r[:, 1], r[:, 2]
-    t2 = r0 ** 2 + r1 ** 2 + r2 ** 2
-    a, b = _small_angle_factors(t2)  # R_rel = I + a [r]x + b [r]x^2,  [r]x^2 = r r^T - t^2 I
-    R = [[1 + b * (r0 ** 2 - t2), b * r0 * r1 - a * r2, b * r0 * r2 + a * r1],
-         [b * r0 * r1 + a * r2, 1 + b * (r1 ** 2 - t2), b * r1 * r2 - a * r0],
-         [b * r0 * r2 - a * r1, b * r1 * r2 + a * r0, 1 + b * (r2 ** 2 - t2)]]
+    s0, s1, s2 = r0 * r0, r1 * r1, r2 * r2
+    a, b = _rodrigues_factors(s0 + s1 + s2)  # R_rel = I + a [r]x + b [r]x^2,  [r]x^2 = r r^T - |r|^2 I
+    br0, br1 = b * r0, b * r1
+    p01, p02, p12 = br0 * r1, br0 * r2, br1 * r2
+    ar0, ar1, ar2 = a * r0, a * r1, a * r2
+
+    def diagonal(u, v):  # 1 - b (u + v)
+        d = u + v
+        d *= b
+        return np.subtract(1.0, d, out=d)
+
+    R = [[diagonal(s1, s2), p01 - ar2, p02 + ar1],
+         [p01 + ar2, diagonal(s0, s2), p12 - ar0],
+         [p02 - ar1, p12 + ar0, diagonal(s0, s1)]]
     # intrinsic z-y-x angles: R_rel = Rz(yaw) Ry(pitch) Rx(roll)
-    rot = np.stack([_atan2(R[2][1], R[2][2]), -_asin(R[2][0]), _atan2(R[1][0], R[0][0])], axis=1)
-    g = engine.G0[None, :, None, None]
+    _atan2(R[2][1], R[2][2], out=rot[:, 0])
+    _neg_asin(R[2][0], out=rot[:, 1])
+    _atan2(R[1][0], R[0][0], out=rot[:, 2])
 
-    def body(v):  # R^T v = R0^T R_rel^T v, per point
-        rel = np.stack([R[0][i] * v[:, 0] + R[1][i] * v[:, 1] + R[2][i] * v[:, 2] for i in range(3)], axis=1)
-        return np.einsum("pki,pk...->pi...", R0, rel)
+    def body(v, into):  # R^T v = R0^T R_rel^T v, per point
+        rel = np.empty_like(v)
+        for i in range(3):
+            np.multiply(R[0][i], v[:, 0], out=rel[:, i])
+            rel[:, i] += R[1][i] * v[:, 1]
+            rel[:, i] += R[2][i] * v[:, 2]
+        np.einsum("pki,pk...->pi...", R0, rel, out=into)
 
-    return rot, body(w), body(acc - g)
+    body(w, angvel)
+    body(acc - engine.G0[None, :, None, None], gia)
+    return rot, angvel, gia
 
 
 def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, dt: float, R0: np.ndarray,
@@ -510,14 +558,13 @@ def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, 
     from .simulation import POINT_NAMES, PointMotion, RunResult
 
     n = len(t)
-    series = lambda x: _in_time_order(x)[..., :n]  # noqa: E731
-    kind = lambda k: series(y[9 * k:9 * k + 9]).reshape(3, 3, n)  # noqa: E731  (point, axis, sample)
-    rot, angvel, gia = (series(x) for x in _orientations(y, R0))
+    rot, angvel, gia = (_in_time_order(x)[..., :n] for x in _orientations(y, R0))  # (point, axis, sample)
+    kind = lambda k: _in_time_order(y[9 * k:9 * k + 9])[:, :n].reshape(3, 3, n)  # noqa: E731
     acc, disp, angacc = kind(_ACC), kind(_DISP), kind(_ANGACC)
     points = {p: PointMotion(name=p, acc_mps2=acc[i].T, disp_m=disp[i].T, rot_rad=rot[i].T,
                              angacc_radps2=angacc[i].T, angvel_radps=angvel[i].T, gia_mps2=gia[i].T)
               for i, p in enumerate(POINT_NAMES)}
-    forces = series(y[45:45 + 3 * len(engine.SUPPORT_GROUPS)]).reshape(-1, 3, n)
+    forces = _in_time_order(y[45:45 + 3 * len(engine.SUPPORT_GROUPS)])[:, :n].reshape(-1, 3, n)
     support = {g: forces[i].T for i, g in enumerate(engine.SUPPORT_GROUPS)}
     return RunResult(time_s=t, seat_acc_mps2=u, points=points, support_N=support, mass_kg=human.mass_kg,
                      dof=human.dof, dt_s=dt, wall_s=0.0, description=f"{description}, linear route",
