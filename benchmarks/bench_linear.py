@@ -70,9 +70,9 @@ def main() -> None:
             errs.append(np.sqrt(np.mean((a - b) ** 2, axis=0)) / np.sqrt(np.mean(a ** 2, axis=0)))
         errs = 100 * np.array(errs)
         print(f"samples every {dt * 1e3:g} ms: linear run {best * 1e3:.1f} ms best of {args.repeat} (median "
-              f"{median * 1e3:.1f} ms; {args.duration / best:.0f}x real time; the process's first run {first * 1e3:.0f} "
-              f"ms; discretisation once {disc * 1e3:.0f} ms), nonlinear {wall_nl:.2f} s ({args.duration / wall_nl:.0f}x); "
-              "acceleration rms difference pelvis/trunk/head x,y,z: "
+              f"{median * 1e3:.1f} ms; {args.duration / best:.0f}x real time; the process's first run "
+              f"{first * 1e3:.0f} ms; discretisation once {disc * 1e3:.0f} ms), nonlinear {wall_nl:.2f} s "
+              f"({args.duration / wall_nl:.0f}x); acceleration rms difference pelvis/trunk/head x,y,z: "
               + ", ".join("/".join(f"{e:.1f}" for e in row) for row in errs) + " %")
     print(f"peak memory {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
 

@@ -129,7 +129,9 @@ def frequency_response(ss: StateSpace, freq_hz: np.ndarray, rows=None) -> np.nda
 STATIC_ABOVE_HZ = 250.0
 #: Samples per block of the block form that time runs evaluate (see :func:`_block_form`).
 BLOCK = 8
-_UNREACHED_GAIN = 1e-6
+#: A mode with a time constant beyond 1000 s whose input gain (unit eigenvector) is below this share of the
+#: largest is not reached by the input and left out of time runs.
+UNREACHED_GAIN = 1e-6
 
 
 @dataclass(frozen=True)
@@ -159,10 +161,10 @@ def _modes(ss: StateSpace) -> _Modes:
         lam, V = np.linalg.eig(ss.A)
         Bm, Cm = np.linalg.solve(V, ss.B), ss.C @ V
         # Modes with a time constant beyond 1000 s whose input gain is at the finite differences' round-off
-        # (1e-6 of the largest; the default person has 16, all below 1e-7, the next smallest 3e-6): the
+        # (the default person has 16, all below 2e-8 of the largest gain, the next smallest at 3e-6): the
         # integral actuators' neutral directions, which the seat's acceleration does not drive.
         gain = np.linalg.norm(Bm, axis=1)
-        unreached = (np.abs(lam) < 1e-3) & (gain < _UNREACHED_GAIN * gain.max())
+        unreached = (np.abs(lam) < 1e-3) & (gain < UNREACHED_GAIN * gain.max())
         static = (np.abs(lam) > 2 * np.pi * STATIC_ABOVE_HZ) & ~unreached
         # a fast mode dz/dt = lam z + B u stays at its quasi-static value z = -B u / lam
         D = ss.D - (Cm[:, static] @ (Bm[static] / lam[static, None])).real
@@ -276,8 +278,8 @@ def _block_form(ss: StateSpace, dt_s: float) -> _Blocks:
 
 
 def _block_matrix(m: _Modes, Bd: np.ndarray, hold_D: np.ndarray, P: np.ndarray) -> np.ndarray:
-    """M[k, j, o]: row k of [block inputs (sample i, axis), block start state (real form), 1] -> output o at
-    the block's sample j."""
+    """M[k, j, o]: row k of [block inputs (sample i, axis), block start state (real modes, then Re and Im of
+    each pair in turn), 1] -> output o at the block's sample j."""
     L, p, nr = BLOCK, m.C.shape[0], m.n_real
     Dd = (m.D + hold_D).real  # y = C z + D u = C z~ + (D + C g1 B) u
     Cw = m.C * m.weight
