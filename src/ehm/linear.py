@@ -7,11 +7,18 @@ per mille) and converts that step to continuous time exactly (matrix logarithm o
 step, ``[[A_d, B_d], [0, I]] = expm([[A, B], [0, 0]] h)``).  Accelerations are then the derivative of the
 velocity outputs, ``V (A x + B u)`` plus the seat acceleration, so the model has no step error of its own.
 
-:func:`simulate_linear` discretises it exactly at the motion's own sample step (first-order hold: the seat
-acceleration linear between samples, as the nonlinear route interpolates it) and runs it in modal form, one
-first-order recursion per mode (``scipy.signal.lfilter``).  While it runs it checks that it still holds:
-every touching contact must keep pressing (normal force > 0) and stay inside its friction cone; otherwise
-it raises :class:`LinearRouteError` saying when, where and by how much the input was too large.
+A time run (:func:`simulate_linear`, :func:`stream_linear`) evaluates the model in modal form, with two
+reductions: modes that the input does not reach (time constant over 1000 s, input gain at the finite
+differences' round-off: the integral actuators' neutral directions) are left out, and modes above
+:data:`STATIC_ABOVE_HZ` (which follow the seat within half a millisecond) are taken as static, their
+quasi-static response added to the direct term; against the full model the outputs stay within 0.1 % of
+their rms (tested).  It discretises the rest exactly at the motion's own sample step (first-order hold: the
+seat acceleration linear between samples, as the nonlinear route interpolates it) and arranges it in blocks
+of :data:`BLOCK` samples, so that a whole run is one matrix product (block inputs and block start state to
+all the block's outputs) after a recursion over the block starts only (:func:`_block_form`).  While it runs
+it checks that the model still holds: every touching contact must keep pressing (normal force > 0) and
+stay inside its friction cone; otherwise it raises :class:`LinearRouteError` saying when, where and by how
+much the input was too large.
 
 :func:`ehm.frf.linear_frf` evaluates the same model's frequency response exactly; there is one
 linearisation and one state-space model.
@@ -117,68 +124,280 @@ def frequency_response(ss: StateSpace, freq_hz: np.ndarray, rows=None) -> np.nda
     return np.einsum("os,fs,si->foi", CV, inv, VinvB) + D[None, :, :]
 
 
+#: Modes faster than this follow the seat within a fraction of a millisecond: time runs take them as static
+#: (their quasi-static response is added to D, "residualisation") [Hz].
+STATIC_ABOVE_HZ = 250.0
+#: Samples per block of the block form that time runs evaluate (see :func:`_block_form`).
+BLOCK = 8
+#: A mode with a time constant beyond 1000 s whose input gain (unit eigenvector) is below this share of the
+#: largest is not reached by the input and left out of time runs.
+UNREACHED_GAIN = 1e-6
+
+
 @dataclass(frozen=True)
-class _Modal:
-    """The model discretised at one sample step (first-order hold) in modal form: real modes and one of each
-    complex pair; outputs = Z @ C.T + u @ D.T, with Z the real modal states side by side with the real and
-    imaginary parts of the complex ones."""
+class _Modes:
+    """The continuous model in modal form as time runs use it.
 
-    lam_real: np.ndarray
-    lam_pair: np.ndarray
-    B_real: np.ndarray
-    B_pair: np.ndarray
+    ``lam`` holds the kept modes, real ones first, then one of each complex pair; ``B`` (m, 3) and ``C``
+    (p, m) their input rows and output columns (complex; real for the real modes); a real mode contributes
+    ``C z`` to the outputs, a pair ``2 Re(C z)`` (``weight`` 1 or 2).  ``D`` includes the static share of the
+    modes above :data:`STATIC_ABOVE_HZ`; modes that the input does not reach (``unreached``) are left out.
+    """
+
+    lam: np.ndarray
+    B: np.ndarray
     C: np.ndarray
+    weight: np.ndarray
+    n_real: int
     D: np.ndarray
+    y0: np.ndarray
+    static_hz: np.ndarray  #: natural frequencies of the modes taken as static
+    unreached: int  #: number of modes left out: time constant over 1000 s, input gain at round-off level
 
 
-def _modal(ss: StateSpace, dt_s: float) -> _Modal:
-    cached = ss.cache.get(dt_s)
+def _modes(ss: StateSpace) -> _Modes:
+    cached = ss.cache.get("modes")
     if cached is None:
-        Ad, Bd, Cd, Dd, _ = signal.cont2discrete((ss.A, ss.B, ss.C, ss.D), dt_s, method="foh")
-        lam, V = np.linalg.eig(Ad)
-        Bm, Cm = np.linalg.solve(V, Bd), Cd @ V
+        lam, V = np.linalg.eig(ss.A)
+        Bm, Cm = np.linalg.solve(V, ss.B), ss.C @ V
+        # Modes with a time constant beyond 1000 s whose input gain is at the finite differences' round-off
+        # (the default person has 16, all below 2e-8 of the largest gain, the next smallest at 3e-6): the
+        # integral actuators' neutral directions, which the seat's acceleration does not drive.
+        gain = np.linalg.norm(Bm, axis=1)
+        unreached = (np.abs(lam) < 1e-3) & (gain < UNREACHED_GAIN * gain.max())
+        static = (np.abs(lam) > 2 * np.pi * STATIC_ABOVE_HZ) & ~unreached
+        # a fast mode dz/dt = lam z + B u stays at its quasi-static value z = -B u / lam
+        D = ss.D - (Cm[:, static] @ (Bm[static] / lam[static, None])).real
         real = np.abs(lam.imag) <= 1e-12 * np.maximum(1.0, np.abs(lam))
-        pair = (lam.imag > 0) & ~real
-        # a conjugate pair contributes 2 Re(c z) = 2 (Re c Re z - Im c Im z)
-        C = np.hstack([Cm[:, real].real, 2 * Cm[:, pair].real, -2 * Cm[:, pair].imag])
-        cached = _Modal(lam_real=lam[real].real, lam_pair=lam[pair], B_real=Bm[real].real, B_pair=Bm[pair],
-                        C=np.ascontiguousarray(C.T), D=np.ascontiguousarray(Dd.T))
-        ss.cache[dt_s] = cached
+        kept_real = real & ~static & ~unreached
+        kept_pair = (lam.imag > 0) & ~real & ~static & ~unreached
+        lam_k = np.concatenate([lam[kept_real].real + 0j, lam[kept_pair]])
+        B = np.vstack([Bm[kept_real].real + 0j, Bm[kept_pair]])
+        C = np.hstack([Cm[:, kept_real].real + 0j, Cm[:, kept_pair]])
+        weight = np.concatenate([np.ones(kept_real.sum()), 2 * np.ones(kept_pair.sum())])
+        cached = _Modes(lam=lam_k, B=B, C=C, weight=weight, n_real=int(kept_real.sum()), D=D, y0=ss.y0,
+                        static_hz=np.sort(np.abs(lam[static])) / (2 * np.pi), unreached=int(unreached.sum()))
+        ss.cache["modes"] = cached
     return cached
 
 
-def _modal_chunk(m: _Modal, u: np.ndarray, carry: list) -> np.ndarray:
-    """Outputs (deviations from y0) for input samples ``u`` (n, 3); ``carry`` holds the real and complex modal
-    states at the chunk's first sample (zeros at the start of a run) and is advanced past its last sample."""
-    n, nr, npair = u.shape[0], m.lam_real.size, m.lam_pair.size
-    Z = np.empty((nr + 2 * npair, n))  # one contiguous row per modal state: real modes, Re and Im of pairs
-    for i, (lam, B) in enumerate(((m.lam_real, m.B_real), (m.lam_pair, m.B_pair))):
-        drive = B @ u.T  # (modes, n), rows contiguous
-        for k in range(lam.size):  # z[n + 1] = lam z[n] + drive[n]
-            w, _ = signal.lfilter([1.0], [1.0, -lam[k]], drive[k], zi=[lam[k] * carry[i][k]])
-            if i == 0:
-                Z[k, 0], Z[k, 1:] = carry[0][k], w[:-1]
-            else:
-                z0 = carry[1][k]
-                Z[nr + k, 0], Z[nr + k, 1:] = z0.real, w[:-1].real
-                Z[nr + npair + k, 0], Z[nr + npair + k, 1:] = z0.imag, w[:-1].imag
-            carry[i][k] = w[-1]
-    return Z.T @ m.C + u @ m.D
+def reduced_model(ss: StateSpace):
+    """The model time runs evaluate, as real continuous-time matrices (A, B, C, D): the kept modes (2 x 2
+    blocks for complex pairs), the fast modes' static share in D; outputs are deviations from ``ss.y0``."""
+    m = _modes(ss)
+    nr, lam = m.n_real, m.lam
+    npair = lam.size - nr
+    n = nr + 2 * npair
+    A = np.zeros((n, n))
+    A[np.arange(nr), np.arange(nr)] = lam[:nr].real
+    re, im = nr + np.arange(npair), nr + npair + np.arange(npair)  # z = Re z + i Im z
+    A[re, re], A[re, im] = lam[nr:].real, -lam[nr:].imag
+    A[im, re], A[im, im] = lam[nr:].imag, lam[nr:].real
+    B = np.vstack([m.B[:nr].real, m.B[nr:].real, m.B[nr:].imag])
+    C = np.hstack([m.C[:, :nr].real, 2 * m.C[:, nr:].real, -2 * m.C[:, nr:].imag])
+    return A, B, C, m.D
 
 
-def _validity(ss: StateSpace, y: np.ndarray, t: np.ndarray) -> None:
-    """Raise :class:`LinearRouteError` if a contact lifts off or slides anywhere in the run."""
+def _foh(lam: np.ndarray, h: float):
+    """First-order-hold discretisation of the scalar modes dz/dt = lam z + b u over a step h, the input linear
+    between samples: z[k+1] = phi z[k] + (g0 u[k] + g1 u[k+1]) b.  Returns phi, g0 + phi g1 (the input gain of
+    the state z~ = z - g1 b u, which makes the recursion z~[k+1] = phi z~[k] + (g0 + phi g1) b u[k]) and g1."""
+    x = lam * h
+    small = np.abs(x) < 0.1
+    xs = np.where(small, 1.0, x)
+    # e1 = (e^x - 1) / x and e2 = (e^x - 1 - x) / x^2, by their series where x is small
+    k = np.arange(9)
+    fact = np.cumprod(np.concatenate([[1.0], np.arange(1, 11)]))  # 0! .. 10!
+    powers = np.where(small, x, 0.0)[:, None] ** k
+    e1 = np.where(small, powers @ (1 / fact[1:10]), np.expm1(xs) / xs)
+    e2 = np.where(small, powers @ (1 / fact[2:11]), (np.expm1(xs) - xs) / xs ** 2)
+    phi = np.exp(x)
+    g1 = h * e2
+    return phi, h * (e1 - e2) + phi * g1, g1
+
+
+#: Output kinds per point in a time run's output array, in this order (each: pelvis, trunk, head; x, y, z).
+_KINDS = (("ax", "ay", "az"), ("x", "y", "z"), ("roll", "pitch", "yaw"), ("roll_acc", "pitch_acc", "yaw_acc"),
+          ("wx", "wy", "wz"))
+_ACC, _DISP, _ROTVEC, _ANGACC, _ANGVEL = range(5)
+
+
+def _layout(ss: StateSpace) -> np.ndarray:
+    """Output indices in the order a time run computes them: per kind of :data:`_KINDS` the three points'
+    three axes, then the support groups' x, y, z, then all contacts' fn, all ft1, all ft2."""
+    cached = ss.cache.get("layout")
+    if cached is None:
+        names = [f"{p}.{k}" for kind in _KINDS for p in engine.POINTS for k in kind]
+        names += [f"support.{g}.f{a}" for g in engine.SUPPORT_GROUPS for a in "xyz"]
+        names += [f"contact.{c}.{k}" for k in ("fn", "ft1", "ft2") for c in ss.contacts]
+        cached = ss.rows(names)
+        ss.cache["layout"] = cached
+    return cached
+
+
+@dataclass(frozen=True)
+class _Blocks:
+    """The modal model discretised at one sample step (first-order hold) and arranged for blocks of
+    :data:`BLOCK` samples (see :func:`_block_form`)."""
+
+    dt_s: float
+    phi: np.ndarray  #: (m,) modal transition over one step
+    Bd: np.ndarray  #: (m, 3) modal input gain of the hold-transformed state z~
+    g1: np.ndarray  #: (m,) z = z~ + g1 B u
+    B: np.ndarray  #: (m, 3) continuous modal input rows
+    n_real: int
+    drive: np.ndarray  #: (3 L, 2 m) a block's inputs -> the state one block later (Re, Im of each mode in turn)
+    phi_block: np.ndarray  #: (m,) transition over one block
+    M: np.ndarray  #: (p L, 3 L + n + 1): output o at the block's sample j (row o L + j) from [block inputs,
+    #: block start state (real modes, then Re and Im of each pair in turn), 1], outputs in :func:`_layout` order
+
+
+def _block_form(ss: StateSpace, dt_s: float) -> _Blocks:
+    """Discretise the kept modes at ``dt_s`` and build the block matrix.
+
+    Within a block of L samples starting at state z_b, sample j's outputs are y0 + Dd u[j] + sum_{i<j}
+    H_(j-1-i) u[i] + O_j z_b (H_k = Re C diag(w phi^k) Bd, O_j = C diag(w phi^j) in real form), so a whole run is
+    one matrix product of M with the rows [u of the block's L samples, z_b (real, Re and Im of pairs), 1].
+    Only the block start states need a recursion (over n / L samples).
+    """
+    cached = ss.cache.get(("blocks", dt_s))
+    if cached is None:
+        m = _modes(ss)
+        L = BLOCK
+        phi, gain, g1 = _foh(m.lam, dt_s)
+        Bd = gain[:, None] * m.B
+        P = phi[None, :] ** np.arange(L + 1)[:, None]  # (L + 1, m): phi^j
+        M = _block_matrix(m, Bd, (m.C * (m.weight * g1)) @ m.B, P)[:, :, _layout(ss)]  # (K, L, p)
+        G = (P[L - 1::-1, :, None] * Bd[None, :, :]).transpose(0, 2, 1).reshape(3 * L, -1)  # phi^(L-1-i) Bd
+        cached = _Blocks(dt_s=dt_s, phi=phi, Bd=Bd, g1=g1, B=m.B, n_real=m.n_real,
+                         drive=np.ascontiguousarray(np.stack([G.real, G.imag], axis=2).reshape(3 * L, -1)),
+                         phi_block=P[L],
+                         M=np.ascontiguousarray(M.transpose(2, 1, 0).reshape(-1, M.shape[0])))
+        ss.cache[("blocks", dt_s)] = cached
+    return cached
+
+
+def _block_matrix(m: _Modes, Bd: np.ndarray, hold_D: np.ndarray, P: np.ndarray) -> np.ndarray:
+    """M[k, j, o]: row k of [block inputs (sample i, axis), block start state (real modes, then Re and Im of
+    each pair in turn), 1] -> output o at the block's sample j."""
+    L, p, nr = BLOCK, m.C.shape[0], m.n_real
+    Dd = (m.D + hold_D).real  # y = C z + D u = C z~ + (D + C g1 B) u
+    Cw = m.C * m.weight
+    H = np.einsum("pm,km,mi->kpi", Cw, P[:L - 1], Bd).real  # H_k, k = 0 .. L - 2
+    Mu = np.zeros((L, 3, L, p))  # [input sample i, axis] -> [output sample j, output]
+    for j in range(L):
+        Mu[j, :, j, :] = Dd.T
+        for i in range(j):
+            Mu[i, :, j, :] = H[j - 1 - i].T
+    Q = Cw[None, :, :] * P[:L, None, :]  # (L, p, m); a pair gives 2 Re(C z) = 2 Re C Re z - 2 Im C Im z
+    pairs = np.stack([Q[:, :, nr:].real, -Q[:, :, nr:].imag], axis=3).reshape(L, p, -1)
+    O = np.concatenate([Q[:, :, :nr].real, pairs], axis=2)  # (L, p, n)
+    return np.concatenate([Mu.reshape(3 * L, L, p), O.transpose(2, 0, 1), np.tile(m.y0, (1, L, 1))])
+
+
+def _initial_state(blk: _Blocks, u0: np.ndarray) -> np.ndarray:
+    """Modal state z~ of the person at rest (z = 0) when the seat acceleration starts at ``u0``."""
+    return -blk.g1 * (blk.B @ u0)
+
+
+def _block_chunk(blk: _Blocks, u: np.ndarray, carry: np.ndarray) -> np.ndarray:
+    """Outputs (absolute, y0 included) at the input samples ``u`` (n, 3), (p, L, blocks) in :func:`_layout`
+    order: output o at sample b L + j is [o, j, b]; the last block is padded past n.  ``carry`` holds the
+    modal state z~ at the chunk's first sample and is advanced past its last sample (in place)."""
+    n, L = u.shape[0], BLOCK
+    nb = -(-n // L)
+    X = np.empty((nb, blk.M.shape[1]))
+    _block_inputs(X[:, :3 * L], u, L)
+    S = _block_starts(blk, X[:, :3 * L], carry)
+    nr = blk.n_real
+    X[:, 3 * L:3 * L + nr] = S[:, :nr].real
+    X[:, 3 * L + nr:-1].view(complex)[:] = S[:, nr:]
+    X[:, -1] = 1.0
+    y = (blk.M @ X.T).reshape(-1, L, nb)
+    # the state after the last sample: from the last block's start, r <= L steps
+    last = (nb - 1) * L
+    r = n - last
+    pw = blk.phi[None, :] ** np.arange(r - 1, -1, -1)[:, None]  # (r, m): phi^(r-1-i)
+    carry[:] = blk.phi ** r * S[-1] + np.einsum("im,mk,ik->m", pw, blk.Bd, u[last:])
+    return y
+
+
+def _block_inputs(Xu: np.ndarray, u: np.ndarray, L: int) -> None:
+    """Write the input samples into the block rows (the last block padded with zeros)."""
+    n = u.shape[0]
+    full = n // L
+    Xu[:full] = u[:full * L].reshape(full, 3 * L)
+    if full < Xu.shape[0]:
+        Xu[full] = 0.0
+        Xu[full, :3 * (n - full * L)] = u[full * L:].ravel()
+
+
+def _block_starts(blk: _Blocks, U: np.ndarray, carry: np.ndarray) -> np.ndarray:
+    """The modal states at the blocks' first samples (blocks, m), complex: z_(b+1) = phi^L z_b + (block b's
+    inputs U[b]) @ drive, from z_0 = ``carry``."""
+    e = (U[:-1] @ blk.drive).view(complex)  # (nb - 1, m)
+    return _scan(blk.phi_block, e, carry)
+
+
+def _scan(a: np.ndarray, e: np.ndarray, z0: np.ndarray) -> np.ndarray:
+    """s[0] = z0, s[k + 1] = a s[k] + e[k] for all modes at once: (len(e) + 1, m).
+
+    Two levels of about sqrt(n) steps each, vectorised over the modes and the other level: the recursion
+    within segments of q steps from zero, then the segments' first values, then both added."""
+    n, m = e.shape[0] + 1, a.size
+    q = max(1, int(np.sqrt(n)))
+    c = (n - 1) // q  # whole segments
+    out = np.empty((n, m), dtype=np.result_type(a, e, z0))
+    out[0] = z0
+    if c:
+        E = e[:c * q].reshape(c, q, m)
+        local = np.empty((c, q, m), dtype=out.dtype)  # local[:, j]: after j + 1 steps from zero
+        local[:, 0] = E[:, 0]
+        for j in range(1, q):
+            np.multiply(a, local[:, j - 1], out=local[:, j])
+            local[:, j] += E[:, j]
+        first = np.empty((c, m), dtype=out.dtype)  # the segments' first values s[i q]
+        first[0] = z0
+        aq = a ** q
+        for i in range(c - 1):
+            first[i + 1] = aq * first[i] + local[i, q - 1]
+        seg = out[1:c * q + 1].reshape(c, q, m)  # s[i q + j + 1] = a^(j + 1) s[i q] + local[i, j]
+        np.multiply((a[None, :] ** np.arange(1, q + 1)[:, None])[None], first[:, None, :], out=seg)
+        seg += local
+    for k in range(c * q, n - 1):  # the rest, fewer than q steps
+        out[k + 1] = a * out[k] + e[k]
+    return out
+
+
+def _validity(ss: StateSpace, y: np.ndarray, n: int, t: np.ndarray) -> None:
+    """Raise :class:`LinearRouteError` if a contact lifts off or slides anywhere in the run's ``n`` samples
+    (``y`` as :func:`_block_chunk` returns it)."""
+    nc = len(ss.contacts)
+    if not nc:
+        return
+    first = y.shape[0] - 3 * nc
+    fn, ft1, ft2 = (y[first + k * nc:first + (k + 1) * nc] for k in range(3))  # (contacts, L, blocks)
+    # A quick test over all samples, the last block's padding included: if every one is clearly inside (the
+    # squares, with a margin of 1e-12), the run holds; otherwise the exact test below decides, on the run's
+    # own samples.
+    limit = (1 - 1e-12) * np.array([ss.friction[c] for c in ss.contacts]) ** 2
+    if fn.min() > 0:
+        shear = ft1 * ft1
+        shear += ft2 * ft2
+        press = fn * fn
+        press *= limit[:, None, None]
+        if (shear <= press).all():
+            return
     worst = None  # (scale at which the input still holds, time, contact, what)
-    for c in ss.contacts:
-        i = ss.rows([f"contact.{c}.fn", f"contact.{c}.ft1", f"contact.{c}.ft2"])
-        n0, t10, t20 = ss.y0[i]
-        dn, dt1, dt2 = y[:, i[0]], y[:, i[1]], y[:, i[2]]
-        mu = ss.friction[c]
+    for j, c in enumerate(ss.contacts):
+        n0, t10, t20 = ss.y0[ss.rows([f"contact.{c}.{k}" for k in ("fn", "ft1", "ft2")])]
+        dn, dt1, dt2 = (_in_time_order(f[j])[:n] - base for f, base in ((fn, n0), (ft1, t10), (ft2, t20)))
+        mu_c = ss.friction[c]
         # largest scale s of the dynamic part for which N0 + s dN > 0 and |T0 + s dT| <= mu (N0 + s dN)
         # at every sample: bisection on s (the constraints are convex in s).
         def holds(s: float):
             n = n0 + s * dn
-            bad = (n <= 0) | (np.hypot(t10 + s * dt1, t20 + s * dt2) > mu * n)
+            bad = (n <= 0) | (np.hypot(t10 + s * dt1, t20 + s * dt2) > mu_c * n)
             return not bad.any(), bad
 
         ok, bad = holds(1.0)
@@ -200,14 +419,20 @@ def _validity(ss: StateSpace, y: np.ndarray, t: np.ndarray) -> None:
             "use the nonlinear route (method='nonlinear', --method nonlinear).")
 
 
+def _in_time_order(x: np.ndarray) -> np.ndarray:
+    """(..., L, blocks) -> (..., blocks L): samples in time order (a copy)."""
+    return np.ascontiguousarray(np.swapaxes(x, -1, -2)).reshape(*x.shape[:-2], -1)
+
+
 def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: float | None = None):
     """Run ``motion`` (a translational :class:`ehm.motion.SeatMotion`) through the linear route, chunk by chunk.
 
     Yields one :class:`ehm.simulation.RunResult` per chunk (absolute times, the motion's own time step), like
     :meth:`ehm.SeatedHuman.stream`; raises :class:`LinearRouteError` as soon as a contact would lift off or
-    slide.  ``progress(done_s, total_s)`` is called after every chunk.  ``dt_s`` [s]: run on this step
-    instead, the motion resampled onto it one chunk at a time (:class:`ehm.motion.Resampler`, as the
-    nonlinear route does), so that no resampled copy of the whole motion is made.
+    slide.  ``progress(done_s, total_s)`` is called after every chunk.  The person starts at rest in the
+    settled posture.  ``dt_s`` [s]: run on this step instead, the motion resampled onto it one chunk at a time
+    (:class:`ehm.motion.Resampler`, as the nonlinear route does), so that no resampled copy of the whole motion
+    is made.
     """
     if motion.angvel_radps is not None and np.any(motion.angvel_radps != 0):
         raise InputError("the linear route takes seat translation only; for a motion with seat rotation use the "
@@ -225,13 +450,12 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
         dt = float(dt_s)
         grid = Resampler(motion.time_s, motion.acc_mps2, dt)
     ss = human.linear_model()
-    m = _modal(ss, dt)
-    carry = [np.zeros(m.lam_real.size), np.zeros(m.lam_pair.size, dtype=complex)]
-    settled = engine.settled_point_poses(human.model)
-    R0 = {p: Rotation.from_quat(settled[p][1], scalar_first=True).as_matrix() for p in engine.POINTS}
+    blk = _block_form(ss, float(f"{dt:.12g}"))  # one discretisation per step, not per rounding of it
+    R0 = _settled_orientations(ss, human.model)
     n_total = motion.time_s.size if grid is None else grid.n_samples
     description = motion.description if grid is None else f"{motion.description}, resampled to dt {dt:g} s"
     per_chunk = n_total if not np.isfinite(chunk_s) else max(1, int(round(chunk_s / dt)))
+    carry = None
     for start in range(0, n_total, per_chunk):
         t0 = time.perf_counter()
         stop = min(n_total, start + per_chunk)
@@ -239,9 +463,10 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
             t, u = motion.time_s[start:stop] - motion.time_s[0], motion.acc_mps2[start:stop]
         else:
             t, u = np.arange(start, stop) * dt, grid.block(start, stop)
-        y = _modal_chunk(m, u, carry)
-        _validity(ss, y, t)
-        y += ss.y0
+        if carry is None:
+            carry = _initial_state(blk, u[0])
+        y = _block_chunk(blk, u, carry)
+        _validity(ss, y, len(t), t)
         result = _result(human, ss, y, u, t, dt, R0, description)
         yield replace(result, wall_s=time.perf_counter() - t0)
         del result, y, u  # the next chunk is made without this one held here
@@ -249,23 +474,124 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
             progress(min(t[-1] + dt, motion.duration_s), motion.duration_s)
 
 
-def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, dt: float, R0: dict,
+def _settled_orientations(ss: StateSpace, model: engine.Model) -> dict:
+    """The points' orientation matrices R0 in the settled state (point, 3, 3), kept with the linear model."""
+    if "R0" not in ss.cache:
+        settled = engine.settled_point_poses(model)
+        ss.cache["R0"] = np.stack([Rotation.from_quat(settled[p][1], scalar_first=True).as_matrix()
+                                   for p in engine.POINTS])
+    return ss.cache["R0"]
+
+
+#: Power series in x^2 (coefficients of x^0, x^2, ...) of sin x / x, (1 - cos x) / x^2, arctan x / x and
+#: arcsin x / x, for the small rotations of a linear run.
+_SINC = (1.0, -1 / 6, 1 / 120, -1 / 5040, 1 / 362880, -1 / 39916800, 1 / 6227020800)
+_VERSC = (1 / 2, -1 / 24, 1 / 720, -1 / 40320, 1 / 3628800, -1 / 479001600, 1 / 87178291200)
+_ATAN = (1.0, -1 / 3, 1 / 5, -1 / 7, 1 / 9, -1 / 11, 1 / 13)
+_ASIN = (1.0, 1 / 6, 3 / 40, 5 / 112, 35 / 1152, 63 / 2816, 231 / 13312)
+_SERIES_UP_TO = 0.06  #: |x| up to which the series are used (their terms reach round-off there)
+
+
+def _series(x2: np.ndarray, coeffs: tuple, x2_max: float) -> np.ndarray:
+    """sum_k coeffs[k] x^(2k) by Horner's scheme, with only the terms above 1e-17 of the first at x2_max."""
+    k = len(coeffs)
+    while k > 1 and abs(coeffs[k - 1]) * x2_max ** (k - 1) < 1e-17 * abs(coeffs[0]):
+        k -= 1
+    acc = np.multiply(x2, coeffs[k - 1])
+    for c in coeffs[k - 2:0:-1]:
+        acc += c
+        acc *= x2
+    acc += coeffs[0]
+    return acc
+
+
+def _rodrigues_factors(t2: np.ndarray):
+    """a = sin t / t and b = (1 - cos t) / t^2 of the rotation angle t (t2 = t^2)."""
+    t2_max = float(t2.max())
+    if t2_max <= _SERIES_UP_TO ** 2:
+        return _series(t2, _SINC, t2_max), _series(t2, _VERSC, t2_max)
+    t = np.sqrt(t2)
+    return np.sinc(t / np.pi), 0.5 * np.sinc(t / (2 * np.pi)) ** 2
+
+
+def _atan2(y: np.ndarray, x: np.ndarray, out: np.ndarray) -> None:
+    """out = arctan2(y, x); by the series of arctan(y / x) where x > 0 and |y / x| is small."""
+    if (x > 0).all():
+        z = y / x
+        z2 = z * z
+        z2_max = float(z2.max())
+        if z2_max <= _SERIES_UP_TO ** 2:
+            np.multiply(_series(z2, _ATAN, z2_max), z, out=out)
+            return
+    np.arctan2(y, x, out=out)
+
+
+def _neg_asin(x: np.ndarray, out: np.ndarray) -> None:
+    """out = -arcsin(x); by its series where |x| is small."""
+    x2 = x * x
+    x2_max = float(x2.max())
+    if x2_max <= _SERIES_UP_TO ** 2:
+        np.multiply(_series(x2, _ASIN, x2_max), x, out=out)
+    else:
+        np.arcsin(np.clip(x, -1.0, 1.0), out=out)
+    np.negative(out, out=out)
+
+
+def _orientations(y: np.ndarray, R0: np.ndarray):
+    """The points' rotation (roll, pitch, yaw), angular velocity and gravito-inertial acceleration in their own
+    axes from the rotation vector r (R = R_rel R0, R_rel = exp([r]x)), all points and axes at once: three
+    arrays (point, axis, L, blocks) like ``y[...]`` of :func:`_block_chunk`'s layout."""
+    kind = lambda k: y[9 * k:9 * k + 9].reshape(3, 3, *y.shape[1:])  # noqa: E731  (point, axis, L, blocks)
+    r, w, acc = kind(_ROTVEC), kind(_ANGVEL), kind(_ACC)
+    rot, angvel, gia = (np.empty_like(r) for _ in range(3))
+    r0, r1, r2 = r[:, 0], r[:, 1], r[:, 2]
+    s0, s1, s2 = r0 * r0, r1 * r1, r2 * r2
+    a, b = _rodrigues_factors(s0 + s1 + s2)  # R_rel = I + a [r]x + b [r]x^2,  [r]x^2 = r r^T - |r|^2 I
+    br0, br1 = b * r0, b * r1
+    p01, p02, p12 = br0 * r1, br0 * r2, br1 * r2
+    ar0, ar1, ar2 = a * r0, a * r1, a * r2
+
+    def diagonal(u, v):  # 1 - b (u + v)
+        d = u + v
+        d *= b
+        return np.subtract(1.0, d, out=d)
+
+    R = [[diagonal(s1, s2), p01 - ar2, p02 + ar1],
+         [p01 + ar2, diagonal(s0, s2), p12 - ar0],
+         [p02 - ar1, p12 + ar0, diagonal(s0, s1)]]
+    # intrinsic z-y-x angles: R_rel = Rz(yaw) Ry(pitch) Rx(roll)
+    _atan2(R[2][1], R[2][2], out=rot[:, 0])
+    _neg_asin(R[2][0], out=rot[:, 1])
+    _atan2(R[1][0], R[0][0], out=rot[:, 2])
+
+    def body(v, into):  # R^T v = R0^T R_rel^T v, per point
+        rel = np.empty_like(v)
+        for i in range(3):
+            np.multiply(R[0][i], v[:, 0], out=rel[:, i])
+            rel[:, i] += R[1][i] * v[:, 1]
+            rel[:, i] += R[2][i] * v[:, 2]
+        np.einsum("pki,pk...->pi...", R0, rel, out=into)
+
+    body(w, angvel)
+    body(acc - engine.G0[None, :, None, None], gia)
+    return rot, angvel, gia
+
+
+def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, dt: float, R0: np.ndarray,
             description: str):
-    """Outputs of the linear model -> a RunResult in the nonlinear route's terms."""
+    """Outputs of the linear model (as :func:`_block_chunk` returns them) -> a RunResult in the nonlinear
+    route's terms."""
     from .simulation import POINT_NAMES, PointMotion, RunResult
 
-    points = {}
-    for p in POINT_NAMES:
-        col = lambda names, p=p: y[:, ss.rows([f"{p}.{n}" for n in names])]  # noqa: E731
-        acc, rotvec, w_world = col(("ax", "ay", "az")), col(("roll", "pitch", "yaw")), col(("wx", "wy", "wz"))
-        rel = Rotation.from_rotvec(rotvec)
-        R = np.einsum("nij,jk->nik", rel.as_matrix(), R0[p])  # world orientation R = R_rel R0
-        to_body = lambda v, R=R: np.einsum("nji,nj->ni", R, v)  # noqa: E731  R^T v: into the segment's axes
-        points[p] = PointMotion(name=p, acc_mps2=acc, disp_m=col(("x", "y", "z")),
-                                rot_rad=rel.as_euler("ZYX")[:, ::-1].copy(),
-                                angacc_radps2=col(("roll_acc", "pitch_acc", "yaw_acc")),
-                                angvel_radps=to_body(w_world), gia_mps2=to_body(acc - engine.G0[None, :]))
-    support = {g: y[:, ss.rows([f"support.{g}.f{a}" for a in "xyz"])] for g in engine.SUPPORT_GROUPS}
+    n = len(t)
+    rot, angvel, gia = (_in_time_order(x)[..., :n] for x in _orientations(y, R0))  # (point, axis, sample)
+    kind = lambda k: _in_time_order(y[9 * k:9 * k + 9])[:, :n].reshape(3, 3, n)  # noqa: E731
+    acc, disp, angacc = kind(_ACC), kind(_DISP), kind(_ANGACC)
+    points = {p: PointMotion(name=p, acc_mps2=acc[i].T, disp_m=disp[i].T, rot_rad=rot[i].T,
+                             angacc_radps2=angacc[i].T, angvel_radps=angvel[i].T, gia_mps2=gia[i].T)
+              for i, p in enumerate(POINT_NAMES)}
+    forces = _in_time_order(y[45:45 + 3 * len(engine.SUPPORT_GROUPS)])[:, :n].reshape(-1, 3, n)
+    support = {g: forces[i].T for i, g in enumerate(engine.SUPPORT_GROUPS)}
     return RunResult(time_s=t, seat_acc_mps2=u, points=points, support_N=support, mass_kg=human.mass_kg,
                      dof=human.dof, dt_s=dt, wall_s=0.0, description=f"{description}, linear route",
                      locked=tuple(sorted(human.locked)), params_origin=human.params.origin)
