@@ -68,6 +68,28 @@ int main(int argc, char **argv) {  /* MJB, steps; stdin: the settled qpos, qvel,
 """
 
 
+CONTROL_C = r"""
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec + 1e-9 * t.tv_nsec; }
+static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
+int main(int argc, char **argv) {  /* the same fixed work, n times: sweeps over a 320 kB buffer */
+    long n = atol(argv[1]), i, k, N = 40000;
+    double *buf = calloc(N, sizeof(double)), *lat = malloc(n * sizeof(double)), s = 0;
+    for (i = 0; i < n; i++) {
+        double t0 = now();
+        for (k = 0; k < N; k += 4) { buf[k] += 1e-9 * k; s += buf[k]; }
+        lat[i] = now() - t0;
+    }
+    qsort(lat, n, sizeof(double), cmp);
+    printf("%.3f %.3f %.3f %g\n", 1e6 * lat[n / 2], 1e6 * lat[(long)(0.99 * (n - 1))], 1e6 * lat[n - 1], s);
+    return 0;
+}
+"""
+
+
 def _load() -> str:
     one, five, _ = os.getloadavg()
     return f"load average {one:.2f} (1 min), {five:.2f} (5 min) on {os.cpu_count()} cores"
@@ -95,7 +117,11 @@ def main() -> None:
     ap.add_argument("--python-steps", type=int, default=100_000, help="steps of the Python Simulator (0: skip)")
     ap.add_argument("--repeat", type=int, default=1, help="runs of the native measurement")
     ap.add_argument("--rotating", action="store_true", help="a rotating-seat unit on the SYNTHETIC city drive")
+    ap.add_argument("--cpu", type=int, help="pin the measurements to this CPU (as a real-time host pins its thread)")
     args = ap.parse_args()
+    if args.cpu is not None:  # inherited by the C programs started below
+        os.sched_setaffinity(0, {args.cpu})
+        print(f"pinned to CPU {args.cpu}")
     cc = fmu_native.find_compiler()
     with tempfile.TemporaryDirectory(prefix="ehm_bench_fmu_") as tmp:
         tmp = Path(tmp)
@@ -135,6 +161,14 @@ def main() -> None:
                   f"{worst:.0f} us, mean {mean:.1f} us per step (set inputs, doStep, get {len(fmu_native.OUTPUTS)} "
                   f"outputs); {before}")
 
+        control = tmp / "control"
+        (tmp / "control.c").write_text(CONTROL_C)
+        subprocess.run([*cc, "-O1", str(tmp / "control.c"), "-o", str(control)], check=True)
+        before = _load()
+        c50, c99, cmax = (float(v) for v in subprocess.run([str(control), str(args.steps)], check=True,
+                                                            capture_output=True, text=True).stdout.split()[:3])
+        print(f"machine control (the same fixed memory-touching work each time, C): p50 {c50:.1f} us, p99 {c99:.1f} us "
+              f"({c99 / c50:.2f} x p50), max {cmax:.0f} us; {before}")
         if args.rotating:  # MuJoCo alone and the Python Simulator run a static seat only
             print(f"after: {_load()}")
             return
