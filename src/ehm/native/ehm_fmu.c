@@ -80,7 +80,7 @@ typedef struct {
 typedef struct {
     mjtNum pos[EHM_MAX_POINTS][3], quat[EHM_MAX_POINTS][4], linvel[EHM_MAX_POINTS][3], angvel[EHM_MAX_POINTS][3];
     mjtNum support[EHM_MAX_GROUPS][3];
-    mjtNum R[9], seat_q[4];             /* the seat's attitude at the sample (identity for a static seat) */
+    mjtNum seat_q[4];                   /* the seat's attitude at the sample, seat -> world (unit for a static seat) */
 } Sample;
 
 typedef struct {
@@ -108,10 +108,11 @@ typedef struct {
     int outputs_valid;
     char failed[EHM_MSG];               /* why the model cannot go on (divergence, MuJoCo error); "" if it can */
     int nstate;                         /* mj_stateSize(mjSTATE_INTEGRATION) */
-    mjtNum *scratch;                    /* a state buffer for the initial outputs */
+    mjtNum *scratch;                    /* a state buffer for the initial outputs ... */
+    Seat scratch_seat;                  /* ... with the seat's kinematic state */
     int pos_ready;                      /* 1: the position stage of the current state is done (evaluate_velocities) */
     Seat seat;
-    mjtNum R[9], seat_q[4];             /* seat attitude of the step being taken (identity for a static seat) */
+    mjtNum seat_q[4];                   /* seat attitude at the start of the step being taken */
 } Ehm;
 
 typedef struct {
@@ -548,11 +549,11 @@ static void seat_drive(Ehm *e, const double w[3]) {
 static void model_step(Ehm *e, const double a[3], const double w[3]) {
     mjtNum *g = e->m->opt.gravity;
     const mjModel *m = e->m;
-    mjtNum aw[3];
+    mjtNum R[9], aw[3];
     mju_copy4(e->seat_q, e->seat.q);
-    mju_quat2Mat(e->R, e->seat.q);
+    mju_quat2Mat(R, e->seat.q);
     if (e->seat.on) seat_drive(e, w);
-    mju_mulMatVec3(aw, e->R, a);  /* the seat acceleration in world axes */
+    mju_mulMatVec3(aw, R, a);  /* the seat acceleration in world axes */
     g[0] = G0[0] - aw[0];
     g[1] = G0[1] - aw[1];
     g[2] = G0[2] - aw[2];
@@ -605,7 +606,6 @@ static void take_sample(Ehm *e, Sample *s) {
         mju_copy3(s->linvel[p], sd + pt->linvel);
         mju_copy3(s->angvel[p], sd + pt->angvel);
     }
-    mju_copy(s->R, e->R, 9);
     mju_copy4(s->seat_q, e->seat_q);
     for (g = 0; g < e->ngroups; g++) { /* force of the surfaces on the body: their contact sensors */
         for (j = 0; j < 3; j++) s->support[g][j] = 0.0;
@@ -636,7 +636,8 @@ static void evaluate_velocities(Ehm *e) {
  * then the force of each support group on the body R^T f{x,y,z}_N, then output_time_s. */
 static void compute_outputs(Ehm *e, const Sample *s, const mjtNum *end, const double a[3], double t, double *y) {
     int p, g, j, k = 0;
-    mjtNum seat_inv[4], v[3], r[3];
+    mjtNum R[9], seat_inv[4], v[3], r[3];
+    mju_quat2Mat(R, s->seat_q);
     mju_negQuat(seat_inv, s->seat_q);
     for (p = 0; p < e->npoints; p++) {
         const Point *pt = &e->point[p];
@@ -644,9 +645,9 @@ static void compute_outputs(Ehm *e, const Sample *s, const mjtNum *end, const do
         mjtNum rel[4], tmp[4], qinv[4], wb[3];
         mjtNum w, x, yy, z;
         /* absolute acceleration over the step in world axes (a: seat axes), then into seat axes */
-        mju_mulMatVec3(r, s->R, a);
+        mju_mulMatVec3(r, R, a);
         for (j = 0; j < 3; j++) v[j] = (end[pt->linvel + j] - s->linvel[p][j]) / e->dt + r[j];
-        mju_mulMatTVec3(r, s->R, v);
+        mju_mulMatTVec3(r, R, v);
         for (j = 0; j < 3; j++) y[k++] = r[j];
         mju_mulQuat(tmp, seat_inv, q);  /* orientation relative to the seat, then to the settled posture */
         mju_mulQuat(rel, tmp, pt->quat0_inv);
@@ -656,18 +657,18 @@ static void compute_outputs(Ehm *e, const Sample *s, const mjtNum *end, const do
         y[k++] = asin(fmax(-1.0, fmin(1.0, 2 * (w * yy - z * x))));
         y[k++] = atan2(2 * (w * z + x * yy), 1 - 2 * (yy * yy + z * z));
         for (j = 0; j < 3; j++) v[j] = s->pos[p][j] - e->seat.pivot[j];  /* seat axes, about the pivot */
-        mju_mulMatTVec3(r, s->R, v);
+        mju_mulMatTVec3(r, R, v);
         for (j = 0; j < 3; j++) y[k++] = r[j] - (pt->pos0[j] - e->seat.pivot[j]);
         mju_negQuat(qinv, q);
         mju_normalize4(qinv);
         mju_rotVecQuat(wb, s->angvel[p], qinv);
         for (j = 0; j < 3; j++) y[k++] = wb[j];
         for (j = 0; j < 3; j++) v[j] = (end[pt->angvel + j] - s->angvel[p][j]) / e->dt;
-        mju_mulMatTVec3(r, s->R, v);
+        mju_mulMatTVec3(r, R, v);
         for (j = 0; j < 3; j++) y[k++] = r[j];
     }
     for (g = 0; g < e->ngroups; g++) {
-        mju_mulMatTVec3(r, s->R, s->support[g]);
+        mju_mulMatTVec3(r, R, s->support[g]);
         for (j = 0; j < 3; j++) y[k++] = r[j];
     }
     y[k] = t;
@@ -702,8 +703,10 @@ static int initial_work(Ehm *e, void *arg) {
     StepArgs *s = arg;
     int rc;
     mj_getState(e->m, e->d, e->scratch, mjSTATE_INTEGRATION);
+    e->scratch_seat = e->seat;
     rc = steps_work(e, s);
     mj_setState(e->m, e->d, e->scratch, mjSTATE_INTEGRATION);
+    e->seat = e->scratch_seat;
     e->pos_ready = 0;
     return rc;
 }
@@ -742,7 +745,6 @@ static int check_inputs(Ehm *e, char *msg, size_t size) {
 static fmi2Status run_steps(Ehm *e, long long n, int initial) {
     StepArgs s;
     double a[3] = {e->u[0], e->u[1], e->u[2]}, w[3] = {e->u[3], e->u[4], e->u[5]};
-    Seat seat = e->seat;  /* the seat's kinematic state, for the initial outputs (taken back afterwards) */
     int rc;
     s.n = n;
     s.done = 0;
@@ -750,7 +752,6 @@ static fmi2Status run_steps(Ehm *e, long long n, int initial) {
     s.w = w;
     s.why = NULL;
     rc = guarded(e, initial ? initial_work : steps_work, &s);
-    if (initial) e->seat = seat;
     if (rc == 0) {
         e->outputs_valid = 1;
         return fmi2OK;
@@ -758,10 +759,10 @@ static fmi2Status run_steps(Ehm *e, long long n, int initial) {
     if (s.why) snprintf(e->failed, sizeof e->failed, "the simulation diverged at t = %.4f s (%s): the seat input may be "
                         "more than a seated, unbelted person withstands, or try a smaller time step than dt = %g s",
                         e->t0 + (e->steps + s.done) * e->dt, s.why, e->dt);
-    if (initial) {
+    if (initial) {  /* a MuJoCo error may have left initial_work before it took its state back */
         mj_setState(e->m, e->d, e->scratch, mjSTATE_INTEGRATION);
         e->pos_ready = 0;
-        e->seat = seat;
+        e->seat = e->scratch_seat;
     }
     LOG_ERROR(e, "%s; reset the unit (fmi2Reset) or instantiate it again.", e->failed);
     return fmi2Error;
