@@ -37,7 +37,7 @@ TOLERANCE = 0.02
 #: is interpolated, beyond them extrapolated in proportion to the step (first-order integrator).
 DEFAULT_STEP_ERRORS = {0.0005: 0.015, 0.001: 0.049, 0.002: 0.18}
 #: The largest step at which the default person is converged [s].
-CONVERGED_STEP_S = 0.0005
+CONVERGED_STEP_S = 0.001
 #: Paths whose peak gain is below this share of the largest path of the same kind are left out.
 SMALL_PATH = 0.05
 _FREQ_HZ = np.arange(0.2, 12.0 + 1e-9, 0.05)

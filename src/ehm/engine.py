@@ -13,13 +13,19 @@ the tests):
 * Every degree of freedom has a linear spring and damper (MuJoCo joint stiffness and damping: the P and
   D of the paper's PID posture control).  The I part is MuJoCo's PID actuator with zero P and D gains
   (ki = k / Ti) on the open-chain joints named in ``posture.integral_joints``.
-* Contacts are explicit ellipsoid-plane pairs with a linear spring and damper on penetration (direct
-  solref scaled by the pair's inverse weight, tiny constant impedance), elliptic friction cones and
-  the NoSlip solver; seat and backrest ellipsoids ride on soft-tissue pads (two tangential slide
-  springs) so that friction neither creeps nor locks.  The pads' slide joints carry an armature
-  (``simulation.pad_armature_kg``): the NoSlip solver makes a pad stick for the mass matrix M, while the
-  implicit integrator advances with M + h D; with a 0.3 kg pad alone a 600 N s/m shear damper gives
-  h D / M of 1 to 2, and the "stuck" pad moved (14 % error on seat-to-pelvis paths at 1 ms).
+* Damping is integrated by the trapezoidal rule, so that the step's error is of second order in it: half
+  of each joint's damping is MuJoCo joint damping, which the Euler integrator treats implicitly (the
+  velocity at the step's end), and half an actuator whose bias force is -c/2 times the joint velocity,
+  which it treats explicitly (the velocity at the step's start) (:func:`_split_damping`).
+* Contacts are explicit ellipsoid-plane pairs with a linear spring K and damper B on penetration,
+  elliptic friction cones and the NoSlip solver; seat and backrest ellipsoids ride on soft-tissue pads
+  (two tangential slide springs) so that friction neither creeps nor locks.  The contact force is the
+  trapezoidal one, f = -K r - B (v + v') / 2 with v' the velocity at the step's end, which MuJoCo's soft
+  constraint gives exactly with regulariser R = 2 / (B h) and reference acceleration -(2 K / (B h)) r -
+  (2 / h) v (:func:`contact_solver_params`); as h goes to 0 it is the spring and damper.  The pads' slide
+  joints carry an armature (``simulation.pad_armature_kg``): the NoSlip solver makes a pad stick for the
+  mass matrix M, while the integrator advances with M + h D; the armature keeps h D small against the
+  pad's inertia so that a stuck pad stays put.
 * Point accelerations are taken from the integrated motion (velocity change over the step plus the seat
   acceleration, :func:`point_accelerations`), not from MuJoCo's acceleration sensors, which report the
   explicit acceleration of the step's start.
@@ -142,6 +148,8 @@ class Model:
     segment_bodies: dict
     seat: dict | None = None  #: Rotating seat: body id, dof, qpos and ctrl addresses (None: static seat).
     pelvis_qpos: int = 0  #: Address of the pelvis free joint in qpos.
+    contact_law: dict = field(default_factory=dict)  #: Pair name -> (K [N/m], B [N s/m]) of its normal spring and damper.
+    contact_impedance: float = 0.001  #: Impedance of contacts without damping (``simulation.contact_impedance``).
     settled: dict | None = field(default=None, repr=False)
 
     @property
@@ -356,7 +364,9 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     opt = spec.option
     opt.timestep = float(sim["dt_s"])
     opt.gravity = G0
-    opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    # Euler with implicit joint damping: with half the damping explicit (_split_damping) the damping is
+    # trapezoidal.  (implicitfast would also take the explicit half's actuators implicitly.)
+    opt.integrator = mujoco.mjtIntegrator.mjINT_EULER
     opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
     # Projected Gauss-Seidel: the NoSlip pass needs the constraint-space matrix that PGS works on anyway, so
     # PGS + NoSlip costs about 30 % less per step than Newton + NoSlip, with the same transfer functions
@@ -478,6 +488,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     for jn, ki in actuated:
         a = spec.add_actuator(name=f"integral_{jn}", target=jn, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         a.set_to_pid(kp=0.0, kv=0.0, ki=ki)
+    _split_damping(spec)
     for point in POINTS:
         for kind in SENSOR_KINDS:
             spec.add_sensor(name=f"{point}_{kind}", type=getattr(mujoco.mjtSensor, f"mjSENS_{kind.upper()}"),
@@ -492,18 +503,9 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     except ValueError as exc:
         raise _build_error(exc) from None
 
-    # Linear contact spring K and damper B on penetration (feasibility notes): with constant impedance d,
-    # solref = (-K (1-d) A, -B (1-d) A), A = the pair's inverse weight in the normal direction.
-    for c in body.contacts:
-        i = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_PAIR, c.name)
-        g1, g2 = mj.pair_geom1[i], mj.pair_geom2[i]
-        a0 = mj.body_invweight0[mj.geom_bodyid[g1], 0] + mj.body_invweight0[mj.geom_bodyid[g2], 0]
-        k = float(params.value(f"contacts.{c.name}.stiffness_N_per_m"))
-        bdamp = float(params.value(f"contacts.{c.name}.damping_Ns_per_m"))
-        mj.pair_solref[i] = [-k * (1 - d_imp) * a0, -bdamp * (1 - d_imp) * a0]
-        # Friction rows: a tiny damping rate (d / dt, feasibility notes) keeps the soft friction from
-        # chattering at the Nyquist frequency; the NoSlip solver then enforces sticking.
-        mj.pair_solreffriction[i] = [0.0, -d_imp / mj.opt.timestep]
+    contact_law = {c.name: (float(params.value(f"contacts.{c.name}.stiffness_N_per_m")),
+                            float(params.value(f"contacts.{c.name}.damping_Ns_per_m"))) for c in body.contacts}
+    contact_solver_params(mj, contact_law, d_imp, mj.opt.timestep)
 
     if rotating_seat:
         spec_body = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, "seat_frame")
@@ -519,7 +521,49 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
                for s, names in segment_bodies.items()}
     return Model(mj=mj, body=body, params=params, locked=locked, dof_names=dof_names,
                  point_sites=point_sites, surface_bodies=surface_bodies, segment_bodies=seg_ids, seat=seat_info,
-                 pelvis_qpos=int(mj.jnt_qposadr[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_JOINT, "pelvis")]))
+                 pelvis_qpos=int(mj.jnt_qposadr[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_JOINT, "pelvis")]),
+                 contact_law=contact_law, contact_impedance=d_imp)
+
+
+def _split_damping(spec: mujoco.MjSpec) -> None:
+    """Make every joint's damping trapezoidal: half stays joint damping (implicit under the Euler integrator),
+    half becomes an actuator ``damper_<joint>`` with bias force -c/2 times the joint velocity (explicit)."""
+    for j in list(spec.joints):
+        c = float(j.damping[0])
+        if c <= 0:
+            continue
+        j.damping[0] = c / 2
+        a = spec.add_actuator(name=f"damper_{j.name}", target=j.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        a.gainprm[0] = 0.0
+        a.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+        a.biasprm[0], a.biasprm[1], a.biasprm[2] = 0.0, 0.0, -c / 2
+
+
+def contact_solver_params(mj: mujoco.MjModel, law: dict, d_imp: float, h: float) -> None:
+    """Set each contact pair's solver parameters for its spring K [N/m] and damper B [N s/m] at step ``h`` [s].
+
+    MuJoCo's soft constraint gives the normal force f = (a_ref - a_0) / (A + R), with A the contact's
+    inverse inertia, a_0 its acceleration without the contact, R = (1 - d) / d * A_0 (A_0: the pair's
+    inverse weight, ``body_invweight0``; d the impedance) and a_ref = -b v - k d r (b = -solref[1] / d,
+    k = -solref[0] / d^2).  The trapezoidal contact f = -K r - B (v + v') / 2, v' = v + h (a_0 + A f),
+    is f = (-K r - B v - (B h / 2) a_0) / (1 + B h A / 2): that is R = 2 / (B h) and
+    a_ref = -(2 K / (B h)) r - (2 / h) v, so d = A_0 B h / (A_0 B h + 2), solref = (-2 K d / (B h), -2 d / h).
+    A pair without damping keeps the explicit spring: tiny impedance ``d_imp``, solref = (-K (1-d) A_0, 0).
+    Friction rows keep the damping rate 1 / h (solreffriction (0, -d / h)), which stops the soft friction
+    from chattering at the Nyquist frequency; the NoSlip solver then enforces sticking.
+    """
+    for name, (k, b) in law.items():
+        i = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_PAIR, name)
+        g1, g2 = mj.pair_geom1[i], mj.pair_geom2[i]
+        a0 = mj.body_invweight0[mj.geom_bodyid[g1], 0] + mj.body_invweight0[mj.geom_bodyid[g2], 0]
+        if b > 0:
+            d = a0 * b * h / (a0 * b * h + 2.0)
+            mj.pair_solref[i] = [-2.0 * k * d / (b * h), -2.0 * d / h]
+        else:
+            d = d_imp
+            mj.pair_solref[i] = [-k * (1 - d) * a0, 0.0]
+        mj.pair_solimp[i][:2] = d
+        mj.pair_solreffriction[i] = [0.0, -d / h]
 
 
 _DIVERGED_M = 0.5  #: A point further than this from its settled position means the run has diverged [m].
@@ -1028,6 +1072,18 @@ def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None) -> L
         x_next[2 * nv:] = d.act - s["act"]
         return x_next, y
 
+    if h != own_step:  # the contacts' trapezoidal law is written for the step taken
+        contact_solver_params(mj, model.contact_law, model.contact_impedance, h)
+    try:
+        A, B, Cs, Ds, y0 = _differentiate(evaluate, nx, eps)
+    finally:
+        if h != own_step:
+            contact_solver_params(mj, model.contact_law, model.contact_impedance, own_step)
+    return _with_accelerations(A, B, Cs, Ds, y0, h, contacts)
+
+
+def _differentiate(evaluate, nx: int, eps: float):
+    """Central differences of one step: state and output matrices (A, B, C, D) and the outputs y0."""
     _, y0 = evaluate(np.zeros(nx), np.zeros(3))
     ny = y0.size
     A, Cs = np.empty((nx, nx)), np.empty((ny, nx))
@@ -1046,7 +1102,7 @@ def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None) -> L
         xm, ym = evaluate(np.zeros(nx), -e)
         B[:, k] = (xp - xm) / (2 * e[k])
         Ds[:, k] = (yp - ym) / (2 * e[k])
-    return _with_accelerations(A, B, Cs, Ds, y0, h, contacts)
+    return A, B, Cs, Ds, y0
 
 
 def _with_accelerations(A, B, Cs, Ds, y0, dt, contacts):
