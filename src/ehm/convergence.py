@@ -10,8 +10,7 @@ the largest gain difference over the band as a share of the finer model's peak g
 
 Paths count unless they are symmetric zeros or below 5 % of the largest path of the same kind
 (translation or rotation) for that input axis.  The default person is converged (every path within 2 %)
-at its default step of 0.5 ms; MuJoCo's implicit integrator is first order, so the error grows in
-proportion to the step (:data:`DEFAULT_STEP_ERRORS`).
+at its default step of 1 ms, the paper's step (:data:`DEFAULT_STEP_ERRORS`).
 
 >>> from ehm.convergence import check_step
 >>> check = check_step()                     # the default person at its default step
@@ -33,9 +32,10 @@ from .params import Parameters
 #: converged.
 TOLERANCE = 0.02
 #: ``ehm check-step`` on the default person, worst path against step / 8, by step [s] (measured with
-#: ehm 0.1 on this formulation; README "Time step and accuracy").  Between the steps listed the error
-#: is interpolated, beyond them extrapolated in proportion to the step (first-order integrator).
-DEFAULT_STEP_ERRORS = {0.0005: 0.015, 0.001: 0.049, 0.002: 0.18}
+#: ehm 0.1 on this formulation: trapezoidal contacts and trunk/neck damping, Euler; README "Time step and
+#: accuracy").  Between the steps listed the error is interpolated, beyond them extrapolated in proportion
+#: to the step.
+DEFAULT_STEP_ERRORS = {0.0005: 0.0065, 0.001: 0.0162, 0.0015: 0.045, 0.002: 0.090, 0.004: 0.43}
 #: The largest step at which the default person is converged [s].
 CONVERGED_STEP_S = 0.001
 #: Paths whose peak gain is below this share of the largest path of the same kind are left out.
