@@ -39,11 +39,11 @@ def _load_error(tmp_path, text: str) -> str:
 def test_unedited_copy_loads(tmp_path):
     # Control: a byte-for-byte copy loads, so every failure below is due to its one edit.
     p = Parameters.load(_write(tmp_path, DEFAULT_TEXT))
-    assert p.value("simulation.dt_s") == 0.0005  # the converged step (README "Time step and accuracy")
+    assert p.value("simulation.dt_s") == 0.001  # the converged step (README "Time step and accuracy")
 
 
 @pytest.mark.parametrize("old, new, words", [
-    pytest.param('dt_s = { value = 0.0005, grade = "assumed"', 'dt_s = { value = 0.0005, grade = "guessed"',
+    pytest.param('dt_s = { value = 0.001, grade = "assumed"', 'dt_s = { value = 0.001, grade = "guessed"',
                  ("simulation.dt_s", "'guessed'", "grade"), id="bad grade"),
     pytest.param("[simulation]\n", '[simulation]\ndt_ms = { value = 1.0, grade = "assumed", source = "assumed" }\n',
                  ("'dt_ms'", "[simulation]", "unknown key"), id="unknown key"),
@@ -55,8 +55,8 @@ def test_unedited_copy_loads(tmp_path):
                  ("contacts.buttock_r.stiffness_N_per_m", "-60000.0", "positive"), id="negative contact stiffness"),
     pytest.param("roll = { stiffness_Nm_per_rad = 40.0,", "roll = { stiffness_Nm_per_rad = -90.0,",
                  ("joints.upper_neck.roll.stiffness_Nm_per_rad", "-90.0", "negative"), id="negative joint stiffness"),
-    pytest.param('dt_s = { value = 0.0005, grade = "assumed", source = "convergence" }',
-                 'dt_s = { value = 0.0005, grade = "assumed", source = "nowhere" }',
+    pytest.param('dt_s = { value = 0.001, grade = "assumed", source = "convergence" }',
+                 'dt_s = { value = 0.001, grade = "assumed", source = "nowhere" }',
                  ("simulation.dt_s", "'nowhere'", "[sources]"), id="unknown source"),
     pytest.param('settle_s = { value = 10.0, grade = "assumed", source = "assumed" }',
                  'settle_s = { value = 10.0, grade = "assumed", source = "assumed"', ("TOML",), id="invalid TOML"),

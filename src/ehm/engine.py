@@ -20,13 +20,14 @@ the tests):
   joints' damping is implicit.
 * Contacts are explicit ellipsoid-plane pairs with a linear spring K and damper B on penetration,
   elliptic friction cones and the NoSlip solver; seat and backrest ellipsoids ride on soft-tissue pads
-  (two tangential slide springs) so that friction neither creeps nor locks.  The contact force is the
-  trapezoidal one on the tissue pads, f = -K r - B (v + v') / 2 with v' the velocity at the step's end, which MuJoCo's soft
-  constraint gives exactly with regulariser R = 2 / (B h) and reference acceleration -(2 K / (B h)) r -
-  (2 / h) v (:func:`contact_solver_params`); as h goes to 0 it is the spring and damper.  The pads' slide
-  joints carry an armature (``simulation.pad_armature_kg``): the NoSlip solver makes a pad stick for the
-  mass matrix M, while the integrator advances with M + h D; the armature keeps h D small against the
-  pad's inertia so that a stuck pad stays put.
+  (two tangential slide springs) so that friction neither creeps nor locks.  On the tissue pads the
+  contact force is the trapezoidal one, f = -K r - B (v + v') / 2 with v' the velocity at the step's
+  end, which MuJoCo's soft constraint gives exactly with regulariser R = 2 / (B h) and reference
+  acceleration -(2 K / (B h)) r - (2 / h) v (:func:`contact_solver_params`); as h goes to 0 it is the
+  spring and damper.  The feet keep the explicit f = -K r - B v.  The pads' slide joints carry an
+  armature (``simulation.pad_armature_kg``): the NoSlip solver makes a pad stick for the mass matrix M,
+  while the integrator advances with M + h D; the armature keeps h D small against the pad's inertia so
+  that a stuck pad stays put.
 * Point accelerations are taken from the integrated motion (velocity change over the step plus the seat
   acceleration, :func:`point_accelerations`), not from MuJoCo's acceleration sensors, which report the
   explicit acceleration of the step's start.
