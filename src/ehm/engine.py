@@ -376,6 +376,9 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     opt.solver = mujoco.mjtSolver.mjSOL_PGS
     opt.iterations = int(sim["solver_iterations"])
     opt.noslip_iterations = int(sim["noslip_iterations"])
+    # No island discovery: the body and its contacts form one island, and PGS solves all rows at once anyway.
+    # The same numbers to the bit, 3 us a step less (36 -> 33 us at 1 ms).
+    opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_ISLAND)
 
     # Seat surfaces: static bodies, one per surface, so their contact forces can be read by body.
     plane_size = {"seat_pan": [0.25, 0.25, 0.05], "floor": [0.5, 0.4, 0.1],
@@ -593,7 +596,7 @@ def contact_solver_params(mj: mujoco.MjModel, law: dict, d_imp: float, h: float)
 
 
 _DIVERGED_M = 0.5  #: A point further than this from its settled position means the run has diverged [m].
-CHECK_EVERY = 50  #: Steps between divergence checks.
+CHECK_EVERY = 100  #: Steps between divergence checks (0.1 s at the default step).
 
 
 def _instability(model: Model, d: mujoco.MjData) -> str | None:
@@ -905,6 +908,15 @@ def drawing_geometry(model: Model) -> dict:
     }
 
 
+def _run_of(array: np.ndarray, idx) -> np.ndarray:
+    """The view ``array[idx]`` for indices that are one contiguous run (written once per step, a slice is
+    several times cheaper than fancy indexing); the seat's dofs and controls are built first, so they are."""
+    idx = np.asarray(idx, dtype=int)
+    if not np.array_equal(idx, np.arange(idx[0], idx[0] + idx.size)):
+        raise RuntimeError(f"indices {idx.tolist()} are not one contiguous run")
+    return array[idx[0]:idx[0] + idx.size]
+
+
 def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
         seat_rotation: tuple | None = None, pose_every: int | None = None) -> RawRun:
     """Run the settled model with a seat acceleration history, one row per time step.
@@ -939,33 +951,44 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
         ctrl[:, 0::2], ctrl[:, 1::2] = q_des, qd_des
         ctrl_idx = np.column_stack([ctrl_adr, ctrl_adr + 1]).ravel()
         ff = _SEAT_INERTIA * qdd_des  # feed-forward torque of the heavy seat
-        dof_idx = np.array(model.seat["dofs"])
+        c_view, f_view = _run_of(d.ctrl, ctrl_idx), _run_of(d.qfrc_applied, model.seat["dofs"])
     if pose_every:
         pose_ids = np.array([model.segment_bodies[s.name][0] for s in model.body.segments]
                             + ([model.seat["body"]] if model.seat else []))
         pose_steps = np.arange(0, n, int(pose_every))
         pose_pos = np.empty((pose_steps.size, pose_ids.size, 3))
         pose_quat = np.empty((pose_steps.size, pose_ids.size, 4))
-    # Hot loop: views bound once, no allocation per step.
+    # Hot loop: views bound once, no allocation per step, the divergence check once per block of steps.
     g_view, s_view, step = mj.opt.gravity, d.sensordata, mujoco.mj_step
+    rotating = seat_rotation is not None
     try:
-        for i in range(n):
-            g_view[:] = gravity[i]
-            if seat_rotation is not None:
-                d.ctrl[ctrl_idx] = ctrl[i]
-                d.qfrc_applied[dof_idx] = ff[i]
-            step(mj, d)
-            sens[i] = s_view
-            if pose_every and i % pose_every == 0:  # kinematics of the step's start state, as the sensors
-                k = i // pose_every
-                pose_pos[k], pose_quat[k] = d.xpos[pose_ids], d.xquat[pose_ids]
-            if i % CHECK_EVERY == 0:
-                why = _instability(model, d)
-                if why:
-                    raise _diverged(model, d.time, why)  # d.time: 0 in the settled state, across chunks
-        why = _instability(model, d)
-        if why:
-            raise _diverged(model, d.time, why)
+        for start in range(0, n, CHECK_EVERY):
+            stop = min(n, start + CHECK_EVERY)
+            if pose_every:
+                for i in range(start, stop):
+                    g_view[:] = gravity[i]
+                    if rotating:
+                        c_view[:], f_view[:] = ctrl[i], ff[i]
+                    step(mj, d)
+                    sens[i] = s_view
+                    if i % pose_every == 0:  # kinematics of the step's start state, as the sensors
+                        k = i // pose_every
+                        pose_pos[k], pose_quat[k] = d.xpos[pose_ids], d.xquat[pose_ids]
+            elif rotating:
+                for i in range(start, stop):
+                    g_view[:] = gravity[i]
+                    c_view[:] = ctrl[i]
+                    f_view[:] = ff[i]
+                    step(mj, d)
+                    sens[i] = s_view
+            else:
+                for i in range(start, stop):
+                    g_view[:] = gravity[i]
+                    step(mj, d)
+                    sens[i] = s_view
+            why = _instability(model, d)
+            if why:
+                raise _diverged(model, d.time, why)  # d.time: 0 in the settled state, across chunks
     finally:
         mj.opt.gravity[:] = G0
     slices = sensor_slices(model)
