@@ -46,7 +46,7 @@ def main() -> None:
           f"states, {len(ss.output_names)} outputs, built in {built:.2f} s after settling (linearised at "
           f"{ss.linearised_at_step_s * 1e6:.1f} us); time runs use {n_states} states ({modes.unreached} not "
           f"reached by the input left out, {len(modes.static_hz)} above {linear.STATIC_ABOVE_HZ:g} Hz static)")
-    for dt in (0.001, float(human.params.value("simulation.dt_s"))):
+    for dt in sorted({0.001, float(human.params.value("simulation.dt_s"))}):  # 1 ms samples and the model's step
         motion = ehm.random_vibration("xyz", args.duration, 0.3, seed=0, dt_s=dt)
         t0 = time.perf_counter()
         linear._block_form(ss, dt)  # what the first run at this step computes once
