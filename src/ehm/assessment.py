@@ -218,7 +218,8 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
         The person (default: the default person, with a rotating seat when the drive rotates).
     chunk_s : float
         Length of the pieces the drive is simulated and evaluated in [s]: the working memory is about 5 MB per
-        second of chunk at the default 0.5 ms step (measured), whatever the drive's length.
+        second of chunk at a 0.5 ms step (measured; in proportion to the steps per second, so about half at
+        the default 1 ms), whatever the drive's length.
     progress : callable(done_s, total_s), optional
     method : str
         ``nonlinear`` (default: MuJoCo) or ``linear`` (the linearised person, :mod:`ehm.linear`; translation

@@ -81,7 +81,7 @@ def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"),
                    help="band of the random input [Hz] (default 0.1 12)")
-    p.add_argument("--dt", type=float, help="time step [s] (default from the parameter file: 0.0005)")
+    p.add_argument("--dt", type=float, help="time step [s] (default from the parameter file: 0.001)")
 
 
 def cmd_info(args) -> int:
@@ -741,7 +741,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("check-step", help="transfer functions at a time step against the same model at finer steps")
     _model_options(p)
-    p.add_argument("--dt", type=float, help="time step to check [s] (default from the parameter file: 0.0005)")
+    p.add_argument("--dt", type=float, help="time step to check [s] (default from the parameter file: 0.001)")
     p.add_argument("--ratio", type=int, nargs="+", default=[8, 4], help="finer steps as divisors (default: 8 4)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_check_step)

@@ -153,7 +153,7 @@ def check_step(params: Parameters | str | None = None, dt_s: float | None = None
     freq_hz : array, optional
         Frequencies [Hz] (default 0.2 to 12 Hz in 0.05 Hz steps).
 
-    Costs a settling run at each step (10 s of simulated time; about 3 s at step / 8 of 0.5 ms).
+    Costs a settling run at each step (10 s of simulated time; the whole check about 3 s at the default 1 ms).
     """
     from .simulation import SeatedHuman
 

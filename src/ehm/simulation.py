@@ -200,7 +200,7 @@ class SeatedHuman:
     size : ehm.scaling.BodySize, optional
         Scale the person (and the seat's fit) to a stature, mass and sitting height.
     dt_s : float, optional
-        Time step [s] (default: the parameter file's, 0.5 ms for the shipped defaults).  A step coarser
+        Time step [s] (default: the parameter file's, 1 ms for the shipped defaults).  A step coarser
         than the one at which the model is converged gives a :class:`ehm.convergence.StepWarning` with the
         error to expect; ``ehm check-step`` measures it.
     """
