@@ -197,6 +197,34 @@ def test_every_contact_spring_has_its_configured_stiffness(human, contact):
     assert ratio == pytest.approx(stiffness, rel=0.02), f"{contact}: {ratio:.0f} N/m, configured {stiffness:.0f} N/m"
 
 
+@pytest.mark.parametrize("contact", ["buttock_r", "thigh_l", "lower_back", "upper_back", "foot_r"])
+def test_contact_rows_carry_the_intended_law(human, contact):
+    # engine.contact_solver_params, checked on MuJoCo's own constraint rows against the hand formulas
+    # (README "Time step and accuracy"): on a tissue-pad contact the normal row has R = 2 / (B h) and
+    # a_ref = -(2 K / (B h)) r - (2 / h) v (the trapezoidal contact force), its friction rows R = 2 / (B *
+    # FRICTION_SOFTNESS) whatever the step; a foot keeps the explicit law (R = (1 - d) / d * A0, tiny d).
+    mj = human.model.mj
+    d = engine.settled_data(human.model)
+    d.qvel[:] += 0.01 * np.sin(np.arange(mj.nv))  # a moving state, so that the damping term counts
+    mujoco.mj_forward(mj, d)
+    k, b, pad = human.model.contact_law[contact]
+    h = mj.opt.timestep
+    rows = [i for i in range(d.ncon) if engine._contact_name(human.model, d.contact[i]) == contact]
+    assert len(rows) == 1
+    r = d.contact[rows[0]].efc_address
+    assert pad == (contact != "foot_r")
+    if pad:
+        assert d.efc_R[r] == pytest.approx(2 / (b * h), rel=1e-9)
+        assert d.efc_aref[r] == pytest.approx(-(2 * k / (b * h)) * d.efc_pos[r] - (2 / h) * d.efc_vel[r], rel=1e-9)
+        assert d.efc_R[r + 1] == pytest.approx(2 / (b * engine.FRICTION_SOFTNESS), rel=1e-9)
+    else:
+        i = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_PAIR, contact)
+        a0 = sum(mj.body_invweight0[mj.geom_bodyid[g], 0] for g in (mj.pair_geom1[i], mj.pair_geom2[i]))
+        imp = human.model.contact_impedance
+        assert d.efc_R[r] == pytest.approx((1 - imp) / imp * a0, rel=1e-9)
+    assert abs(d.efc_vel[r]) > 1e-4  # the state moves along the normal
+
+
 # ----------------------------------------------------------------------------- determinism
 
 
