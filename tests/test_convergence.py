@@ -99,7 +99,7 @@ def test_check_step_cli_bad_step(capsys):
 def test_a_person_without_input_comes_to_rest():
     # Stuck contacts must not creep: with too few NoSlip sweeps the pelvis pitched on at 11 urad/s at 1 ms (2.5 urad/s
     # at 0.5 ms), still growing after 20 s; with enough it rests (measured: 31.5 urad after 20 s, < 0.1 urad in the
-    # last 10 s).  Bound: 3 urad over the last 10 s of 20 s without input.
+    # last 10 s, and the pelvis 0.3 um).  Bounds: 3 urad and 5 um over the last 10 s of 20 s without input.
     human = ehm.SeatedHuman()
     run = human.simulate(ehm.random_vibration("z", 20.0, 0.0))
     pitch = run.point("pelvis").rot_rad[:, 1]

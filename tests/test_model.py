@@ -207,7 +207,9 @@ def test_contact_rows_carry_the_intended_law(human, contact):
     d = engine.settled_data(human.model)
     d.qvel[:] += 0.01 * np.sin(np.arange(mj.nv))  # a moving state, so that the damping term counts
     mujoco.mj_forward(mj, d)
-    k, b, pad = human.model.contact_law[contact]
+    k = float(human.params.value(f"contacts.{contact}.stiffness_N_per_m"))
+    b = float(human.params.value(f"contacts.{contact}.damping_Ns_per_m"))
+    pad = next(c for c in human.model.body.contacts if c.name == contact).tissue_pad
     h = mj.opt.timestep
     rows = [i for i in range(d.ncon) if engine._contact_name(human.model, d.contact[i]) == contact]
     assert len(rows) == 1
@@ -220,7 +222,7 @@ def test_contact_rows_carry_the_intended_law(human, contact):
     else:
         i = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_PAIR, contact)
         a0 = sum(mj.body_invweight0[mj.geom_bodyid[g], 0] for g in (mj.pair_geom1[i], mj.pair_geom2[i]))
-        imp = human.model.contact_impedance
+        imp = float(human.params.value("simulation.contact_impedance"))
         assert d.efc_R[r] == pytest.approx((1 - imp) / imp * a0, rel=1e-9)
     assert abs(d.efc_vel[r]) > 1e-4  # the state moves along the normal
 

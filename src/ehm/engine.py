@@ -150,8 +150,6 @@ class Model:
     segment_bodies: dict
     seat: dict | None = None  #: Rotating seat: body id, dof, qpos and ctrl addresses (None: static seat).
     pelvis_qpos: int = 0  #: Address of the pelvis free joint in qpos.
-    contact_law: dict = field(default_factory=dict)  #: Pair -> (K [N/m], B [N s/m], trapezoidal) of its normal law.
-    contact_impedance: float = 0.001  #: Impedance of contacts without damping (``simulation.contact_impedance``).
     settled: dict | None = field(default=None, repr=False)
 
     @property
@@ -508,10 +506,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     except ValueError as exc:
         raise _build_error(exc) from None
 
-    contact_law = {c.name: (float(params.value(f"contacts.{c.name}.stiffness_N_per_m")),
-                            float(params.value(f"contacts.{c.name}.damping_Ns_per_m")), c.tissue_pad)
-                   for c in body.contacts}
-    contact_solver_params(mj, contact_law, d_imp, mj.opt.timestep)
+    contact_solver_params(mj, body, params, mj.opt.timestep)
 
     if rotating_seat:
         spec_body = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, "seat_frame")
@@ -527,8 +522,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
                for s, names in segment_bodies.items()}
     return Model(mj=mj, body=body, params=params, locked=locked, dof_names=dof_names,
                  point_sites=point_sites, surface_bodies=surface_bodies, segment_bodies=seg_ids, seat=seat_info,
-                 pelvis_qpos=int(mj.jnt_qposadr[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_JOINT, "pelvis")]),
-                 contact_law=contact_law, contact_impedance=d_imp)
+                 pelvis_qpos=int(mj.jnt_qposadr[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_JOINT, "pelvis")]))
 
 
 #: Joints whose damping is trapezoidal (:func:`_split_damping`): the open chain of trunk and neck, where implicit
@@ -558,10 +552,11 @@ def _split_damping(spec: mujoco.MjSpec) -> None:
 FRICTION_SOFTNESS = 2.7e-6
 
 
-def contact_solver_params(mj: mujoco.MjModel, law: dict, d_imp: float, h: float) -> None:
-    """Set each contact pair's solver parameters for its spring K [N/m] and damper B [N s/m] at step ``h`` [s].
+def contact_solver_params(mj: mujoco.MjModel, body: Body, params: Parameters, h: float) -> None:
+    """Set each contact pair's solver parameters for its spring K [N/m] and damper B [N s/m]
+    (``contacts.<name>.stiffness_N_per_m``, ``damping_Ns_per_m``) at step ``h`` [s].
 
-    ``law`` maps a pair's name to (K, B, trapezoidal).  The contacts on tissue pads (seat and backrest) are
+    The contacts on tissue pads (seat and backrest) are
     trapezoidal; the others (the feet) keep the explicit spring and damper, f = -K r - B v: their friction is
     not backed by a shear pad, and with the trapezoid's small regulariser R the NoSlip solver's correction
     of their friction reached their normal force (1 N of 43 N at rest at 1 ms, a step-dependent posture).
@@ -572,7 +567,8 @@ def contact_solver_params(mj: mujoco.MjModel, law: dict, d_imp: float, h: float)
     k = -solref[0] / d^2).  The trapezoidal contact f = -K r - B (v + v') / 2, v' = v + h (a_0 + A f),
     is f = (-K r - B v - (B h / 2) a_0) / (1 + B h A / 2): that is R = 2 / (B h) and
     a_ref = -(2 K / (B h)) r - (2 / h) v, so d = A_0 B h / (A_0 B h + 2), solref = (-2 K d / (B h), -2 d / h).
-    An explicit pair (or one without damping) has a tiny impedance ``d_imp`` and solref = (-K (1-d) A_0,
+    An explicit pair (or one without damping) has a tiny impedance d = ``simulation.contact_impedance`` and
+    solref = (-K (1-d) A_0,
     -B (1-d) A_0), so that f = -(1-d)(K r + B v) - d a_0 / A_0 at the step's start.
     Friction rows keep the damping rate 1 / h (solreffriction (0, -d / h)), which stops the soft friction
     from chattering at the Nyquist frequency, and a regulariser that does not depend on the step: MuJoCo
@@ -580,12 +576,15 @@ def contact_solver_params(mj: mujoco.MjModel, law: dict, d_imp: float, h: float)
     / h makes it 2 / (B * FRICTION_SOFTNESS), about a thousand times the pair's inverse weight (as weak as
     before this formulation).  The NoSlip solver then enforces sticking.
     """
+    d_imp = float(params.value("simulation.contact_impedance"))
     mj.opt.impratio = FRICTION_SOFTNESS / h
-    for name, (k, b, trapezoidal) in law.items():
-        i = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_PAIR, name)
+    for c in body.contacts:
+        k = float(params.value(f"contacts.{c.name}.stiffness_N_per_m"))
+        b = float(params.value(f"contacts.{c.name}.damping_Ns_per_m"))
+        i = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_PAIR, c.name)
         g1, g2 = mj.pair_geom1[i], mj.pair_geom2[i]
         a0 = mj.body_invweight0[mj.geom_bodyid[g1], 0] + mj.body_invweight0[mj.geom_bodyid[g2], 0]
-        if trapezoidal and b > 0:
+        if c.tissue_pad and b > 0:
             d = a0 * b * h / (a0 * b * h + 2.0)
             mj.pair_solref[i] = [-2.0 * k * d / (b * h), -2.0 * d / h]
         else:
@@ -958,37 +957,38 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
         pose_steps = np.arange(0, n, int(pose_every))
         pose_pos = np.empty((pose_steps.size, pose_ids.size, 3))
         pose_quat = np.empty((pose_steps.size, pose_ids.size, 4))
-    # Hot loop: views bound once, no allocation per step, the divergence check once per block of steps.
+    # Hot loop: views bound once, no allocation per step; poses and the divergence check between blocks.
     g_view, s_view, step = mj.opt.gravity, d.sensordata, mujoco.mj_step
-    rotating = seat_rotation is not None
+
+    def advance(lo: int, hi: int) -> None:
+        if seat_rotation is not None:
+            for i in range(lo, hi):
+                g_view[:] = gravity[i]
+                c_view[:] = ctrl[i]
+                f_view[:] = ff[i]
+                step(mj, d)
+                sens[i] = s_view
+        else:
+            for i in range(lo, hi):
+                g_view[:] = gravity[i]
+                step(mj, d)
+                sens[i] = s_view
+
+    block = int(pose_every) if pose_every else CHECK_EVERY
+    checked = 0
     try:
-        for start in range(0, n, CHECK_EVERY):
-            stop = min(n, start + CHECK_EVERY)
-            if pose_every:
-                for i in range(start, stop):
-                    g_view[:] = gravity[i]
-                    if rotating:
-                        c_view[:], f_view[:] = ctrl[i], ff[i]
-                    step(mj, d)
-                    sens[i] = s_view
-                    if i % pose_every == 0:  # kinematics of the step's start state, as the sensors
-                        k = i // pose_every
-                        pose_pos[k], pose_quat[k] = d.xpos[pose_ids], d.xquat[pose_ids]
-            elif rotating:
-                for i in range(start, stop):
-                    g_view[:] = gravity[i]
-                    c_view[:] = ctrl[i]
-                    f_view[:] = ff[i]
-                    step(mj, d)
-                    sens[i] = s_view
-            else:
-                for i in range(start, stop):
-                    g_view[:] = gravity[i]
-                    step(mj, d)
-                    sens[i] = s_view
-            why = _instability(model, d)
-            if why:
-                raise _diverged(model, d.time, why)  # d.time: 0 in the settled state, across chunks
+        for start in range(0, n, block):
+            stop = min(n, start + block)
+            if pose_every:  # the kinematics of the block's first step's start state, as the sensors
+                advance(start, start + 1)
+                pose_pos[start // block], pose_quat[start // block] = d.xpos[pose_ids], d.xquat[pose_ids]
+                start += 1
+            advance(start, stop)
+            if stop - checked >= CHECK_EVERY or stop == n:
+                checked = stop
+                why = _instability(model, d)
+                if why:
+                    raise _diverged(model, d.time, why)  # d.time: 0 in the settled state, across chunks
     finally:
         mj.opt.gravity[:] = G0
     slices = sensor_slices(model)
@@ -1122,12 +1122,12 @@ def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None) -> L
         return x_next, y
 
     if h != own_step:  # the contacts' trapezoidal law is written for the step taken
-        contact_solver_params(mj, model.contact_law, model.contact_impedance, h)
+        contact_solver_params(mj, model.body, model.params, h)
     try:
         A, B, Cs, Ds, y0 = _differentiate(evaluate, nx, eps)
     finally:
         if h != own_step:
-            contact_solver_params(mj, model.contact_law, model.contact_impedance, own_step)
+            contact_solver_params(mj, model.body, model.params, own_step)
     return _with_accelerations(A, B, Cs, Ds, y0, h, contacts)
 
 

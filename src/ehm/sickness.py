@@ -103,7 +103,7 @@ steps as the whole record (equal to round-off, tested to 1e-10) in memory set by
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 from scipy import signal
@@ -284,9 +284,7 @@ def subjective_vertical_conflict(time_s, gia_mps2, omega_radps, params: SvcParam
     p = _params(params)
     t, f, w, h = _check_inputs(time_s, gia_mps2, omega_radps)
     model = SicknessAccumulator(h, p, start_s=float(t[0]), keep_trace=False, _interval_name="time_s")
-    res = model._advance(f, w)
-    return SicknessResult(time_s=t, msi_percent=res.msi_percent, conflict_mps2=res.conflict_mps2,
-                          subjective_vertical=res.subjective_vertical, sensed_vertical_mps2=res.sensed_vertical_mps2)
+    return replace(model._advance(f, w), time_s=t)
 
 
 @dataclass(frozen=True)

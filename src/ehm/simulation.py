@@ -278,7 +278,7 @@ class SeatedHuman:
         step); a motion with angular velocity needs a person built with ``rotating_seat=True``; for long
         drives use :meth:`stream`, which holds one chunk at a time.  ``method="linear"`` runs the person
         linearised at rest, exactly discretised at the motion's own step (:mod:`ehm.linear`): about a
-        thousand times faster than real time (a hundred times faster than the nonlinear route), for
+        thousand times faster than real time (about thirty times faster than the nonlinear route), for
         translation inputs small enough that no contact lifts off or slides (checked while it runs:
         :class:`ehm.linear.LinearRouteError` otherwise).
         """

@@ -549,11 +549,13 @@ static void seat_drive(Ehm *e, const double w[3]) {
 static void model_step(Ehm *e, const double a[3], const double w[3]) {
     mjtNum *g = e->m->opt.gravity;
     const mjModel *m = e->m;
-    mjtNum R[9], aw[3];
+    mjtNum R[9], aw[3] = {a[0], a[1], a[2]};
     mju_copy4(e->seat_q, e->seat.q);
-    mju_quat2Mat(R, e->seat.q);
-    if (e->seat.on) seat_drive(e, w);
-    mju_mulMatVec3(aw, R, a);  /* the seat acceleration in world axes */
+    if (e->seat.on) {
+        mju_quat2Mat(R, e->seat.q);
+        mju_mulMatVec3(aw, R, a);  /* the seat acceleration in world axes */
+        seat_drive(e, w);
+    }
     g[0] = G0[0] - aw[0];
     g[1] = G0[1] - aw[1];
     g[2] = G0[2] - aw[2];
