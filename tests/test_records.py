@@ -23,6 +23,8 @@ import ehm
 from ehm import runfiles
 from ehm.cli import main
 from ehm.errors import InputError
+from ehm import outdir
+from ehm.io import MANIFEST_NAME
 from ehm.outdir import RunFolder, check_output_folder, signals_held
 
 
@@ -52,7 +54,7 @@ def test_rerun_replaces_the_folder_whole(tmp_path, capsys):
     assert main(["simulate", "--duration", "1", "--plot", "--out", str(out)]) == 0
     assert (out / "time_histories.png").is_file()
     assert main(["simulate", "--duration", "2", "--out", str(out)]) == 0
-    assert sorted(p.name for p in out.iterdir()) == ["poses.npz", "summary.json", "timeseries.csv"]
+    assert sorted(p.name for p in out.iterdir()) == [MANIFEST_NAME, "poses.npz", "summary.json", "timeseries.csv"]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["duration_s"] == pytest.approx(2.0)
     rows = np.loadtxt(out / "timeseries.csv", delimiter=",", skiprows=1)
@@ -76,7 +78,7 @@ def test_failure_or_interrupt_inside_leaves_the_earlier_folder(tmp_path):
             (tmp / "summary.json").write_text('{"run": 2}')
             (tmp / "timeseries.csv").write_text("time_s\n0\n")
             raise KeyboardInterrupt
-    assert sorted(p.name for p in out.iterdir()) == ["summary.json"]
+    assert sorted(p.name for p in out.iterdir()) == [MANIFEST_NAME, "summary.json"]
     assert json.loads((out / "summary.json").read_text()) == {"run": 1}
     assert _siblings(out) == []
 
@@ -111,7 +113,7 @@ def test_swap_with_and_without_an_atomic_exchange(tmp_path, monkeypatch, exchang
             (tmp / "summary.json").write_text(f'{{"run": {n}}}')
             (tmp / f"frf_{n}.csv").write_text("x")
         assert json.loads((out / "summary.json").read_text()) == {"run": n}
-        assert sorted(p.name for p in out.iterdir()) == ["frf_%d.csv" % n, "summary.json"]
+        assert sorted(p.name for p in out.iterdir()) == [MANIFEST_NAME, "frf_%d.csv" % n, "summary.json"]
         assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]
 
 
@@ -160,10 +162,17 @@ def test_stale_staging_of_a_dead_process_is_removed(tmp_path):
     pid = int(dead.stdout)
     stale = tmp_path / f".run.partial-{pid}-abc"
     stale.mkdir()
+    outdir._write_manifest(stale, "output", "staging")  # as RunFolder marks its staging folder on creation
     (stale / "timeseries.csv").write_text("half a file")
+    empty = tmp_path / f".run.old-{pid}-def"
+    empty.mkdir()
+    lookalike = tmp_path / f".run.partial-{pid}-xyz"  # the same kind of name, but not ehm's: kept
+    lookalike.mkdir()
+    (lookalike / "notes.txt").write_text("keep me")
     with RunFolder(tmp_path / "run") as tmp:
         (tmp / "summary.json").write_text("{}")
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [lookalike.name, "run"]
+    assert (lookalike / "notes.txt").read_text() == "keep me"
 
 
 def test_output_location_is_checked_before_the_run(tmp_path, capsys):
@@ -209,8 +218,8 @@ def test_failed_assess_leaves_no_folder(tmp_path, capsys):
 
 def test_sigterm_removes_temporary_files_and_keeps_the_earlier_run(tmp_path):
     out = tmp_path / "run"
-    out.mkdir()
-    (out / "summary.json").write_text('{"earlier": true}\n')
+    with RunFolder(out) as tmp:
+        (tmp / "summary.json").write_text('{"earlier": true}\n')
     env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1])}
     proc = subprocess.Popen([sys.executable, "-m", "ehm.cli", "simulate", "--duration", "120", "--output-rate", "1000",
                              "--out", str(out)], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)

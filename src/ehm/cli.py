@@ -776,9 +776,14 @@ def main(argv: list[str] | None = None) -> int:
     import signal
     import threading
 
+    import shlex
+
+    from .outdir import set_command
+
     previous = None
     if threading.current_thread() is threading.main_thread():
         previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    set_command(shlex.join(["ehm", *(sys.argv[1:] if argv is None else argv)]))
     try:
         return args.func(args)
     except EhmError as exc:
@@ -790,6 +795,12 @@ def main(argv: list[str] | None = None) -> int:
         print("ehm: error: out of memory; ehm simulate and ehm assess stream long drives in bounded memory, other "
               "commands hold their whole run: shorten --duration or use a machine with more memory.", file=sys.stderr)
         return EXIT_ERROR
+    except OSError as exc:  # a failure of the system that no command foresaw (a full disk, a removed folder)
+        _end_progress_line()
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"ehm: error: {where}{exc.strerror or exc} (check the disk and the folder, then "
+              "run the command again).", file=sys.stderr)
+        return EXIT_ERROR
     except Terminated:
         _end_progress_line()
         print("ehm: terminated", file=sys.stderr)
@@ -799,6 +810,7 @@ def main(argv: list[str] | None = None) -> int:
         print("ehm: interrupted", file=sys.stderr)
         return 130
     finally:
+        set_command(None)
         _end_progress_line()
         _report_mujoco_warnings()
         if previous is not None:

@@ -72,7 +72,35 @@ def replace_atomically(target: Path | str, write, what: str = "file") -> Path:
         if tmp is not None and os.path.exists(tmp):
             os.unlink(tmp)
     _fsync_directory(target.parent)
+    if target.name != MANIFEST_NAME:
+        _record_in_manifest(target)
     return target
+
+
+#: The manifest that marks a folder ehm wrote (:mod:`ehm.outdir`): the command, the ehm version, and every file it
+#: wrote with its size.  Hidden, like other tools' marks in folders they own.
+MANIFEST_NAME = ".ehm-manifest.json"
+
+
+def read_manifest(folder: Path | str) -> dict | None:
+    """The ehm manifest of ``folder`` as a dict, or None when it carries none that ehm wrote."""
+    try:
+        data = json.loads((Path(folder) / MANIFEST_NAME).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(data, dict) or data.get("written_by") != "ehm" or not isinstance(data.get("files"), dict):
+        return None
+    return data
+
+
+def _record_in_manifest(path: Path) -> None:
+    """A file just written into a finished folder of ehm's (an animation or a figure drawn into a run folder) joins
+    that folder's manifest, so that ehm may still replace the folder whole; other folders are left alone."""
+    data = read_manifest(path.parent)
+    if data is None or data.get("state") != "complete":
+        return
+    data["files"][path.name] = path.stat().st_size
+    write_json_atomic(path.parent / MANIFEST_NAME, data)
 
 
 def _fsync_directory(directory: Path) -> None:

@@ -8,10 +8,14 @@ between.  The earlier folder is then removed.  So a folder always holds the file
 files never sit beside an earlier run's (an old figure, an old ``poses.npz``), and a failure or an interrupt
 at any moment leaves the earlier folder as it was (or no folder, and no parent folders the command made).
 
-A folder is replaced whole, so only a folder that ehm could have written is replaced: an empty one, or one
-holding nothing but the names ehm writes (:data:`EHM_NAMES`, animations, and sub-folders of the same kind).
-Anything else is refused, before the run starts, with one sentence.  Staging folders left by a process that
-no longer runs (killed with SIGKILL, a power cut) are removed the next time the same target is written.
+A folder is replaced whole, so ehm replaces only a folder it wrote itself: every folder it puts in place carries
+a manifest, :data:`ehm.io.MANIFEST_NAME`, naming the command, the ehm version and every file it wrote with its size.
+An existing folder is replaced only when it is empty, or when it carries that manifest and holds nothing but
+the files listed there, each of its listed size (a file added or changed since is the user's).  Names and
+extensions are never taken as evidence.  Anything else is refused, before the run starts, with one sentence,
+and again just before the swap (a file added while the run was going keeps the folder; the new run is then
+left beside it).  Staging folders left by a process that no longer runs (killed with SIGKILL, a power cut)
+carry a staging manifest and are removed the next time the same target is written.
 """
 
 from __future__ import annotations
@@ -19,7 +23,7 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import errno
-import fnmatch
+import json
 import os
 import shutil
 import signal
@@ -27,31 +31,73 @@ import stat
 import sys
 import tempfile
 import threading
+import time
+from importlib import metadata
 from pathlib import Path
 
 from .errors import InputError
-from .io import _fsync_directory
+from .io import MANIFEST_NAME, _fsync_directory, read_manifest
 
-#: Files and folders that ehm commands write into an output folder.
-EHM_NAMES = frozenset({
-    "timeseries.csv", "timeseries.parquet", "summary.json", "poses.npz", "time_histories.png",  # simulate
-    "assessment.json", "weighted_spectra.png", "running_rms.png", "sickness.png", "report.html",  # assess
-    "demo_summary.json", "transmissibility.csv", "transmissibility.png", "animation.gif",  # demo
-    "locking.csv", "locking.json", "locking.png",  # study locking
-})
-#: Name patterns that ehm writes as well (study FRF tables; animations drawn from a run with ``ehm animate``).
-EHM_PATTERNS = ("frf_*.csv", "*.gif", "*.mp4")
+#: Its format, written into it: a later ehm can tell what it reads.
+MANIFEST_FORMAT = 1
 _STAGING = ".{name}.partial-{pid}-"
 _OLD = ".{name}.old-{pid}-"
 
+_command: str | None = None
 
-def _is_ehm_entry(entry: Path, depth: int = 0) -> bool:
-    """Whether a folder entry is something ehm writes (a known file, or a sub-folder holding only such)."""
-    if entry.is_symlink():
-        return False
-    if entry.is_dir():
-        return depth < 2 and all(_is_ehm_entry(e, depth + 1) for e in entry.iterdir())
-    return entry.name in EHM_NAMES or any(fnmatch.fnmatch(entry.name, p) for p in EHM_PATTERNS)
+
+def set_command(command: str | None) -> None:
+    """Name the command that writes folders from now on (the command-line interface sets ``ehm ...``)."""
+    global _command
+    _command = command
+
+
+def _ehm_version() -> str:
+    try:
+        return metadata.version("ehm")
+    except metadata.PackageNotFoundError:
+        return "unknown"
+
+
+def _write_manifest(folder: Path, what: str, state: str) -> None:
+    """Write the manifest of ``folder``: every file under it (sub-folders included) with its size in bytes."""
+    files = {}
+    if state == "complete":
+        for p in sorted(folder.rglob("*")):
+            rel = p.relative_to(folder).as_posix()
+            if rel != MANIFEST_NAME and p.is_file() and not p.is_symlink():
+                files[rel] = p.stat().st_size
+    data = {"written_by": "ehm", "format": MANIFEST_FORMAT, "state": state, "ehm_version": _ehm_version(),
+            "command": _command or f"ehm (Python): {what}",
+            "written_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "files": files}
+    with open(folder / MANIFEST_NAME, "w", encoding="utf-8") as fh:
+        json.dump(data, fh, indent=1)
+        fh.write("\n")
+        fh.flush()
+        os.fsync(fh.fileno())
+
+
+def foreign_entry(folder: Path) -> str | None:
+    """Why ``folder`` is not a folder that ehm may replace, as the words after its name; None when it may be.
+
+    It may be replaced when it is empty, or when it carries an ehm manifest and holds nothing but the files listed
+    there, each of its listed size (sub-folders included)."""
+    entries = sorted(folder.iterdir())
+    if not entries:
+        return None
+    data = read_manifest(folder)
+    if data is None or data.get("state") != "complete":
+        return f"holds {entries[0].name}, which ehm did not write (the folder has no ehm manifest, {MANIFEST_NAME})"
+    listed = data["files"]
+    for p in sorted(folder.rglob("*")):
+        rel = p.relative_to(folder).as_posix()
+        if rel == MANIFEST_NAME or (p.is_dir() and not p.is_symlink()):
+            continue
+        if p.is_symlink() or not p.is_file() or rel not in listed:
+            return f"holds {rel}, which ehm did not write"
+        if p.stat().st_size != listed[rel]:
+            return f"holds {rel}, which was changed after ehm wrote it"
+    return None
 
 
 def _nearest_existing(path: Path) -> Path:
@@ -73,9 +119,9 @@ def _check_creatable(path: Path, what: str) -> None:
 def check_output_folder(path: Path | str, what: str = "output") -> Path:
     """Make sure a run's output folder can be written and replaced whole; before any work starts.
 
-    The folder may be absent, empty or hold only what ehm writes (see the module docstring).  Returns the
-    path.  Raises InputError with one sentence otherwise (a file in the way, a folder holding other files,
-    the current folder, no write permission).
+    The folder may be absent, empty or an earlier folder of ehm's that holds nothing else (see the module
+    docstring).  Returns the path.  Raises InputError with one sentence otherwise (a file in the way, a folder
+    holding files ehm did not write, the current folder, no write permission).
     """
     path = Path(path)
     if path.exists() and not path.is_dir():
@@ -87,13 +133,12 @@ def check_output_folder(path: Path | str, what: str = "output") -> Path:
                          "e.g. --out runs/first (ehm replaces its output folder whole).")
     if path.is_dir():
         try:
-            entries = sorted(path.iterdir())
+            why = foreign_entry(path)
         except OSError as exc:
             raise InputError(f"{path}: cannot read the {what} folder ({exc.strerror or exc}).") from None
-        foreign = [e for e in entries if not _is_ehm_entry(e)]
-        if foreign:
-            raise InputError(f"{path} holds {foreign[0].name}, which ehm did not write; give a new or empty folder "
-                             f"(ehm replaces its {what} folder whole, so that no file of an earlier run stays).")
+        if why:
+            raise InputError(f"{path} {why}; give a new or empty folder for the {what}: ehm replaces only a folder "
+                             "that it wrote and that holds nothing else.")
     _check_creatable(path, what + " folder")
     return path
 
@@ -166,7 +211,10 @@ def _alive(pid: int) -> bool:
 
 
 def remove_stale(target: Path) -> None:
-    """Remove staging folders of ``target`` left by processes that no longer run."""
+    """Remove staging folders of ``target`` left by processes that no longer run.
+
+    A folder is removed only when its name is one of ``target``'s staging names with the number of a process that
+    no longer runs, and it carries ehm's staging manifest (or is empty)."""
     parent = target.parent
     if not parent.is_dir():
         return
@@ -174,8 +222,13 @@ def remove_stale(target: Path) -> None:
         prefix = pattern.format(name=target.name, pid="").removesuffix("-")
         for entry in parent.glob(glob_escape(prefix) + "*"):
             pid = entry.name[len(prefix):].split("-", 1)[0]
-            if pid.isdigit() and int(pid) != os.getpid() and not _alive(int(pid)):
+            if not (pid.isdigit() and int(pid) != os.getpid() and not _alive(int(pid))) or entry.is_symlink():
+                continue
+            if read_manifest(entry) is not None:
                 shutil.rmtree(entry, ignore_errors=True)
+            else:
+                with contextlib.suppress(OSError):
+                    entry.rmdir()  # only when empty
 
 
 def glob_escape(text: str) -> str:
@@ -223,7 +276,9 @@ class RunFolder:
             remove_stale(self.target)
             self.staging = Path(tempfile.mkdtemp(prefix=_STAGING.format(name=self.target.name, pid=os.getpid()),
                                                  dir=parent))
+            _write_manifest(self.staging, self.what, "staging")
         except OSError as exc:
+            self._discard()
             self._remove_made()
             raise InputError(f"{self.target}: cannot create the {self.what} folder ({exc.strerror or exc}).") from None
         return self.staging
@@ -237,14 +292,20 @@ class RunFolder:
                 raise InputError(f"{self.target}: cannot put the {self.what} folder in place "
                                  f"({exc2.strerror or exc2}).") from None
         else:
+            staging = self.staging
             self._discard()
+            if isinstance(exc, InputError) and staging is not None and str(staging) in str(exc):
+                # a sentence about a file in the hidden staging folder names the folder the user asked for
+                raise InputError(str(exc).replace(str(staging), str(self.target))) from None
         return False
 
     def _commit(self) -> None:
         staging, target = self.staging, self.target
+        _write_manifest(staging, self.what, "complete")
         mode = stat.S_IMODE(target.stat().st_mode) if target.is_dir() else 0o777 & ~_umask()
         os.chmod(staging, mode)
         with signals_held():
+            self._keep_if_foreign()
             old = None
             if target.exists():
                 if _exchange(staging, target):
@@ -252,6 +313,7 @@ class RunFolder:
                 else:
                     old = Path(tempfile.mkdtemp(prefix=_OLD.format(name=target.name, pid=os.getpid()),
                                                 dir=target.parent))
+                    _write_manifest(old, self.what, "staging")
                     os.rename(target, old / target.name)
                     os.rename(staging, target)
             else:
@@ -260,6 +322,19 @@ class RunFolder:
             self.staging = None
             if old is not None:
                 shutil.rmtree(old, ignore_errors=True)
+
+    def _keep_if_foreign(self) -> None:
+        """Just before the swap: if someone put files into the target while the run went on, keep the target as
+        it is and leave the new folder beside it, under a name that says so."""
+        target = self.target
+        why = foreign_entry(target) if target.is_dir() else ("is not a folder" if target.exists() else None)
+        if why is None:
+            return
+        kept = Path(tempfile.mkdtemp(prefix=f"{target.name}.new-", dir=target.parent))
+        os.rename(self.staging, kept / target.name)
+        self.staging = None
+        raise InputError(f"{target} {why} (added while the run went on), so it was left as it is; the new "
+                         f"{self.what} is in {kept / target.name}.")
 
     def _discard(self) -> None:
         with signals_held():

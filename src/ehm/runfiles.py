@@ -15,6 +15,7 @@ writes into a folder that :class:`ehm.outdir.RunFolder` then puts in place as on
 
 from __future__ import annotations
 
+import contextlib
 import math
 import shutil
 import zipfile
@@ -203,9 +204,11 @@ class _PoseStream:
 
     def remove_raw(self) -> None:
         for f in self.fh.values():
-            f.close()
+            with contextlib.suppress(OSError):  # closing flushes: on a full disk that fails again
+                f.close()
         for p in self.raw.values():
-            p.unlink(missing_ok=True)
+            with contextlib.suppress(OSError):
+                p.unlink(missing_ok=True)
 
 
 class RunWriter:
