@@ -26,7 +26,7 @@ class Curve:
     ----------
     freq_hz : (m,) array
     gain : (m,) array
-        |H| (output units per input unit).
+        ``|H|`` (output units per input unit).
     phase_deg : (m,) array
         Phase [deg] (NaN where not known).
     coherence : (m,) array
