@@ -4,6 +4,7 @@ validity check."""
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import ehm
@@ -149,6 +150,29 @@ def test_cli_linear_route(tmp_path, capsys):
                  "--out", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "--method nonlinear" in err and not bad.exists()
+
+
+def test_cli_linear_route_takes_zero_gyro_columns_and_names_what_to_do_for_rotation(tmp_path, capsys):
+    # SYNTHETIC drive file with gyro columns.  All exactly zero: no rotation, the translation is run (it was
+    # refused with a sentence about SeatedHuman(rotating_seat=True)).  A real rotation is refused in one
+    # sentence naming command-line actions; --channel wx= wy= wz= reads the translation only.
+    vib = ehm.random_vibration("xz", 3.0, 0.3, seed=5, dt_s=0.01)
+    frame = pd.DataFrame({"time_s": vib.time_s, **{f"a{c}_mps2": vib.acc_mps2[:, j] for j, c in enumerate("xyz")},
+                          **{f"w{c}_radps": np.zeros(vib.n_samples) for c in "xyz"}})
+    frame.to_csv(tmp_path / "still.csv", index=False)
+    frame.drop(columns=[f"w{c}_radps" for c in "xyz"]).to_csv(tmp_path / "plain.csv", index=False)
+    frame.assign(wz_radps=0.05 * np.sin(vib.time_s)).to_csv(tmp_path / "turning.csv", index=False)
+    run = lambda name, *extra: main(["simulate", "--motion", str(tmp_path / f"{name}.csv"), "--method", "linear",  # noqa: E731
+                                     *extra, "--out", str(tmp_path / f"out_{name}")])
+    assert run("still") == 0 and run("plain") == 0
+    a, b = (pd.read_csv(tmp_path / f"out_{n}" / "timeseries.csv") for n in ("still", "plain"))
+    np.testing.assert_array_equal(a["head_az_mps2"].to_numpy(), b["head_az_mps2"].to_numpy())
+    capsys.readouterr()
+    assert run("turning") == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "rotates the seat" in err and "--method nonlinear" in err
+    assert "--channel wx= --channel wy= --channel wz=" in err
+    assert run("turning", "--channel", "wx=", "--channel", "wy=", "--channel", "wz=") == 0
 
 
 def _dlsim(A, B, C, D, u, dt):

@@ -264,6 +264,12 @@ def test_rates_all_three_or_none(tmp_path):
         read_motion(df)
     with pytest.raises(InputError, match=r"channels wy \('wy_radps'\) and wz \('wz_radps'\) are not in the DataFrame"):
         read_motion(df, {"wx": "wx_radps"})
+    # all three given empty: the translation only, even where the source has angular velocities
+    full = df.assign(wy_radps=0.0, wz_radps=0.1)
+    assert read_motion(full).angvel_radps is not None
+    assert read_motion(full, {"wx": None, "wy": None, "wz": None}).angvel_radps is None
+    with pytest.raises(InputError, match=r"wx is left out \(given empty\); leave out all three angular velocities"):
+        read_motion(full, {"wx": None})
 
 
 def test_bad_arguments_are_one_sentence():

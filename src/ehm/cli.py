@@ -120,7 +120,9 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
     p.add_argument("--motion", required=required, metavar="FILE", help=help_text)
     p.add_argument("--channel", action="append", metavar="KEY=NAME",
                    help="the file's name for a channel (KEY: time, ax, ay, az, wx, wy, wz; repeat; --channel time= "
-                        "for a file without time stamps); default: time_s, ax_mps2, ..., wx_radps, ...")
+                        "for a file without time stamps; --channel wx= --channel wy= --channel wz= to leave its "
+                        "angular velocities out; MDF: GROUP/NAME for a name in several groups, GROUP its index); "
+                        "default: time_s, ax_mps2, ..., wx_radps, ...")
     p.add_argument("--unit", action="append", metavar="KEY=UNIT",
                    help="unit of a channel the file does not label, e.g. ax=g, wx=deg/s, time=ms (repeat; default SI)")
     p.add_argument("--imu", action="store_true",
@@ -147,7 +149,8 @@ def cmd_simulate(args) -> int:
     out = check_output_folder(args.out)
     if args.motion:  # a drive file with angular velocities needs the rotating seat
         motion = _read_motion_file(args)
-        human = _human(args, rotating_seat=motion.angvel_radps is not None)
+        # the linear route's seat does not turn: it takes translation (all-zero rates) or refuses, in one sentence
+        human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
     else:
         human = _human(args)
         motion = _motion(args, float(human.params.value("simulation.dt_s")))

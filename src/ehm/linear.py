@@ -436,9 +436,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
     (:class:`ehm.motion.Resampler`, as the nonlinear route does), so that no resampled copy of the whole motion
     is made.
     """
-    if motion.angvel_radps is not None and np.any(motion.angvel_radps != 0):
-        raise InputError("the linear route takes seat translation only; for a motion with seat rotation use the "
-                         "nonlinear route (method='nonlinear') with SeatedHuman(rotating_seat=True).")
+    _check_translation_only(motion)
     grid = None
     if dt_s is None:
         steps = np.diff(motion.time_s)
@@ -474,6 +472,20 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
         del result, y, u  # the next chunk is made without this one held here
         if progress:
             progress(min(t[-1] + dt, motion.duration_s), motion.duration_s)
+
+
+def _check_translation_only(motion) -> None:
+    """Refuse a motion that rotates the seat, naming where and what to do; angular velocities that are all
+    exactly zero are no rotation (a gyro that logged none) and pass."""
+    w = motion.angvel_radps
+    if w is None or not np.any(w != 0):
+        return
+    i, j = np.unravel_index(int(np.argmax(np.abs(w))), w.shape)
+    raise InputError(
+        f"the linear route takes seat translation only, but this motion rotates the seat (w{'xyz'[j]} "
+        f"{w[i, j]:.3g} rad/s at t = {motion.time_s[i] - motion.time_s[0]:.3f} s); use --method nonlinear "
+        "(Python: method='nonlinear', SeatedHuman(rotating_seat=True)), or give --channel wx= --channel wy= "
+        "--channel wz= to read the translation only.")
 
 
 def _settled_orientations(ss: StateSpace, model: engine.Model) -> dict:

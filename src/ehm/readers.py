@@ -555,7 +555,8 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     channels : dict, optional
         Key (``time, ax, ay, az, wx, wy, wz``) -> the source's name; the others keep their defaults
         (:data:`DEFAULT_CHANNELS`).  ``time`` set to None: a source without a time channel (give
-        ``rate_hz``).  MDF channels carry their own time stamps: their ``time`` is not used.
+        ``rate_hz``).  ``wx, wy, wz`` all set to None: read the translation only, even where the source has
+        angular velocities.  MDF channels carry their own time stamps: their ``time`` is not used.
     units : dict, optional
         Key -> unit string, where the source does not carry the unit (an MDF channel's own unit wins;
         a different one here is refused).  Default SI: s, m/s^2, rad/s.
@@ -602,7 +603,12 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz) -> dict:
         return name in src.names or (isinstance(src, _FrameSource) and key == "time" and src.has_index_time(name))
 
     wanted = list(_ACC) + list(_RATES if imu else [])
-    if not imu:
+    left_out = [k for k in _RATES if k in channels and channels[k] is None]
+    if left_out and (imu or len(left_out) < 3):
+        raise InputError(f"{src.label}: {', '.join(left_out)} {'is' if len(left_out) == 1 else 'are'} left out (given "
+                         "empty); " + ("an IMU log needs all three angular velocities." if imu else
+                                       "leave out all three angular velocities (wx=, wy=, wz=) or none."))
+    if not imu and len(left_out) < 3:
         rates_found = [k for k in _RATES if present(k)]
         explicit = [k for k in _RATES if k in channels]
         if explicit or rates_found:
