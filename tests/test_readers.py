@@ -109,6 +109,30 @@ def test_dataframe_time_from_its_index_and_column_units_in_brackets():
     np.testing.assert_allclose(m.acc_mps2, acc, atol=1e-12)
 
 
+def test_mat_matrix_columns_by_index_v5_and_v73(tmp_path, capsys):
+    # SYNTHETIC MATLAB files holding one n x 3 matrix "acc" [g] and a time vector: acc[0] is column 0 (it was
+    # refused: "'0' is not a unit"); a unit in brackets is still a unit.
+    import h5py
+    from scipy.io import savemat
+
+    t, acc = synthetic_log(3.0)
+    savemat(tmp_path / "log5.mat", {"t": t, "acc": acc / G})
+    write_mat73(tmp_path / "log73.mat", {"t": t})
+    with h5py.File(tmp_path / "log73.mat", "a") as f:  # MATLAB stores an n x 3 matrix as 3 x n in HDF5
+        f.create_dataset("acc", data=(acc / G).T).attrs["MATLAB_class"] = np.bytes_("double")
+    columns = {"time": "t", "ax": "acc[0]", "ay": "acc[1]", "az": "acc[2]"}
+    for name in ("log5.mat", "log73.mat"):
+        m = read_motion(tmp_path / name, columns, IN_G)
+        np.testing.assert_allclose(m.acc_mps2, acc, rtol=0, atol=1e-14 * np.abs(acc).max(), err_msg=name)
+    out = tmp_path / "out"
+    assert main(["assess", "--motion", str(tmp_path / "log5.mat"), "--method", "linear", "--out", str(out),
+                 *[f"--channel={k}={v}" for k, v in columns.items()], *[f"--unit={k}=g" for k in IN_G]]) == 0
+    assert (out / "assessment.json").exists()
+    df = pd.DataFrame({"t": t, "a[g]": acc[:, 0] / G, "b[2]": acc[:, 1], "c": acc[:, 2]})
+    m = read_motion(df, {"time": "t", "ax": "a[g]", "ay": "b[2]", "az": "c"})
+    np.testing.assert_allclose(m.acc_mps2, acc, rtol=0, atol=1e-14 * np.abs(acc).max())
+
+
 def test_units_are_converted_by_pint():
     t = np.arange(5) * 10.0  # milliseconds
     df = pd.DataFrame({"t": t, "x": np.ones(5), "y": np.zeros(5), "z": np.zeros(5), "p": np.full(5, 90.0),

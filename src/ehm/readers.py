@@ -703,14 +703,21 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 
 def _unit_of(src: _Source, key: str, name: str, units: dict) -> str:
     own = src.unit_of(name) if isinstance(src, _MdfSource) else src.units.get(name, "")
-    if not own:  # a unit in brackets at the end of the name: "acc_x [g]"
-        m = re.search(r"\[([^\]]+)\]\s*$", name)
-        own = m.group(1).strip() if m else ""
+    if not own:
+        own = _bracket_unit(name)
     given = units.get(key)
     if own and given and _factor(own, key, src.label, name) != _factor(given, key, src.label, name):
         raise InputError(f"{src.label}, channel {key} ({name!r}): the file gives the unit {own!r}, the units argument "
                          f"{given!r}; leave the argument out.")
     return given or own or SI_UNITS[key]
+
+
+def _bracket_unit(name: str) -> str:
+    """The unit in brackets at the end of a name (``"acc_x [g]"`` -> ``"g"``); a whole number in brackets is
+    a matrix column (``"acc[0]"``, MATLAB), not a unit, and gives ``""``."""
+    m = re.search(r"\[([^\]]+)\]\s*$", name)
+    text = m.group(1).strip() if m else ""
+    return "" if re.fullmatch(r"\d+", text) else text
 
 
 def _check_finite(src: _Source, key: str, name: str, values: np.ndarray) -> None:
