@@ -333,3 +333,72 @@ def test_mdf_channels_at_different_rates_share_one_time_base(tmp_path):
     inner = slice(100, -100)  # beyond the polyphase filter's reach from the ends
     np.testing.assert_allclose(m.acc_mps2[inner, 0], acc[: m.n_samples][inner, 0], atol=1e-12)
     np.testing.assert_allclose(m.acc_mps2[inner, 1], acc[: m.n_samples][inner, 1], atol=0.02 * 0.2)
+
+
+# --------------------------------------------------------------------------
+# time stamps: one rate, no gaps (or gaps bridged only when asked, with a warning)
+# --------------------------------------------------------------------------
+
+
+def test_a_change_of_sample_rate_is_refused_naming_where_and_both_rates(tmp_path):
+    # SYNTHETIC log: 0.5 s at 10 kHz, then 100 Hz; a 1010 Hz component in the fast stretch would alias into a
+    # 10 Hz seat input at the 100 Hz median step (seat a_v 0.705 instead of about 0.2 m/s^2 before).
+    t = np.concatenate([np.arange(0, 0.5, 1e-4), np.arange(0.5, 6.0, 0.01)])
+    z = 0.3 * np.sin(2 * np.pi * 5 * t) + np.sin(2 * np.pi * 1010 * t)
+    frame = pd.DataFrame({"time_s": t, "ax_mps2": 0 * t, "ay_mps2": 0 * t, "az_mps2": z})
+    frame.to_csv(tmp_path / "two_rates.csv", index=False)
+    with pytest.raises(InputError) as exc:
+        read_motion(tmp_path / "two_rates.csv")
+    assert one_sentence(exc).endswith(  # row 5000 (t = 0.5 s) is on line 5002 after the header
+        "two_rates.csv, line 5002, column time_s: the sample rate changes at t = 0.5 s from 10000 Hz to 100 Hz; "
+        "ehm resamples a log at one rate only: split the log at that row, or resample it to one rate (with an "
+        "anti-alias filter) before reading it.")
+    with pytest.raises(InputError, match=r"row 5000 \(index 5000\), column time_s: the sample rate changes"):
+        read_motion(frame)
+
+
+def test_jittery_time_stamps_and_a_dropped_sample_are_read():
+    # SYNTHETIC phone-like log: 50 Hz with steps jittering between 0.4 and 1.6 of the nominal step and two
+    # samples dropped (a step of 3), as real phone and IMU logs have: one rate, no gap.
+    rng = np.random.default_rng(1)
+    steps = 0.02 * rng.uniform(0.4, 1.6, 999)
+    steps[500] = 0.06
+    t = np.concatenate([[0.0], np.cumsum(steps)])
+    m = read_motion(pd.DataFrame({"time_s": t, "ax_mps2": 0 * t, "ay_mps2": 0 * t, "az_mps2": np.sin(t)}))
+    assert m.n_samples == t.size
+
+
+def test_a_gap_is_refused_or_bridged_with_a_warning(tmp_path, capsys):
+    # SYNTHETIC 100 Hz log with a 2 s dropout after 3 s
+    t = np.arange(0, 8.0, 0.01)
+    t = t[(t < 3.0) | (t >= 5.0)]
+    frame = pd.DataFrame({"time_s": t, "ax_mps2": 0 * t, "ay_mps2": 0 * t, "az_mps2": 0.3 * np.sin(2 * np.pi * t)})
+    path = tmp_path / "dropout.csv"
+    frame.to_csv(path, index=False)
+    gap = "a gap of 2.01 s in the time stamps, from t = 2.99 s to 5 s (201 median steps of 0.01 s)"
+    with pytest.raises(InputError) as exc:
+        read_motion(path)
+    assert one_sentence(exc).endswith(f"dropout.csv, line 302, column time_s: {gap}; cut the log there, or give "
+                                      "--fill-gaps (fill_gaps=True) to bridge it with a straight line.")
+    with pytest.warns(UserWarning) as record:
+        m = read_motion(path, fill_gaps=True)
+    assert len(record) == 1 and str(record[0].message).endswith(
+        f"dropout.csv, line 302, column time_s: {gap} is bridged with a straight line (fill_gaps).")
+    np.testing.assert_array_equal(m.time_s, t)
+    # a step of up to GAP_STEPS median steps is not a gap
+    from ehm.readers import GAP_STEPS
+
+    short = np.delete(np.arange(0, 8.0, 0.01), np.arange(300, 300 + GAP_STEPS - 1))  # one step of GAP_STEPS
+    zeros = np.zeros(short.size)
+    frame_short = pd.DataFrame({"time_s": short, "ax_mps2": zeros, "ay_mps2": zeros, "az_mps2": zeros})
+    assert read_motion(frame_short).n_samples == short.size
+    with pytest.raises(InputError, match=f"a gap of .* \\({GAP_STEPS + 1} median steps"):
+        read_motion(frame_short.drop(index=300))  # the step after row 299 one longer
+    # the command line: refused (exit 2, one line), or bridged with --fill-gaps and a one-line warning
+    out = tmp_path / "out"
+    assert main(["simulate", "--motion", str(path), "--method", "linear", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and gap in err and "--fill-gaps" in err and not out.exists()
+    assert main(["simulate", "--motion", str(path), "--method", "linear", "--fill-gaps", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert f"ehm: warning: {path}, line 302" in err and "bridged with a straight line" in err

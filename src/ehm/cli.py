@@ -128,6 +128,9 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
     p.add_argument("--imu", action="store_true",
                    help="the file is an IMU at the seat: ax, ay, az its specific force (gravity included), wx, wy, wz "
                         "its gyro rates; the log must start with 1 s at rest")
+    p.add_argument("--fill-gaps", action="store_true",
+                   help="bridge gaps in the file's time stamps (steps over 5 median steps: a logger's dropout) with a "
+                        "straight line, with a warning naming where (default: refuse them)")
     p.add_argument("--rate", type=float, metavar="HZ",
                    help="sample rate of a file without time stamps (otherwise: resample the file to this rate)")
 
@@ -137,7 +140,8 @@ def _read_motion_file(args):
     from .readers import parse_assignments, read_motion
 
     return read_motion(drive_path(args.motion), channels=parse_assignments(args.channel, "--channel"),
-                       units=parse_assignments(args.unit, "--unit"), rate_hz=args.rate, imu=args.imu)
+                       units=parse_assignments(args.unit, "--unit"), rate_hz=args.rate, imu=args.imu,
+                       fill_gaps=args.fill_gaps)
 
 
 def cmd_simulate(args) -> int:

@@ -20,6 +20,10 @@ is standard gravity, 9.80665 m/s^2).  With ``imu=True`` the accelerations are an
 (gravity included, sensor axes) and the rates its gyro rates: :func:`ehm.imu.from_imu` turns them into
 the seat's motion.
 
+Time stamps must keep one sample rate (a log whose rate changes part way is refused, naming where and the
+two rates: resampled as one rate it would alias) and have no gaps longer than :data:`GAP_STEPS` median steps
+(refused, or bridged with a straight line and a warning with ``fill_gaps=True``, ``--fill-gaps``).
+
 Bad input ends in one sentence naming the file, channel, line or row and the value; a channel that is not
 in the source is named together with the channels that are.
 """
@@ -56,6 +60,19 @@ _MAT_SUFFIXES = (".mat",)
 _MDF_SUFFIXES = (".mf4", ".mdf", ".dat4")
 _PARQUET_SUFFIXES = (".parquet", ".pq")
 _LISTED = 25  #: Most channel names listed in a message.
+#: A step between time stamps longer than this many median steps is a gap (a logger's dropout), refused unless
+#: ``fill_gaps``.  Loggers miss a sample or two now and then (a 100 Hz IMU log: steps of up to 3 median steps; a
+#: phone's: up to 1.6), which a straight line bridges with little loss; a longer dropout is data that is not
+#: there, and a straight line over it is a quiet seat that was never measured.
+GAP_STEPS = 5
+#: A stretch of the log whose local median step (over :data:`RATE_WINDOW` steps) differs from the whole log's
+#: median step by this factor or more is at another sample rate.  Jitter leaves the local median within a
+#: fraction of a per cent of the median (phone and IMU logs: 0.2 %); a rate change moves it by the ratio of
+#: the rates.
+RATE_CHANGE_RATIO = 2.0
+#: Steps over which the local median step is taken: long enough that jitter and a dropped sample or two do not
+#: move it, short against any stretch worth naming (a quarter second at 100 Hz).
+RATE_WINDOW = 25
 _ALL_COLUMNS = 32  #: Text tables up to this wide are read whole (so that pandas checks every row's field count).
 
 
@@ -544,7 +561,7 @@ def _factor(unit: str, key: str, label: str, name: str) -> float:
 
 
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
-                imu: bool = False, mounting=None, label: str | None = None) -> SeatMotion:
+                imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False) -> SeatMotion:
     """Read a seat motion (or an IMU log) from a file or a pandas DataFrame.
 
     Parameters
@@ -569,6 +586,9 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         ``wx, wy, wz`` its gyro rates, all required; see :func:`ehm.imu.from_imu` (``mounting`` is passed on).
     label : str, optional
         How messages name the source (default: its path, or ``DataFrame``).
+    fill_gaps : bool
+        Bridge gaps in the time stamps (steps longer than :data:`GAP_STEPS` median steps) with a straight line,
+        with a warning naming where; by default such a gap is refused.
 
     Returns
     -------
@@ -587,7 +607,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
             raise InputError(f"rate_hz must be a positive number of samples per second; got {rate_hz!r}.")
     src = _open(source, label)
     try:
-        return _read(src, channels, units, rate_hz, bool(imu), mounting, source)
+        return _read(src, channels, units, rate_hz, bool(imu), mounting, source, bool(fill_gaps))
     finally:
         src.close()
 
@@ -639,7 +659,8 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz) -> dict:
     return {k: names[k] for k in wanted}
 
 
-def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source) -> SeatMotion:
+def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
+          fill_gaps: bool = False) -> SeatMotion:
     use = _resolve(src, channels, imu, rate_hz)
     if isinstance(src, _TextSource):
         src.load(list(use.values()))
@@ -661,10 +682,11 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         raise InputError(f"{src.label}: the channels have different lengths "
                          f"({', '.join(f'{k} {v.size}' for k, v in data.items())}).")
     if src.per_channel_time:
-        time_s, data = _common_time(src, use, data, stamps)
+        time_s, data = _common_time(src, use, data, stamps, fill_gaps)
     elif "time" in data:
         time_s = data.pop("time")
         _check_times(src, use["time"], time_s)
+        _check_sampling(src, use["time"], time_s, fill_gaps)
     else:
         time_s = np.arange(n) / rate_hz
         rate_hz = None  # the source is at this rate already
@@ -751,12 +773,66 @@ def _check_times(src: _Source, name: str, t: np.ndarray) -> None:
                          f"{text(i - 1)} s on {src.where(i - 1)}; times must be strictly increasing.")
 
 
-def _common_time(src: _Source, use: dict, data: dict, stamps: dict):
+def _check_sampling(src: _Source, name: str, t: np.ndarray, fill_gaps: bool, key: str = "time") -> None:
+    """One sample rate and no gaps, else one sentence naming where: a change of rate (the resampler would take
+    the whole log at one rate, unfiltered) is refused; a gap (a step over :data:`GAP_STEPS` median steps) is
+    refused, or bridged with a warning when ``fill_gaps``."""
+    if t.size < 3:
+        return
+    steps = np.diff(t)
+    median = float(np.median(steps))
+    if steps.min() < median / RATE_CHANGE_RATIO or steps.max() > median * RATE_CHANGE_RATIO:
+        _check_one_rate(src, name, t, steps, median, key)
+    gaps = np.flatnonzero(steps > GAP_STEPS * median * (1 + 1e-6))  # (time stamps' round-off is no gap)
+    if gaps.size:
+        _gaps(src, name, t, gaps, median, fill_gaps, key)
+
+
+def _check_one_rate(src: _Source, name: str, t: np.ndarray, steps: np.ndarray, median: float, key: str) -> None:
+    """Refuse a log whose local median step leaves the median by :data:`RATE_CHANGE_RATIO` or more."""
+    import pandas as pd
+
+    local = pd.Series(steps).rolling(RATE_WINDOW, center=True, min_periods=1).median().to_numpy()
+    other = (local <= median / RATE_CHANGE_RATIO) | (local >= median * RATE_CHANGE_RATIO)
+    if not other.any() or other.all():
+        return
+    j = int(np.flatnonzero(other != other[0])[0])  # the first step of the second stretch, within the window
+    lo, hi = max(0, j - RATE_WINDOW), min(steps.size, j + RATE_WINDOW)
+    before, after = float(np.median(steps[lo:j])), float(np.median(steps[j:hi]))
+    # the row where the second rate starts: the first step nearer (in ratio) to the second stretch's step
+    near = np.abs(np.log(steps[lo:hi] / after)) < np.abs(np.log(steps[lo:hi] / before))
+    row = lo + int(np.argmax(near))
+    raise InputError(
+        f"{src.label}, {src.where(row)}, {_column_words(src, name, key)}: the sample rate changes at t = "
+        f"{t[row]:.6g} s from {1 / before:.6g} Hz to {1 / after:.6g} Hz; ehm resamples a log at one rate only: "
+        "split the log at that row, or resample it to one rate (with an anti-alias filter) before reading it.")
+
+
+def _gaps(src: _Source, name: str, t: np.ndarray, gaps: np.ndarray, median: float, fill_gaps: bool,
+          key: str) -> None:
+    """Refuse the first gap in one sentence, or warn once (naming the first and counting the rest)."""
+    i = int(gaps[0]) + 1
+    length = float(t[i] - t[i - 1])
+    where = (f"{src.label}, {src.where(i)}, {_column_words(src, name, key)}: a gap of {length:.6g} s in the time "
+             f"stamps, from t = {t[i - 1]:.6g} s to {t[i]:.6g} s ({length / median:.0f} median steps of {median:.6g} "
+             "s)")
+    if not fill_gaps:
+        raise InputError(f"{where}; cut the log there, or give --fill-gaps (fill_gaps=True) to bridge "
+                         f"{'it' if gaps.size == 1 else f'its {gaps.size} gaps'} with a straight line.")
+    import warnings
+
+    more = "" if gaps.size == 1 else f" (and {gaps.size - 1} more gaps, {float(np.sum(np.diff(t)[gaps])):.6g} s " \
+        "in all)"
+    warnings.warn(f"{where}{more} is bridged with a straight line (fill_gaps).", stacklevel=4)
+
+
+def _common_time(src: _Source, use: dict, data: dict, stamps: dict, fill_gaps: bool = False):
     """MDF: one time base for channels that may come from groups with different time stamps."""
     keys = list(use)
     first = stamps[keys[0]]
     for key in keys:
         _check_times(src, use[key], stamps[key])
+        _check_sampling(src, use[key], stamps[key], fill_gaps, key)
     if all(stamps[k] is first or (stamps[k].shape == first.shape and np.array_equal(stamps[k], first))
            for k in keys):
         return first, data
