@@ -402,3 +402,74 @@ def test_a_gap_is_refused_or_bridged_with_a_warning(tmp_path, capsys):
     assert main(["simulate", "--motion", str(path), "--method", "linear", "--fill-gaps", "--out", str(out)]) == 0
     err = capsys.readouterr().err
     assert f"ehm: warning: {path}, line 302" in err and "bridged with a straight line" in err
+
+
+# --------------------------------------------------------------------------
+# MDF4: overlapping channels, a name in two groups, a truncated file
+# --------------------------------------------------------------------------
+
+
+def _mdf_groups(path, groups):
+    """A SYNTHETIC MDF4 file: ``groups`` is a list of (acquisition name, time [s], {channel name: samples})."""
+    from asammdf import MDF, Signal
+
+    with MDF(version="4.10") as mdf:
+        for acq, t, channels in groups:
+            mdf.append([Signal(v, t, name=n, unit="m/s^2") for n, v in channels.items()], acq_name=acq,
+                       comment="SYNTHETIC")
+        mdf.save(path, overwrite=True)
+
+
+def test_mdf_channels_overlapping_for_a_small_share_are_refused(tmp_path):
+    t, acc = synthetic_log(3.0)
+    # z recorded 2 s later: the channels share 1 s of the 5 s they span (they were cut to it before)
+    _mdf_groups(tmp_path / "late.mf4", [("A", t, {"AccX": acc[:, 0], "AccY": acc[:, 1]}),
+                                        ("B", t + 2.0, {"AccZ": acc[:, 2]})])
+    names = {"ax": "AccX", "ay": "AccY", "az": "AccZ"}
+    with pytest.raises(InputError) as exc:
+        read_motion(tmp_path / "late.mf4", names)
+    assert one_sentence(exc).endswith(
+        "late.mf4: the channels' time stamps overlap for 1 s of the 5 s they span (20 %): ax ('AccX') 0-3 s, "
+        "ay ('AccY') 0-3 s, az ('AccZ') 2-5 s; ehm reads channels over their common span only, which must cover "
+        "90 % of theirs: pick channels recorded together, or cut the log to the common span first (asammdf's "
+        "MDF.cut).")
+    # starts 0.1 s apart (2.9 s of 3.1 s, 94 %, shared): read over the common span
+    _mdf_groups(tmp_path / "close.mf4", [("A", t, {"AccX": acc[:, 0], "AccY": acc[:, 1]}),
+                                         ("B", t + 0.1, {"AccZ": acc[:, 2]})])
+    m = read_motion(tmp_path / "close.mf4", names)
+    assert m.time_s[0] == pytest.approx(0.1) and m.duration_s == pytest.approx(2.9)
+
+
+def test_mdf_name_in_two_groups_is_refused_and_chosen_as_group_slash_name(tmp_path, capsys):
+    t, acc = synthetic_log(3.0)
+    _mdf_groups(tmp_path / "two.mf4", [("CAN1", t, {"AccX": acc[:, 0], "AccY": acc[:, 1], "AccZ": acc[:, 2]}),
+                                       ("CAN2", t, {"AccZ": 2 * acc[:, 2]})])
+    names = {"ax": "AccX", "ay": "AccY", "az": "AccZ"}
+    with pytest.raises(InputError) as exc:
+        read_motion(tmp_path / "two.mf4", names)
+    assert one_sentence(exc).endswith(
+        "two.mf4: channel az ('AccZ') is in data groups 0 (CAN1) and 1 (CAN2); name one as GROUP/NAME, GROUP its "
+        "index or name, e.g. --channel az=1/AccZ (Python: channels={'az': '1/AccZ'}).")
+    scale = np.abs(acc).max()
+    for choice, factor in (("0/AccZ", 1.0), ("CAN1/AccZ", 1.0), ("1/AccZ", 2.0), ("CAN2/AccZ", 2.0)):
+        m = read_motion(tmp_path / "two.mf4", {**names, "az": choice})
+        np.testing.assert_allclose(m.acc_mps2[:, 2], factor * acc[:, 2], rtol=0, atol=1e-12 * scale, err_msg=choice)
+    with pytest.raises(InputError, match=r"channel az \('7/AccZ'\) is not in the file"):
+        read_motion(tmp_path / "two.mf4", {**names, "az": "7/AccZ"})
+    out = tmp_path / "out"
+    assert main(["simulate", "--motion", str(tmp_path / "two.mf4"), "--method", "linear", "--channel", "ax=AccX",
+                 "--channel", "ay=AccY", "--channel", "az=CAN2/AccZ", "--out", str(out)]) == 0
+
+
+def test_a_truncated_mdf_gives_one_sentence_and_nothing_after_it(tmp_path):
+    import subprocess
+
+    t, acc = synthetic_log(3.0)
+    write_mdf(tmp_path / "whole.mf4", t, acc)
+    data = (tmp_path / "whole.mf4").read_bytes()
+    (tmp_path / "cut.mf4").write_bytes(data[: len(data) * 2 // 3])
+    run = subprocess.run([sys.executable, "-m", "ehm.cli", "assess", "--motion", str(tmp_path / "cut.mf4"),
+                          "--out", str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 2 and run.stdout == ""
+    assert run.stderr.count("\n") == 1 and run.stderr.startswith(f"ehm: error: {tmp_path / 'cut.mf4'}: not a "
+                                                                 "readable MDF file (")

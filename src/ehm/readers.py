@@ -136,6 +136,10 @@ class _Source:
         value = self.values(name)[row]
         return repr(value.item() if hasattr(value, "item") else value)
 
+    def has(self, name: str) -> bool:
+        """Whether the source holds a channel of that name."""
+        return name in self.names
+
     def values(self, name: str) -> np.ndarray:
         raise NotImplementedError
 
@@ -432,17 +436,20 @@ class _MatSource(_Source):
 
 
 class _MdfSource(_Source):
-    """An ASAM MDF log: channels by name, each with its own time stamps (its group's master) and unit."""
+    """An ASAM MDF log: channels by name, each with its own time stamps (its group's master) and unit.
+
+    A name that is in several data groups is refused unless it is given as ``GROUP/NAME``, GROUP the data
+    group's index (as asammdf's ``MDF.get(name, group=...)`` counts them) or its acquisition name.
+    """
 
     def __init__(self, path: Path, label: str):
         try:
             from asammdf import MDF
         except ImportError:
             raise InputError(f"{label}: MDF logs need asammdf: pip install 'ehm[logs]'.") from None
-        try:
-            self.mdf = MDF(str(path))
-        except Exception as exc:  # noqa: BLE001 - asammdf raises several kinds for a file that is not MDF
-            raise InputError(f"{label}: not a readable MDF file ({str(exc).splitlines()[0]}).") from None
+        self.mdf, failure = _open_mdf(MDF, path)
+        if failure is not None:
+            raise InputError(f"{label}: not a readable MDF file ({failure}).")
         masters = self.mdf.masters_db
         names = [n for n, places in self.mdf.channels_db.items()
                  if any(masters.get(g) != i for g, i in places)]  # the data channels, not the time stamps
@@ -451,34 +458,98 @@ class _MdfSource(_Source):
         self.first_comment = self._comment()
 
     def _comment(self) -> str:
-        """The file's or its first channel group's comment, as plain text (it describes the log)."""
+        """The file's or its first channel group's comment, as plain text (it describes the log); asammdf's
+        default group comment "Python" says nothing about the log and is passed over."""
         for text in [getattr(self.mdf.header, "comment", "")] + [g.channel_group.comment for g in self.mdf.groups]:
             plain = re.sub(r"<[^>]*>", " ", str(text or "")).strip()
-            if plain:
+            if plain and plain != "Python":
                 return " ".join(plain.split())
         return ""
 
-    def _where(self, name: str):
+    def _places(self, name: str) -> list:
+        """(group, index) of every data channel of that name."""
         masters = self.mdf.masters_db
-        return next((g, i) for g, i in self.mdf.channels_db[name] if masters.get(g) != i)
+        return [(g, i) for g, i in self.mdf.channels_db.get(name, ()) if masters.get(g) != i]
+
+    def _group_name(self, group: int) -> str:
+        return str(getattr(self.mdf.groups[group].channel_group, "acq_name", "") or "")
+
+    def _split(self, name: str):
+        """``GROUP/NAME`` -> (group index, NAME) when NAME is in that group; else None."""
+        head, sep, rest = name.partition("/")
+        if not sep or not rest:
+            return None
+        groups = [g for g, _ in self._places(rest)]
+        if head.strip().isdigit():
+            chosen = [int(head)] if int(head) in groups else []
+        else:
+            chosen = [g for g in groups if self._group_name(g) == head.strip()]
+        return (chosen[0], rest) if len(chosen) == 1 else None
+
+    def has(self, name: str) -> bool:
+        return name in self.names or self._split(name) is not None
+
+    def check_unique(self, key: str, name: str) -> None:
+        """Refuse a bare name that is in several data groups, naming them and the GROUP/NAME form."""
+        places = self._places(name) if name in self.names else []
+        if len(places) > 1:
+            groups = [f"{g}" + (f" ({self._group_name(g)})" if self._group_name(g) else "") for g, _ in places]
+            example = f"{key}={places[-1][0]}/{name}"
+            raise InputError(f"{self.label}: channel {key} ({name!r}) is in data groups {', '.join(groups[:-1])} "
+                             f"and {groups[-1]}; name one as GROUP/NAME, GROUP its index or name, e.g. --channel "
+                             f"{example} (Python: channels={{{key!r}: '{example.split('=', 1)[1]}'}}).")
+
+    def _where(self, name: str):
+        if name not in self.names:  # GROUP/NAME
+            group, rest = self._split(name)
+            return next((g, i) for g, i in self._places(rest) if g == group), rest
+        return self._places(name)[0], name
 
     def values(self, name: str) -> np.ndarray:
-        group, index = self._where(name)
+        (group, index), name = self._where(name)
         samples, _ = self.mdf.get(name, group, index, samples_only=True)
         return samples
 
     def time_of(self, name: str) -> np.ndarray:
-        group, _ = self._where(name)
+        (group, _), _ = self._where(name)
         if group not in self._masters:
             self._masters[group] = np.asarray(self.mdf.get_master(group), dtype=float)
         return self._masters[group]
 
     def unit_of(self, name: str) -> str:
-        group, index = self._where(name)
+        (group, index), name = self._where(name)
         return (self.mdf.get_channel_unit(name, group, index) or "").strip()
 
     def close(self) -> None:
         self.mdf.close()
+
+
+def _open_mdf(MDF, path: Path):
+    """(asammdf's MDF of the file, None), or (None, the first line of why it cannot be read).
+
+    asammdf's MDF4 object of a file it fails to read complains from its destructor (a traceback on stderr,
+    after ehm's sentence); that object is let go and collected here, its destructor's complaint dropped."""
+    import gc
+    import sys
+
+    failure = None
+    hook = sys.unraisablehook
+
+    def quiet(unraisable):
+        where = getattr(unraisable.object, "__module__", "") or ""
+        if not where.startswith("asammdf"):
+            hook(unraisable)
+
+    sys.unraisablehook = quiet
+    try:
+        try:
+            return MDF(str(path)), None
+        except Exception as exc:  # noqa: BLE001 - asammdf raises several kinds for a file that is not MDF
+            failure = (str(exc).splitlines() or [type(exc).__name__])[0]
+        gc.collect()  # the half-built object goes now, while its destructor's complaint is dropped
+    finally:
+        sys.unraisablehook = hook
+    return None, failure
 
 
 def _open(source, label: str | None) -> _Source:
@@ -620,7 +691,7 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz) -> dict:
         name = names[key]
         if name is None:
             return False
-        return name in src.names or (isinstance(src, _FrameSource) and key == "time" and src.has_index_time(name))
+        return src.has(name) or (isinstance(src, _FrameSource) and key == "time" and src.has_index_time(name))
 
     wanted = list(_ACC) + list(_RATES if imu else [])
     left_out = [k for k in _RATES if k in channels and channels[k] is None]
@@ -664,6 +735,9 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
     use = _resolve(src, channels, imu, rate_hz)
     if isinstance(src, _TextSource):
         src.load(list(use.values()))
+    if isinstance(src, _MdfSource):
+        for key, name in use.items():
+            src.check_unique(key, name)
     data, stamps = {}, {}
     for key, name in use.items():  # one channel at a time: checked, in SI, each held once
         raw = src.values(name)
@@ -826,6 +900,28 @@ def _gaps(src: _Source, name: str, t: np.ndarray, gaps: np.ndarray, median: floa
     warnings.warn(f"{where}{more} is bridged with a straight line (fill_gaps).", stacklevel=4)
 
 
+#: MDF channels are read over their common time span; it must cover at least this share of the span they
+#: reach together.  Groups of one logger start and stop within moments of each other (a few samples cut); a
+#: channel that covers much less of the drive than the others is another recording, and cutting every channel
+#: to it would quietly drop most of the drive.
+MIN_OVERLAP = 0.9
+
+
+def _check_overlap(src: _Source, use: dict, stamps: dict, start: float, stop: float, step: float) -> None:
+    """Refuse MDF channels whose common span is less than :data:`MIN_OVERLAP` of their joint span."""
+    first = min(float(stamps[k][0]) for k in use)
+    last = max(float(stamps[k][-1]) for k in use)
+    common = max(0.0, stop - start)
+    if common >= step and common >= MIN_OVERLAP * (last - first):
+        return
+    spans = ", ".join(f"{k} ({use[k]!r}) {stamps[k][0]:.6g}-{stamps[k][-1]:.6g} s" for k in use)
+    what = "do not overlap" if common < step else \
+        f"overlap for {common:.6g} s of the {last - first:.6g} s they span ({100 * common / (last - first):.0f} %)"
+    raise InputError(f"{src.label}: the channels' time stamps {what}: {spans}; ehm reads channels over their "
+                     f"common span only, which must cover {100 * MIN_OVERLAP:.0f} % of theirs: pick channels "
+                     "recorded together, or cut the log to the common span first (asammdf's MDF.cut).")
+
+
 def _common_time(src: _Source, use: dict, data: dict, stamps: dict, fill_gaps: bool = False):
     """MDF: one time base for channels that may come from groups with different time stamps."""
     keys = list(use)
@@ -841,8 +937,7 @@ def _common_time(src: _Source, use: dict, data: dict, stamps: dict, fill_gaps: b
     start = max(float(stamps[k][0]) for k in keys)
     stop = min(float(stamps[k][-1]) for k in keys)
     step = min(float(np.median(np.diff(stamps[k]))) for k in keys)
-    if stop - start < step:
-        raise InputError(f"{src.label}: the channels' time stamps do not overlap.")
+    _check_overlap(src, use, stamps, start, stop, step)
     out = {}
     n = int(np.floor((stop - start) / step + 1e-9)) + 1
     for k in keys:
