@@ -162,8 +162,10 @@ def test_cli_linear_route_takes_zero_gyro_columns_and_names_what_to_do_for_rotat
     frame.to_csv(tmp_path / "still.csv", index=False)
     frame.drop(columns=[f"w{c}_radps" for c in "xyz"]).to_csv(tmp_path / "plain.csv", index=False)
     frame.assign(wz_radps=0.05 * np.sin(vib.time_s)).to_csv(tmp_path / "turning.csv", index=False)
-    run = lambda name, *extra: main(["simulate", "--motion", str(tmp_path / f"{name}.csv"), "--method", "linear",  # noqa: E731
-                                     *extra, "--out", str(tmp_path / f"out_{name}")])
+    def run(name, *extra):
+        return main(["simulate", "--motion", str(tmp_path / f"{name}.csv"), "--method", "linear", *extra,
+                     "--out", str(tmp_path / f"out_{name}")])
+
     assert run("still") == 0 and run("plain") == 0
     a, b = (pd.read_csv(tmp_path / f"out_{n}" / "timeseries.csv") for n in ("still", "plain"))
     np.testing.assert_array_equal(a["head_az_mps2"].to_numpy(), b["head_az_mps2"].to_numpy())

@@ -15,8 +15,8 @@ quasi-static response added to the direct term; against the full model the outpu
 their rms (tested).  It discretises the rest exactly at the sample step of its input (first-order hold: the
 seat acceleration linear between samples); :class:`ehm.SeatedHuman` gives it the motion resampled to the
 model's step by the same anti-aliased :class:`ehm.motion.Resampler` as the nonlinear route, so that both
-routes see the same input (a first-order hold at a low log rate, 20 Hz, would cut the head's rms by a fifth) and arranges it in blocks
-of :data:`BLOCK` samples, so that a whole run is one matrix product (block inputs and block start state to
+routes see the same input (a first-order hold at a low log rate, 20 Hz, would cut the head's rms by a
+fifth).  It arranges the discretised model in blocks of :data:`BLOCK` samples, so that a whole run is one matrix product (block inputs and block start state to
 all the block's outputs) after a recursion over the block starts only (:func:`_block_form`).  While it runs
 it checks that the model still holds: every touching contact must keep pressing (normal force > 0) and
 stay inside its friction cone; otherwise it raises :class:`LinearRouteError` saying when, where and by how
