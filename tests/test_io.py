@@ -72,7 +72,9 @@ def test_csv_content_and_precision(tmp_path):
     assert lines[1] == "0,0.333333333,-2.5e-07"
     assert lines[2] == "0.001,123456.789,7"
     back = np.loadtxt(path, delimiter=",", skiprows=1)
-    np.testing.assert_allclose(back, data, rtol=1e-9)
+    # 9 significant digits: |x - read back| <= half a unit in the 9th digit <= 5e-9 |x| (1/3 is off by exactly
+    # 1e-9 of itself, which rtol=1e-9 passed only by round-off in the comparison)
+    np.testing.assert_allclose(back, data, rtol=5e-9)
     assert listing(path.parent) == ["table.csv"]
 
 

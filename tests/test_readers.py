@@ -109,6 +109,30 @@ def test_dataframe_time_from_its_index_and_column_units_in_brackets():
     np.testing.assert_allclose(m.acc_mps2, acc, atol=1e-12)
 
 
+def test_mat_matrix_columns_by_index_v5_and_v73(tmp_path, capsys):
+    # SYNTHETIC MATLAB files holding one n x 3 matrix "acc" [g] and a time vector: acc[0] is column 0 (it was
+    # refused: "'0' is not a unit"); a unit in brackets is still a unit.
+    import h5py
+    from scipy.io import savemat
+
+    t, acc = synthetic_log(3.0)
+    savemat(tmp_path / "log5.mat", {"t": t, "acc": acc / G})
+    write_mat73(tmp_path / "log73.mat", {"t": t})
+    with h5py.File(tmp_path / "log73.mat", "a") as f:  # MATLAB stores an n x 3 matrix as 3 x n in HDF5
+        f.create_dataset("acc", data=(acc / G).T).attrs["MATLAB_class"] = np.bytes_("double")
+    columns = {"time": "t", "ax": "acc[0]", "ay": "acc[1]", "az": "acc[2]"}
+    for name in ("log5.mat", "log73.mat"):
+        m = read_motion(tmp_path / name, columns, IN_G)
+        np.testing.assert_allclose(m.acc_mps2, acc, rtol=0, atol=1e-14 * np.abs(acc).max(), err_msg=name)
+    out = tmp_path / "out"
+    assert main(["assess", "--motion", str(tmp_path / "log5.mat"), "--method", "linear", "--out", str(out),
+                 *[f"--channel={k}={v}" for k, v in columns.items()], *[f"--unit={k}=g" for k in IN_G]]) == 0
+    assert (out / "assessment.json").exists()
+    df = pd.DataFrame({"t": t, "a[g]": acc[:, 0] / G, "b[2]": acc[:, 1], "c": acc[:, 2]})
+    m = read_motion(df, {"time": "t", "ax": "a[g]", "ay": "b[2]", "az": "c"})
+    np.testing.assert_allclose(m.acc_mps2, acc, rtol=0, atol=1e-14 * np.abs(acc).max())
+
+
 def test_units_are_converted_by_pint():
     t = np.arange(5) * 10.0  # milliseconds
     df = pd.DataFrame({"t": t, "x": np.ones(5), "y": np.zeros(5), "z": np.zeros(5), "p": np.full(5, 90.0),
@@ -264,6 +288,12 @@ def test_rates_all_three_or_none(tmp_path):
         read_motion(df)
     with pytest.raises(InputError, match=r"channels wy \('wy_radps'\) and wz \('wz_radps'\) are not in the DataFrame"):
         read_motion(df, {"wx": "wx_radps"})
+    # all three given empty: the translation only, even where the source has angular velocities
+    full = df.assign(wy_radps=0.0, wz_radps=0.1)
+    assert read_motion(full).angvel_radps is not None
+    assert read_motion(full, {"wx": None, "wy": None, "wz": None}).angvel_radps is None
+    with pytest.raises(InputError, match=r"wx is left out \(given empty\); leave out all three angular velocities"):
+        read_motion(full, {"wx": None})
 
 
 def test_bad_arguments_are_one_sentence():
@@ -303,3 +333,143 @@ def test_mdf_channels_at_different_rates_share_one_time_base(tmp_path):
     inner = slice(100, -100)  # beyond the polyphase filter's reach from the ends
     np.testing.assert_allclose(m.acc_mps2[inner, 0], acc[: m.n_samples][inner, 0], atol=1e-12)
     np.testing.assert_allclose(m.acc_mps2[inner, 1], acc[: m.n_samples][inner, 1], atol=0.02 * 0.2)
+
+
+# --------------------------------------------------------------------------
+# time stamps: one rate, no gaps (or gaps bridged only when asked, with a warning)
+# --------------------------------------------------------------------------
+
+
+def test_a_change_of_sample_rate_is_refused_naming_where_and_both_rates(tmp_path):
+    # SYNTHETIC log: 0.5 s at 10 kHz, then 100 Hz; a 1010 Hz component in the fast stretch would alias into a
+    # 10 Hz seat input at the 100 Hz median step (seat a_v 0.705 instead of about 0.2 m/s^2 before).
+    t = np.concatenate([np.arange(0, 0.5, 1e-4), np.arange(0.5, 6.0, 0.01)])
+    z = 0.3 * np.sin(2 * np.pi * 5 * t) + np.sin(2 * np.pi * 1010 * t)
+    frame = pd.DataFrame({"time_s": t, "ax_mps2": 0 * t, "ay_mps2": 0 * t, "az_mps2": z})
+    frame.to_csv(tmp_path / "two_rates.csv", index=False)
+    with pytest.raises(InputError) as exc:
+        read_motion(tmp_path / "two_rates.csv")
+    assert one_sentence(exc).endswith(  # row 5000 (t = 0.5 s) is on line 5002 after the header
+        "two_rates.csv, line 5002, column time_s: the sample rate changes at t = 0.5 s from 10000 Hz to 100 Hz; "
+        "ehm resamples a log at one rate only: split the log at that row, or resample it to one rate (with an "
+        "anti-alias filter) before reading it.")
+    with pytest.raises(InputError, match=r"row 5000 \(index 5000\), column time_s: the sample rate changes"):
+        read_motion(frame)
+
+
+def test_jittery_time_stamps_and_a_dropped_sample_are_read():
+    # SYNTHETIC phone-like log: 50 Hz with steps jittering between 0.4 and 1.6 of the nominal step and two
+    # samples dropped (a step of 3), as real phone and IMU logs have: one rate, no gap.
+    rng = np.random.default_rng(1)
+    steps = 0.02 * rng.uniform(0.4, 1.6, 999)
+    steps[500] = 0.06
+    t = np.concatenate([[0.0], np.cumsum(steps)])
+    m = read_motion(pd.DataFrame({"time_s": t, "ax_mps2": 0 * t, "ay_mps2": 0 * t, "az_mps2": np.sin(t)}))
+    assert m.n_samples == t.size
+
+
+def test_a_gap_is_refused_or_bridged_with_a_warning(tmp_path, capsys):
+    # SYNTHETIC 100 Hz log with a 2 s dropout after 3 s
+    t = np.arange(0, 8.0, 0.01)
+    t = t[(t < 3.0) | (t >= 5.0)]
+    frame = pd.DataFrame({"time_s": t, "ax_mps2": 0 * t, "ay_mps2": 0 * t, "az_mps2": 0.3 * np.sin(2 * np.pi * t)})
+    path = tmp_path / "dropout.csv"
+    frame.to_csv(path, index=False)
+    gap = "a gap of 2.01 s in the time stamps, from t = 2.99 s to 5 s (201 median steps of 0.01 s)"
+    with pytest.raises(InputError) as exc:
+        read_motion(path)
+    assert one_sentence(exc).endswith(f"dropout.csv, line 302, column time_s: {gap}; cut the log there, or give "
+                                      "--fill-gaps (fill_gaps=True) to bridge it with a straight line.")
+    with pytest.warns(UserWarning) as record:
+        m = read_motion(path, fill_gaps=True)
+    assert len(record) == 1 and str(record[0].message).endswith(
+        f"dropout.csv, line 302, column time_s: {gap} is bridged with a straight line (fill_gaps).")
+    np.testing.assert_array_equal(m.time_s, t)
+    # a step of up to GAP_STEPS median steps is not a gap
+    from ehm.readers import GAP_STEPS
+
+    short = np.delete(np.arange(0, 8.0, 0.01), np.arange(300, 300 + GAP_STEPS - 1))  # one step of GAP_STEPS
+    zeros = np.zeros(short.size)
+    frame_short = pd.DataFrame({"time_s": short, "ax_mps2": zeros, "ay_mps2": zeros, "az_mps2": zeros})
+    assert read_motion(frame_short).n_samples == short.size
+    with pytest.raises(InputError, match=f"a gap of .* \\({GAP_STEPS + 1} median steps"):
+        read_motion(frame_short.drop(index=300))  # the step after row 299 one longer
+    # the command line: refused (exit 2, one line), or bridged with --fill-gaps and a one-line warning
+    out = tmp_path / "out"
+    assert main(["simulate", "--motion", str(path), "--method", "linear", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and gap in err and "--fill-gaps" in err and not out.exists()
+    assert main(["simulate", "--motion", str(path), "--method", "linear", "--fill-gaps", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert f"ehm: warning: {path}, line 302" in err and "bridged with a straight line" in err
+
+
+# --------------------------------------------------------------------------
+# MDF4: overlapping channels, a name in two groups, a truncated file
+# --------------------------------------------------------------------------
+
+
+def _mdf_groups(path, groups):
+    """A SYNTHETIC MDF4 file: ``groups`` is a list of (acquisition name, time [s], {channel name: samples})."""
+    from asammdf import MDF, Signal
+
+    with MDF(version="4.10") as mdf:
+        for acq, t, channels in groups:
+            mdf.append([Signal(v, t, name=n, unit="m/s^2") for n, v in channels.items()], acq_name=acq,
+                       comment="SYNTHETIC")
+        mdf.save(path, overwrite=True)
+
+
+def test_mdf_channels_overlapping_for_a_small_share_are_refused(tmp_path):
+    t, acc = synthetic_log(3.0)
+    # z recorded 2 s later: the channels share 1 s of the 5 s they span (they were cut to it before)
+    _mdf_groups(tmp_path / "late.mf4", [("A", t, {"AccX": acc[:, 0], "AccY": acc[:, 1]}),
+                                        ("B", t + 2.0, {"AccZ": acc[:, 2]})])
+    names = {"ax": "AccX", "ay": "AccY", "az": "AccZ"}
+    with pytest.raises(InputError) as exc:
+        read_motion(tmp_path / "late.mf4", names)
+    assert one_sentence(exc).endswith(
+        "late.mf4: the channels' time stamps overlap for 1 s of the 5 s they span (20 %): ax ('AccX') 0-3 s, "
+        "ay ('AccY') 0-3 s, az ('AccZ') 2-5 s; ehm reads channels over their common span only, which must cover "
+        "90 % of theirs: pick channels recorded together, or cut the log to the common span first (asammdf's "
+        "MDF.cut).")
+    # starts 0.1 s apart (2.9 s of 3.1 s, 94 %, shared): read over the common span
+    _mdf_groups(tmp_path / "close.mf4", [("A", t, {"AccX": acc[:, 0], "AccY": acc[:, 1]}),
+                                         ("B", t + 0.1, {"AccZ": acc[:, 2]})])
+    m = read_motion(tmp_path / "close.mf4", names)
+    assert m.time_s[0] == pytest.approx(0.1) and m.duration_s == pytest.approx(2.9)
+
+
+def test_mdf_name_in_two_groups_is_refused_and_chosen_as_group_slash_name(tmp_path, capsys):
+    t, acc = synthetic_log(3.0)
+    _mdf_groups(tmp_path / "two.mf4", [("CAN1", t, {"AccX": acc[:, 0], "AccY": acc[:, 1], "AccZ": acc[:, 2]}),
+                                       ("CAN2", t, {"AccZ": 2 * acc[:, 2]})])
+    names = {"ax": "AccX", "ay": "AccY", "az": "AccZ"}
+    with pytest.raises(InputError) as exc:
+        read_motion(tmp_path / "two.mf4", names)
+    assert one_sentence(exc).endswith(
+        "two.mf4: channel az ('AccZ') is in data groups 0 (CAN1) and 1 (CAN2); name one as GROUP/NAME, GROUP its "
+        "index or name, e.g. --channel az=1/AccZ (Python: channels={'az': '1/AccZ'}).")
+    scale = np.abs(acc).max()
+    for choice, factor in (("0/AccZ", 1.0), ("CAN1/AccZ", 1.0), ("1/AccZ", 2.0), ("CAN2/AccZ", 2.0)):
+        m = read_motion(tmp_path / "two.mf4", {**names, "az": choice})
+        np.testing.assert_allclose(m.acc_mps2[:, 2], factor * acc[:, 2], rtol=0, atol=1e-12 * scale, err_msg=choice)
+    with pytest.raises(InputError, match=r"channel az \('7/AccZ'\) is not in the file"):
+        read_motion(tmp_path / "two.mf4", {**names, "az": "7/AccZ"})
+    out = tmp_path / "out"
+    assert main(["simulate", "--motion", str(tmp_path / "two.mf4"), "--method", "linear", "--channel", "ax=AccX",
+                 "--channel", "ay=AccY", "--channel", "az=CAN2/AccZ", "--out", str(out)]) == 0
+
+
+def test_a_truncated_mdf_gives_one_sentence_and_nothing_after_it(tmp_path):
+    import subprocess
+
+    t, acc = synthetic_log(3.0)
+    write_mdf(tmp_path / "whole.mf4", t, acc)
+    data = (tmp_path / "whole.mf4").read_bytes()
+    (tmp_path / "cut.mf4").write_bytes(data[: len(data) * 2 // 3])
+    run = subprocess.run([sys.executable, "-m", "ehm.cli", "assess", "--motion", str(tmp_path / "cut.mf4"),
+                          "--out", str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 2 and run.stdout == ""
+    assert run.stderr.count("\n") == 1 and run.stderr.startswith(f"ehm: error: {tmp_path / 'cut.mf4'}: not a "
+                                                                 "readable MDF file (")

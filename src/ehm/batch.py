@@ -20,6 +20,7 @@ A study file (TOML) names what varies and what to compute::
     drive = "city"              # comfort: "city", "road", a drive file, or "random" (vibration of `axes`)
     # channels = { ax = "AccX", ay = "AccY", az = "AccZ" }   a log's own names (any format ehm.read_motion reads)
     # units = { ax = "g", ay = "g", az = "g" }                units the file does not carry; imu = true for an IMU
+    # fill_gaps = true          bridge the drive file's gaps in its time stamps with a straight line (warned)
     duration_s = 30.0
     route = "nonlinear"         # simulation route of runs: "nonlinear" (MuJoCo) or "linear" (ehm.linear)
 
@@ -123,7 +124,7 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
             raise InputError(f"{label}: [grid] {k!r} must be a non-empty list of values.")
     inp = dict(doc.get("input", {}))
     allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed", "channels", "units", "imu",
-                     "rate_hz"}
+                     "rate_hz", "fill_gaps"}
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
@@ -267,10 +268,12 @@ def _read_drive(inp: dict):
     from .readers import read_motion
 
     imu = inp.get("imu", False)
-    if not isinstance(imu, bool):
-        raise InputError(f"imu {imu!r}: use true or false.")
+    fill_gaps = inp.get("fill_gaps", False)
+    for key, value in (("imu", imu), ("fill_gaps", fill_gaps)):
+        if not isinstance(value, bool):
+            raise InputError(f"{key} {value!r}: use true or false.")
     return read_motion(drive_path(inp["drive"]), channels=inp.get("channels"), units=inp.get("units"),
-                       rate_hz=inp.get("rate_hz"), imu=imu)
+                       rate_hz=inp.get("rate_hz"), imu=imu, fill_gaps=fill_gaps)
 
 
 def cut_by_time(motion, duration_s: float):

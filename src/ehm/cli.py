@@ -120,12 +120,17 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
     p.add_argument("--motion", required=required, metavar="FILE", help=help_text)
     p.add_argument("--channel", action="append", metavar="KEY=NAME",
                    help="the file's name for a channel (KEY: time, ax, ay, az, wx, wy, wz; repeat; --channel time= "
-                        "for a file without time stamps); default: time_s, ax_mps2, ..., wx_radps, ...")
+                        "for a file without time stamps; --channel wx= --channel wy= --channel wz= to leave its "
+                        "angular velocities out; MDF: GROUP/NAME for a name in several groups, GROUP its index); "
+                        "default: time_s, ax_mps2, ..., wx_radps, ...")
     p.add_argument("--unit", action="append", metavar="KEY=UNIT",
                    help="unit of a channel the file does not label, e.g. ax=g, wx=deg/s, time=ms (repeat; default SI)")
     p.add_argument("--imu", action="store_true",
                    help="the file is an IMU at the seat: ax, ay, az its specific force (gravity included), wx, wy, wz "
                         "its gyro rates; the log must start with 1 s at rest")
+    p.add_argument("--fill-gaps", action="store_true",
+                   help="bridge gaps in the file's time stamps (steps over 5 median steps: a logger's dropout) with a "
+                        "straight line, with a warning naming where (default: refuse them)")
     p.add_argument("--rate", type=float, metavar="HZ",
                    help="sample rate of a file without time stamps (otherwise: resample the file to this rate)")
 
@@ -135,7 +140,8 @@ def _read_motion_file(args):
     from .readers import parse_assignments, read_motion
 
     return read_motion(drive_path(args.motion), channels=parse_assignments(args.channel, "--channel"),
-                       units=parse_assignments(args.unit, "--unit"), rate_hz=args.rate, imu=args.imu)
+                       units=parse_assignments(args.unit, "--unit"), rate_hz=args.rate, imu=args.imu,
+                       fill_gaps=args.fill_gaps)
 
 
 def cmd_simulate(args) -> int:
@@ -147,7 +153,8 @@ def cmd_simulate(args) -> int:
     out = check_output_folder(args.out)
     if args.motion:  # a drive file with angular velocities needs the rotating seat
         motion = _read_motion_file(args)
-        human = _human(args, rotating_seat=motion.angvel_radps is not None)
+        # the linear route's seat does not turn: it takes translation (all-zero rates) or refuses, in one sentence
+        human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
     else:
         human = _human(args)
         motion = _motion(args, float(human.params.value("simulation.dt_s")))

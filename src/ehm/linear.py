@@ -12,9 +12,11 @@ reductions: modes that the input does not reach (time constant over 1000 s, inpu
 differences' round-off: the integral actuators' neutral directions) are left out, and modes above
 :data:`STATIC_ABOVE_HZ` (which follow the seat within half a millisecond) are taken as static, their
 quasi-static response added to the direct term; against the full model the outputs stay within 0.1 % of
-their rms (tested).  It discretises the rest exactly at the motion's own sample step (first-order hold: the
-seat acceleration linear between samples, as the nonlinear route interpolates it) and arranges it in blocks
-of :data:`BLOCK` samples, so that a whole run is one matrix product (block inputs and block start state to
+their rms (tested).  It discretises the rest exactly at the sample step of its input (first-order hold: the
+seat acceleration linear between samples); :class:`ehm.SeatedHuman` gives it the motion resampled to the
+model's step by the same anti-aliased :class:`ehm.motion.Resampler` as the nonlinear route, so that both
+routes see the same input (a first-order hold at a low log rate, 20 Hz, would cut the head's rms by a
+fifth).  It arranges the discretised model in blocks of :data:`BLOCK` samples, so that a whole run is one matrix product (block inputs and block start state to
 all the block's outputs) after a recursion over the block starts only (:func:`_block_form`).  While it runs
 it checks that the model still holds: every touching contact must keep pressing (normal force > 0) and
 stay inside its friction cone; otherwise it raises :class:`LinearRouteError` saying when, where and by how
@@ -434,9 +436,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
     (:class:`ehm.motion.Resampler`, as the nonlinear route does), so that no resampled copy of the whole motion
     is made.
     """
-    if motion.angvel_radps is not None and np.any(motion.angvel_radps != 0):
-        raise InputError("the linear route takes seat translation only; for a motion with seat rotation use the "
-                         "nonlinear route (method='nonlinear') with SeatedHuman(rotating_seat=True).")
+    _check_translation_only(motion)
     grid = None
     if dt_s is None:
         steps = np.diff(motion.time_s)
@@ -472,6 +472,20 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
         del result, y, u  # the next chunk is made without this one held here
         if progress:
             progress(min(t[-1] + dt, motion.duration_s), motion.duration_s)
+
+
+def _check_translation_only(motion) -> None:
+    """Refuse a motion that rotates the seat, naming where and what to do; angular velocities that are all
+    exactly zero are no rotation (a gyro that logged none) and pass."""
+    w = motion.angvel_radps
+    if w is None or not np.any(w != 0):
+        return
+    i, j = np.unravel_index(int(np.argmax(np.abs(w))), w.shape)
+    raise InputError(
+        f"the linear route takes seat translation only, but this motion rotates the seat (w{'xyz'[j]} "
+        f"{w[i, j]:.3g} rad/s at t = {motion.time_s[i] - motion.time_s[0]:.3f} s); use --method nonlinear "
+        "(Python: method='nonlinear', SeatedHuman(rotating_seat=True)), or give --channel wx= --channel wy= "
+        "--channel wz= to read the translation only.")
 
 
 def _settled_orientations(ss: StateSpace, model: engine.Model) -> dict:
@@ -573,8 +587,9 @@ def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, 
                      locked=tuple(sorted(human.locked)), params_origin=human.params.origin)
 
 
-def simulate_linear(human, motion):
+def simulate_linear(human, motion, dt_s: float | None = None):
     """Run ``motion`` through the linear route in one piece: a :class:`ehm.simulation.RunResult` sampled at
-    the motion's own time step, like the nonlinear route's (see :func:`stream_linear`)."""
-    (result,) = stream_linear(human, motion, chunk_s=np.inf)
+    ``dt_s`` [s] (the motion resampled onto it, anti-aliased), or at the motion's own time step when None
+    (see :func:`stream_linear`)."""
+    (result,) = stream_linear(human, motion, chunk_s=np.inf, dt_s=dt_s)
     return result

@@ -277,8 +277,9 @@ class Resampler:
     a margin of the filter's length.
 
     A record whose time stamps depart from a uniform grid by more than :data:`UNIFORM_TOLERANCE` of a step
-    (gaps, varying rates) is first interpolated linearly onto a uniform grid at its median step, which is
-    the best a varying rate allows.
+    (jitter, gaps, varying rates) is first interpolated linearly onto a uniform grid at its median step, with
+    no anti-alias filter; :func:`ehm.readers.read_motion` therefore refuses logs whose rate changes and
+    refuses (or, asked, bridges) gaps, so that from files this step meets jitter and dropped samples only.
 
     Parameters
     ----------

@@ -39,20 +39,47 @@ def _save(fig, path: Path | str | None):
     return fig
 
 
+_AXIS_NAMES = {"x": "x, fore-aft", "y": "y, lateral", "z": "z, vertical"}
+#: An axis counts as excited when its seat acceleration rms is at least this share of the largest axis's.
+EXCITED_SHARE = 0.1
+
+
+def excited_axes(seat_acc_mps2: np.ndarray) -> str:
+    """The axes of a seat input worth a support-force panel, in xyz order: those whose rms is at least
+    :data:`EXCITED_SHARE` of the largest; ``"z"`` (the weight) when the seat does not move."""
+    acc = np.asarray(seat_acc_mps2, float)
+    rms = np.sqrt(np.mean(acc ** 2, axis=0)) if len(acc) else np.zeros(3)
+    if not np.isfinite(rms).all() or rms.max() <= 0:
+        return "z"
+    return "".join(a for a, r in zip("xyz", rms) if r >= EXCITED_SHARE * rms.max())
+
+
 def plot_time_histories(run: RunResult, path: Path | str | None = None, title: str | None = None):
-    """Seat input, support forces, and pelvis, trunk and head acceleration and rotation over time."""
+    """Seat input, support forces, and pelvis, trunk and head acceleration and rotation over time.
+
+    The support forces are drawn in the axes the seat moves in (:func:`excited_axes`): for a fore-aft run the
+    x forces, for a lateral run the y forces, one panel per excited axis for a run in several axes."""
     t = run.time_s
     names = list(run.points)
-    fig, axes = plt.subplots(1 + len(names), 2, figsize=(12, 2.3 * (1 + len(names))), sharex=True)
+    force_axes = excited_axes(run.seat_acc_mps2)
+    extra = len(force_axes) // 2  # force panels beyond the first fill extra rows, two per row
+    rows = 1 + extra + len(names)
+    fig, axes = plt.subplots(rows, 2, figsize=(12, 2.3 * rows), sharex=True, squeeze=False)
     for k, a in enumerate("xyz"):
         axes[0, 0].plot(t, run.seat_acc_mps2[:, k], lw=0.6, color=_AXIS_COLORS[a], label=a)
     axes[0, 0].set_ylabel("seat acc [m/s²]")
     axes[0, 0].legend(loc="upper right", ncol=3, fontsize=8)
-    for s, f in run.support_N.items():
-        axes[0, 1].plot(t, f[:, 2], lw=0.6, label=f"{s} z")
-    axes[0, 1].set_ylabel("support force [N]")
-    axes[0, 1].legend(loc="center right", ncol=3, fontsize=8)
-    for i, p in enumerate(names, start=1):
+    force_panels = [axes[0, 1]] + [axes[1 + i // 2, i % 2] for i in range(len(force_axes) - 1)]
+    for ax, a in zip(force_panels, force_axes):
+        k = "xyz".index(a)
+        for s, f in run.support_N.items():
+            ax.plot(t, f[:, k], lw=0.6, label=f"{s} F{a}")
+        ax.set_ylabel(f"support force {a} [N]")
+        ax.set_title(f"support forces on the body, {_AXIS_NAMES[a]}", fontsize=9)
+        ax.legend(loc="center right", ncol=3, fontsize=8)
+    if len(force_axes) == 2:  # one panel of the extra row is left over
+        axes[1, 1].set_visible(False)
+    for i, p in enumerate(names, start=1 + extra):
         m = run.points[p]
         for k, a in enumerate("xyz"):
             axes[i, 0].plot(t, m.acc_mps2[:, k], lw=0.6, color=_AXIS_COLORS[a], label=a)

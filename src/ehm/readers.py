@@ -20,6 +20,10 @@ is standard gravity, 9.80665 m/s^2).  With ``imu=True`` the accelerations are an
 (gravity included, sensor axes) and the rates its gyro rates: :func:`ehm.imu.from_imu` turns them into
 the seat's motion.
 
+Time stamps must keep one sample rate (a log whose rate changes part way is refused, naming where and the
+two rates: resampled as one rate it would alias) and have no gaps longer than :data:`GAP_STEPS` median steps
+(refused, or bridged with a straight line and a warning with ``fill_gaps=True``, ``--fill-gaps``).
+
 Bad input ends in one sentence naming the file, channel, line or row and the value; a channel that is not
 in the source is named together with the channels that are.
 """
@@ -56,6 +60,19 @@ _MAT_SUFFIXES = (".mat",)
 _MDF_SUFFIXES = (".mf4", ".mdf", ".dat4")
 _PARQUET_SUFFIXES = (".parquet", ".pq")
 _LISTED = 25  #: Most channel names listed in a message.
+#: A step between time stamps longer than this many median steps is a gap (a logger's dropout), refused unless
+#: ``fill_gaps``.  Loggers miss a sample or two now and then (a 100 Hz IMU log: steps of up to 3 median steps; a
+#: phone's: up to 1.6), which a straight line bridges with little loss; a longer dropout is data that is not
+#: there, and a straight line over it is a quiet seat that was never measured.
+GAP_STEPS = 5
+#: A stretch of the log whose local median step (over :data:`RATE_WINDOW` steps) differs from the whole log's
+#: median step by this factor or more is at another sample rate.  Jitter leaves the local median within a
+#: fraction of a per cent of the median (phone and IMU logs: 0.2 %); a rate change moves it by the ratio of
+#: the rates.
+RATE_CHANGE_RATIO = 2.0
+#: Steps over which the local median step is taken: long enough that jitter and a dropped sample or two do not
+#: move it, short against any stretch worth naming (a quarter second at 100 Hz).
+RATE_WINDOW = 25
 _ALL_COLUMNS = 32  #: Text tables up to this wide are read whole (so that pandas checks every row's field count).
 
 
@@ -118,6 +135,10 @@ class _Source:
         """The row's value as the source holds it, for messages."""
         value = self.values(name)[row]
         return repr(value.item() if hasattr(value, "item") else value)
+
+    def has(self, name: str) -> bool:
+        """Whether the source holds a channel of that name."""
+        return name in self.names
 
     def values(self, name: str) -> np.ndarray:
         raise NotImplementedError
@@ -415,17 +436,20 @@ class _MatSource(_Source):
 
 
 class _MdfSource(_Source):
-    """An ASAM MDF log: channels by name, each with its own time stamps (its group's master) and unit."""
+    """An ASAM MDF log: channels by name, each with its own time stamps (its group's master) and unit.
+
+    A name that is in several data groups is refused unless it is given as ``GROUP/NAME``, GROUP the data
+    group's index (as asammdf's ``MDF.get(name, group=...)`` counts them) or its acquisition name.
+    """
 
     def __init__(self, path: Path, label: str):
         try:
             from asammdf import MDF
         except ImportError:
             raise InputError(f"{label}: MDF logs need asammdf: pip install 'ehm[logs]'.") from None
-        try:
-            self.mdf = MDF(str(path))
-        except Exception as exc:  # noqa: BLE001 - asammdf raises several kinds for a file that is not MDF
-            raise InputError(f"{label}: not a readable MDF file ({str(exc).splitlines()[0]}).") from None
+        self.mdf, failure = _open_mdf(MDF, path)
+        if failure is not None:
+            raise InputError(f"{label}: not a readable MDF file ({failure}).")
         masters = self.mdf.masters_db
         names = [n for n, places in self.mdf.channels_db.items()
                  if any(masters.get(g) != i for g, i in places)]  # the data channels, not the time stamps
@@ -434,34 +458,98 @@ class _MdfSource(_Source):
         self.first_comment = self._comment()
 
     def _comment(self) -> str:
-        """The file's or its first channel group's comment, as plain text (it describes the log)."""
+        """The file's or its first channel group's comment, as plain text (it describes the log); asammdf's
+        default group comment "Python" says nothing about the log and is passed over."""
         for text in [getattr(self.mdf.header, "comment", "")] + [g.channel_group.comment for g in self.mdf.groups]:
             plain = re.sub(r"<[^>]*>", " ", str(text or "")).strip()
-            if plain:
+            if plain and plain != "Python":
                 return " ".join(plain.split())
         return ""
 
-    def _where(self, name: str):
+    def _places(self, name: str) -> list:
+        """(group, index) of every data channel of that name."""
         masters = self.mdf.masters_db
-        return next((g, i) for g, i in self.mdf.channels_db[name] if masters.get(g) != i)
+        return [(g, i) for g, i in self.mdf.channels_db.get(name, ()) if masters.get(g) != i]
+
+    def _group_name(self, group: int) -> str:
+        return str(getattr(self.mdf.groups[group].channel_group, "acq_name", "") or "")
+
+    def _split(self, name: str):
+        """``GROUP/NAME`` -> (group index, NAME) when NAME is in that group; else None."""
+        head, sep, rest = name.partition("/")
+        if not sep or not rest:
+            return None
+        groups = [g for g, _ in self._places(rest)]
+        if head.strip().isdigit():
+            chosen = [int(head)] if int(head) in groups else []
+        else:
+            chosen = [g for g in groups if self._group_name(g) == head.strip()]
+        return (chosen[0], rest) if len(chosen) == 1 else None
+
+    def has(self, name: str) -> bool:
+        return name in self.names or self._split(name) is not None
+
+    def check_unique(self, key: str, name: str) -> None:
+        """Refuse a bare name that is in several data groups, naming them and the GROUP/NAME form."""
+        places = self._places(name) if name in self.names else []
+        if len(places) > 1:
+            groups = [f"{g}" + (f" ({self._group_name(g)})" if self._group_name(g) else "") for g, _ in places]
+            example = f"{key}={places[-1][0]}/{name}"
+            raise InputError(f"{self.label}: channel {key} ({name!r}) is in data groups {', '.join(groups[:-1])} "
+                             f"and {groups[-1]}; name one as GROUP/NAME, GROUP its index or name, e.g. --channel "
+                             f"{example} (Python: channels={{{key!r}: '{example.split('=', 1)[1]}'}}).")
+
+    def _where(self, name: str):
+        if name not in self.names:  # GROUP/NAME
+            group, rest = self._split(name)
+            return next((g, i) for g, i in self._places(rest) if g == group), rest
+        return self._places(name)[0], name
 
     def values(self, name: str) -> np.ndarray:
-        group, index = self._where(name)
+        (group, index), name = self._where(name)
         samples, _ = self.mdf.get(name, group, index, samples_only=True)
         return samples
 
     def time_of(self, name: str) -> np.ndarray:
-        group, _ = self._where(name)
+        (group, _), _ = self._where(name)
         if group not in self._masters:
             self._masters[group] = np.asarray(self.mdf.get_master(group), dtype=float)
         return self._masters[group]
 
     def unit_of(self, name: str) -> str:
-        group, index = self._where(name)
+        (group, index), name = self._where(name)
         return (self.mdf.get_channel_unit(name, group, index) or "").strip()
 
     def close(self) -> None:
         self.mdf.close()
+
+
+def _open_mdf(MDF, path: Path):
+    """(asammdf's MDF of the file, None), or (None, the first line of why it cannot be read).
+
+    asammdf's MDF4 object of a file it fails to read complains from its destructor (a traceback on stderr,
+    after ehm's sentence); that object is let go and collected here, its destructor's complaint dropped."""
+    import gc
+    import sys
+
+    failure = None
+    hook = sys.unraisablehook
+
+    def quiet(unraisable):
+        where = getattr(unraisable.object, "__module__", "") or ""
+        if not where.startswith("asammdf"):
+            hook(unraisable)
+
+    sys.unraisablehook = quiet
+    try:
+        try:
+            return MDF(str(path)), None
+        except Exception as exc:  # noqa: BLE001 - asammdf raises several kinds for a file that is not MDF
+            failure = (str(exc).splitlines() or [type(exc).__name__])[0]
+        gc.collect()  # the half-built object goes now, while its destructor's complaint is dropped
+    finally:
+        sys.unraisablehook = hook
+    return None, failure
 
 
 def _open(source, label: str | None) -> _Source:
@@ -544,7 +632,7 @@ def _factor(unit: str, key: str, label: str, name: str) -> float:
 
 
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
-                imu: bool = False, mounting=None, label: str | None = None) -> SeatMotion:
+                imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False) -> SeatMotion:
     """Read a seat motion (or an IMU log) from a file or a pandas DataFrame.
 
     Parameters
@@ -555,7 +643,8 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     channels : dict, optional
         Key (``time, ax, ay, az, wx, wy, wz``) -> the source's name; the others keep their defaults
         (:data:`DEFAULT_CHANNELS`).  ``time`` set to None: a source without a time channel (give
-        ``rate_hz``).  MDF channels carry their own time stamps: their ``time`` is not used.
+        ``rate_hz``).  ``wx, wy, wz`` all set to None: read the translation only, even where the source has
+        angular velocities.  MDF channels carry their own time stamps: their ``time`` is not used.
     units : dict, optional
         Key -> unit string, where the source does not carry the unit (an MDF channel's own unit wins;
         a different one here is refused).  Default SI: s, m/s^2, rad/s.
@@ -568,6 +657,9 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         ``wx, wy, wz`` its gyro rates, all required; see :func:`ehm.imu.from_imu` (``mounting`` is passed on).
     label : str, optional
         How messages name the source (default: its path, or ``DataFrame``).
+    fill_gaps : bool
+        Bridge gaps in the time stamps (steps longer than :data:`GAP_STEPS` median steps) with a straight line,
+        with a warning naming where; by default such a gap is refused.
 
     Returns
     -------
@@ -586,7 +678,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
             raise InputError(f"rate_hz must be a positive number of samples per second; got {rate_hz!r}.")
     src = _open(source, label)
     try:
-        return _read(src, channels, units, rate_hz, bool(imu), mounting, source)
+        return _read(src, channels, units, rate_hz, bool(imu), mounting, source, bool(fill_gaps))
     finally:
         src.close()
 
@@ -599,10 +691,15 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz) -> dict:
         name = names[key]
         if name is None:
             return False
-        return name in src.names or (isinstance(src, _FrameSource) and key == "time" and src.has_index_time(name))
+        return src.has(name) or (isinstance(src, _FrameSource) and key == "time" and src.has_index_time(name))
 
     wanted = list(_ACC) + list(_RATES if imu else [])
-    if not imu:
+    left_out = [k for k in _RATES if k in channels and channels[k] is None]
+    if left_out and (imu or len(left_out) < 3):
+        raise InputError(f"{src.label}: {', '.join(left_out)} {'is' if len(left_out) == 1 else 'are'} left out (given "
+                         "empty); " + ("an IMU log needs all three angular velocities." if imu else
+                                       "leave out all three angular velocities (wx=, wy=, wz=) or none."))
+    if not imu and len(left_out) < 3:
         rates_found = [k for k in _RATES if present(k)]
         explicit = [k for k in _RATES if k in channels]
         if explicit or rates_found:
@@ -633,10 +730,14 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz) -> dict:
     return {k: names[k] for k in wanted}
 
 
-def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source) -> SeatMotion:
+def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
+          fill_gaps: bool = False) -> SeatMotion:
     use = _resolve(src, channels, imu, rate_hz)
     if isinstance(src, _TextSource):
         src.load(list(use.values()))
+    if isinstance(src, _MdfSource):
+        for key, name in use.items():
+            src.check_unique(key, name)
     data, stamps = {}, {}
     for key, name in use.items():  # one channel at a time: checked, in SI, each held once
         raw = src.values(name)
@@ -655,10 +756,11 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         raise InputError(f"{src.label}: the channels have different lengths "
                          f"({', '.join(f'{k} {v.size}' for k, v in data.items())}).")
     if src.per_channel_time:
-        time_s, data = _common_time(src, use, data, stamps)
+        time_s, data = _common_time(src, use, data, stamps, fill_gaps)
     elif "time" in data:
         time_s = data.pop("time")
         _check_times(src, use["time"], time_s)
+        _check_sampling(src, use["time"], time_s, fill_gaps)
     else:
         time_s = np.arange(n) / rate_hz
         rate_hz = None  # the source is at this rate already
@@ -697,14 +799,21 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 
 def _unit_of(src: _Source, key: str, name: str, units: dict) -> str:
     own = src.unit_of(name) if isinstance(src, _MdfSource) else src.units.get(name, "")
-    if not own:  # a unit in brackets at the end of the name: "acc_x [g]"
-        m = re.search(r"\[([^\]]+)\]\s*$", name)
-        own = m.group(1).strip() if m else ""
+    if not own:
+        own = _bracket_unit(name)
     given = units.get(key)
     if own and given and _factor(own, key, src.label, name) != _factor(given, key, src.label, name):
         raise InputError(f"{src.label}, channel {key} ({name!r}): the file gives the unit {own!r}, the units argument "
                          f"{given!r}; leave the argument out.")
     return given or own or SI_UNITS[key]
+
+
+def _bracket_unit(name: str) -> str:
+    """The unit in brackets at the end of a name (``"acc_x [g]"`` -> ``"g"``); a whole number in brackets is
+    a matrix column (``"acc[0]"``, MATLAB), not a unit, and gives ``""``."""
+    m = re.search(r"\[([^\]]+)\]\s*$", name)
+    text = m.group(1).strip() if m else ""
+    return "" if re.fullmatch(r"\d+", text) else text
 
 
 def _check_finite(src: _Source, key: str, name: str, values: np.ndarray) -> None:
@@ -738,12 +847,88 @@ def _check_times(src: _Source, name: str, t: np.ndarray) -> None:
                          f"{text(i - 1)} s on {src.where(i - 1)}; times must be strictly increasing.")
 
 
-def _common_time(src: _Source, use: dict, data: dict, stamps: dict):
+def _check_sampling(src: _Source, name: str, t: np.ndarray, fill_gaps: bool, key: str = "time") -> None:
+    """One sample rate and no gaps, else one sentence naming where: a change of rate (the resampler would take
+    the whole log at one rate, unfiltered) is refused; a gap (a step over :data:`GAP_STEPS` median steps) is
+    refused, or bridged with a warning when ``fill_gaps``."""
+    if t.size < 3:
+        return
+    steps = np.diff(t)
+    median = float(np.median(steps))
+    if steps.min() < median / RATE_CHANGE_RATIO or steps.max() > median * RATE_CHANGE_RATIO:
+        _check_one_rate(src, name, t, steps, median, key)
+    gaps = np.flatnonzero(steps > GAP_STEPS * median * (1 + 1e-6))  # (time stamps' round-off is no gap)
+    if gaps.size:
+        _gaps(src, name, t, gaps, median, fill_gaps, key)
+
+
+def _check_one_rate(src: _Source, name: str, t: np.ndarray, steps: np.ndarray, median: float, key: str) -> None:
+    """Refuse a log whose local median step leaves the median by :data:`RATE_CHANGE_RATIO` or more."""
+    import pandas as pd
+
+    local = pd.Series(steps).rolling(RATE_WINDOW, center=True, min_periods=1).median().to_numpy()
+    other = (local <= median / RATE_CHANGE_RATIO) | (local >= median * RATE_CHANGE_RATIO)
+    if not other.any() or other.all():
+        return
+    j = int(np.flatnonzero(other != other[0])[0])  # the first step of the second stretch, within the window
+    lo, hi = max(0, j - RATE_WINDOW), min(steps.size, j + RATE_WINDOW)
+    before, after = float(np.median(steps[lo:j])), float(np.median(steps[j:hi]))
+    # the row where the second rate starts: the first step nearer (in ratio) to the second stretch's step
+    near = np.abs(np.log(steps[lo:hi] / after)) < np.abs(np.log(steps[lo:hi] / before))
+    row = lo + int(np.argmax(near))
+    raise InputError(
+        f"{src.label}, {src.where(row)}, {_column_words(src, name, key)}: the sample rate changes at t = "
+        f"{t[row]:.6g} s from {1 / before:.6g} Hz to {1 / after:.6g} Hz; ehm resamples a log at one rate only: "
+        "split the log at that row, or resample it to one rate (with an anti-alias filter) before reading it.")
+
+
+def _gaps(src: _Source, name: str, t: np.ndarray, gaps: np.ndarray, median: float, fill_gaps: bool,
+          key: str) -> None:
+    """Refuse the first gap in one sentence, or warn once (naming the first and counting the rest)."""
+    i = int(gaps[0]) + 1
+    length = float(t[i] - t[i - 1])
+    where = (f"{src.label}, {src.where(i)}, {_column_words(src, name, key)}: a gap of {length:.6g} s in the time "
+             f"stamps, from t = {t[i - 1]:.6g} s to {t[i]:.6g} s ({length / median:.0f} median steps of {median:.6g} "
+             "s)")
+    if not fill_gaps:
+        raise InputError(f"{where}; cut the log there, or give --fill-gaps (fill_gaps=True) to bridge "
+                         f"{'it' if gaps.size == 1 else f'its {gaps.size} gaps'} with a straight line.")
+    import warnings
+
+    more = "" if gaps.size == 1 else f" (and {gaps.size - 1} more gaps, {float(np.sum(np.diff(t)[gaps])):.6g} s " \
+        "in all)"
+    warnings.warn(f"{where}{more} is bridged with a straight line (fill_gaps).", stacklevel=4)
+
+
+#: MDF channels are read over their common time span; it must cover at least this share of the span they
+#: reach together.  Groups of one logger start and stop within moments of each other (a few samples cut); a
+#: channel that covers much less of the drive than the others is another recording, and cutting every channel
+#: to it would quietly drop most of the drive.
+MIN_OVERLAP = 0.9
+
+
+def _check_overlap(src: _Source, use: dict, stamps: dict, start: float, stop: float, step: float) -> None:
+    """Refuse MDF channels whose common span is less than :data:`MIN_OVERLAP` of their joint span."""
+    first = min(float(stamps[k][0]) for k in use)
+    last = max(float(stamps[k][-1]) for k in use)
+    common = max(0.0, stop - start)
+    if common >= step and common >= MIN_OVERLAP * (last - first):
+        return
+    spans = ", ".join(f"{k} ({use[k]!r}) {stamps[k][0]:.6g}-{stamps[k][-1]:.6g} s" for k in use)
+    what = "do not overlap" if common < step else \
+        f"overlap for {common:.6g} s of the {last - first:.6g} s they span ({100 * common / (last - first):.0f} %)"
+    raise InputError(f"{src.label}: the channels' time stamps {what}: {spans}; ehm reads channels over their "
+                     f"common span only, which must cover {100 * MIN_OVERLAP:.0f} % of theirs: pick channels "
+                     "recorded together, or cut the log to the common span first (asammdf's MDF.cut).")
+
+
+def _common_time(src: _Source, use: dict, data: dict, stamps: dict, fill_gaps: bool = False):
     """MDF: one time base for channels that may come from groups with different time stamps."""
     keys = list(use)
     first = stamps[keys[0]]
     for key in keys:
         _check_times(src, use[key], stamps[key])
+        _check_sampling(src, use[key], stamps[key], fill_gaps, key)
     if all(stamps[k] is first or (stamps[k].shape == first.shape and np.array_equal(stamps[k], first))
            for k in keys):
         return first, data
@@ -752,8 +937,7 @@ def _common_time(src: _Source, use: dict, data: dict, stamps: dict):
     start = max(float(stamps[k][0]) for k in keys)
     stop = min(float(stamps[k][-1]) for k in keys)
     step = min(float(np.median(np.diff(stamps[k]))) for k in keys)
-    if stop - start < step:
-        raise InputError(f"{src.label}: the channels' time stamps do not overlap.")
+    _check_overlap(src, use, stamps, start, stop, step)
     out = {}
     n = int(np.floor((stop - start) / step + 1e-9)) + 1
     for k in keys:

@@ -277,7 +277,8 @@ class SeatedHuman:
         ``method="nonlinear"`` (default) steps the MuJoCo model (the motion resampled to the model's time
         step); a motion with angular velocity needs a person built with ``rotating_seat=True``; for long
         drives use :meth:`stream`, which holds one chunk at a time.  ``method="linear"`` runs the person
-        linearised at rest, exactly discretised at the motion's own step (:mod:`ehm.linear`): about a
+        linearised at rest (:mod:`ehm.linear`) on the same input as the nonlinear route (the motion resampled
+        to the model's step, anti-aliased), exactly discretised: about a
         thousand times faster than real time (about thirty times faster than the nonlinear route), for
         translation inputs small enough that no contact lifts off or slides (checked while it runs:
         :class:`ehm.linear.LinearRouteError` otherwise).
@@ -287,7 +288,7 @@ class SeatedHuman:
                 raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
             from .linear import simulate_linear
 
-            return simulate_linear(self, motion)
+            return simulate_linear(self, motion, dt_s=float(self.model.mj.opt.timestep))
         if method != "nonlinear":
             raise InputError(f"method must be 'nonlinear' or 'linear', not {method!r}.")
         return concatenate_runs(list(self.stream(motion, progress=progress, pose_rate_hz=pose_rate_hz)))
@@ -304,16 +305,14 @@ class SeatedHuman:
         :data:`ehm.runfiles.DEFAULT_OUTPUT_RATE_HZ`, or the nearest whole fraction of the model's rate above it);
         ``formats``: ``"csv"`` and/or ``"parquet"``; ``plot`` also draws ``time_histories.png`` (from at most
         :data:`ehm.runfiles.PREVIEW_ROWS` evenly spread rows).  ``method`` as for :meth:`simulate` (the linear
-        route samples at the motion's own step and records no poses).
+        route records no poses).
         """
         from .outdir import RunFolder, check_output_folder
         from .runfiles import PREVIEW_ROWS, default_output_every, output_every, pyarrow_modules, write_run
 
+        dt = float(self.model.mj.opt.timestep)
         if method == "linear":
-            steps = np.diff(motion.time_s)
-            dt, pose_rate_hz = float(np.median(steps)), None
-        else:
-            dt = float(self.model.mj.opt.timestep)
+            pose_rate_hz = None
         every = default_output_every(dt) if output_rate_hz is None else output_every(output_rate_hz, dt)
         if "parquet" in formats:
             pyarrow_modules()
@@ -338,14 +337,17 @@ class SeatedHuman:
         Memory stays constant whatever the motion's length: the motion is resampled onto the model's time
         step (anti-aliased polyphase filter, :class:`ehm.motion.Resampler`) one chunk at a time.
         ``progress(done_s, total_s)`` is called after every chunk.  ``method`` as
-        for :meth:`simulate` (the linear route runs at the motion's own step; no poses).
+        for :meth:`simulate` (both routes take the motion resampled to the model's step; the linear route records
+        no poses).
         """
         if not isinstance(motion, SeatMotion):
             raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
         if method == "linear":
             from .linear import stream_linear
 
-            yield from stream_linear(self, motion, chunk_s=chunk_s, progress=progress)
+            # on the model's step, resampled as the nonlinear route resamples (the same input either way)
+            yield from stream_linear(self, motion, chunk_s=chunk_s, progress=progress,
+                                     dt_s=float(self.model.mj.opt.timestep))
             return
         if method != "nonlinear":
             raise InputError(f"method must be 'nonlinear' or 'linear', not {method!r}.")
