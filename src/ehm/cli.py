@@ -18,14 +18,16 @@ from .errors import EhmError, InputError
 from .io import write_json_atomic
 from .outdir import RunFolder, check_output_file, check_output_folder, folder_kept_tidy
 from .motion import random_vibration, sine, sweep
-from .params import Parameters
+from .params import Parameters, refuse_defaults
 from .simulation import SeatedHuman
 from .drives import drive_path
 from .runfiles import DEFAULT_OUTPUT_RATE_HZ
 from .tables import load_body
 
 EXIT_ERROR = 2
-EXIT_NOT_IDENTIFIED = 3  #: ehm fit: stopped on its budget, did not lower the criterion, or its check disagreed.
+#: ehm fit: stopped on its budget, did not lower the criterion, its check disagreed, or a value ended on its
+#: search bound (then the file is still written, that value graded "at bound").
+EXIT_NOT_IDENTIFIED = 3
 
 
 def _joint_list(values: list[str] | None) -> list[str]:
@@ -249,11 +251,12 @@ def cmd_fit(args) -> int:
     if _size(args) is not None:
         raise InputError("--stature/--mass/--sitting-height: ehm fit identifies the reference person's parameters; "
                          "fit without them (body sizes scale a parameter file when it is used).")
+    check_output_file(args.out, "parameter file")
+    refuse_defaults(args.out)
     band = _band(args.band)
     data = read_frf(args.data)
     params = Parameters.load(args.params)
     body = load_body(args.segments, args.joints, args.contacts)
-    check_output_file(args.out, "parameter file")
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: use 1 or more processes.")
     result = fit(data, params=params, free=args.free, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
@@ -268,15 +271,22 @@ def cmd_fit(args) -> int:
              if result.crit_after_time is not None else "")
           + f"; {result.n_eval} of {result.max_evals} evaluations in {result.wall_s:.0f} s; {result.message}")
     for p in result.free:
-        state = ("identified" if p in result.identified else "moved, not identified" if p in result.moved
-                 else "not moved")
-        print(f"  {p}: {result.start[p]:.5g} -> {result.final[p]:.5g} ({state})")
+        print(f"  {p}: {result.start[p]:.5g} -> {result.final[p]:.5g} ({_fit_state(result, p)})")
     print(f"wrote {args.out}" if written else f"no parameter file written ({args.out} left as it was)")
     if not result.identified:
         _end_progress_line()
         print(f"ehm: fit: {result.verdict}", file=sys.stderr)
         return EXIT_NOT_IDENTIFIED
     return 0
+
+
+def _fit_state(result, path: str) -> str:
+    """How one free value of a fit ended, in a few words."""
+    side = next((f"at its {s} bound" for p, s, _ in result.at_bound if p == path), None)
+    if side is not None:
+        return side
+    return ("identified" if path in result.identified else "moved, not identified" if path in result.moved
+            else "not moved")
 
 
 def cmd_plot_frf(args) -> int:
@@ -659,7 +669,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, help="processes for the finite differences (default: 2 or the cores)")
     p.add_argument("--no-time-check", action="store_true", help="skip the time-domain check of the result")
     p.add_argument("--keep-small-curves", action="store_true", help=_KEEP_SMALL_HELP)
-    p.add_argument("--out", required=True, metavar="FITTED.toml")
+    p.add_argument("--out", required=True, metavar="FITTED.toml",
+                   help="parameter file to write when the fit lowered the criterion; exit status 3 when it is not "
+                        "identified (a value that ended on its search bound is written with grade 'at bound')")
     p.set_defaults(func=cmd_fit)
 
     p = sub.add_parser("plot-frf", help="plot gains: one grid per input axis, model lines and measured markers")
