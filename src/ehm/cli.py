@@ -163,7 +163,23 @@ def cmd_simulate(args) -> int:
     return 0
 
 
+#: The demo's transfer functions: Welch segments of 10 s (0.1 Hz resolution, as its peaks are printed), at least
+#: four of them per run (seven averages with the 50 % overlap), so a run lasts at least 40 s.
+DEMO_SEGMENT_S = 10.0
+DEMO_MIN_SEGMENTS = 4
+
+
+def _check_demo_duration(duration_s: float) -> None:
+    """Refuse a demo run too short for its 0.1 Hz transfer-function resolution."""
+    need = DEMO_SEGMENT_S * DEMO_MIN_SEGMENTS
+    if not duration_s >= need:
+        raise InputError(f"--duration {duration_s:g}: the demo's transfer functions need at least {need:g} s per axis "
+                         f"({DEMO_MIN_SEGMENTS} Welch segments of {DEMO_SEGMENT_S:g} s for their "
+                         f"{1 / DEMO_SEGMENT_S:g} Hz resolution); use --duration {need:g} or more.")
+
+
 def cmd_demo(args) -> int:
+    _check_demo_duration(args.duration)
     final = check_output_folder(args.out)
     human = _human(args)
     dt = float(human.params.value("simulation.dt_s"))
@@ -193,7 +209,7 @@ def _demo_runs(args, human, dt: float, out: Path) -> dict:
         plot_time_histories(run, out / axis / "time_histories.png", title=f"seat {axis}: {run.description}")
         if axis == args.axes[-1]:  # one animation: the body's motion, exaggerated 20 times
             animate(out / axis, out / axis / "animation.gif", exaggerate=20.0, end_s=min(8.0, run.duration_s))
-        curves.update(run_curves(run, axis, tuple(args.band), segment_s=min(10.0, run.duration_s / 4)))
+        curves.update(run_curves(run, axis, tuple(args.band), segment_s=DEMO_SEGMENT_S))
         summaries[axis] = run.summary()
         print(f"  {axis}: {run.duration_s:.0f} s simulated in {run.wall_s:.2f} s ({run.realtime_factor:.0f}x real time)")
     table = FrfTable(curves, method="time", meta={"input": "synthetic random vibration"})
