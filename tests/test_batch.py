@@ -217,3 +217,26 @@ def test_scheduler_address_and_reachability_are_one_sentence(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert err.startswith("ehm: error: cannot reach the Dask scheduler at tcp://127.0.0.1:9")
     assert not out.exists()  # a failed study leaves no empty folder behind
+
+
+def test_relative_drive_path_starts_from_the_study_files_folder(tmp_path, monkeypatch, capsys):
+    folder = tmp_path / "studies"
+    folder.mkdir()
+    _drive_file(folder / "drive.csv", 0.2)
+    study = folder / "study.toml"
+    study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "drive.csv"\nduration_s = 3.0\n')
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)  # no drive.csv here: only the study file's folder has it
+    _, specs = load_study(study)
+    assert specs[0].input["drive"] == str(folder / "drive.csv")
+    assert main(["batch", str(study), "--out", str(tmp_path / "res"), "--workers", "1"]) == 0
+    assert "ran 1 runs (0 already done, 0 failed)" in capsys.readouterr().out
+    # an absolute path stays as it is; a missing relative file names where it was looked for
+    absolute = tmp_path / "abs.csv"
+    _drive_file(absolute, 0.2)
+    study.write_text(f'[study]\ncompute = ["comfort"]\n[input]\ndrive = "{absolute}"\nduration_s = 3.0\n')
+    assert load_study(study)[1][0].input["drive"] == str(absolute)
+    study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "gone.csv"\nduration_s = 3.0\n')
+    with pytest.raises(InputError, match=r"drive 'gone.csv' \(no file .*studies.gone\.csv\)"):
+        load_study(study)

@@ -17,7 +17,8 @@ A study file (TOML) names what varies and what to compute::
 
     [input]
     axes = ["x", "y", "z"]      # transmissibility: seat axes (linear model; method = "time" for runs)
-    drive = "city"              # comfort: "city", "road", a drive file, or "random" (vibration of `axes`)
+    drive = "city"              # comfort: "city", "road", a drive file, or "random" (vibration of `axes`);
+                                # a relative file path starts from the study file's folder
     # channels = { ax = "AccX", ay = "AccY", az = "AccZ" }   a log's own names (any format ehm.read_motion reads)
     # units = { ax = "g", ay = "g", az = "g" }                units the file does not carry; imu = true for an IMU
     duration_s = 30.0
@@ -127,7 +128,10 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
-    _check_input(label, inp)
+    written = dict(inp)  # the study point's key: the drive as written, so that a moved study folder resumes
+    if "drive" in inp:
+        inp["drive"] = drive_beside(inp["drive"], Path(path))
+    _check_input(label, inp, written.get("drive"))
     _check_before_running(label, rows, grid, locks)
     name = str(study.get("name", Path(path).stem))
     common = _common_fingerprint(inp, compute)
@@ -136,13 +140,36 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
         for lock in locks:
             for combo in itertools.product(*grid.values()) if grid else [()]:
                 params = dict(zip(grid.keys(), combo))
-                key = json.dumps([person, params, sorted(lock), compute, inp], sort_keys=True)
+                key = json.dumps([person, params, sorted(lock), compute, written], sort_keys=True)
                 point_id = hashlib.sha256(key.encode()).hexdigest()[:12]
                 fingerprint = {"parameter values": _parameters_digest(json.dumps(params, sort_keys=True)),
                                **common}
                 run_id = _digest(key, json.dumps(fingerprint, sort_keys=True))[:12]
                 specs.append(RunSpec(run_id, person, params, tuple(lock), compute, inp, point_id, fingerprint))
     return name, specs
+
+
+def drive_beside(drive, study_path: Path):
+    """The ``[input] drive`` of a study file with a relative file path resolved against the study file's folder.
+
+    Parameters
+    ----------
+    drive : str
+        As written: ``"random"``, a shipped drive's name, or a motion file's path.
+    study_path : Path
+        The study file.
+
+    Returns
+    -------
+    str
+        ``drive`` unchanged when it is a name or an absolute path (or not a string: refused later), else the
+        absolute path of the file beside the study file.
+    """
+    from .drives import SHIPPED_DRIVES
+
+    if not isinstance(drive, str) or drive == "random" or drive in SHIPPED_DRIVES or Path(drive).is_absolute():
+        return drive
+    return str(Path(study_path).absolute().parent / drive)
 
 
 def _digest(*texts: str) -> str:
@@ -192,8 +219,9 @@ def _common_fingerprint(inp: dict, compute: tuple) -> dict:
     return out
 
 
-def _check_input(label: str, inp: dict) -> None:
-    """The [input] values, checked before any cluster starts (every run would trip over them)."""
+def _check_input(label: str, inp: dict, written_drive=None) -> None:
+    """The [input] values, checked before any cluster starts (every run would trip over them); ``written_drive``:
+    the drive as the file gives it, when ``inp`` holds it resolved."""
     if inp.get("method", "linear") not in ("linear", "time"):
         raise InputError(f"{label}: [input] method {inp['method']!r}: use \"linear\" or \"time\".")
     if inp.get("route", "nonlinear") not in ("nonlinear", "linear"):
@@ -213,8 +241,10 @@ def _check_input(label: str, inp: dict) -> None:
         from .drives import drive_path
 
         if not isinstance(drive, str) or not drive_path(drive).is_file():
-            raise InputError(f"{label}: [input] drive {drive!r}: use \"random\", \"city\", \"road\" or a motion "
-                             "file's path.")
+            looked = f" (no file {drive})" if isinstance(drive, str) and drive != written_drive else ""
+            raise InputError(f"{label}: [input] drive {written_drive if written_drive is not None else drive!r}"
+                             f"{looked}: use \"random\", \"city\", \"road\" or a motion file's path (relative "
+                             "paths start from the study file's folder).")
         try:  # channels, units, imu: read the drive once here, so that a bad mapping stops the study at once
             _read_drive(inp)
         except InputError as exc:
