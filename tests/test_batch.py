@@ -217,3 +217,59 @@ def test_scheduler_address_and_reachability_are_one_sentence(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert err.startswith("ehm: error: cannot reach the Dask scheduler at tcp://127.0.0.1:9")
     assert not out.exists()  # a failed study leaves no empty folder behind
+
+
+def test_relative_drive_path_starts_from_the_study_files_folder(tmp_path, monkeypatch, capsys):
+    folder = tmp_path / "studies"
+    folder.mkdir()
+    _drive_file(folder / "drive.csv", 0.2)
+    study = folder / "study.toml"
+    study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "drive.csv"\nduration_s = 3.0\n')
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)  # no drive.csv here: only the study file's folder has it
+    _, specs = load_study(study)
+    assert specs[0].input["drive"] == str(folder / "drive.csv")
+    assert main(["batch", str(study), "--out", str(tmp_path / "res"), "--workers", "1"]) == 0
+    assert "ran 1 runs (0 already done, 0 failed)" in capsys.readouterr().out
+    # an absolute path stays as it is; a missing relative file names where it was looked for
+    absolute = tmp_path / "abs.csv"
+    _drive_file(absolute, 0.2)
+    study.write_text(f'[study]\ncompute = ["comfort"]\n[input]\ndrive = "{absolute}"\nduration_s = 3.0\n')
+    assert load_study(study)[1][0].input["drive"] == str(absolute)
+    study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "gone.csv"\nduration_s = 3.0\n')
+    with pytest.raises(InputError, match=r"drive 'gone.csv' \(no file .*studies.gone\.csv\)"):
+        load_study(study)
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "killpg"), reason="needs POSIX process groups")
+def test_ctrl_c_ends_a_batch_with_one_line_and_no_worker_tracebacks(tmp_path):
+    # A terminal's Ctrl-C sends SIGINT to the whole process group: ehm and its Dask workers.  Here the group of
+    # an 'ehm batch' subprocess gets it while its (long) runs are under way.
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    import ehm
+
+    study = tmp_path / "study.toml"
+    study.write_text('[study]\ncompute = ["comfort"]\n[grid]\n"joints.t12.z.stiffness_N_per_m" = [14000.0, 16000.0]\n'
+                     '[input]\ndrive = "random"\naxes = ["z"]\nduration_s = 600.0\n')
+    env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1]), "PYTHONUNBUFFERED": "1", "MPLBACKEND": "Agg"}
+    proc = subprocess.Popen([sys.executable, "-m", "ehm.cli", "batch", str(study), "--out", str(tmp_path / "res"),
+                             "--workers", "2"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        assert proc.stdout.readline().startswith("study ")  # the study file is read: the cluster starts next
+        time.sleep(4.0)  # workers started (about 2 s here) and running
+        os.killpg(proc.pid, signal.SIGINT)
+        out, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert proc.returncode == 130
+    assert "Traceback" not in err and "distributed" not in err and "WARNING" not in err, err
+    assert err.strip().splitlines()[-1] == "ehm: interrupted"

@@ -139,16 +139,28 @@ def test_params_export_and_reuse(tmp_path, capsys):
 
 def test_demo_writes_files(tmp_path, capsys):
     out = tmp_path / "demo"
-    assert main(["demo", "--out", str(out), "--duration", "20", "--axes", "z"]) == 0
+    assert main(["demo", "--out", str(out), "--duration", "40", "--axes", "z"]) == 0
     for name in ("transmissibility.csv", "transmissibility.png", "demo_summary.json",
                  "z/timeseries.csv", "z/summary.json", "z/time_histories.png"):
         assert (out / name).stat().st_size > 0, name
     summary = json.loads((out / "demo_summary.json").read_text())
     peak = summary["transmissibility_peaks"]["z->head"]
     # Quasi-static limit: at 0.5 Hz, far below the 5 Hz vertical mode, the head follows the seat (gain 1;
-    # 10 % for the estimate from 20 s of data), and the peak lies in 4-6 Hz (README table: 5.3 Hz).
+    # 10 % for the estimate from 40 s of data), and the peak lies in 4-6 Hz (README table: 5.3 Hz).
     assert peak["gain_at_0.5_hz"] == pytest.approx(1.0, abs=0.1)
     assert 4.0 <= peak["peak_hz"] <= 6.0
+
+
+@pytest.mark.parametrize("duration", ["5", "39.9", "nan"])
+def test_demo_refuses_a_duration_too_short_for_its_resolution(tmp_path, capsys, duration):
+    from ehm.cli import DEMO_MIN_SEGMENTS, DEMO_SEGMENT_S
+
+    out = tmp_path / "demo"
+    assert main(["demo", "--out", str(out), "--duration", duration, "--axes", "z"]) == 2
+    err = _error_line(capsys)
+    need = DEMO_SEGMENT_S * DEMO_MIN_SEGMENTS
+    assert f"--duration {float(duration):g}" in err and f"at least {need:g} s" in err, err
+    assert not out.exists()
 
 
 @pytest.mark.parametrize("column, value, expected", [

@@ -180,3 +180,51 @@ def test_converged_fit_identifies_the_values_it_moved_and_validated(synthetic):
     # validated: the time-domain criterion of the result is below the start's (same input, same estimator)
     assert r.crit_after_time < r.crit_before_time and r.crit_after < r.crit_before
     assert "converged" in r.verdict and r.n_eval <= r.max_evals
+
+
+def test_fit_pinned_on_its_bound_is_graded_at_bound_and_exits_3(synthetic, tmp_path, capsys):
+    # The synthetic t12 z stiffness is 21000 N/m; a search bound of [14000, 16000] keeps the optimum outside.
+    _, path = synthetic
+    path_k = "joints.t12.z.stiffness_N_per_m"
+    narrow = Parameters.load()
+    narrow.data["joints"]["t12"]["z"]["bounds"] = {"stiffness_N_per_m": [14000.0, 16000.0]}
+    start = tmp_path / "narrow.toml"
+    narrow.export(start)
+    out = tmp_path / "fit.toml"
+    code = main(["fit", "--data", str(path), "--params", str(start), "--free", path_k, "--no-time-check",
+                 "--workers", "1", "--out", str(out)])
+    captured = capsys.readouterr()
+    assert code == 3
+    verdict = [ln for ln in captured.err.splitlines() if ln.startswith("ehm: fit: ")]
+    assert len(verdict) == 1 and f"{path_k} on its upper bound 16000" in verdict[0]
+    assert "widen the bound" in verdict[0] and "nothing is marked identified" in verdict[0]
+    assert "(at its upper bound)" in captured.out
+    fitted = Parameters.load(out)  # written (the criterion went down), graded honestly
+    assert fitted.value(path_k) == pytest.approx(16000.0, rel=ehm.fit.AT_BOUND_REL)
+    assert fitted.provenance(path_k)[0] == "at bound"
+    doc = tomllib.loads(out.read_text())
+    assert doc["about"]["fit_identified"] == [] and doc["about"]["fit_at_bound"] == [path_k]
+
+
+def test_on_bounds_uses_a_relative_tolerance():
+    from ehm.fit import AT_BOUND_REL, on_bounds
+
+    limits = {"a": (1500.0, 150000.0)}
+    assert on_bounds({"a": 1500.0 * (1 + AT_BOUND_REL / 2)}, limits) == (("a", "lower", 1500.0),)
+    assert on_bounds({"a": 150000.0 / (1 + AT_BOUND_REL / 2)}, limits) == (("a", "upper", 150000.0),)
+    assert on_bounds({"a": 1500.0 * (1 + 2 * AT_BOUND_REL)}, limits) == ()
+
+
+def test_fit_onto_the_shipped_defaults_is_refused_before_any_work(synthetic, monkeypatch, capsys):
+    _, path = synthetic
+
+    def no_fit(*args, **kwargs):
+        raise AssertionError("the fit ran before the output was checked")
+
+    monkeypatch.setattr(ehm.fit, "fit", no_fit)
+    monkeypatch.setattr(ehm.frf, "read_frf", no_fit)
+    shipped = default_params_path().read_bytes()
+    assert main(["fit", "--data", str(path), "--out", str(default_params_path())]) == 2
+    err = capsys.readouterr().err
+    assert "shipped default parameter file" in err and "Traceback" not in err
+    assert default_params_path().read_bytes() == shipped

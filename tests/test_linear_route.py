@@ -292,3 +292,34 @@ def test_scan_is_the_recursion(n):
     for k in range(n - 1):
         ref.append(a * ref[-1] + e[k])
     np.testing.assert_allclose(linear._scan(a, e, z0), np.array(ref), rtol=1e-12, atol=1e-12)
+
+
+def test_the_advised_scale_passes_the_check(human):
+    # The refusal advises a scale factor for the motion; that factor must be one the check then accepts (it
+    # was rounded to nearest, so 0.15 was advised for a motion still refused at 0.15).
+    import re
+
+    motion = ehm.random_vibration("z", 10.0, 5.0, seed=0, dt_s=0.001)
+    with pytest.raises(LinearRouteError) as exc:
+        human.simulate(motion, method="linear")
+    factor = float(re.search(r"scaled by ([0-9.e+-]+) or less", str(exc.value)).group(1))
+    times = float(re.search(r"about ([0-9.]+) times too large", str(exc.value)).group(1))
+    assert 0 < factor < 1 and factor * times <= 1.0 + 0.05  # at most the limit (1 / times, rounded to 0.1)
+    scaled = SeatMotion(motion.time_s, factor * motion.acc_mps2, f"{motion.description} x {factor:g}")
+    human.simulate(scaled, method="linear")  # no LinearRouteError
+
+
+def test_advised_scale_rounds_down_to_a_factor_that_holds():
+    from ehm.linear import advised_scale
+
+    assert advised_scale(0.7268, lambda f: f <= 0.7268) == 0.72  # rounded down, not to nearest (0.73)
+    assert advised_scale(0.7268, lambda f: f <= 0.705) == 0.70  # lowered until the check holds
+    assert advised_scale(0.00471, lambda f: f <= 0.00471) == 0.0047  # two significant digits, also when small
+    assert advised_scale(0.0, lambda f: True) == 0.0
+
+
+def test_a_streamed_refusal_says_how_far_its_advice_reaches(human):
+    # Streamed in 2 s chunks, the run stops at the first chunk that fails: the advice covers the motion so far.
+    motion = ehm.random_vibration("z", 10.0, 5.0, seed=0, dt_s=0.001)
+    with pytest.raises(LinearRouteError, match=r"this motion up to t = 2 s \(the rest not yet checked\) scaled by"):
+        list(human.stream(motion, chunk_s=2.0, method="linear"))

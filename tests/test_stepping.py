@@ -77,6 +77,20 @@ def test_bad_step_input():
         sim.step([0.0, 0.0, 0.0], seat_angvel_radps=[0.0, 0.0, 0.1])
 
 
+
+@pytest.mark.parametrize("value", ["abc", None, [1.0, 2.0], [[0.0, 0.0, 0.0]], [0.0, "x", 0.0], {"z": 1.0},
+                                   [0.0, 0.0, np.inf]])
+def test_step_input_that_is_not_three_finite_numbers_is_one_sentence(value):
+    sim = Simulator(comfort=False)
+    with pytest.raises(InputError, match=r"^Simulator.step: seat_acc_mps2 must be 3 finite numbers") as exc:
+        sim.step(value)
+    assert repr(value) in str(exc.value)
+    if value is not None:  # None: no seat rotation
+        with pytest.raises(InputError, match=r"^Simulator.step: seat_angvel_radps must be 3 finite numbers"):
+            sim.step([0.0, 0.0, 0.0], seat_angvel_radps=value)
+    assert sim.step([0.0, 0.0, 0.1]).time_s == 0.0  # refused steps do not advance the simulator
+
+
 def test_realtime_report_counts_steps_and_overruns(motion):
     report = run_realtime(Simulator(comfort=True), motion.acc_mps2[:200], pace=False)
     assert report.n_steps == 200

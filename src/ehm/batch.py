@@ -17,7 +17,8 @@ A study file (TOML) names what varies and what to compute::
 
     [input]
     axes = ["x", "y", "z"]      # transmissibility: seat axes (linear model; method = "time" for runs)
-    drive = "city"              # comfort: "city", "road", a drive file, or "random" (vibration of `axes`)
+    drive = "city"              # comfort: "city", "road", a drive file, or "random" (vibration of `axes`);
+                                # a relative file path starts from the study file's folder
     # channels = { ax = "AccX", ay = "AccY", az = "AccZ" }   a log's own names (any format ehm.read_motion reads)
     # units = { ax = "g", ay = "g", az = "g" }                units the file does not carry; imu = true for an IMU
     # fill_gaps = true          bridge the drive file's gaps in its time stamps with a straight line (warned)
@@ -42,11 +43,17 @@ one interpolated at exactly ``duration_s`` when no sample falls there (sample in
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import itertools
 import json
+import logging
 import math
+import multiprocessing
+import os
+import signal
+import threading
 import time
 import tomllib
 from dataclasses import dataclass, field
@@ -128,7 +135,10 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
-    _check_input(label, inp)
+    written = dict(inp)  # the study point's key: the drive as written, so that a moved study folder resumes
+    if "drive" in inp:
+        inp["drive"] = drive_beside(inp["drive"], Path(path))
+    _check_input(label, inp, written.get("drive"))
     _check_before_running(label, rows, grid, locks)
     name = str(study.get("name", Path(path).stem))
     common = _common_fingerprint(inp, compute)
@@ -137,13 +147,36 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
         for lock in locks:
             for combo in itertools.product(*grid.values()) if grid else [()]:
                 params = dict(zip(grid.keys(), combo))
-                key = json.dumps([person, params, sorted(lock), compute, inp], sort_keys=True)
+                key = json.dumps([person, params, sorted(lock), compute, written], sort_keys=True)
                 point_id = hashlib.sha256(key.encode()).hexdigest()[:12]
                 fingerprint = {"parameter values": _parameters_digest(json.dumps(params, sort_keys=True)),
                                **common}
                 run_id = _digest(key, json.dumps(fingerprint, sort_keys=True))[:12]
                 specs.append(RunSpec(run_id, person, params, tuple(lock), compute, inp, point_id, fingerprint))
     return name, specs
+
+
+def drive_beside(drive, study_path: Path):
+    """The ``[input] drive`` of a study file with a relative file path resolved against the study file's folder.
+
+    Parameters
+    ----------
+    drive : str
+        As written: ``"random"``, a shipped drive's name, or a motion file's path.
+    study_path : Path
+        The study file.
+
+    Returns
+    -------
+    str
+        ``drive`` unchanged when it is a name or an absolute path (or not a string: refused later), else the
+        absolute path of the file beside the study file.
+    """
+    from .drives import SHIPPED_DRIVES
+
+    if not isinstance(drive, str) or drive == "random" or drive in SHIPPED_DRIVES or Path(drive).is_absolute():
+        return drive
+    return str(Path(study_path).absolute().parent / drive)
 
 
 def _digest(*texts: str) -> str:
@@ -193,8 +226,9 @@ def _common_fingerprint(inp: dict, compute: tuple) -> dict:
     return out
 
 
-def _check_input(label: str, inp: dict) -> None:
-    """The [input] values, checked before any cluster starts (every run would trip over them)."""
+def _check_input(label: str, inp: dict, written_drive=None) -> None:
+    """The [input] values, checked before any cluster starts (every run would trip over them); ``written_drive``:
+    the drive as the file gives it, when ``inp`` holds it resolved."""
     if inp.get("method", "linear") not in ("linear", "time"):
         raise InputError(f"{label}: [input] method {inp['method']!r}: use \"linear\" or \"time\".")
     if inp.get("route", "nonlinear") not in ("nonlinear", "linear"):
@@ -214,8 +248,10 @@ def _check_input(label: str, inp: dict) -> None:
         from .drives import drive_path
 
         if not isinstance(drive, str) or not drive_path(drive).is_file():
-            raise InputError(f"{label}: [input] drive {drive!r}: use \"random\", \"city\", \"road\" or a motion "
-                             "file's path.")
+            looked = f" (no file {drive})" if isinstance(drive, str) and drive != written_drive else ""
+            raise InputError(f"{label}: [input] drive {written_drive if written_drive is not None else drive!r}"
+                             f"{looked}: use \"random\", \"city\", \"road\" or a motion file's path (relative "
+                             "paths start from the study file's folder).")
         try:  # channels, units, imu: read the drive once here, so that a bad mapping stops the study at once
             _read_drive(inp)
         except InputError as exc:
@@ -411,7 +447,7 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
     Runs already recorded in ``out/runs`` are skipped, except those whose worker was lost (always redone)
     and, with ``retry_failed``, those that failed (e.g. after the parameter or study file was fixed).
     """
-    from dask.distributed import Client, LocalCluster, as_completed
+    from dask.distributed import as_completed
 
     runs_dir = out / "runs"
     runs_dir.mkdir(parents=True, exist_ok=True)
@@ -427,19 +463,7 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
     failed = 0
     wall = 0.0
     if todo:
-        if scheduler:
-            client, cluster = _connect(check_scheduler(scheduler)), None
-        else:
-            import os
-
-            # one thread per worker process: numerical libraries' own thread pools would oversubscribe the
-            # cores (measured here: two workers ran no faster than one until this was set)
-            for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-                os.environ.setdefault(var, "1")
-            cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
-            client = Client(cluster)
-        try:
+        with _dask_client(scheduler, workers) as client:
             t0 = time.perf_counter()  # throughput excludes starting the cluster
             futures = client.map(run_one, todo, pure=False)
             by_future = dict(zip(futures, todo))
@@ -457,16 +481,107 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
                 if progress:
                     progress(done, len(todo))
             wall = time.perf_counter() - t0
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
     records = [json.loads((runs_dir / f"{s.point_id}.json").read_text()) for s in specs]  # this study's only
     write_table(records, out, csv=csv)
     return {"runs": len(specs), "ran": len(todo), "skipped": len(specs) - len(todo), "failed": failed,
             "changed": {"count": n_changed, "inputs": sorted(changed)},
             "wall_s": wall, "simulated_s": simulated,
             "throughput_simulated_s_per_s": simulated / wall if wall > 0 and simulated > 0 else None}
+
+
+@contextlib.contextmanager
+def _dask_client(scheduler: str | None, workers: int | None):
+    """A Dask client of the cluster at ``scheduler``, or of a local cluster of ``workers`` processes; closed on
+    leaving, quietly when leaving on an interrupt or error.
+
+    The local worker processes start with SIGINT ignored: a terminal's Ctrl-C goes to the whole process group,
+    and only ehm itself should answer it (by closing the cluster), not every worker with its own traceback.
+    """
+    client = cluster = None
+    try:
+        if scheduler:
+            client = _connect(check_scheduler(scheduler))
+        else:
+            # one thread per worker process: numerical libraries' own thread pools would oversubscribe the
+            # cores (measured here: two workers ran no faster than one until this was set)
+            for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+                os.environ.setdefault(var, "1")
+            cluster, client = _local_cluster(workers)
+        yield client
+    except BaseException:
+        _close_quietly(client, cluster)
+        raise
+    else:
+        _close(client, cluster)
+
+
+def _local_cluster(workers: int | None):
+    """A local Dask cluster of single-threaded worker processes (their log: errors only) and its client, once
+    the workers have joined.
+
+    The scheduler and the client start first, without workers; the worker processes are then spawned while
+    ehm ignores SIGINT, which they inherit (processes cannot inherit a Python handler or a blocked signal), and
+    ehm answers Ctrl-C again as soon as they exist (a few hundredths of a second), also while they start up.
+    """
+    from dask.distributed import Client, LocalCluster
+
+    n = workers or os.cpu_count() or 1
+    cluster = LocalCluster(n_workers=0, threads_per_worker=1, processes=True, dashboard_address=None,
+                           silence_logs=logging.ERROR)
+    client = None
+    try:
+        with _sigint_ignored():  # the client while there are no workers yet (it connects at once)
+            client = Client(cluster)
+            before = set(multiprocessing.active_children())
+            cluster.scale(n)
+            _wait_for_processes(before, n)
+        client.wait_for_workers(n)
+        return cluster, client
+    except BaseException:
+        _close_quietly(client, cluster)
+        raise
+
+
+def _wait_for_processes(before: set, n: int, timeout_s: float = 10.0) -> None:
+    """Wait until ``n`` child processes besides ``before`` exist (the Dask workers just spawned), or the time is
+    up (then any worker that comes later merely answers Ctrl-C itself)."""
+    end = time.monotonic() + timeout_s
+    while len(set(multiprocessing.active_children()) - before) < n and time.monotonic() < end:
+        time.sleep(0.01)
+
+
+@contextlib.contextmanager
+def _sigint_ignored():
+    """SIGINT (Ctrl-C) ignored while inside; processes started inside keep ignoring it.  Outside the main
+    thread (where signal handlers cannot be set) this does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
+
+
+def _close(client, cluster) -> None:
+    if client is not None:
+        client.close()
+    if cluster is not None:
+        cluster.close()
+
+
+def _close_quietly(client, cluster) -> None:
+    """Close after an interrupt or error: Dask's own log of the cancelled work and the closing workers (the
+    study's records are complete up to here) stays out of the terminal; a second Ctrl-C meanwhile is ignored."""
+    log = logging.getLogger("distributed")
+    level = log.level
+    log.setLevel(logging.CRITICAL)
+    try:
+        with _sigint_ignored(), contextlib.suppress(Exception):
+            _close(client, cluster)
+    finally:
+        log.setLevel(level)
 
 
 def check_scheduler(address: str) -> str:

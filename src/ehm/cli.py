@@ -18,14 +18,16 @@ from .errors import EhmError, InputError
 from .io import write_json_atomic
 from .outdir import RunFolder, check_output_file, check_output_folder, folder_kept_tidy
 from .motion import random_vibration, sine, sweep
-from .params import Parameters
+from .params import Parameters, refuse_defaults
 from .simulation import SeatedHuman
 from .drives import drive_path
 from .runfiles import DEFAULT_OUTPUT_RATE_HZ
 from .tables import load_body
 
 EXIT_ERROR = 2
-EXIT_NOT_IDENTIFIED = 3  #: ehm fit: stopped on its budget, did not lower the criterion, or its check disagreed.
+#: ehm fit: stopped on its budget, did not lower the criterion, its check disagreed, or a value ended on its
+#: search bound (then the file is still written, that value graded "at bound").
+EXIT_NOT_IDENTIFIED = 3
 
 
 def _joint_list(values: list[str] | None) -> list[str]:
@@ -168,7 +170,23 @@ def cmd_simulate(args) -> int:
     return 0
 
 
+#: The demo's transfer functions: Welch segments of 10 s (0.1 Hz resolution, as its peaks are printed), at least
+#: four of them per run (seven averages with the 50 % overlap), so a run lasts at least 40 s.
+DEMO_SEGMENT_S = 10.0
+DEMO_MIN_SEGMENTS = 4
+
+
+def _check_demo_duration(duration_s: float) -> None:
+    """Refuse a demo run too short for its 0.1 Hz transfer-function resolution."""
+    need = DEMO_SEGMENT_S * DEMO_MIN_SEGMENTS
+    if not duration_s >= need:
+        raise InputError(f"--duration {duration_s:g}: the demo's transfer functions need at least {need:g} s per axis "
+                         f"({DEMO_MIN_SEGMENTS} Welch segments of {DEMO_SEGMENT_S:g} s for their "
+                         f"{1 / DEMO_SEGMENT_S:g} Hz resolution); use --duration {need:g} or more.")
+
+
 def cmd_demo(args) -> int:
+    _check_demo_duration(args.duration)
     final = check_output_folder(args.out)
     human = _human(args)
     dt = float(human.params.value("simulation.dt_s"))
@@ -198,7 +216,7 @@ def _demo_runs(args, human, dt: float, out: Path) -> dict:
         plot_time_histories(run, out / axis / "time_histories.png", title=f"seat {axis}: {run.description}")
         if axis == args.axes[-1]:  # one animation: the body's motion, exaggerated 20 times
             animate(out / axis, out / axis / "animation.gif", exaggerate=20.0, end_s=min(8.0, run.duration_s))
-        curves.update(run_curves(run, axis, tuple(args.band), segment_s=min(10.0, run.duration_s / 4)))
+        curves.update(run_curves(run, axis, tuple(args.band), segment_s=DEMO_SEGMENT_S))
         summaries[axis] = run.summary()
         print(f"  {axis}: {run.duration_s:.0f} s simulated in {run.wall_s:.2f} s ({run.realtime_factor:.0f}x real time)")
     table = FrfTable(curves, method="time", meta={"input": "synthetic random vibration"})
@@ -256,11 +274,12 @@ def cmd_fit(args) -> int:
     if _size(args) is not None:
         raise InputError("--stature/--mass/--sitting-height: ehm fit identifies the reference person's parameters; "
                          "fit without them (body sizes scale a parameter file when it is used).")
+    check_output_file(args.out, "parameter file")
+    refuse_defaults(args.out)
     band = _band(args.band)
     data = read_frf(args.data)
     params = Parameters.load(args.params)
     body = load_body(args.segments, args.joints, args.contacts)
-    check_output_file(args.out, "parameter file")
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: use 1 or more processes.")
     result = fit(data, params=params, free=args.free, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
@@ -275,15 +294,22 @@ def cmd_fit(args) -> int:
              if result.crit_after_time is not None else "")
           + f"; {result.n_eval} of {result.max_evals} evaluations in {result.wall_s:.0f} s; {result.message}")
     for p in result.free:
-        state = ("identified" if p in result.identified else "moved, not identified" if p in result.moved
-                 else "not moved")
-        print(f"  {p}: {result.start[p]:.5g} -> {result.final[p]:.5g} ({state})")
+        print(f"  {p}: {result.start[p]:.5g} -> {result.final[p]:.5g} ({_fit_state(result, p)})")
     print(f"wrote {args.out}" if written else f"no parameter file written ({args.out} left as it was)")
     if not result.identified:
         _end_progress_line()
         print(f"ehm: fit: {result.verdict}", file=sys.stderr)
         return EXIT_NOT_IDENTIFIED
     return 0
+
+
+def _fit_state(result, path: str) -> str:
+    """How one free value of a fit ended, in a few words."""
+    side = next((f"at its {s} bound" for p, s, _ in result.at_bound if p == path), None)
+    if side is not None:
+        return side
+    return ("identified" if path in result.identified else "moved, not identified" if path in result.moved
+            else "not moved")
 
 
 def cmd_plot_frf(args) -> int:
@@ -666,7 +692,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, help="processes for the finite differences (default: 2 or the cores)")
     p.add_argument("--no-time-check", action="store_true", help="skip the time-domain check of the result")
     p.add_argument("--keep-small-curves", action="store_true", help=_KEEP_SMALL_HELP)
-    p.add_argument("--out", required=True, metavar="FITTED.toml")
+    p.add_argument("--out", required=True, metavar="FITTED.toml",
+                   help="parameter file to write when the fit lowered the criterion; exit status 3 when it is not "
+                        "identified (a value that ended on its search bound is written with grade 'at bound')")
     p.set_defaults(func=cmd_fit)
 
     p = sub.add_parser("plot-frf", help="plot gains: one grid per input axis, model lines and measured markers")

@@ -13,8 +13,11 @@ start, each candidate, each finite-difference column) and is never exceeded; the
 set of random-vibration runs for the start and one for the result) comes on top of it.  The result says
 how the search ended (:attr:`FitResult.stopped`: ``"converged"`` or ``"budget"``) and which values count
 as identified (:attr:`FitResult.identified`): those that moved from their start, when the search converged,
-lowered the criterion and, if the time-domain check ran, lowered its criterion too.  Values that moved
-without meeting that are written with grade ``assumed`` and a source saying why.
+lowered the criterion and, if the time-domain check ran, lowered its criterion too, and no free value
+ended on its search bound.  A value within :data:`AT_BOUND_REL` of a bound (:attr:`FitResult.at_bound`) is
+pinned there by the bound, not placed by the data: it is written with grade ``at bound`` and nothing of that
+fit counts as identified.  Other values that moved without meeting all that are written with grade
+``assumed`` and a source saying why.
 """
 
 from __future__ import annotations
@@ -45,6 +48,9 @@ DEFAULT_BOUND_FACTOR = 10.0  #: Without explicit bounds a value may move by this
 _FAILED = 1e3  #: Residual given to a candidate that cannot be simulated.
 MOVED_REL = 1e-4  #: A value counts as moved when it changed by more than this share of its start value.
 _FD_STEP = 1e-3  #: Finite-difference step in log space.
+#: A fitted value counts as on its search bound when it lies within this share of the bound (0.1 %: the size of
+#: the finite-difference step in log space, ten times the optimiser's step tolerance).
+AT_BOUND_REL = 1e-3
 
 
 def free_parameters(params: Parameters, patterns: list[str], locked=frozenset()) -> list[str]:
@@ -110,6 +116,9 @@ class FitResult:
         keep their start value exactly).
     identified : tuple of str
         The moved values that count as identified (see the module docstring).
+    at_bound : tuple of (str, str, float)
+        Free parameters that ended within :data:`AT_BOUND_REL` of a search bound: (path, ``"lower"`` or
+        ``"upper"``, the bound).  When any is there, nothing is identified.
     verdict : str
         One sentence: how the fit ended and what it identified.
     """
@@ -132,6 +141,7 @@ class FitResult:
     moved: tuple = ()
     identified: tuple = ()
     verdict: str = ""
+    at_bound: tuple = ()
 
     @property
     def improved(self) -> bool:
@@ -291,9 +301,35 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     result = FitResult(params=fitted, free=tuple(free_paths), start=start, final=final, crit_before=crit_before,
                        crit_after=crit_after, crit_after_time=crit_time, trace=search.trace, status=status,
                        message=message, n_eval=search.n_eval, wall_s=time.perf_counter() - t0, stopped=stopped,
-                       max_evals=max_evals, crit_before_time=crit_time_before, moved=moved)
-    identified = moved if stopped == "converged" and result.improved else ()
+                       max_evals=max_evals, crit_before_time=crit_time_before, moved=moved,
+                       at_bound=on_bounds(final, {p: bounds(base, p) for p in free_paths}))
+    identified = moved if stopped == "converged" and result.improved and not result.at_bound else ()
     return replace(result, identified=identified, verdict=_verdict(replace(result, identified=identified)))
+
+
+def on_bounds(values: dict, limits: dict) -> tuple:
+    """The values that lie on their search bound.
+
+    Parameters
+    ----------
+    values : dict
+        Dotted path -> fitted value.
+    limits : dict
+        Dotted path -> (lower, upper) search bound.
+
+    Returns
+    -------
+    tuple of (str, str, float)
+        (path, ``"lower"`` or ``"upper"``, bound) of every value within :data:`AT_BOUND_REL` of a bound.
+    """
+    out = []
+    for p, v in values.items():
+        lo, hi = limits[p]
+        if v <= lo * (1 + AT_BOUND_REL):
+            out.append((p, "lower", float(lo)))
+        elif v >= hi / (1 + AT_BOUND_REL):
+            out.append((p, "upper", float(hi)))
+    return tuple(out)
 
 
 def _time_criterion(objective: _Objective, params: Parameters, body: Body, lock, unlock, band_hz) -> float:
@@ -326,6 +362,12 @@ def _verdict(r: FitResult) -> str:
         return (f"the fit stopped on its evaluation budget ({used}) before converging (criterion "
                 f"{r.crit_before:.5g} -> {r.crit_after:.5g}): the {len(r.moved)} moved values are not marked "
                 "identified; raise the budget (--max-evals) to finish it.")
+    if r.at_bound:
+        where = ", ".join(f"{p} on its {side} bound {b:.5g}" for p, side, b in r.at_bound)
+        return (f"the fit ended with {where} (criterion {r.crit_before:.5g} -> {r.crit_after:.5g}, {used}): the "
+                "bound, not the data, placed that value, so nothing is marked identified; widen the bound "
+                "('bounds' in the parameter file's entry, default a factor 10 either way of the start) or check "
+                "the data, and fit again.")
     return (f"converged in {used}: criterion {r.crit_before:.5g} -> {r.crit_after:.5g}; "
             f"{len(r.identified)} of {len(r.free)} free values identified.")
 
@@ -415,9 +457,10 @@ def file_sha256(path: Path | str) -> str:
 
 def identified_parameters(result: FitResult, data_path: Path | str) -> Parameters:
     """The fitted parameter set with its provenance recorded: a ``[sources]`` entry naming the data file, its
-    hash and how the fit ended; grade ``identified`` on the identified values, ``assumed`` (with that source)
-    on values that moved without being identified; values that did not move keep their grade and source;
-    the criteria and the outcome in ``[about]``."""
+    hash and how the fit ended; grade ``identified`` on the identified values, ``at bound`` on moved values
+    that ended on their search bound, ``assumed`` (with that source) on other values that moved without being
+    identified; values that did not move keep their grade and source; the criteria and the outcome in
+    ``[about]``."""
     digest = file_sha256(data_path)
     key = f"fit_{digest[:12]}"
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
@@ -427,15 +470,17 @@ def identified_parameters(result: FitResult, data_path: Path | str) -> Parameter
         text += f", {result.crit_before_time:.6g} -> {result.crit_after_time:.6g} (time-domain check)"
     text += f"; {result.verdict}"
     p = result.params.with_source(key, text)
+    pinned = {b[0] for b in result.at_bound}
     identified = {k: result.final[k] for k in result.identified}
-    unconfirmed = {k: result.final[k] for k in result.moved if k not in result.identified}
-    if identified:
-        p = p.with_values(identified, grade="identified", source=key)
-    if unconfirmed:
-        p = p.with_values(unconfirmed, grade="assumed", source=key)
+    on_bound = {k: result.final[k] for k in result.moved if k in pinned}
+    unconfirmed = {k: result.final[k] for k in result.moved if k not in result.identified and k not in pinned}
+    for values, grade in ((identified, "identified"), (on_bound, "at bound"), (unconfirmed, "assumed")):
+        if values:
+            p = p.with_values(values, grade=grade, source=key)
     return p.with_about({
         "fit_data": Path(data_path).name, "fit_data_sha256": digest, "fit_date": stamp,
         "fit_free": list(result.free), "fit_identified": list(result.identified),
+        "fit_at_bound": [p for p, _, _ in result.at_bound],
         "fit_stopped": result.stopped, "fit_evaluations": result.n_eval, "fit_max_evals": result.max_evals,
         "fit_verdict": result.verdict,
         "fit_criterion_before": result.crit_before, "fit_criterion_after": result.crit_after,

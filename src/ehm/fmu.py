@@ -36,7 +36,10 @@ inputs.
 Refusals: a non-zero seat angular velocity or a non-finite input makes ``doStep`` return fmi2Discard (the
 unit stays where it was; fmpy ends the run there), and so does a divergence of the model (after which the
 unit refuses every step).  A parameter file that cannot be read or used makes
-``fmi2ExitInitializationMode`` fail.  pythonfmu passes the unit's messages to the host only with debug
+``fmi2ExitInitializationMode`` fail with the reason logged (status error); the call itself returns fmi2Fatal,
+because pythonfmu's wrapper turns every Python exception into fmi2Fatal and gives Python code no way to return
+fmi2Error (the native unit, the default of ``ehm export-fmu``, fixes its parameters at export and reports its
+errors as fmi2Error).  pythonfmu passes the unit's messages to the host only with debug
 logging on (``loggingOn``; fmpy ``debug_logging=True``).
 """
 

@@ -28,6 +28,7 @@ linearisation and one state-space model.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field, replace
 
@@ -371,9 +372,10 @@ def _scan(a: np.ndarray, e: np.ndarray, z0: np.ndarray) -> np.ndarray:
     return out
 
 
-def _validity(ss: StateSpace, y: np.ndarray, n: int, t: np.ndarray) -> None:
+def _validity(ss: StateSpace, y: np.ndarray, n: int, t: np.ndarray, whole: bool = True) -> None:
     """Raise :class:`LinearRouteError` if a contact lifts off or slides anywhere in the run's ``n`` samples
-    (``y`` as :func:`_block_chunk` returns it)."""
+    (``y`` as :func:`_block_chunk` returns it); ``whole``: these samples end the motion (else the advised scale
+    covers the motion up to them only)."""
     nc = len(ss.contacts)
     if not nc:
         return
@@ -390,35 +392,76 @@ def _validity(ss: StateSpace, y: np.ndarray, n: int, t: np.ndarray) -> None:
         press *= limit[:, None, None]
         if (shear <= press).all():
             return
-    worst = None  # (scale at which the input still holds, time, contact, what)
-    for j, c in enumerate(ss.contacts):
-        n0, t10, t20 = ss.y0[ss.rows([f"contact.{c}.{k}" for k in ("fn", "ft1", "ft2")])]
-        dn, dt1, dt2 = (_in_time_order(f[j])[:n] - base for f, base in ((fn, n0), (ft1, t10), (ft2, t20)))
-        mu_c = ss.friction[c]
-        # largest scale s of the dynamic part for which N0 + s dN > 0 and |T0 + s dT| <= mu (N0 + s dN)
-        # at every sample: bisection on s (the constraints are convex in s).
-        def holds(s: float):
-            n = n0 + s * dn
-            bad = (n <= 0) | (np.hypot(t10 + s * dt1, t20 + s * dt2) > mu_c * n)
-            return not bad.any(), bad
+    checks = [_ContactCheck(ss, c, *(_in_time_order(f[j])[:n] for f in (fn, ft1, ft2)))
+              for j, c in enumerate(ss.contacts)]
+    failed = [ck for ck in checks if not ck.holds(1.0)]
+    if not failed:
+        return
+    worst = min(failed, key=lambda ck: ck.largest_scale())
+    s = worst.largest_scale()
+    advised = advised_scale(s, lambda f: all(ck.holds(f) for ck in failed))
+    k = int(np.argmax(worst.violations(1.0)))
+    what = "lifts off the seat" if worst.n0 + worst.dn[k] <= 0 else "slides (friction at its Coulomb limit)"
+    scope = "this motion" if whole else f"this motion up to t = {t[-1]:.3g} s (the rest not yet checked)"
+    advice = (f"holds for {scope} scaled by {advised:.2g} or less" if advised > 0
+              else f"holds only for {scope} scaled by less than 1e-9")
+    raise LinearRouteError(
+        f"the input is too large for the linear route: at t = {t[k]:.3f} s the {worst.contact} contact {what}; "
+        f"the linear route {advice} (about {1 / max(s, 1e-9):.1f} times too large); use the nonlinear route "
+        "(method='nonlinear', --method nonlinear).")
 
-        ok, bad = holds(1.0)
-        if ok:
-            continue
-        lo, hi = 0.0, 1.0
-        for _ in range(30):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if holds(mid)[0] else (lo, mid)
-        k = int(np.argmax(bad))
-        what = "lifts off the seat" if n0 + dn[k] <= 0 else "slides (friction at its Coulomb limit)"
-        if worst is None or lo < worst[0]:
-            worst = (lo, t[k], c, what)
-    if worst is not None:
-        s, tk, c, what = worst
-        raise LinearRouteError(
-            f"the input is too large for the linear route: at t = {tk:.3f} s the {c} contact {what}; the linear "
-            f"route holds for this motion scaled by {s:.2f} or less (about {1 / max(s, 1e-9):.1f} times too large); "
-            "use the nonlinear route (method='nonlinear', --method nonlinear).")
+
+class _ContactCheck:
+    """One contact's forces over a run, as equilibrium plus a dynamic part that scales with the input."""
+
+    def __init__(self, ss: StateSpace, contact: str, fn: np.ndarray, ft1: np.ndarray, ft2: np.ndarray):
+        self.contact, self.mu = contact, ss.friction[contact]
+        self.n0, self.t10, self.t20 = ss.y0[ss.rows([f"contact.{contact}.{k}" for k in ("fn", "ft1", "ft2")])]
+        self.dn, self.dt1, self.dt2 = fn - self.n0, ft1 - self.t10, ft2 - self.t20
+        self._largest = None
+
+    def violations(self, scale: float) -> np.ndarray:
+        """Samples where, with the dynamic part scaled by ``scale``, the contact lifts off or leaves its cone."""
+        n = self.n0 + scale * self.dn
+        return (n <= 0) | (np.hypot(self.t10 + scale * self.dt1, self.t20 + scale * self.dt2) > self.mu * n)
+
+    def holds(self, scale: float) -> bool:
+        return not self.violations(scale).any()
+
+    def largest_scale(self) -> float:
+        """Largest scale (to 2**-30) at which every sample holds: bisection, the constraints being convex in
+        the scale (so every smaller scale holds too)."""
+        if self._largest is None:
+            lo, hi = 0.0, 1.0
+            for _ in range(30):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if self.holds(mid) else (lo, mid)
+            self._largest = lo
+        return self._largest
+
+
+def advised_scale(limit: float, holds, digits: int = 2) -> float:
+    """A scale factor to advise: ``limit`` less a millionth, rounded down to ``digits`` significant digits,
+    and lowered by one unit of its last digit until ``holds(factor)`` is true (0 when none is found).
+
+    Parameters
+    ----------
+    limit : float
+        The largest scale at which the check holds, from bisection.
+    holds : callable(float) -> bool
+        The check itself, at a scale.
+    digits : int
+        Significant digits of the advice.
+    """
+    if not limit > 0:
+        return 0.0
+    x = limit * (1 - 1e-6)
+    unit = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    for m in range(math.floor(x / unit), 0, -1):
+        factor = float(f"{m * unit:.{digits}g}")
+        if holds(factor):
+            return factor
+    return 0.0
 
 
 def _in_time_order(x: np.ndarray) -> np.ndarray:
@@ -466,7 +509,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
         if carry is None:
             carry = _initial_state(blk, u[0])
         y = _block_chunk(blk, u, carry)
-        _validity(ss, y, len(t), t)
+        _validity(ss, y, len(t), t, whole=stop == n_total)
         result = _result(human, ss, y, u, t, dt, R0, description)
         yield replace(result, wall_s=time.perf_counter() - t0)
         del result, y, u  # the next chunk is made without this one held here

@@ -1,7 +1,8 @@
 """Model parameters: joint springs and dampers, posture control, contacts, seat geometry, solver options.
 
 A parameter file is TOML (see the shipped ``data/default_params.toml``).  Every entry carries its values
-with the unit in the key name, plus ``grade`` (``literature``, ``assumed`` or ``identified``) and
+with the unit in the key name, plus ``grade`` (``literature``, ``assumed``, ``identified``, or ``at bound`` for a
+fitted value that ended on its search bound) and
 ``source`` (a key of the file's ``[sources]`` table).  Values are addressed by dotted paths, e.g.
 ``joints.upper_neck.pitch.stiffness_Nm_per_rad``, ``contacts.buttock.stiffness_N_per_m`` or
 ``seat.pan_angle_deg``.
@@ -20,7 +21,7 @@ from typing import Any, Iterator, Mapping
 from .errors import InputError
 from .tables import JOINT_NAMES, Body
 
-GRADES = ("literature", "assumed", "identified")
+GRADES = ("literature", "assumed", "identified", "at bound")
 _META = ("grade", "source", "bounds", "grades", "sources")
 
 #: Numeric keys allowed in each section, with the check they must pass.
@@ -44,6 +45,18 @@ _TRANS = {"stiffness_N_per_m": "nonnegative", "damping_Ns_per_m": "nonnegative"}
 def default_params_path() -> Path:
     """Path of the shipped default parameter file."""
     return Path(str(resources.files("ehm") / "data" / "default_params.toml"))
+
+
+def refuse_defaults(path: Path | str) -> None:
+    """Refuse ``path`` as an output when it is the shipped default parameter file.
+
+    Raises
+    ------
+    InputError
+        ``path`` resolves to :func:`default_params_path`.
+    """
+    if Path(path).resolve() == default_params_path().resolve():
+        raise InputError(f"{path} is the shipped default parameter file; write to another file.")
 
 
 @dataclass(frozen=True)
@@ -185,15 +198,14 @@ class Parameters:
         import tomli_w
 
         header = ("# ehm parameter file (exported). Units are in the key names; every entry has a grade\n"
-                  "# (literature, assumed, identified) and a source (a key of [sources]).\n")
+                  "# (literature, assumed, identified, at bound) and a source (a key of [sources]).\n")
         return header + tomli_w.dumps(self.data)
 
     def export(self, path: Path | str) -> None:
         """Write the parameter set as a TOML file (written whole or not at all); never onto the shipped defaults."""
         from .io import write_text_atomic
 
-        if Path(path).resolve() == default_params_path().resolve():
-            raise InputError(f"{path} is the shipped default parameter file; write to another file.")
+        refuse_defaults(path)
         write_text_atomic(path, self.to_toml())
 
     # ----------------------------------------------------------------- checks

@@ -153,12 +153,10 @@ class Simulator:
         Returns the outputs at the start of the step (the sample at :attr:`time_s` before the call), as a
         whole run reports its row for that time.
         """
-        if seat_angvel_radps is not None and np.any(np.asarray(seat_angvel_radps, dtype=float) != 0):
+        if seat_angvel_radps is not None and np.any(_three_finite(seat_angvel_radps, "seat_angvel_radps", "rad/s")):
             raise InputError("step-by-step runs support seat translation only; for seat rotation run the whole "
                              "drive with 'ehm assess' or SeatedHuman(rotating_seat=True).simulate().")
-        a = np.asarray(seat_acc_mps2, dtype=float)
-        if a.shape != (3,) or not np.all(np.isfinite(a)):
-            raise InputError(f"seat_acc_mps2 must be 3 finite numbers [m/s^2], got {seat_acc_mps2!r}.")
+        a = _three_finite(seat_acc_mps2, "seat_acc_mps2", "m/s^2")
         data, end = engine.step(self.model, self._d, a, check=self._step % engine.CHECK_EVERY == 0)
         t = self._step * self.dt_s
         self._step += 1
@@ -178,6 +176,17 @@ class Simulator:
         return StepState(time_s=t, pelvis=points["pelvis"], trunk=points["trunk"], head=points["head"],
                          comfort=self._comfort_state)
 
+
+
+def _three_finite(value, name: str, unit: str) -> np.ndarray:
+    """``value`` as 3 finite floats (x, y, z), or one sentence saying what it was instead."""
+    try:
+        v = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        v = None
+    if v is None or v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise InputError(f"Simulator.step: {name} must be 3 finite numbers (x, y, z) [{unit}], not {value!r}.")
+    return v
 
 
 LOCATIONS = ("seat",) + POINT_NAMES
