@@ -46,7 +46,7 @@ def _user_folder(tmp_path: Path, layout: str) -> Path:
 
 
 @pytest.mark.parametrize("layout", ["videos", "ehm_names", "nested"])
-@pytest.mark.parametrize("command", [["simulate", "--duration", "3"], ["demo", "--duration", "30"],
+@pytest.mark.parametrize("command", [["simulate", "--duration", "3"], ["demo", "--duration", "40"],
                                      ["assess", "--motion", "road"]])
 def test_a_folder_of_the_users_files_is_refused_and_kept(tmp_path, capsys, layout, command):
     folder = _user_folder(tmp_path, layout)
