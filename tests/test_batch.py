@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 
 import pytest
 
@@ -83,10 +84,14 @@ def test_bad_study_files(tmp_path):
         load_study(bad)
 
 
-def test_cli_batch(tmp_path, capsys):
+def test_cli_batch(tmp_path, capsys, monkeypatch):
     path = tmp_path / "study.toml"
     path.write_text(STUDY.replace(", -1.0", ""))
+    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        monkeypatch.delenv(var, raising=False)
     assert main(["batch", str(path), "--out", str(tmp_path / "r"), "--workers", "1", "--csv"]) == 0
+    # the workers ran single-threaded; the calling process keeps its own thread settings
+    assert "OMP_NUM_THREADS" not in os.environ and "OPENBLAS_NUM_THREADS" not in os.environ
     lines = (tmp_path / "r" / "results.csv").read_text().splitlines()
     assert lines[0].startswith("\"run_id\",\"output\",\"value\",\"error\"")
     # 2 people x 1 parameter value x 6 outputs (peak frequency and gain of pelvis, trunk, head on seat z)

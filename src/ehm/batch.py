@@ -490,6 +490,20 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
 
 
 @contextlib.contextmanager
+def _environ_default(values: dict):
+    """Environment variables set (where unset) while inside, as they were again on leaving."""
+
+    added = [k for k in values if k not in os.environ]
+    for k in added:
+        os.environ[k] = values[k]
+    try:
+        yield
+    finally:
+        for k in added:
+            os.environ.pop(k, None)
+
+
+@contextlib.contextmanager
 def _dask_client(scheduler: str | None, workers: int | None):
     """A Dask client of the cluster at ``scheduler``, or of a local cluster of ``workers`` processes; closed on
     leaving, quietly when leaving on an interrupt or error.
@@ -503,10 +517,10 @@ def _dask_client(scheduler: str | None, workers: int | None):
             client = _connect(check_scheduler(scheduler))
         else:
             # one thread per worker process: numerical libraries' own thread pools would oversubscribe the
-            # cores (measured here: two workers ran no faster than one until this was set)
-            for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-                os.environ.setdefault(var, "1")
-            cluster, client = _local_cluster(workers)
+            # cores (measured here: two workers ran no faster than one until this was set); the workers inherit
+            # it when they start, and the calling process gets its own settings back
+            with _environ_default({v: "1" for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")}):
+                cluster, client = _local_cluster(workers)
         yield client
     except BaseException:
         _close_quietly(client, cluster)
