@@ -143,7 +143,7 @@ def _state_text(human) -> str:
         "ehm_native_fmu_state 1",
         f"dt_s {num(model.mj.opt.timestep)}",
         vec("qpos", s["qpos"]), vec("qvel", s["qvel"]), vec("act", s["act"]),
-        f"diverged_m {num(engine._DIVERGED_M)}",
+        f"diverged_m {num(engine.DIVERGED_M)}",
         f"max_seat_acc_mps2 {num(MAX_SEAT_ACC_MPS2)}",
     ]
     for p in POINTS:
@@ -153,7 +153,7 @@ def _state_text(human) -> str:
         present = [srf for srf in surfaces if srf in model.surface_bodies]
         lines.append(f"group {g} {len(present)} " + " ".join(present))
     if model.seat is not None:  # the seat's moment of inertia about its hinges [kg m^2] and its pivot [m]
-        lines.append(f"rotating_seat {num(engine._SEAT_INERTIA)} " + " ".join(num(v) for v in model.seat["pivot"]))
+        lines.append(f"rotating_seat {num(engine.SEAT_INERTIA_KGM2)} " + " ".join(num(v) for v in model.seat["pivot"]))
     lines.append("end")
     return "\n".join(lines) + "\n"
 

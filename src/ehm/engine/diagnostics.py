@@ -1,0 +1,105 @@
+"""What goes wrong, in ehm's words: MuJoCo's warnings captured (:func:`captured_warnings`, :func:`take_warnings`),
+its compiler's refusal as one sentence, and the divergence check of a running state with its sentence."""
+
+from __future__ import annotations
+
+import contextlib
+import re
+
+import mujoco
+import numpy as np
+
+from ..errors import DivergenceError, InputError
+from .model import Model
+
+DIVERGED_M = 0.5  #: A point further than this from its settled position means the run has diverged [m].
+CHECK_EVERY = 100  #: Steps between divergence checks (0.1 s at the default step).
+
+
+_MAX_WARNINGS = 20
+_warnings: list[str] = []  #: MuJoCo's own warnings captured since :func:`take_warnings` last ran.
+
+
+def _keep_warning(message: str) -> None:
+    if len(_warnings) < _MAX_WARNINGS:
+        _warnings.append(str(message).strip())
+
+
+@contextlib.contextmanager
+def captured_warnings():
+    """While inside, MuJoCo's warnings are kept (for :func:`take_warnings` and divergence messages) instead of
+    being printed raw; the previous handler comes back on leaving."""
+    previous = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(_keep_warning)
+    try:
+        yield
+    finally:
+        mujoco.set_mju_user_warning(previous)
+
+
+def take_warnings() -> list[str]:
+    """MuJoCo's warnings captured since the last call (and not yet folded into an error), oldest first."""
+    out = list(_warnings)
+    _warnings.clear()
+    return out
+
+
+def _warning_sentence(model: Model, message: str) -> tuple[str, float | None]:
+    """A captured MuJoCo warning in ehm's terms (degree of freedom named), and the time it gives, if any."""
+    text = re.sub(r"\s*The simulation is unstable\.?", "", message).strip()
+    number = r"([-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)"
+    when = re.search(r"Time = " + number, text)
+    text = re.sub(r"\.?\s*Time = " + number + r"\.?", "", text).strip().rstrip(".")
+    dof = re.search(r"at DOF (\d+)", text)
+    if dof:
+        text = text.replace(dof.group(0), f"at degree of freedom {dof_name(model, int(dof.group(1)))}")
+    return text, float(when.group(1)) if when else None
+
+
+def dof_name(model: Model, index: int) -> str:
+    """``<joint>.<dof>`` of a MuJoCo degree of freedom (pelvis: ``pelvis.x`` ... ``pelvis.yaw``)."""
+    mj = model.mj
+    if not 0 <= index < mj.nv:
+        return f"#{index}"
+    jnt = int(mj.dof_jntid[index])
+    name = mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_JOINT, jnt) or f"joint {jnt}"
+    if mj.jnt_type[jnt] == mujoco.mjtJoint.mjJNT_FREE:
+        return f"{name}.{('x', 'y', 'z', 'roll', 'pitch', 'yaw')[index - int(mj.jnt_dofadr[jnt])]}"
+    return name
+
+
+def _build_error(exc: Exception) -> InputError:
+    """MuJoCo's compiler message as one sentence: what it refused, and where."""
+    text = str(exc).strip()
+    where = re.search(r"Element name '([^']*)'", text)
+    first = text.splitlines()[0].removeprefix("Error:").strip().rstrip(".") if text else type(exc).__name__
+    first = re.sub(r";?\s*use '\w+' to fix", "", first)
+    at = f" at model element {where.group(1)!r} (a segment, joint, contact or seat surface of that name)" if where else ""
+    return InputError(f"the model could not be built: MuJoCo refused it{at}: {first}; check that element's values "
+                      "in the body tables and the parameter file.")
+
+
+def _instability(model: Model, d: mujoco.MjData) -> str | None:
+    """A reason why the state is no longer a seated person, or None."""
+    if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
+        return "the accelerations became infinite or NaN"
+    if not np.isfinite(d.qpos).all() or not np.isfinite(d.qvel).all():
+        return "the state became infinite or NaN"
+    pelvis = d.qpos[model.pelvis_qpos:model.pelvis_qpos + 3]
+    if np.abs(pelvis).max() > DIVERGED_M:
+        return f"the pelvis moved {np.linalg.norm(pelvis):.3g} m from its seated position"
+    return None
+
+
+def _diverged(model: Model, t: float, why: str, phase: str = "") -> DivergenceError:
+    """The divergence sentence, with MuJoCo's own warning folded in (its time replaces ``t``: MuJoCo resets the
+    state, and with it the time, when it finds a bad acceleration)."""
+    dt = model.mj.opt.timestep
+    for message in take_warnings()[:1]:
+        said, when = _warning_sentence(model, message)
+        why = f"{why}; MuJoCo: {said}"
+        t = when if when is not None else t
+    return DivergenceError(
+        f"the simulation diverged at t = {t:.3f} s{phase} ({why}); try a smaller time step than dt = {dt:g} s "
+        "or check the stiffness and damping parameters."
+    )

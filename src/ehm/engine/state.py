@@ -1,0 +1,93 @@
+"""Settling and state: a fresh state, the person settled into the seat under gravity (:func:`settle`, kept on
+the model), that settled state as data and point poses, and the whole integration state to save and restore."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from .diagnostics import CHECK_EVERY, _diverged, _instability, captured_warnings
+from .model import G0, Model
+
+
+def new_data(model: Model) -> mujoco.MjData:
+    """A fresh MjData at the reference posture."""
+    return mujoco.MjData(model.mj)
+
+
+def settle(model: Model, duration_s: float | None = None) -> dict:
+    """Let the person sink into the seat under gravity until the posture controller has converged.
+
+    Starts from the reference posture; the integral action of the posture control pulls the open-chain
+    joints back to it.  For the first ``simulation.back_slide_s`` the backrest contacts are frictionless.  The settled state (``qpos``, ``qvel``, ``act``) is stored on the model and returned.
+    Raises :class:`DivergenceError` if the model does not stay seated.
+    """
+    slide_s = float(model.params.value("simulation.back_slide_s"))
+    if duration_s is None:
+        duration_s = float(model.params.value("simulation.settle_s"))
+    else:  # a settling time other than the file's: slide for at most half of it
+        slide_s = min(slide_s, duration_s / 2)
+    mj = model.mj
+    d = new_data(model)
+    mj.opt.gravity[:] = G0
+    n = int(round(duration_s / mj.opt.timestep))
+    # The back first slides onto the backrest pads without friction, so that it comes to rest there without
+    # a shear preload (sinking into the cushion would otherwise leave the back pads at their friction limit).
+    n_slide = int(round(slide_s / mj.opt.timestep))
+    back = [mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_PAIR, c.name) for c in model.body.contacts
+            if c.surface.startswith("backrest")]
+    friction = mj.pair_friction[back].copy()
+    mj.pair_friction[back, :2] = 0.0
+    try:
+        with captured_warnings():
+            for i in range(n):
+                if i == n_slide:
+                    mj.pair_friction[back] = friction
+                mujoco.mj_step(mj, d)
+                if i % CHECK_EVERY == 0:
+                    why = _instability(model, d)
+                    if why:
+                        raise _diverged(model, d.time, why, " while settling into the seat, before the run")
+    finally:
+        mj.pair_friction[back] = friction
+    why = _instability(model, d)
+    if why:
+        raise _diverged(model, d.time, why, " while settling into the seat, before the run")
+    model.settled = {"qpos": d.qpos.copy(), "qvel": d.qvel.copy(), "act": d.act.copy(), "settle_s": duration_s}
+    return model.settled
+
+
+def settled_data(model: Model) -> mujoco.MjData:
+    """A fresh MjData in the settled state (settling first if needed), time reset to 0."""
+    if model.settled is None:
+        settle(model)
+    d = new_data(model)
+    d.qpos[:] = model.settled["qpos"]
+    d.qvel[:] = model.settled["qvel"]
+    d.act[:] = model.settled["act"]
+    mujoco.mj_forward(model.mj, d)
+    return d
+
+
+def settled_point_poses(model: Model) -> dict:
+    """Per output point: position [m] and orientation quaternion (w, x, y, z) in the settled state."""
+    d = settled_data(model)
+    out = {}
+    for point, sid in model.point_sites.items():
+        quat = np.empty(4)
+        mujoco.mju_mat2Quat(quat, d.site_xmat[sid])
+        out[point] = (d.site_xpos[sid].copy(), quat)
+    return out
+
+
+def get_state(model: Model, d: mujoco.MjData) -> np.ndarray:
+    """The full integration state of ``d`` (positions, velocities, activations, time, ...)."""
+    spec = mujoco.mjtState.mjSTATE_INTEGRATION
+    buf = np.empty(mujoco.mj_stateSize(model.mj, spec))
+    mujoco.mj_getState(model.mj, d, buf, spec)
+    return buf
+
+
+def set_state(model: Model, d: mujoco.MjData, state: np.ndarray) -> None:
+    """Put a state from :func:`get_state` back into ``d``."""
+    mujoco.mj_setState(model.mj, d, state, mujoco.mjtState.mjSTATE_INTEGRATION)
