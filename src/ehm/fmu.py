@@ -54,6 +54,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import EhmError, InputError
+from .outdir import check_file_destination
 
 #: Class name of the slave = the FMU's model identifier (names its binaries).
 MODEL_IDENTIFIER = "EhmSeatedHuman"
@@ -264,20 +265,7 @@ class SlaveCore:
 
 # ---------------------------------------------------------------------- export
 def _check_destination(out: Path) -> None:
-    if out.suffix.lower() != ".fmu":
-        raise InputError(f"{out}: an FMU file name must end in .fmu.")
-    if out.is_dir():
-        raise InputError(f"{out}: is a folder; give a file name ending in .fmu.")
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"{out}: cannot create the folder {out.parent} ({exc.strerror or exc}).") from None
-    try:  # fail before the build when the folder takes no new file
-        fd, probe = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp")
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise InputError(f"{out}: cannot write a file in the folder {out.parent} ({exc.strerror or exc}).") from None
+    check_file_destination(out, ".fmu", "an FMU")
 
 
 def _with_initial_unknowns(xml: bytes) -> bytes:
