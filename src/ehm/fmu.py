@@ -46,7 +46,6 @@ logging on (``loggingOn``; fmpy ``debug_logging=True``).
 from __future__ import annotations
 
 import json
-import os
 import sys
 import tempfile
 from pathlib import Path

@@ -489,7 +489,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
             motion = motion.resample(dt)
         del steps
     else:
-        from .motion import Resampler
+        from .resampling import Resampler
 
         dt = float(dt_s)
         grid = Resampler(motion.time_s, motion.acc_mps2, dt)
