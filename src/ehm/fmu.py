@@ -263,10 +263,6 @@ class SlaveCore:
 
 
 # ---------------------------------------------------------------------- export
-def _check_destination(out: Path) -> None:
-    check_file_destination(out, ".fmu", "an FMU")
-
-
 def _with_initial_unknowns(xml: bytes) -> bytes:
     """The model description with ``ModelStructure/InitialUnknowns`` listing the outputs.
 
@@ -342,7 +338,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     if not python:
         from .fmu_native import export_native_fmu
 
-        _check_destination(Path(out_path))
+        check_file_destination(out_path, ".fmu", "an FMU")
         human = SeatedHuman(params=params, lock=[str(j) for j in lock], unlock=[str(j) for j in unlock], size=size,
                             dt_s=dt_s, rotating_seat=rotating_seat)
         return export_native_fmu(out_path, human)
@@ -359,7 +355,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
         raise InputError(f"pythonfmu has no FMU binary for this platform ({sys.platform}); it builds units for "
                          "64-bit Linux and Windows.")
     out = Path(out_path)
-    _check_destination(out)
+    check_file_destination(out, ".fmu", "an FMU")
     lock = [str(j) for j in lock]
     unlock = [str(j) for j in unlock]
     p = params if isinstance(params, Parameters) else Parameters.load(params)
