@@ -530,8 +530,9 @@ def _dask_client(scheduler: str | None, workers: int | None):
 
 
 def _local_cluster(workers: int | None):
-    """A local Dask cluster of single-threaded worker processes (their log: errors only) and its client, once
-    the workers have joined.
+    """A local Dask cluster of single-threaded worker processes (their own log silenced: a run's failure is
+    recorded with the run, and a worker whose scheduler closes on Ctrl-C would otherwise print its heartbeat's
+    traceback) and its client, once the workers have joined.
 
     The scheduler and the client start first, without workers; the worker processes are then spawned while
     ehm ignores SIGINT, which they inherit (processes cannot inherit a Python handler or a blocked signal), and
@@ -541,7 +542,7 @@ def _local_cluster(workers: int | None):
 
     n = workers or os.cpu_count() or 1
     cluster = LocalCluster(n_workers=0, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
+                           silence_logs=logging.CRITICAL)
     client = None
     try:
         with _sigint_ignored():  # the client while there are no workers yet (it connects at once)
