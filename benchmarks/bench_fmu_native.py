@@ -36,7 +36,7 @@ import numpy as np
 
 import ehm
 from ehm import engine, fmu_native
-from ehm.motion import load_motion_csv
+from ehm.readers import load_motion_csv
 from ehm.stepping import Simulator, run_realtime
 
 MUJOCO_ONLY_C = r"""

@@ -10,7 +10,7 @@ import argparse
 from importlib import resources
 from pathlib import Path
 
-from ehm.motion import load_motion_csv
+from ehm.readers import load_motion_csv
 from ehm.stepping import Simulator, run_realtime
 
 

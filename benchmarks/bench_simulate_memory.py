@@ -25,7 +25,8 @@ from pathlib import Path
 _INPUT_ONLY = """
 import sys
 import ehm
-from ehm.motion import load_motion_csv, seat_kinematics
+from ehm.motion import seat_kinematics
+from ehm.readers import load_motion_csv
 human = ehm.SeatedHuman(rotating_seat=True)
 human.settle()
 motion = load_motion_csv(sys.argv[1])

@@ -11,12 +11,12 @@ from scipy import signal
 from ehm.errors import InputError
 from ehm.motion import (
     SeatMotion,
-    load_motion_csv,
     parse_axes,
     random_vibration,
     sine,
     sweep,
 )
+from ehm.readers import load_motion_csv  # outside data comes in through ehm.readers (also ehm.load_motion_csv)
 
 
 def rms(values: np.ndarray) -> float:

@@ -358,7 +358,8 @@ def test_plot_of_a_long_run_uses_a_bounded_preview(tmp_path, human, monkeypatch)
         return real(run, path, title=title)
 
     monkeypatch.setattr(plotting, "plot_time_histories", spy)
-    human.simulate_to(tmp_path / "run", ehm.random_vibration("z", 2.0, 0.3, seed=0), chunk_s=0.5, plot=True)
+    human.simulate_to(tmp_path / "run", ehm.random_vibration("z", 2.0, 0.3, seed=0), chunk_s=0.5,
+                      plot=plotting.plot_run_preview)
     dt = float(human.params.value("simulation.dt_s"))
     every = -(-(int(round(2.0 / dt)) + 1) // 200)  # ceil(steps / rows): 11 at 1 ms
     assert drawn["rows"] <= 200 and f"figure: every {every * dt:g} s" in drawn["title"]

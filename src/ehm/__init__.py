@@ -49,13 +49,13 @@ gravity of the reference posture.
 __version__ = "0.1.0"
 
 from .errors import DivergenceError, EhmError, InputError
-from .motion import SeatMotion, load_motion_csv, random_vibration, sine, sweep
+from .motion import SeatMotion, random_vibration, sine, sweep
 from .params import Parameters
 from .simulation import PointMotion, RunResult, SeatedHuman
 from .stepping import Simulator, StepState
 from .tables import load_body
 from .transfer import Curve, h1_estimate
-from .readers import read_motion
+from .readers import load_motion_csv, read_motion
 from .imu import from_imu
 from .drives import city_drive, rough_road
 from .assessment import Assessment, assess

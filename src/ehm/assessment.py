@@ -151,7 +151,7 @@ class _Running:
 
     @classmethod
     def start(cls, fs: float, keep: int, nper: int, k_sick: int, dt: float) -> _Running:
-        from .simulation import POINT_NAMES
+        from .results import POINT_NAMES
 
         return cls(comfort={loc: {a: ComfortAccumulator(AXIS_WEIGHTING[a], fs, keep_every=keep) for a in "xyz"}
                             for loc in LOCATIONS},
@@ -167,7 +167,7 @@ class _Running:
         self._displacement(chunk)
 
     def _comfort(self, chunk) -> None:
-        from .simulation import POINT_NAMES
+        from .results import POINT_NAMES
 
         signals = {"seat": chunk.seat_acc_mps2, **{p: chunk.point(p).acc_mps2 for p in POINT_NAMES}}
         for loc, a_xyz in signals.items():

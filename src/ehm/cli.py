@@ -160,8 +160,11 @@ def cmd_simulate(args) -> int:
     else:
         human = _human(args)
         motion = _motion(args, float(human.params.value("simulation.dt_s")))
+    draw = None
+    if args.plot:  # simulate_to computes; the figure is drawn here, into the folder before it is put in place
+        from .plotting import plot_run_preview as draw
     s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats,
-                          progress=_progress_bar("simulate"), plot=args.plot, method=args.method)
+                          progress=_progress_bar("simulate"), plot=draw, method=args.method)
     files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json" + \
         (", poses.npz" if args.method != "linear" else "") + \
         (", time_histories.png" if args.plot else "")

@@ -27,45 +27,20 @@ import numpy as np
 from .errors import InputError
 from .frf import AXES, DOFS, POINTS, linear_frf
 from .params import Parameters
+from .timestep import (  # noqa: F401 - re-exported: ehm.convergence.StepWarning etc.
+    CONVERGED_STEP_S,
+    DEFAULT_STEP_ERRORS,
+    StepWarning,
+    expected_error,
+    warn_if_coarse,
+)
 
 #: Largest error of a transfer function against step / 8 [fraction of the path's peak gain] that counts as
 #: converged.
 TOLERANCE = 0.02
-#: ``ehm check-step`` on the default person, worst path against step / 8, by step [s] (measured with
-#: ehm 0.1 on this formulation: trapezoidal contacts and trunk/neck damping, Euler; README "Time step and
-#: accuracy").  Between the steps listed the error is interpolated, beyond them extrapolated in proportion
-#: to the step.
-DEFAULT_STEP_ERRORS = {0.0005: 0.0066, 0.001: 0.0166, 0.0015: 0.045, 0.002: 0.091, 0.004: 0.43}
-#: The largest step at which the default person is converged [s].
-CONVERGED_STEP_S = 0.001
 #: Paths whose peak gain is below this share of the largest path of the same kind are left out.
 SMALL_PATH = 0.05
 _FREQ_HZ = np.arange(0.2, 12.0 + 1e-9, 0.05)
-
-
-class StepWarning(UserWarning):
-    """A time step coarser than the one at which the model is converged."""
-
-
-def expected_error(dt_s: float) -> float:
-    """The default person's worst transfer-function error at step ``dt_s`` against step / 8 (fraction)."""
-    steps = np.array(sorted(DEFAULT_STEP_ERRORS))
-    errors = np.array([DEFAULT_STEP_ERRORS[s] for s in steps])
-    if dt_s >= steps[-1]:
-        return float(errors[-1] * dt_s / steps[-1])
-    if dt_s <= steps[0]:
-        return float(errors[0] * dt_s / steps[0])
-    return float(np.interp(dt_s, steps, errors))
-
-
-def warn_if_coarse(dt_s: float, where: str = "the time step") -> None:
-    """Warn (:class:`StepWarning`, one sentence) when ``dt_s`` is coarser than the converged step."""
-    if dt_s > CONVERGED_STEP_S * (1 + 1e-9):
-        warnings.warn(
-            f"{where} dt = {dt_s * 1e3:g} ms is coarser than the {CONVERGED_STEP_S * 1e3:g} ms at which the model "
-            f"is converged: expect transfer functions to be off by up to about {100 * expected_error(dt_s):.0f} % "
-            f"of their peak (run 'ehm check-step --dt {dt_s:g}' to measure it for this person).",
-            StepWarning, stacklevel=3)
 
 
 @dataclass(frozen=True)

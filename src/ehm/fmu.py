@@ -46,7 +46,6 @@ logging on (``loggingOn``; fmpy ``debug_logging=True``).
 from __future__ import annotations
 
 import json
-import os
 import sys
 import tempfile
 from pathlib import Path
@@ -54,6 +53,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import EhmError, InputError
+from .outdir import check_file_destination
 
 #: Class name of the slave = the FMU's model identifier (names its binaries).
 MODEL_IDENTIFIER = "EhmSeatedHuman"
@@ -263,23 +263,6 @@ class SlaveCore:
 
 
 # ---------------------------------------------------------------------- export
-def _check_destination(out: Path) -> None:
-    if out.suffix.lower() != ".fmu":
-        raise InputError(f"{out}: an FMU file name must end in .fmu.")
-    if out.is_dir():
-        raise InputError(f"{out}: is a folder; give a file name ending in .fmu.")
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"{out}: cannot create the folder {out.parent} ({exc.strerror or exc}).") from None
-    try:  # fail before the build when the folder takes no new file
-        fd, probe = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp")
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise InputError(f"{out}: cannot write a file in the folder {out.parent} ({exc.strerror or exc}).") from None
-
-
 def _with_initial_unknowns(xml: bytes) -> bytes:
     """The model description with ``ModelStructure/InitialUnknowns`` listing the outputs.
 
@@ -355,7 +338,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     if not python:
         from .fmu_native import export_native_fmu
 
-        _check_destination(Path(out_path))
+        check_file_destination(out_path, ".fmu", "an FMU")
         human = SeatedHuman(params=params, lock=[str(j) for j in lock], unlock=[str(j) for j in unlock], size=size,
                             dt_s=dt_s, rotating_seat=rotating_seat)
         return export_native_fmu(out_path, human)
@@ -372,7 +355,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
         raise InputError(f"pythonfmu has no FMU binary for this platform ({sys.platform}); it builds units for "
                          "64-bit Linux and Windows.")
     out = Path(out_path)
-    _check_destination(out)
+    check_file_destination(out, ".fmu", "an FMU")
     lock = [str(j) for j in lock]
     unlock = [str(j) for j in unlock]
     p = params if isinstance(params, Parameters) else Parameters.load(params)

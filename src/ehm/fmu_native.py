@@ -255,12 +255,12 @@ def export_native_fmu(out_path, human=None) -> Path:
     in any FMI 2.0 host on 64-bit Linux without Python.
     """
     from . import __version__
-    from .fmu import _check_destination
     from .io import replace_atomically
+    from .outdir import check_file_destination
     from .simulation import SeatedHuman
 
     out = Path(out_path)
-    _check_destination(out)
+    check_file_destination(out, ".fmu", "an FMU")
     if not native_platform_supported():
         raise InputError(f"the native FMU is built for 64-bit Linux on x86 (FMI 'linux64'), not {sys.platform} "
                          f"{platform.machine()}: build its binary from the sources/ of a unit exported on Linux "

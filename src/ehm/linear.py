@@ -38,6 +38,7 @@ from scipy.spatial.transform import Rotation
 
 from . import engine
 from .errors import InputError
+from .results import POINT_NAMES, PointMotion, RunResult
 
 #: Finer step used for the linearisation: the model's step divided by this.
 REFINE = 8
@@ -472,7 +473,7 @@ def _in_time_order(x: np.ndarray) -> np.ndarray:
 def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: float | None = None):
     """Run ``motion`` (a translational :class:`ehm.motion.SeatMotion`) through the linear route, chunk by chunk.
 
-    Yields one :class:`ehm.simulation.RunResult` per chunk (absolute times, the motion's own time step), like
+    Yields one :class:`ehm.results.RunResult` per chunk (absolute times, the motion's own time step), like
     :meth:`ehm.SeatedHuman.stream`; raises :class:`LinearRouteError` as soon as a contact would lift off or
     slide.  ``progress(done_s, total_s)`` is called after every chunk.  The person starts at rest in the
     settled posture.  ``dt_s`` [s]: run on this step instead, the motion resampled onto it one chunk at a time
@@ -488,7 +489,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
             motion = motion.resample(dt)
         del steps
     else:
-        from .motion import Resampler
+        from .resampling import Resampler
 
         dt = float(dt_s)
         grid = Resampler(motion.time_s, motion.acc_mps2, dt)
@@ -614,8 +615,6 @@ def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, 
             description: str):
     """Outputs of the linear model (as :func:`_block_chunk` returns them) -> a RunResult in the nonlinear
     route's terms."""
-    from .simulation import POINT_NAMES, PointMotion, RunResult
-
     n = len(t)
     rot, angvel, gia = (_in_time_order(x)[..., :n] for x in _orientations(y, R0))  # (point, axis, sample)
     kind = lambda k: _in_time_order(y[9 * k:9 * k + 9])[:, :n].reshape(3, 3, n)  # noqa: E731
@@ -631,7 +630,7 @@ def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, 
 
 
 def simulate_linear(human, motion, dt_s: float | None = None):
-    """Run ``motion`` through the linear route in one piece: a :class:`ehm.simulation.RunResult` sampled at
+    """Run ``motion`` through the linear route in one piece: a :class:`ehm.results.RunResult` sampled at
     ``dt_s`` [s] (the motion resampled onto it, anti-aliased), or at the motion's own time step when None
     (see :func:`stream_linear`)."""
     (result,) = stream_linear(human, motion, chunk_s=np.inf, dt_s=dt_s)

@@ -25,9 +25,7 @@ where.
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
-from fractions import Fraction
 from numbers import Integral, Real
 
 import numpy as np
@@ -35,13 +33,20 @@ from scipy import signal
 
 from ehm.errors import InputError
 
+from .kinematics import (  # noqa: F401 - re-exported: ehm.motion.seat_kinematics etc.
+    SeatKinematics,
+    integrate_attitude,
+    seat_kinematics,
+    seat_rotation_matrices,
+)
+from .resampling import UNIFORM_TOLERANCE, Resampler  # noqa: F401 - re-exported: ehm.motion.Resampler
+
 __all__ = [
     "AXIS_NAMES",
     "CSV_COLUMNS",
     "MAX_SAMPLES",
     "Resampler",
     "SeatMotion",
-    "load_motion_csv",
     "parse_axes",
     "random_vibration",
     "sine",
@@ -248,105 +253,6 @@ class SeatMotion:
         data = Resampler.of_motion(self, dt).block(0, n)
         w = None if self.angvel_radps is None else data[:, 3:]
         return SeatMotion(np.arange(n) * dt, data[:, :3], f"{self.description}, resampled to dt {dt:g} s", w)
-
-
-# --------------------------------------------------------------------------
-# Resampling
-# --------------------------------------------------------------------------
-
-#: A record counts as uniformly sampled when every sample time lies within this fraction of a step of the
-#: uniform grid through its first and last samples (loggers' time stamps jitter; their samples do not).
-UNIFORM_TOLERANCE = 0.1
-#: Half-length of the polyphase filter, in samples of the slower rate, and its Kaiser window parameter:
-#: within 0.001 dB up to 0.4 times the slower rate, at least 80 dB down from 0.6 times it.
-_POLY_HALF_LENGTH = 20
-_POLY_KAISER_BETA = 8.0
-#: Largest denominator of the rational rate ratio (whole-number rates in Hz are exact).
-_POLY_MAX_DENOMINATOR = 1000
-
-
-class Resampler:
-    """Samples of a record on the uniform grid ``t = k dt_s`` (from the record's start), a block at a time.
-
-    Polyphase resampling (``scipy.signal.resample_poly`` with a Kaiser-windowed sinc of
-    :data:`_POLY_HALF_LENGTH` samples of the slower rate either side, edges extended with the edge values):
-    an anti-alias filter when the record is faster than the grid, an interpolation filter when slower.
-    The rate ratio is the nearest fraction with a denominator of at most 1000 (exact for whole-number rates
-    in Hz; otherwise the time scale is off by less than 1e-6 of the duration, typically).  A block computed
-    here equals the same samples of the whole record resampled at once: each block reads the record with
-    a margin of the filter's length.
-
-    A record whose time stamps depart from a uniform grid by more than :data:`UNIFORM_TOLERANCE` of a step
-    (jitter, gaps, varying rates) is first interpolated linearly onto a uniform grid at its median step, with
-    no anti-alias filter; :func:`ehm.readers.read_motion` therefore refuses logs whose rate changes and
-    refuses (or, asked, bridges) gaps, so that from files this step meets jitter and dropped samples only.
-
-    Parameters
-    ----------
-    time_s : (n,) array
-        Sample times [s], strictly increasing.
-    values : (n, k) array, or a list of such arrays (kept apart, not copied into one)
-        The samples; blocks hold their columns side by side.
-    dt_s : float
-        Interval of the grid [s].
-    """
-
-    def __init__(self, time_s, values, dt_s: float):
-        t = np.asarray(time_s, dtype=float)
-        xs = [np.asarray(v, dtype=float) for v in (values if isinstance(values, (list, tuple)) else [values])]
-        xs = [x[:, None] if x.ndim == 1 else x for x in xs]
-        self.dt_s = float(dt_s)
-        duration = float(t[-1] - t[0])
-        #: Number of grid samples within the record: t = 0, dt_s, ... up to its duration.
-        self.n_samples = int(np.floor(duration / self.dt_s + 1e-9)) + 1
-        step = duration / (t.size - 1)
-        if _largest_departure(t, step) > UNIFORM_TOLERANCE * step:
-            step = float(np.median(np.diff(t)))
-            grid = np.arange(int(np.floor(duration / step + 1e-9)) + 1) * step
-            xs = [np.column_stack([np.interp(grid, t - t[0], x[:, j]) for j in range(x.shape[1])]) for x in xs]
-        self._xs = xs  # the record's arrays as given (not copied into one)
-        ratio = Fraction(step / self.dt_s).limit_denominator(_POLY_MAX_DENOMINATOR)
-        self.up, self.down = ratio.numerator, ratio.denominator
-        if self.up == self.down == 1:
-            self._h = None
-            return
-        if self.up < 1:
-            raise InputError(f"resample: dt_s = {dt_s!r} s is too long for a record sampled every {step:g} s.")
-        widest = max(self.up, self.down)
-        self._h = signal.firwin(2 * _POLY_HALF_LENGTH * widest + 1, 1.0 / widest,
-                                window=("kaiser", _POLY_KAISER_BETA))
-        self._margin = _POLY_HALF_LENGTH * widest // self.up + 2  # record samples the filter reaches
-
-    @classmethod
-    def of_motion(cls, motion: SeatMotion, dt_s: float) -> Resampler:
-        """A resampler of a motion's acceleration (columns 0-2) and angular velocity (3-5, when it has one)."""
-        cols = [motion.acc_mps2] + ([motion.angvel_radps] if motion.angvel_radps is not None else [])
-        return cls(motion.time_s, cols, dt_s)
-
-    def block(self, start: int, stop: int) -> np.ndarray:
-        """Grid samples ``start`` to ``stop - 1`` (``0 <= start < stop <= n_samples``), shape (stop - start, k)."""
-        if self._h is None:
-            return np.hstack([x[start:stop] for x in self._xs])
-        up, down = self.up, self.down
-        # first record sample used: a multiple of `down`, so that the block's output falls on the grid
-        first = max(0, (start * down // up - self._margin) // down) * down
-        last = min(self._xs[0].shape[0], (stop - 1) * down // up + self._margin + 2)
-        seg = np.hstack([x[first:last] for x in self._xs])
-        y = signal.resample_poly(seg, up, down, axis=0, window=self._h, padtype="edge")
-        offset = first * up // down
-        out = y[start - offset: stop - offset]
-        if out.shape[0] < stop - start:  # the grid's last sample at the record's very end (round-off)
-            out = np.vstack([out, np.repeat(y[-1:], stop - start - out.shape[0], axis=0)])
-        return out
-
-
-def _largest_departure(t: np.ndarray, step: float, block: int = 65536) -> float:
-    """Largest |t[i] - t[0] - i step| [s], a block at a time (no temporary array as long as a long record)."""
-    worst = 0.0
-    for start in range(0, t.size, block):
-        seg = t[start:start + block]
-        worst = max(worst, float(np.max(np.abs(seg - t[0] - np.arange(start, start + seg.size) * step))))
-    return worst
 
 
 def _owned_copy(values) -> np.ndarray:
@@ -564,6 +470,21 @@ def random_vibration(
     duration, dt, t = _time_grid(func, duration_s, dt_s)
     rms = _non_negative(func, "rms_mps2", rms_mps2)
     seed_value = _check_seed(seed)
+    low, high = _pass_band(func, band_hz, dt)
+    label = _axes_label(axes)
+    seed_text = "unseeded" if seed_value is None else f"seed {seed_value}"
+    description = (
+        f"band-limited random, {label}, {rms:g} m/s^2 rms, {low:g}-{high:g} Hz, {seed_text}"
+    )
+    n = t.shape[0]
+    if rms == 0.0:
+        return _motion(t, axes, {i: np.zeros(n) for i in axes}, description)
+    columns = _filtered_noise(func, t, axes, rms, seed_value, low, high, duration, dt)
+    return _motion(t, axes, columns, description)
+
+
+def _pass_band(func: str, band_hz: object, dt: float) -> tuple[float, float]:
+    """The checked pass band ``(low, high)`` [Hz] of :func:`random_vibration`."""
     try:
         low_raw, high_raw = band_hz
     except (TypeError, ValueError):
@@ -577,15 +498,13 @@ def random_vibration(
         raise InputError(
             f"{func}: band_hz low ({low!r} Hz) must be below band_hz high ({high!r} Hz)."
         )
-    label = _axes_label(axes)
-    seed_text = "unseeded" if seed_value is None else f"seed {seed_value}"
-    description = (
-        f"band-limited random, {label}, {rms:g} m/s^2 rms, {low:g}-{high:g} Hz, {seed_text}"
-    )
-    n = t.shape[0]
-    if rms == 0.0:
-        return _motion(t, axes, {i: np.zeros(n) for i in axes}, description)
+    return low, high
 
+
+def _filtered_noise(func: str, t: np.ndarray, axes: tuple[int, ...], rms: float, seed_value: int | None,
+                    low: float, high: float, duration: float, dt: float) -> dict[int, np.ndarray]:
+    """Band-passed, faded Gaussian noise of each excited axis, scaled to ``rms`` (one random stream per axis)."""
+    n = t.shape[0]
     sos = signal.butter(_FILTER_ORDER, [low, high], btype="bandpass", fs=1.0 / dt, output="sos")
     # Lead-in/out of about two periods of the low band edge lets the filter settle.
     pad = min(max(int(math.ceil(2.0 / (low * dt))), 64), MAX_SAMPLES // 10)
@@ -602,7 +521,7 @@ def random_vibration(
                 "the fade-in and fade-out leave no non-zero samples."
             )
         columns[i] = filtered * (rms / current)
-    return _motion(t, axes, columns, description)
+    return columns
 
 
 def sine(
@@ -703,137 +622,3 @@ def sweep(
         f"{f0:g}-{f1:g} Hz, {duration:g} s"
     )
     return _motion(t, axes, {i: wave for i in axes}, description)
-
-
-# --------------------------------------------------------------------------
-# Files
-# --------------------------------------------------------------------------
-
-
-def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
-    """Read a seat motion from a file with the default channel names; the same as
-    :func:`ehm.readers.read_motion` ``(path)`` (kept for existing code).
-
-    The default columns are ``time_s``, ``ax_mps2``, ``ay_mps2``, ``az_mps2``
-    and optionally all of ``wx_radps``, ``wy_radps``, ``wz_radps`` (roll,
-    pitch and yaw rates of the seat about its own axes).  Times [s] must be
-    finite, >= 0 and strictly increasing; the sample interval may vary.  A
-    comment line before the header describes the motion.
-
-    Raises
-    ------
-    InputError
-        One sentence naming the file, line (or row), column and value.
-
-    Examples
-    --------
-    A file::
-
-        # measured on the test rig
-        time_s,ax_mps2,ay_mps2,az_mps2
-        0.000,0.0,0.0,0.00
-        0.001,0.0,0.0,0.12
-    """
-    from .readers import read_motion
-
-    return read_motion(path)
-
-
-# --------------------------------------------------------------------------
-# Seat rotation kinematics
-# --------------------------------------------------------------------------
-
-
-@dataclass(frozen=True, eq=False)
-class SeatKinematics:
-    """Seat orientation as intrinsic z-y-x (yaw, pitch, roll) angles, with their rates and accelerations.
-
-    All arrays have shape (n, 3) with columns yaw, pitch, roll, on the time grid ``time_s`` [s]; angles in
-    rad, rates in rad/s, accelerations in rad/s^2.  The seat starts level (all angles 0) at ``time_s[0]``.
-    """
-
-    time_s: np.ndarray
-    angles_rad: np.ndarray
-    rates_radps: np.ndarray
-    accs_radps2: np.ndarray
-
-    def at(self, t_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Angles, rates and accelerations linearly interpolated at times ``t_s`` (relative to the start)."""
-        t0 = self.time_s - self.time_s[0]
-        out = []
-        for arr in (self.angles_rad, self.rates_radps, self.accs_radps2):
-            out.append(np.column_stack([np.interp(t_s, t0, arr[:, j]) for j in range(3)]))
-        return out[0], out[1], out[2]
-
-
-def integrate_attitude(time_s: np.ndarray, angvel_radps: np.ndarray, initial_quat=None) -> np.ndarray:
-    """Attitude quaternions (n, 4), scipy's scalar-last order, from body-axis angular velocity [rad/s].
-
-    q(k+1) = q(k) * exp(w dt / 2) with w the mean of the two samples' rates (exact for rates constant over
-    a step), starting from ``initial_quat`` (default: the identity), renormalised every 1024 steps.
-    """
-    t = np.asarray(time_s, dtype=float)
-    w = np.asarray(angvel_radps, dtype=float)
-    # step rotations as quaternions (w, x, y, z) from rotation vectors, vectorised
-    rv = 0.5 * (w[1:] + w[:-1]) * np.diff(t)[:, None]
-    ang = np.linalg.norm(rv, axis=1)
-    half = 0.5 * ang
-    scale = np.where(ang > 1e-12, np.sin(half) / np.where(ang > 1e-12, ang, 1.0), 0.5)
-    steps = np.column_stack([np.cos(half), rv * scale[:, None]])
-    del rv, ang, half, scale
-    # sequential Hamilton products in plain floats (a few microseconds per sample), a block of steps at a time
-    # (plain floats take about 40 bytes each: a whole long drive of them would hold hundreds of MB)
-    quats = np.empty((t.size, 4))
-    if initial_quat is None:
-        qw, qx, qy, qz = 1.0, 0.0, 0.0, 0.0
-    else:
-        qx, qy, qz, qw = (float(v) for v in initial_quat)
-    quats[0] = (qw, qx, qy, qz)
-    for b in range(0, steps.shape[0], 8192):
-        for k, (sw, sx, sy, sz) in enumerate(steps[b:b + 8192].tolist(), start=b + 1):
-            qw, qx, qy, qz = (qw * sw - qx * sx - qy * sy - qz * sz, qw * sx + qx * sw + qy * sz - qz * sy,
-                              qw * sy - qx * sz + qy * sw + qz * sx, qw * sz + qx * sy - qy * sx + qz * sw)
-            if k % 1024 == 0:  # keep unit length against round-off
-                n = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-                qw, qx, qy, qz = qw / n, qx / n, qy / n, qz / n
-            quats[k] = (qw, qx, qy, qz)
-    del steps
-    return quats[:, [1, 2, 3, 0]]  # scipy's (x, y, z, w) order
-
-
-def seat_kinematics(time_s: np.ndarray, angvel_radps: np.ndarray) -> SeatKinematics:
-    """Integrate the seat's body-axis angular velocity (roll, pitch, yaw rates) into z-y-x Euler angles.
-
-    The orientation is integrated as a quaternion, q(k+1) = q(k) * exp(w dt / 2) with w the mean of the two
-    samples' rates (exact for rates constant over a step), then expressed as yaw, pitch, roll (yaw
-    unwrapped).  The Euler-angle rates follow from the body rates w = (wx, wy, wz) and roll phi, pitch
-    theta: roll' = wx + tan(theta) (wy sin(phi) + wz cos(phi)), pitch' = wy cos(phi) - wz sin(phi),
-    yaw' = (wy sin(phi) + wz cos(phi)) / cos(theta); accelerations are their time derivatives.  Pitch must
-    stay within +-80 deg.
-    """
-    from scipy.spatial.transform import Rotation
-
-    t = np.asarray(time_s, dtype=float)
-    w = np.asarray(angvel_radps, dtype=float)
-    quats = integrate_attitude(t, w)
-    yaw, pitch, roll = Rotation.from_quat(quats).as_euler("ZYX").T
-    if np.abs(pitch).max() > np.radians(80):
-        i = int(np.argmax(np.abs(pitch) > np.radians(80)))
-        raise InputError(f"the seat pitch reaches {np.degrees(pitch[i]):.0f} deg at t = {t[i] - t[0]:.2f} s; "
-                         "seat pitch must stay within +-80 deg.")
-    angles = np.column_stack([np.unwrap(yaw), pitch, roll])
-    s, c = np.sin(roll), np.cos(roll)
-    rates = np.column_stack([
-        (w[:, 1] * s + w[:, 2] * c) / np.cos(pitch),             # yaw'
-        w[:, 1] * c - w[:, 2] * s,                               # pitch'
-        w[:, 0] + np.tan(pitch) * (w[:, 1] * s + w[:, 2] * c),   # roll'
-    ])
-    accs = np.gradient(rates, t, axis=0)
-    return SeatKinematics(t, angles, rates, accs)
-
-
-def seat_rotation_matrices(angles_rad: np.ndarray) -> np.ndarray:
-    """Rotation matrices (n, 3, 3) of z-y-x angles (yaw, pitch, roll): seat axes -> world axes."""
-    from scipy.spatial.transform import Rotation
-
-    return Rotation.from_euler("ZYX", angles_rad).as_matrix()

@@ -154,6 +154,29 @@ def check_output_file(path: Path | str, what: str = "output file") -> Path:
     return path
 
 
+def check_file_destination(out: Path | str, suffix: str, kind: str) -> Path:
+    """Make sure a single file ending in ``suffix`` can be put at ``out``, before the (long) work that makes it:
+    the name ends in ``suffix``, it is not a folder, its folder exists (made if missing) and takes a new file
+    (probed with a temporary file).  ``kind`` names the file in the sentence, e.g. ``"an FMU"``.  Used by both
+    FMU exports (:mod:`ehm.fmu`, :mod:`ehm.fmu_native`).  Returns the path."""
+    out = Path(out)
+    if out.suffix.lower() != suffix:
+        raise InputError(f"{out}: {kind} file name must end in {suffix}.")
+    if out.is_dir():
+        raise InputError(f"{out}: is a folder; give a file name ending in {suffix}.")
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{out}: cannot create the folder {out.parent} ({exc.strerror or exc}).") from None
+    try:  # fail before the build when the folder takes no new file
+        fd, probe = tempfile.mkstemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise InputError(f"{out}: cannot write a file in the folder {out.parent} ({exc.strerror or exc}).") from None
+    return out
+
+
 @contextlib.contextmanager
 def signals_held():
     """Hold SIGINT and SIGTERM back while inside: they are noted and handled on leaving (by the handlers that

@@ -18,7 +18,7 @@ import numpy as np  # noqa: E402
 
 from .errors import InputError  # noqa: E402
 from .io import replace_atomically  # noqa: E402
-from .simulation import RunResult  # noqa: E402
+from .results import RunResult  # noqa: E402
 from .transfer import band_select  # noqa: E402
 
 _AXIS_COLORS = {"x": "tab:blue", "y": "tab:orange", "z": "tab:green"}
@@ -52,6 +52,16 @@ def excited_axes(seat_acc_mps2: np.ndarray) -> str:
     if not np.isfinite(rms).all() or rms.max() <= 0:
         return "z"
     return "".join(a for a, r in zip("xyz", rms) if r >= EXCITED_SHARE * rms.max())
+
+
+def plot_run_preview(preview: RunResult, folder: Path | str):
+    """``time_histories.png`` in a run folder being written, from the run's preview (evenly spread rows): what
+    ``ehm simulate --plot`` draws, passed as ``SeatedHuman.simulate_to(..., plot=plot_run_preview)``.  The title
+    names the figure's row spacing when it is coarser than the run's time step."""
+    dt = preview.dt_s
+    step = float(preview.time_s[1] - preview.time_s[0]) if len(preview.time_s) > 1 else dt
+    title = preview.description + (f" (figure: every {step:g} s)" if step > dt * 1.5 else "")
+    return plot_time_histories(preview, Path(folder) / "time_histories.png", title=title)
 
 
 def plot_time_histories(run: RunResult, path: Path | str | None = None, title: str | None = None):

@@ -250,7 +250,7 @@ class RunWriter:
         self.dt_s = None
 
     def add(self, chunk) -> None:
-        """Append one chunk (a :class:`ehm.simulation.RunResult` with absolute times)."""
+        """Append one chunk (a :class:`ehm.results.RunResult` with absolute times)."""
         dt = self.dt_s = chunk.dt_s
         first = int(round(chunk.time_s[0] / dt)) if len(chunk.time_s) else 0
         header, data = chunk.columns()
@@ -265,8 +265,9 @@ class RunWriter:
         if self.preview_every:
             self.preview.append(chunk.take(slice((-first) % self.preview_every, None, self.preview_every)))
 
-    def close(self) -> tuple[dict, object]:
-        """Finish the files and write ``summary.json``; returns (summary, preview run or None)."""
+    def close(self) -> tuple[dict, list]:
+        """Finish the files and write ``summary.json``; returns (summary, preview pieces: thinned chunks, in order,
+        for :func:`ehm.results.concatenate_runs`; empty without a preview)."""
         from .io import write_json_atomic
 
         if self.summary.first is None:
@@ -277,12 +278,7 @@ class RunWriter:
             self.poses.finish(self.folder / "poses.npz")
         summary = self.summary.summary(output_rate_hz=1.0 / (self.every * self.dt_s))
         write_json_atomic(self.folder / "summary.json", summary)
-        preview = None
-        if self.preview:
-            from .simulation import concatenate_runs
-
-            preview = concatenate_runs(self.preview)
-        return summary, preview
+        return summary, list(self.preview)
 
     def abort(self) -> None:
         """Close open files (the folder is discarded by its RunFolder)."""
@@ -296,8 +292,10 @@ class RunWriter:
 
 
 def write_run(folder: Path | str, chunks, output_every: int = 1, formats=("csv",), preview_rows: int = 0,
-              n_steps: int | None = None) -> tuple[dict, object]:
-    """Write the chunks of one run into ``folder`` as they come; returns (summary, preview run or None)."""
+              n_steps: int | None = None) -> tuple[dict, list]:
+    """Write the chunks of one run into ``folder`` as they come; returns (summary, preview pieces): the pieces are
+    the chunks thinned to at most ``preview_rows`` rows in all (none when 0), for the caller to join with
+    :func:`ehm.results.concatenate_runs`.  This module reads runs by duck typing and imports no run class."""
     writer = RunWriter(folder, output_every, formats, preview_rows, n_steps)
     try:
         for chunk in chunks:

@@ -20,13 +20,14 @@ import numpy as np
 from . import engine
 from .errors import InputError
 from .params import Parameters
-from .simulation import POINT_NAMES, SeatedHuman
+from .results import POINT_NAMES
+from .simulation import SeatedHuman
 
 
 @dataclass(frozen=True)
 class PointState:
     """One output point after a step: absolute acceleration, displacement and rotation (seat axes) and
-    angular velocity (the segment's own axes), as in :class:`ehm.simulation.PointMotion`."""
+    angular velocity (the segment's own axes), as in :class:`ehm.results.PointMotion`."""
 
     acc_mps2: np.ndarray
     disp_m: np.ndarray

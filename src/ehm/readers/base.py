@@ -1,0 +1,71 @@
+"""What every source format answers: a table of named channels (:class:`_Source`), and a channel as floats."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from .channels import DEFAULT_CHANNELS
+
+
+@dataclass
+class _Source:
+    """A table of named channels: what it holds and how to read one channel as floats."""
+
+    label: str
+    names: list
+    kind: str = "columns"                       # what its channels are called in messages
+    first_comment: str = ""
+    per_channel_time: bool = False              # MDF: each channel has its own time stamps
+    units: dict = field(default_factory=dict)   # name -> unit string the source gives
+
+    def where(self, row: int) -> str:
+        """Where a row is, for messages."""
+        return f"row {row}"
+
+    def raw(self, name: str, row: int) -> str:
+        """The row's value as the source holds it, for messages."""
+        value = self.values(name)[row]
+        return repr(value.item() if hasattr(value, "item") else value)
+
+    def has(self, name: str) -> bool:
+        """Whether the source holds a channel of that name."""
+        return name in self.names
+
+    def values(self, name: str) -> np.ndarray:
+        raise NotImplementedError
+
+    def time_of(self, name: str) -> np.ndarray:
+        raise NotImplementedError
+
+    def close(self) -> None:
+        """Release the file."""
+
+
+def _as_floats(src: _Source, name: str, key: str, column) -> np.ndarray:
+    """A column as float64; one sentence naming the first value that is not a number."""
+    import pandas as pd
+
+    arr = np.asarray(column)
+    if arr.dtype.kind in "fiub":
+        return arr.astype(float, copy=False)
+    if arr.dtype.kind == "M":
+        return arr.astype("datetime64[ns]").astype(np.int64) / 1e9
+    if arr.dtype.kind == "m":
+        return arr.astype("timedelta64[ns]").astype(np.int64) / 1e9
+    numeric = pd.to_numeric(pd.Series(arr), errors="coerce").to_numpy(dtype=float)
+    given = pd.Series(arr).notna().to_numpy() & (pd.Series(arr).astype(str).str.strip() != "").to_numpy()
+    bad = np.flatnonzero(np.isnan(numeric) & given)
+    if bad.size:
+        i = int(bad[0])
+        raise InputError(f"{src.label}, {src.where(i)}, {_column_words(src, name, key)}: {src.raw(name, i)} is not "
+                         "a number.")
+    return numeric
+
+
+def _column_words(src: _Source, name: str, key: str) -> str:
+    if src.kind == "columns":  # the channel is named when the column's name does not say it
+        return f"column {name}" if name == DEFAULT_CHANNELS[key] else f"column {name} (channel {key})"
+    return f"channel {key} ({name!r})"

@@ -1,0 +1,185 @@
+"""Run results: what every route (nonlinear, linear, step by step) produces and every consumer (files, figures,
+assessment, transfer functions) reads, by name.
+
+>>> run = human.simulate(motion)                 # a RunResult
+>>> run.point("head").acc_mps2[:, 2]             # absolute vertical head acceleration [m/s^2]
+
+This module stands below everything that produces or consumes runs (:mod:`ehm.simulation`, :mod:`ehm.linear`,
+:mod:`ehm.plotting`, :mod:`ehm.frf`, ...); it imports only the engine's point names and, for
+:meth:`RunResult.summary` and :meth:`RunResult.write`, the file writers below it (:mod:`ehm.runfiles`,
+:mod:`ehm.outdir`).  ``ehm.RunResult`` and ``ehm.simulation.RunResult`` are the same class.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from . import engine
+from .errors import InputError
+
+__all__ = ["POINT_NAMES", "PointMotion", "RunResult", "concatenate_runs"]
+
+POINT_NAMES = tuple(engine.POINTS)  #: ``pelvis``, ``trunk`` (upper torso centre of gravity, T8 level), ``head``.
+
+
+@dataclass(frozen=True)
+class PointMotion:
+    """Motion of one output point (a segment's centre of gravity).
+
+    Attributes
+    ----------
+    name : str
+        ``pelvis``, ``trunk`` or ``head``.
+    acc_mps2 : (n, 3) array
+        Absolute translational acceleration in seat axes (x, y, z) [m/s^2].
+    disp_m : (n, 3) array
+        Displacement relative to the settled posture, seat axes [m].
+    rot_rad : (n, 3) array
+        Rotation relative to the settled posture as roll, pitch, yaw (intrinsic z-y-x angles of
+        R(t) R(0)^T, seat axes) [rad].
+    angacc_radps2 : (n, 3) array
+        Angular acceleration about the seat's x, y, z axes (roll, pitch, yaw) [rad/s^2].
+    angvel_radps : (n, 3) array
+        Angular velocity in the segment's own axes (what its vestibular organs sense, for the head) [rad/s].
+    gia_mps2 : (n, 3) array
+        Gravito-inertial acceleration (specific force a - g) in the segment's own axes [m/s^2]; +9.81 in z
+        for an upright segment at rest.
+    """
+
+    name: str
+    acc_mps2: np.ndarray
+    disp_m: np.ndarray
+    rot_rad: np.ndarray
+    angacc_radps2: np.ndarray
+    angvel_radps: np.ndarray
+    gia_mps2: np.ndarray
+
+
+_POINT_FIELDS = ("acc_mps2", "disp_m", "rot_rad", "angacc_radps2", "angvel_radps", "gia_mps2")
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """Result of one simulation, sampled every time step from t = 0.
+
+    Attributes
+    ----------
+    time_s : (n,) array
+    seat_acc_mps2 : (n, 3) array
+        Seat acceleration input [m/s^2].
+    points : dict of str -> PointMotion
+    support_N : dict of str -> (n, 3) array
+        Force that the seat pan, backrest (both pads) and floor exert on the body, seat axes [N].
+    seat_acc_mps2 is the seat's translational acceleration in its own axes.
+    mass_kg, dof, dt_s, wall_s : float / int
+    description : str
+        What the input was.
+    locked : tuple of str
+        Joints that were locked.
+    """
+
+    time_s: np.ndarray
+    seat_acc_mps2: np.ndarray
+    points: dict
+    support_N: dict
+    mass_kg: float
+    dof: int
+    dt_s: float
+    wall_s: float
+    description: str
+    locked: tuple
+    params_origin: str = "default"
+    seat_angles_rad: np.ndarray | None = None  #: Seat yaw, pitch, roll (n, 3) when the seat rotates.
+    poses: dict | None = None  #: Segment body poses for pictures: time_s (m,), pos (m, k, 3), quat (m, k, 4), geometry
+    extra: dict = field(default_factory=dict)
+
+    def point(self, name: str) -> PointMotion:
+        """The motion of ``pelvis``, ``trunk`` or ``head``."""
+        if name not in self.points:
+            raise InputError(f"unknown point {name!r}; points are {', '.join(self.points)}.")
+        return self.points[name]
+
+    @property
+    def duration_s(self) -> float:
+        """Simulated time span of the samples, t[-1] - t[0] [s] (as :attr:`SeatMotion.duration_s`)."""
+        return float((len(self.time_s) - 1) * self.dt_s)
+
+    @property
+    def realtime_factor(self) -> float:
+        """Simulated time per wall-clock time of the run (settling excluded)."""
+        return self.duration_s / self.wall_s if self.wall_s > 0 else float("inf")
+
+    def support_total_N(self) -> np.ndarray:
+        """Total force of all supports on the body, (n, 3) [N]."""
+        return sum(self.support_N.values())
+
+    def summary(self) -> dict:
+        """Scalars describing the run (what ``summary.json`` holds)."""
+        from .runfiles import SummaryAccumulator
+
+        acc = SummaryAccumulator()
+        acc.add(self)
+        return acc.summary()
+
+    def take(self, rows) -> "RunResult":
+        """The run at some rows only (a slice or index array; poses left out), e.g. for a figure."""
+        pts = {p: PointMotion(p, *(getattr(m, f)[rows] for f in _POINT_FIELDS)) for p, m in self.points.items()}
+        return replace(self, time_s=self.time_s[rows], seat_acc_mps2=self.seat_acc_mps2[rows], points=pts,
+                       support_N={k: v[rows] for k, v in self.support_N.items()}, poses=None,
+                       seat_angles_rad=None if self.seat_angles_rad is None else self.seat_angles_rad[rows])
+
+    def columns(self) -> tuple[list[str], np.ndarray]:
+        """Header and (n, k) data of ``timeseries.csv``."""
+        header = ["time_s", "seat_ax_mps2", "seat_ay_mps2", "seat_az_mps2"]
+        cols = [self.time_s[:, None], self.seat_acc_mps2]
+        for p, m in self.points.items():
+            header += [f"{p}_a{a}_mps2" for a in "xyz"] + [f"{p}_{a}_m" for a in "xyz"]
+            header += [f"{p}_{r}_rad" for r in ("roll", "pitch", "yaw")]
+            header += [f"{p}_{r}_acc_radps2" for r in ("roll", "pitch", "yaw")]
+            cols += [m.acc_mps2, m.disp_m, m.rot_rad, m.angacc_radps2]
+        for s, f in self.support_N.items():
+            header += [f"{s}_f{a}_N" for a in "xyz"]
+            cols.append(f)
+        return header, np.hstack(cols)
+
+    def write(self, out_dir: Path | str, output_rate_hz: float | None = None, formats=("csv",)) -> dict:
+        """Write the run folder ``out_dir`` (``timeseries.csv`` and/or ``.parquet``, ``summary.json``, ``poses.npz``
+        when the run has poses) as one unit (:mod:`ehm.outdir`: an earlier run's folder there is replaced whole);
+        ``output_rate_hz`` thins the time series (default: every step).  Returns the file paths."""
+        from .outdir import RunFolder
+        from .runfiles import output_every, write_run
+
+        every = output_every(output_rate_hz, self.dt_s)
+        out = Path(out_dir)
+        with RunFolder(out) as tmp:
+            write_run(tmp, [self], output_every=every, formats=formats)
+        return _paths(out, formats, self.poses is not None)
+
+
+def _paths(out: Path, formats, poses: bool) -> dict:
+    paths = {"summary": out / "summary.json"}
+    if "csv" in formats:
+        paths["timeseries"] = out / "timeseries.csv"
+    if "parquet" in formats:
+        paths["parquet"] = out / "timeseries.parquet"
+    if poses:
+        paths["poses"] = out / "poses.npz"
+    return paths
+
+
+def concatenate_runs(chunks: list) -> RunResult:
+    """One :class:`RunResult` from consecutive chunks (as :meth:`ehm.SeatedHuman.stream` yields them)."""
+    first = chunks[0]
+    cat = lambda get: np.concatenate([get(c) for c in chunks])  # noqa: E731
+    points = {p: PointMotion(p, *(cat(lambda c, f=f: getattr(c.points[p], f)) for f in _POINT_FIELDS))
+              for p in first.points}
+    return replace(first, time_s=cat(lambda c: c.time_s), seat_acc_mps2=cat(lambda c: c.seat_acc_mps2), points=points,
+                   support_N={k: cat(lambda c, k=k: c.support_N[k]) for k in first.support_N},
+                   wall_s=sum(c.wall_s for c in chunks),
+                   seat_angles_rad=None if first.seat_angles_rad is None else cat(lambda c: c.seat_angles_rad),
+                   poses=None if first.poses is None else {
+                       **{k: v for k, v in first.poses.items() if k not in ("time_s", "pos", "quat")},
+                       **{k: cat(lambda c, k=k: c.poses[k]) for k in ("time_s", "pos", "quat")}})

@@ -1,0 +1,47 @@
+"""The import layers of ehm (``[tool.importlinter]`` in pyproject.toml, docs/development.md) hold: every import,
+inside functions too, points down; MuJoCo, matplotlib and the outside-data libraries come in through one module each.
+
+A broken contract fails with lint-imports' own report: which import, on which line, breaks which layer."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("importlinter", reason="the layer contracts need import-linter (pip install 'ehm[test]')")
+
+ROOT = Path(__file__).resolve().parents[1]
+
+_RUN = "from importlinter.cli import lint_imports; raise SystemExit(lint_imports(no_cache=True, no_logo=True))"
+
+
+def lint_imports(src: Path = ROOT / "src") -> subprocess.CompletedProcess:
+    """``lint-imports`` at the repository root, on the sources in ``src`` (this checkout's by default)."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(src), os.environ.get("PYTHONPATH", "")]).rstrip(os.pathsep)}
+    return subprocess.run([sys.executable, "-c", _RUN], cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
+
+
+def test_import_contracts_are_kept():
+    run = lint_imports()
+    assert run.returncode == 0, f"lint-imports found a broken import contract:\n{run.stdout}\n{run.stderr}"
+    assert "0 broken" in run.stdout
+
+
+@pytest.mark.parametrize("module, line, words", [
+    ("results.py", "from .simulation import SeatedHuman  # an import up", "ehm.results is not allowed to import ehm.simulation"),
+    ("motion.py", "from .readers import read_motion  # the old loop", "ehm.motion is not allowed to import ehm.readers"),
+    ("linear.py", "import mujoco  # MuJoCo outside the engine", "Illegal imports of protected package mujoco"),
+])
+def test_an_import_that_breaks_a_contract_fails_with_its_report(tmp_path, module, line, words):
+    import shutil
+
+    shutil.copytree(ROOT / "src" / "ehm", tmp_path / "ehm", ignore=shutil.ignore_patterns("__pycache__", "data"))
+    path = tmp_path / "ehm" / module
+    path.write_text(path.read_text() + f"\n\ndef _added():\n    {line}\n")
+    run = lint_imports(tmp_path)
+    assert run.returncode != 0 and "BROKEN" in run.stdout
+    assert words in run.stdout, run.stdout
