@@ -9,17 +9,19 @@ velocity, in seat axes:
 2. the units are checked: the accelerometers must read about 9.81 m/s^2 for gravity, and gyro rates that a
    seat cannot have in rad/s (over 10 rad/s for a second, or a tilt that disagrees with gravity's direction
    as if they were deg/s) are refused with the ``--unit`` fix;
-3. a **rest** is looked for anywhere in the log: ``rest_s`` seconds (default 2) or more whose mean specific
-   force lies within 1 % of the log's gravity reading (its median |f|) and whose gyro is quiet (mean rate and
-   each axis' standard deviation at most 1 deg/s).  The longest rest found gives the **gyro bias** (its mean
-   rate), which is removed; without a rest no bias is removed, with a warning saying so.  A log need not
-   start at rest: a drive may start moving, even in a corner;
+3. **rests** are looked for anywhere in the log: ``rest_s`` seconds (default 2) or more whose mean specific
+   force lies within 1 % of its value at rest (the 10th percentile over the log), is steady (its two halves
+   within 0.1 m/s^2) and whose gyro is quiet (mean rate and each axis' standard deviation at most 1 deg/s).
+   Their mean rates give the **gyro bias**, interpolated in time between them (a drifting bias is
+   followed), which is removed.  Without a rest the bias is not measured (a warning says so); for a log of a
+   minute or more its part about the axes across gravity is estimated from the whole log (a seat's roll and
+   pitch rates average to about 0).  A log need not start at rest: a drive may start moving, even in a corner;
 4. the **attitude** R(t) comes from a gravity-aided filter, x-io's Fusion AHRS (``imufusion``, in the
    ``logs`` extra): the gyro is integrated and the accelerometer's direction pulls the attitude towards
    gravity with gain 0.05 (time constant 20 s), except while the specific force points more than 5 deg
    away from the filter's gravity (a horizontal acceleration over 0.86 m/s^2: braking, corners), whose
-   samples are not used; see :mod:`ehm.attitude` for these settings and why.  The filter starts at the rest
-   (or else the quietest 5 s of the log), with the tilt of its mean specific force, and runs forwards and
+   samples are not used; see :mod:`ehm.attitude` for these settings and why.  The filter starts at the longest
+   rest (or else the quietest 5 s of the log), with the tilt of its mean specific force, and runs forwards and
    backwards in time from there, so long drives do not drift;
 5. the seat's **roll and pitch** must stay within ``max_tilt_deg`` (default 45 deg): an attitude beyond is
    refused with its time (an IMU not fixed to the seat, its mounting not given, or gyro rates off);
