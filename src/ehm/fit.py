@@ -316,6 +316,10 @@ def _run_search(search, x0: np.ndarray, lohi: np.ndarray, max_evals: int, say, n
         except _BudgetSpent:
             x_end, status = search.best_x, 0
             message = f"the evaluation budget ({max_evals}) ran out before the optimiser converged"
+            if max_evals < n_free + 2:
+                message += (f" (one step of the search needs {n_free + 2} evaluations with {n_free} free values: the "
+                            "start, one finite difference per value and the step; give --max-evals "
+                            f"{10 * (n_free + 2)} or more)")
     finally:
         search.close()
     return crit_before, x_end, status, message

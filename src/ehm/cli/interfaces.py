@@ -69,12 +69,12 @@ def cmd_params(args) -> int:
 
 def add_drive(sub) -> None:
     p = sub.add_parser("drive", help="write a SYNTHETIC drive file (city manoeuvres or a rough road)")
-    p.add_argument("kind", choices=("city", "road"))
+    p.add_argument("kind", choices=("city", "road"), help="city manoeuvres or a rough road")
     p.add_argument("--duration", type=float, default=120.0, help="length [s] (default 120)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--speed", type=float, default=15.0, help="road: vehicle speed [m/s] (default 15)")
     p.add_argument("--road-class", default="C", choices=("A", "B", "C", "D", "E"), help="road: ISO 8608 class")
-    p.add_argument("--out", required=True, metavar="DRIVE.csv")
+    p.add_argument("--out", required=True, metavar="DRIVE.csv", help="the drive file to write")
     p.set_defaults(func=cmd_drive)
 
 
@@ -141,8 +141,9 @@ def cmd_realtime(args) -> int:
 
 def add_batch(sub) -> None:
     p = sub.add_parser("batch", help="run a study file (people, seats, parameters) on Dask; one tidy table")
-    p.add_argument("study", metavar="STUDY.toml")
-    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("study", metavar="STUDY.toml", help="the study file")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="results folder (results.parquet; added to, so a study can resume)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (default: local)")
     p.add_argument("--workers", type=int, help="local worker processes (default: the number of cores)")
     p.add_argument("--csv", action="store_true", help="also write results.csv")
@@ -199,7 +200,7 @@ def add_export_fmu(sub) -> None:
     _model_options(p)
     p.add_argument("--dt", type=float, help="model step [s] (default from the parameter file)")
     p.add_argument("--python", action="store_true",
-                   help="build the older pythonfmu unit (its host must run ehm in Python) instead of the native one")
+                   help="build the pythonfmu unit (its host must run ehm in Python) instead of the native one")
     p.add_argument("--rotating-seat", action="store_true",
                    help="a seat that turns with the unit's angular velocity inputs (native unit; steps cost ~1.5x)")
     p.set_defaults(func=cmd_export_fmu)

@@ -55,7 +55,7 @@ def add_simulate(sub) -> None:
                         "(default csv)")
     p.add_argument("--plot", action="store_true", help="also draw time_histories.png")
     p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
-                   help="simulation route: nonlinear (MuJoCo, default) or linear (the linearised person: about 1000x "
+                   help="simulation route: nonlinear (MuJoCo, default) or linear (the linearised person: about 40x "
                         "faster, translation only, refuses inputs that make a contact lift off or slide)")
     p.set_defaults(func=cmd_simulate)
 
@@ -93,7 +93,8 @@ def add_demo(sub) -> None:
     p = sub.add_parser("demo", help="x, y and z random vibration of the default model, with plots")
     _model_options(p)
     _excitation_options(p, 60.0)
-    p.add_argument("--axes", nargs="+", default=["x", "y", "z"], choices=("x", "y", "z"))
+    p.add_argument("--axes", nargs="+", default=["x", "y", "z"], choices=("x", "y", "z"),
+                   help="seat axes to run, one run each (default x y z)")
     p.add_argument("--out", default="ehm-demo", metavar="DIR", help="output folder (default ehm-demo)")
     p.set_defaults(func=cmd_demo)
 
@@ -170,7 +171,8 @@ def add_assess(sub) -> None:
     _motion_file_options(p, True, "drive file (.csv/.txt, .parquet, .mat, .mf4: time_s, ax_mps2, ay_mps2, az_mps2 "
                                   "[, wx_radps, wy_radps, wz_radps] unless --channel says) or 'city' / 'road' for the "
                                   "shipped SYNTHETIC drives")
-    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
     p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
                    help="simulation route (default nonlinear; linear: translation only, small inputs)")
     p.set_defaults(func=cmd_assess)

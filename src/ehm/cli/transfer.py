@@ -71,9 +71,10 @@ def add_compare(sub) -> None:
     p = sub.add_parser("compare", help="the paper's criterion (Eqs. 2-3) of measured gains against model gains")
     p.add_argument("--data", required=True, metavar="EXP.csv", help="measured gains (long format)")
     p.add_argument("--frf", required=True, metavar="MODEL.csv", help="model gains from 'ehm frf' (.csv or .parquet)")
-    p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"))
+    p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"),
+                   help="frequency band of the criterion (default 0.1 12)")
     p.add_argument("--keep-small-curves", action="store_true", help=_KEEP_SMALL_HELP)
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_compare)
 
 
@@ -99,7 +100,8 @@ def add_fit(sub) -> None:
     p.add_argument("--data", required=True, metavar="EXP.csv", help="measured gains (long format)")
     p.add_argument("--free", nargs="+", metavar="PATTERN",
                    help="parameters to fit, glob patterns of dotted names (default: neck and spine joints)")
-    p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"))
+    p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"),
+                   help="frequency band of the criterion (default 0.1 12)")
     p.add_argument("--max-evals", type=int, default=400,
                    help="most linearised-model evaluations, finite differences included (default 400); exit "
                         "status 3 when the fit stops on it")
@@ -173,9 +175,10 @@ def _fit_state(result, path: str) -> str:
 
 def add_plot_frf(sub) -> None:
     p = sub.add_parser("plot-frf", help="plot gains: one grid per input axis, model lines and measured markers")
-    p.add_argument("frf", nargs="+", metavar="FRF.csv")
-    p.add_argument("--data", metavar="EXP.csv")
-    p.add_argument("--out", required=True, metavar="FIG.png")
+    p.add_argument("frf", nargs="+", metavar="FRF.csv", help="model gains from 'ehm frf' (.csv or .parquet)")
+    p.add_argument("--data", metavar="EXP.csv", help="measured gains to draw as markers (long format)")
+    p.add_argument("--out", required=True, metavar="FIG.png",
+                   help="figure file (FIG_x.png, FIG_y.png, ... when the tables hold several input axes)")
     p.set_defaults(func=cmd_plot_frf)
 
 
@@ -207,13 +210,15 @@ def add_study(sub) -> None:
     p = sub.add_parser("study", help="studies: 'locking' (the paper's joint-locking study)")
     ssub = p.add_subparsers(dest="study", required=True)
     q = ssub.add_parser("locking", help="baseline, spine locked (SL), neck locked (NL) and named variants")
-    q.add_argument("--params", metavar="FILE.toml")
+    q.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
     q.add_argument("--variant", action="append", metavar="NAME=J1,J2", help="another variant to run")
-    q.add_argument("--method", default="linear", choices=("linear", "time"))
+    q.add_argument("--method", default="linear", choices=("linear", "time"),
+                   help="transfer functions of the linearised person (default) or of random-vibration runs")
     q.add_argument("--band", type=float, nargs=2, default=(0.5, 4.0), metavar=("LOW_HZ", "HIGH_HZ"),
                    help="band of the mean-gain comparison (default 0.5 4)")
     q.add_argument("--duration", type=float, default=60.0, help="run length per axis of the time method [s]")
-    q.add_argument("--out", required=True, metavar="DIR")
+    q.add_argument("--out", required=True, metavar="DIR",
+                   help="output folder: locking.csv, locking.json, locking.png, frf_<variant>.csv")
     q.set_defaults(func=cmd_study_locking)
 
 
