@@ -406,9 +406,14 @@ class SicknessAccumulator:
     def _angular_paths(self, w: np.ndarray):
         """Canal and internal angular-velocity paths of the piece, with the filter states after it."""
         (b_scc, a_scc), (b_int, a_int) = self._filters["scc"], self._filters["int"]
-        w_s, zi_scc = signal.lfilter(b_scc, a_scc, w, axis=0, zi=self._zi["scc"])
-        w_hat, zi_int = signal.lfilter(b_int, a_int, w, axis=0, zi=self._zi["int"])
-        w_hat_s, zi_hat = signal.lfilter(b_scc, a_scc, w_hat, axis=0, zi=self._zi["scc_hat"])
+        zi = self._zi
+        if self._last is None:  # the first piece: every filter in the steady state for the first sample
+            w_hat0 = w[0] * (np.sum(b_int) / np.sum(a_int))  # the internal loop's steady output for w[0]
+            zi = {"scc": _steady(b_scc, a_scc, w[0]), "int": _steady(b_int, a_int, w[0]),
+                  "scc_hat": _steady(b_scc, a_scc, w_hat0)}
+        w_s, zi_scc = signal.lfilter(b_scc, a_scc, w, axis=0, zi=zi["scc"])
+        w_hat, zi_int = signal.lfilter(b_int, a_int, w, axis=0, zi=zi["int"])
+        w_hat_s, zi_hat = signal.lfilter(b_scc, a_scc, w_hat, axis=0, zi=zi["scc_hat"])
         return (w_s, w_hat, w_hat_s), {"scc": zi_scc, "int": zi_int, "scc_hat": zi_hat}
 
     def _advance(self, f: np.ndarray, w: np.ndarray) -> SicknessResult:
@@ -501,8 +506,10 @@ def _discrete_filters(p: SvcParameters, h: float) -> dict:
     """Discrete (b, a) of the linear paths at the interval h: canals ("scc", also applied to w^ as "scc_hat"),
     the internal angular-velocity loop ("int") and the MSI lag ("msi").
 
-    Exact for an input that is linear between samples (first-order hold).  The filters start from a zero
-    state, i.e. from rest; their inputs (angular velocities, Hill output) are zero for a head at rest.
+    Exact for an input that is linear between samples (first-order hold).  The angular-velocity filters start
+    in the steady state for the first sample (adapted to it, as the vertical states are), so a record that
+    starts turning has no start-up step; the MSI lag starts from zero (a dose: its input, the Hill output of
+    the first sample's conflict, is zero since the verticals start equal).
     """
     td, ta = p.scc_cupula_time_constant_s, p.scc_adaptation_time_constant_s
     scc_num = np.array([td * ta, 0.0, 0.0])
@@ -518,6 +525,11 @@ def _discrete_filters(p: SvcParameters, h: float) -> dict:
         out[key] = (np.ravel(numd), np.asarray(dend, dtype=float))
     out["scc_hat"] = out["scc"]
     return out
+
+
+def _steady(b: np.ndarray, a: np.ndarray, first: np.ndarray) -> np.ndarray:
+    """lfilter state (order, 3) of the filter (b, a) in the steady state for the constant input ``first`` (3,)."""
+    return np.outer(signal.lfilter_zi(b, a), first)
 
 
 def _empty_result() -> SicknessResult:

@@ -14,6 +14,7 @@ weighting_sos(name, fs_hz)              second-order sections of the causal digi
 weighting_deviation_db(name, fs_hz)     its largest deviation from the analog magnitude up to 0.4 fs
 weight(name, signal, fs_hz)             causal weighting of a whole record
 WeightingFilter(name, fs_hz)            the same filter sample by sample or block by block
+band_share_outside(name, low, high)     share of a weighting's power outside the band an input covers
 ComfortMetrics, metrics(signal, fs_hz, weighting)
 total_value(ax, ay, az, fs_hz, purpose="comfort", seated=True)
 comfort_reaction(a_w)                   ISO 2631-1 Annex C label(s)
@@ -26,12 +27,12 @@ Modules: ``weighting`` (the weightings and their digital filters, with their def
 
 from .streaming import ComfortAccumulator
 from .values import ComfortMetrics, comfort_reaction, metrics, seat_value, total_value
-from .weighting import (ACCURATE_UP_TO_FS, WEIGHTINGS, WeightingFilter, frequency_weighting, weight,
-                        weighting_deviation_db, weighting_sos)
+from .weighting import (ACCURATE_UP_TO_FS, WEIGHTING_BANDS_HZ, WEIGHTINGS, WeightingFilter, band_share_outside,
+                        frequency_weighting, weight, weighting_deviation_db, weighting_sos)
 from .weighting import _WARNED  # noqa: F401  (the (weighting, rate) pairs already warned about)
 
 __all__ = [
     "WEIGHTINGS", "ACCURATE_UP_TO_FS", "frequency_weighting", "weighting_sos", "weighting_deviation_db", "weight",
     "WeightingFilter", "ComfortMetrics", "ComfortAccumulator", "metrics", "total_value", "comfort_reaction",
-    "seat_value",
+    "seat_value", "WEIGHTING_BANDS_HZ", "band_share_outside",
 ]

@@ -324,9 +324,11 @@ def weighting_deviation_db(name: str, fs_hz: float, up_to_fs: float = ACCURATE_U
 def weight(name: str, signal, fs_hz: float) -> np.ndarray:
     """Frequency-weight an acceleration record with a causal filter.
 
-    Uses ``scipy.signal.sosfilt`` from rest (zero initial state); never a forward-backward filter,
-    which would apply the weighting's magnitude twice.  The output therefore holds the filter's
-    start-up transient (a few seconds for Wf, under about 5 s for the others).
+    Uses ``scipy.signal.sosfilt`` started in the steady state for the first sample (``sosfilt_zi`` times
+    ``signal[0]``: as if the record had stood at its first value for ever), so that a record that starts
+    at a non-zero level (a mean acceleration, a sensor offset) does not begin with a step and its
+    start-up transient; never a forward-backward filter, which would apply the weighting's magnitude
+    twice.
 
     Parameters
     ----------
@@ -344,7 +346,40 @@ def weight(name: str, signal, fs_hz: float) -> np.ndarray:
     """
     sos = weighting_sos(name, fs_hz)
     x = _signal_1d(signal, "signal")
-    return _sig.sosfilt(sos, x)
+    return _sig.sosfilt(sos, x, zi=steady_state(sos, x[0]))[0]
+
+
+def steady_state(sos: np.ndarray, first: float) -> np.ndarray:
+    """The state of the sections ``sos`` in the steady state for a constant input ``first``: where a filter
+    that starts a record should start, so that the record's first value is not taken as a step from zero."""
+    return _sig.sosfilt_zi(sos) * float(first)
+
+
+#: The band of each weighting that an input should cover [Hz]: ISO 2631-1 (clause 6.4 / 8 and 9) evaluates
+#: Wk and Wd (and the other 0.4 Hz weightings) from 0.5 to 80 Hz and Wf from 0.1 to 0.5 Hz; for Wf the band is
+#: taken from 0.08 to 0.63 Hz, its band-limiting frequencies f1 and f2.
+WEIGHTING_BANDS_HZ: dict[str, tuple[float, float]] = {
+    **{k: (0.5, 80.0) for k in ("Wk", "Wd", "Wc", "We", "Wj")}, "Wf": (0.08, 0.63)}
+
+
+def band_share_outside(name: str, low_hz: float, high_hz: float) -> float:
+    """Share (0 to 1) of a weighting's power that lies outside the band [low_hz, high_hz] an input covers.
+
+    The power is |W(f)|^2 of the exact analog weighting integrated over the weighting's band
+    (:data:`WEIGHTING_BANDS_HZ`) on a logarithmic frequency axis (d ln f: the same weight per octave, as
+    the standard's one-third-octave bands); the share is the part of that integral below ``low_hz`` or
+    above ``high_hz``.  0 when the input covers the whole band.
+    """
+    key = _canonical_name(name)
+    lo, hi = WEIGHTING_BANDS_HZ[key]
+    f = np.geomspace(lo, hi, 4001)
+    p = np.abs(frequency_weighting(key, f)) ** 2
+    outside = (f < low_hz) | (f > high_hz)
+    if not outside.any():
+        return 0.0
+    # equal steps in ln f: the integral's ratio is the ratio of the sums (trapezoid ends alike)
+    p[[0, -1]] *= 0.5
+    return float(np.sum(p[outside]) / np.sum(p))
 
 
 class WeightingFilter:
@@ -365,11 +400,11 @@ class WeightingFilter:
         self.sos = weighting_sos(name, fs_hz)
         self.name = _canonical_name(name)
         self.fs_hz = float(fs_hz)
-        self._zi = np.zeros((self.sos.shape[0], 2))
+        self._zi = None  # set at the first sample: the steady state for it (as weight does)
 
     def reset(self) -> None:
-        """Return the filter to rest (zero state)."""
-        self._zi[:] = 0.0
+        """Forget the state: the next sample starts the filter again, in the steady state for that sample."""
+        self._zi = None
 
     def process(self, block) -> np.ndarray:
         """Weight the next block of samples.
@@ -391,6 +426,8 @@ class WeightingFilter:
             return np.zeros(0)
         if not np.all(np.isfinite(x)):
             raise InputError("block must be finite; got a non-finite sample.")
+        if self._zi is None:
+            self._zi = steady_state(self.sos, x[0])
         y, self._zi = _sig.sosfilt(self.sos, x, zi=self._zi)
         return y
 
