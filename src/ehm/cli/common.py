@@ -52,4 +52,4 @@ def _read_motion_file(args):
 
     return read_motion(drive_path(args.motion), channels=parse_assignments(args.channel, "--channel"),
                        units=parse_assignments(args.unit, "--unit"), rate_hz=args.rate, imu=args.imu,
-                       fill_gaps=args.fill_gaps)
+                       fill_gaps=args.fill_gaps, gravity=getattr(args, "gravity", "auto"))

@@ -45,5 +45,9 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
     p.add_argument("--fill-gaps", action="store_true",
                    help="bridge gaps in the file's time stamps (steps over 5 median steps: a logger's dropout) with a "
                         "straight line, with a warning naming where (default: refuse them)")
+    p.add_argument("--gravity", choices=("auto", "included", "removed"), default="auto",
+                   help="gravity in the file's accelerations (not --imu): included: level the log (tilt from its "
+                        "quietest 5 s, g removed); removed: take it as it is (a mean near 1 g is refused); auto "
+                        "(default): level it, with a warning, when its mean is within 10 %% of g")
     p.add_argument("--rate", type=float, metavar="HZ",
                    help="sample rate of a file without time stamps (otherwise: resample the file to this rate)")

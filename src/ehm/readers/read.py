@@ -16,6 +16,7 @@ from .base import _as_floats, _Source
 from .channels import _ACC, _RATES, CHANNEL_KEYS, DEFAULT_CHANNELS, SI_UNITS, _bracket_unit, _factor, _listed, _mapping
 from .checks import _check_finite, _check_sampling, _check_times, _common_time
 from .frames import _FrameSource, _ParquetSource
+from .gravity import check_mode, handle_gravity
 from .matlab import _MatSource
 from .mdf import _MdfSource
 from .text import _TextSource
@@ -54,7 +55,8 @@ def _open(source, label: str | None) -> _Source:
 
 
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
-                imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False) -> SeatMotion:
+                imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False,
+                gravity: str = "auto") -> SeatMotion:
     """Read a seat motion (or an IMU log) from a file or a pandas DataFrame.
 
     Parameters
@@ -82,6 +84,11 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     fill_gaps : bool
         Bridge gaps in the time stamps (steps longer than :data:`GAP_STEPS` median steps) with a straight line,
         with a warning naming where; by default such a gap is refused.
+    gravity : {"auto", "included", "removed"}
+        Gravity in the accelerations of a seat or floor log (not an IMU log, whose route handles it):
+        ``included`` levels the log (static tilt from its quietest 5 s, rotated so that gravity is along z,
+        g subtracted); ``removed`` takes it as it is but refuses a mean near 1 g; ``auto`` levels it, with a
+        warning, when the mean's norm is within 10 % of g.  See :mod:`ehm.readers.gravity`.
 
     Returns
     -------
@@ -98,9 +105,10 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
             raise InputError(f"rate_hz must be a number of samples per second; got {rate_hz!r}.") from None
         if not (math.isfinite(rate_hz) and rate_hz > 0):
             raise InputError(f"rate_hz must be a positive number of samples per second; got {rate_hz!r}.")
+    gravity = check_mode(gravity)
     src = _open(source, label)
     try:
-        return _read(src, channels, units, rate_hz, bool(imu), mounting, source, bool(fill_gaps))
+        return _read(src, channels, units, rate_hz, bool(imu), mounting, source, bool(fill_gaps), gravity)
     finally:
         src.close()
 
@@ -180,7 +188,7 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz) -> dict:
 
 
 def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
-          fill_gaps: bool = False) -> SeatMotion:
+          fill_gaps: bool = False, gravity: str = "auto") -> SeatMotion:
     use = _resolve(src, channels, imu, rate_hz)
     if isinstance(src, _TextSource):
         src.load(list(use.values()))
@@ -225,6 +233,8 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         motion = from_imu(time_s, acc, rates, mounting=mounting, description=f"IMU log {description}",
                           label=src.label)
     else:
+        acc, rates, levelled = handle_gravity(time_s, acc, rates, gravity, src.label)  # ehm.readers.gravity
+        description = f"{description}, {levelled}" if levelled else description
         motion = SeatMotion(time_s, acc, description, rates)  # takes the read-only arrays as they are
     if rate_hz is not None:
         motion = motion.resample(1.0 / rate_hz)
