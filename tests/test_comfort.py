@@ -242,8 +242,9 @@ def test_streaming_equals_batch():
     for name in ("Wk", "Wf"):
         batch = weight(name, x, FS)
         filt = WeightingFilter(name, FS)
-        pieces = [np.array([filt.step(v) for v in x[:50]])]
-        edges = [50, 51, 400, 400, 1777, 3000, 5000]
+        # the first block holds the record's first START_S (its start level, the median the filter starts from)
+        pieces = [filt.process(x[:100]), np.array([filt.step(v) for v in x[100:150]])]
+        edges = [150, 151, 400, 400, 1777, 3000, 5000]
         pieces += [filt.process(x[a:b]) for a, b in zip(edges[:-1], edges[1:])]
         np.testing.assert_allclose(np.concatenate(pieces), batch, rtol=0, atol=1e-12)
         filt.reset()

@@ -135,12 +135,13 @@ def test_mat_matrix_columns_by_index_v5_and_v73(tmp_path, capsys):
 
 def test_units_are_converted_by_pint():
     t = np.arange(5) * 10.0  # milliseconds
-    df = pd.DataFrame({"t": t, "x": np.ones(5), "y": np.zeros(5), "z": np.zeros(5), "p": np.full(5, 90.0),
+    # 0.2 g, not 1 g: a constant 1 g is gravity (gravity="auto" levels it away); the test is about the units
+    df = pd.DataFrame({"t": t, "x": np.full(5, 0.2), "y": np.zeros(5), "z": np.zeros(5), "p": np.full(5, 90.0),
                        "q": np.zeros(5), "r": np.full(5, 60.0)})
     m = read_motion(df, {"time": "t", "ax": "x", "ay": "y", "az": "z", "wx": "p", "wy": "q", "wz": "r"},
                     {"time": "ms", "ax": "g", "wx": "deg/s", "wz": "rpm"})
     np.testing.assert_allclose(m.time_s, t / 1000.0)
-    np.testing.assert_allclose(m.acc_mps2[:, 0], G)                    # 1 g
+    np.testing.assert_allclose(m.acc_mps2[:, 0], 0.2 * G)              # 0.2 g
     np.testing.assert_allclose(m.angvel_radps[:, 0], np.pi / 2)        # 90 deg/s
     np.testing.assert_allclose(m.angvel_radps[:, 2], 60 * 2 * np.pi / 60)  # 60 rpm
 

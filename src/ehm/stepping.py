@@ -215,8 +215,9 @@ def _cascade_state_space(sos: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
 class _RunningComfort:
     """Running ISO 2631-1 figures of 12 channels (seat, pelvis, trunk, head; x, y, z), one row per step:
     causal Wd (x, y) and Wk (z) weighting, 1 s rectangular running rms and the weighted rms so far.  Each
-    step costs the same few microseconds (no block spikes); equal to :class:`ehm.comfort.ComfortAccumulator`
-    channel by channel to round-off."""
+    step costs the same few microseconds (no block spikes); the filters start in the steady state for the first
+    row; equal to :class:`ehm.comfort.ComfortAccumulator` fed a first block of one row, channel by channel, to
+    round-off."""
 
     def __init__(self, fs_hz: float, tau_s: float = 1.0):
         from .comfort import weighting_sos
@@ -237,6 +238,8 @@ class _RunningComfort:
         for k, cols in self.cols.items():
             A, B, C, D = self.ss[k]
             x = row[cols]
+            if self.n == 0:  # the steady state for the first row (a real-time stepper cannot wait for more)
+                self.state_[k] = np.linalg.solve(np.eye(A.shape[0]) - A, np.outer(B, x))
             s = self.state_[k]
             aw[cols] = C @ s + D * x
             self.state_[k] = A @ s + B[:, None] * x

@@ -11,7 +11,7 @@ from scipy import signal as _sig
 
 from ..errors import InputError
 from .checks import _non_negative_float, _positive_float, _signal_1d
-from .weighting import _canonical_name, steady_state, weight, weighting_sos
+from .weighting import _canonical_name, start_level, steady_state, weight, weighting_sos
 
 _PURPOSES = ("comfort", "health")
 
@@ -93,7 +93,7 @@ def metrics(signal, fs_hz: float, weighting: str | None = "Wk", *, tau_s: float 
     Notes
     -----
     Everything is evaluated over the whole record; the weighting filters start in the steady state
-    for the first sample (see :func:`ehm.comfort.weight`), so a record that starts at a non-zero level
+    for the record's start level (see :func:`ehm.comfort.weight`), so a record that starts at a non-zero level
     has no start-up transient.  Integrals are sums times ``1/fs_hz``.  The running rms is the linear (rectangular)
     integration of ISO 2631-1 6.3.1,
     ``a_w(t0) = sqrt(1/tau * integral_{t0-tau}^{t0} a_w(t)^2 dt)``, evaluated at every sample with
@@ -109,8 +109,9 @@ def metrics(signal, fs_hz: float, weighting: str | None = "Wk", *, tau_s: float 
     else:
         key = _canonical_name(weighting, "weighting")
         sos, sos_f = weighting_sos(key, fs), weighting_sos("Wf", fs)
-        aw = _sig.sosfilt(sos, x, zi=steady_state(sos, x[0]))[0]
-        awf = aw if key == "Wf" else _sig.sosfilt(sos_f, x, zi=steady_state(sos_f, x[0]))[0]
+        level = start_level(x, fs)
+        aw = _sig.sosfilt(sos, x, zi=steady_state(sos, level))[0]
+        awf = aw if key == "Wf" else _sig.sosfilt(sos_f, x, zi=steady_state(sos_f, level))[0]
         msdv = float(np.sqrt(np.sum(awf * awf) / fs))
     a_w = float(np.sqrt(np.mean(aw * aw)))
     running = _running_rms(aw, fs, tau)

@@ -324,8 +324,9 @@ def weighting_deviation_db(name: str, fs_hz: float, up_to_fs: float = ACCURATE_U
 def weight(name: str, signal, fs_hz: float) -> np.ndarray:
     """Frequency-weight an acceleration record with a causal filter.
 
-    Uses ``scipy.signal.sosfilt`` started in the steady state for the first sample (``sosfilt_zi`` times
-    ``signal[0]``: as if the record had stood at its first value for ever), so that a record that starts
+    Uses ``scipy.signal.sosfilt`` started in the steady state for the record's start level (``sosfilt_zi``
+    times :func:`start_level`, the median of its first ``START_S`` = 0.1 s: as if the record had stood at that
+    level for ever), so that a record that starts
     at a non-zero level (a mean acceleration, a sensor offset) does not begin with a step and its
     start-up transient; never a forward-backward filter, which would apply the weighting's magnitude
     twice.
@@ -346,13 +347,24 @@ def weight(name: str, signal, fs_hz: float) -> np.ndarray:
     """
     sos = weighting_sos(name, fs_hz)
     x = _signal_1d(signal, "signal")
-    return _sig.sosfilt(sos, x, zi=steady_state(sos, x[0]))[0]
+    return _sig.sosfilt(sos, x, zi=steady_state(sos, start_level(x, fs_hz)))[0]
 
 
-def steady_state(sos: np.ndarray, first: float) -> np.ndarray:
-    """The state of the sections ``sos`` in the steady state for a constant input ``first``: where a filter
-    that starts a record should start, so that the record's first value is not taken as a step from zero."""
-    return _sig.sosfilt_zi(sos) * float(first)
+#: The level a record starts at: the median of its first START_S seconds (at least one sample).  A median of a
+#: tenth of a second rather than the first sample alone: a logger's first sample is often off (the bus log of
+#: the validation starts 0.9 m/s^2 below its next samples), and the steady state for it would be a step.
+START_S = 0.1
+
+
+def start_level(x: np.ndarray, fs_hz: float) -> float:
+    """Median of the first ``START_S`` seconds of ``x`` (of what ``x`` has, if shorter)."""
+    return float(np.median(x[:max(1, int(round(START_S * float(fs_hz))))]))
+
+
+def steady_state(sos: np.ndarray, level: float) -> np.ndarray:
+    """The state of the sections ``sos`` in the steady state for a constant input ``level``: where a filter
+    that starts a record should start, so that the record's start level is not taken as a step from zero."""
+    return _sig.sosfilt_zi(sos) * float(level)
 
 
 #: The band of each weighting that an input should cover [Hz]: ISO 2631-1 (clause 6.4 / 8 and 9) evaluates
@@ -400,10 +412,10 @@ class WeightingFilter:
         self.sos = weighting_sos(name, fs_hz)
         self.name = _canonical_name(name)
         self.fs_hz = float(fs_hz)
-        self._zi = None  # set at the first sample: the steady state for it (as weight does)
+        self._zi = None  # set by the first block: the steady state for its start level (as weight does)
 
     def reset(self) -> None:
-        """Forget the state: the next sample starts the filter again, in the steady state for that sample."""
+        """Forget the state: the next block starts the filter again, in the steady state for its start level."""
         self._zi = None
 
     def process(self, block) -> np.ndarray:
@@ -426,8 +438,8 @@ class WeightingFilter:
             return np.zeros(0)
         if not np.all(np.isfinite(x)):
             raise InputError("block must be finite; got a non-finite sample.")
-        if self._zi is None:
-            self._zi = steady_state(self.sos, x[0])
+        if self._zi is None:  # the same start as weight() when the first block holds START_S (or the whole record)
+            self._zi = steady_state(self.sos, start_level(x, self.fs_hz))
         y, self._zi = _sig.sosfilt(self.sos, x, zi=self._zi)
         return y
 
