@@ -23,12 +23,13 @@ in (measured; a 200 Hz log's own time and three channels take 23 MB per hour).
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import signal
 
-from .comfort import ComfortAccumulator, comfort_reaction
+from .comfort import WEIGHTING_BANDS_HZ, ComfortAccumulator, band_share_outside, comfort_reaction
 from .errors import InputError
 from .motion import SeatMotion, seat_rotation_matrices
 from .sickness import SicknessAccumulator
@@ -37,6 +38,43 @@ LOCATIONS = ("seat", "pelvis", "trunk", "head")
 AXIS_WEIGHTING = {"x": "Wd", "y": "Wd", "z": "Wk"}  #: ISO 2631-1 seated, comfort/health axes
 SICKNESS_RATE_HZ = 20.0  #: Sample rate of the sickness model's input (block means of the run)
 TRACE_RATE_HZ = 10.0  #: Sample rate of the stored running rms and traces
+#: The resampler passes content below this fraction of the lower of two rates (within 0.001 dB,
+#: :meth:`ehm.motion.SeatMotion.resample`); above it the anti-alias filter starts to cut.
+RESAMPLE_PASS_FRACTION = 0.4
+
+
+def input_band(motion: SeatMotion, model_fs_hz: float) -> tuple[float, float]:
+    """The band [Hz] a drive's seat input actually covers.
+
+    Low: 1 / duration (the longest period the log holds once).  High: the log's Nyquist frequency (half its own
+    rate, from its median time step), or, when it is run at another rate (the model's step), 0.4 times the
+    lower of the two rates, where the resampler's anti-alias filter starts to cut.  A log that the reader
+    resampled (``--rate`` with time stamps) is taken at the rate it was resampled to.
+    """
+    t = motion.time_s
+    fs_log = 1.0 / float(np.median(np.diff(t)))
+    high = fs_log / 2.0
+    if abs(fs_log - model_fs_hz) > 1e-6 * model_fs_hz:
+        high = min(high, RESAMPLE_PASS_FRACTION * min(fs_log, model_fs_hz))
+    return 1.0 / motion.duration_s, high
+
+
+def band_coverage(band_hz: tuple[float, float]) -> dict:
+    """Weighting -> share of its power (|W(f)|^2 over its band on a log-frequency axis) outside ``band_hz``."""
+    return {w: band_share_outside(w, *band_hz) for w in ("Wd", "Wk", "Wf")}
+
+
+def band_warnings(band_hz: tuple[float, float], shares: dict) -> list[str]:
+    """One sentence per weighting whose band the input does not cover."""
+    lo, hi = band_hz
+    out = []
+    for w, share in shares.items():
+        if share > 0:
+            b_lo, b_hi = WEIGHTING_BANDS_HZ[w]
+            out.append(f"the input covers {lo:.3g}-{hi:.3g} Hz, not all of the {w} band ({b_lo:g}-{b_hi:g} Hz): "
+                       f"{100 * share:.1f} % of {w}'s power (|W(f)|^2 on a log-frequency axis) lies outside, so "
+                       f"the {w}-weighted values miss what the vehicle did there.")
+    return out
 
 
 @dataclass
@@ -90,6 +128,8 @@ class Assessment:
     trace_time_s: np.ndarray         # for the running rms traces
     max_displacement_m: dict = field(default_factory=dict)  # point -> (3,) largest |displacement|
     final_displacement_m: dict = field(default_factory=dict)
+    input_band_hz: tuple | None = None  # (low, high) the seat input covers, see input_band
+    band_outside_share: dict = field(default_factory=dict)  # weighting -> share of its power outside that band
 
     def total_value(self, location: str) -> float:
         """Vibration total value a_v = sqrt(a_wx^2 + a_wy^2 + a_wz^2), k = 1 (comfort) [m/s^2]."""
@@ -99,6 +139,8 @@ class Assessment:
         out = {"input": self.description, "duration_s": self.duration_s, "wall_s": self.wall_s,
                "realtime_factor": self.duration_s / self.wall_s if self.wall_s > 0 else None,
                "weightings": {**AXIS_WEIGHTING, "msdv": "Wf (z)"},
+               "input_band_hz": list(self.input_band_hz) if self.input_band_hz else None,
+               "band_outside_share": dict(self.band_outside_share),
                "locations": {}}
         seat_av = self.total_value("seat")
         for loc in LOCATIONS:
@@ -243,6 +285,10 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
     # Welch segments of about 4 s (0.25 Hz resolution), at most half the drive
     nper = int(2 ** np.floor(np.log2(min(4 * fs, motion.duration_s * fs / 2))))
     running = _Running.start(fs, keep, nper, k_sick, dt)
+    band = input_band(motion, fs)
+    shares = band_coverage(band)
+    for sentence in band_warnings(band, shares):
+        warnings.warn(f"{motion.description}: {sentence}", stacklevel=2)
     description, duration = motion.description, motion.duration_s
     t0 = time.perf_counter()
     if method == "linear":  # on the model's step, so that the metrics see the same sample rate either way
@@ -265,5 +311,5 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
         spectra={loc: {a: running.spectra[loc][a].result() for a in "xyz"} for loc in LOCATIONS},
         sickness={key: acc.result() for key, acc in running.sickness.items()},
         trace_time_s=np.arange(n_trace) * keep * dt, max_displacement_m=running.max_disp,
-        final_displacement_m=running.final_disp,
+        final_displacement_m=running.final_disp, input_band_hz=band, band_outside_share=shares,
     )

@@ -27,6 +27,14 @@ def write_report(summary: dict, figures: dict, path: Path | str, title: str = "M
             + f"<td>{ax['z']['vdv_mps175']:.3f}</td><td>{max(ax[a]['mtvv_mps2'] for a in 'xyz'):.3f}</td>"
             + f"<td>{v['msdv_z_mps15']:.3f}</td><td>{'' if seat is None else f'{seat:.0f} %'}</td></tr>")
     sick = summary["sickness"]
+    band = summary.get("input_band_hz")
+    outside = {w: v for w, v in summary.get("band_outside_share", {}).items() if v > 0}
+    band_line = "" if not band else (
+        f"<p><b>Band of the input:</b> {band[0]:.3g} to {band[1]:.3g} Hz (1/duration to the log's Nyquist "
+        "frequency or the resampling's pass band); "
+        + ("outside it lies " + ", ".join(f"{100 * v:.1f} % of {w}'s power" for w, v in outside.items())
+           + " (|W(f)|² on a log-frequency axis): the weighted values miss that part." if outside
+           else "it covers the Wd, Wk (0.5-80 Hz) and Wf (0.08-0.63 Hz) bands whole.") + "</p>")
     disp = summary.get("body_displacement_max_m", {})
     body = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>
@@ -45,6 +53,7 @@ Seat accelerations in seat axes.</p>
 <th>total value a<sub>v</sub></th><th>comfort reaction</th><th>VDV<sub>z</sub></th><th>MTVV (max axis)</th>
 <th>MSDV<sub>z</sub></th><th>SEAT (a<sub>v</sub>)</th></tr>
 {''.join(rows)}</table>
+{band_line}
 <p class="note">a<sub>w</sub>, a<sub>v</sub>, MTVV in m/s²; VDV in m/s<sup>1.75</sup>; MSDV in m/s<sup>1.5</sup>.
 Weightings: Wd (x, y), Wk (z), Wf for MSDV; total value with k = 1 (comfort, seated). SEAT: body over seat.
 Comfort reactions: ISO 2631-1 Annex C bands for public transport.</p>

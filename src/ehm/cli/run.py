@@ -219,10 +219,18 @@ def _write_assessment(result, summary: dict, out: Path) -> None:
 def _print_assessment(result, summary: dict, out: Path) -> None:
     loc = summary["locations"]
     print(f"{result.duration_s:.0f} s of '{result.description}' in {result.wall_s:.0f} s")
+    band = summary.get("input_band_hz")
+    if band:
+        outside = {w: v for w, v in summary.get("band_outside_share", {}).items() if v > 0}
+        print(f"  input covers {band[0]:.3g}-{band[1]:.3g} Hz" + (
+            "; outside it: " + ", ".join(f"{100 * v:.1f} % of {w}'s power" for w, v in outside.items())
+            if outside else " (the Wd, Wk and Wf bands whole)"))
     for name in ("seat", "pelvis", "trunk", "head"):
         v = loc[name]
+        ax = v["axes"]
         print(f"  {name:<7} a_v {v['total_value_mps2']:.3f} m/s^2 ({v['comfort_reaction']}), "
-              f"MSDV_z {v['msdv_z_mps15']:.3f} m/s^1.5")
+              f"a_w x/y/z {ax['x']['a_w_mps2']:.4f}/{ax['y']['a_w_mps2']:.4f}/{ax['z']['a_w_mps2']:.4f} m/s^2, "
+              f"VDV_z {ax['z']['vdv_mps175']:.3f} m/s^1.75, MSDV_z {v['msdv_z_mps15']:.3f} m/s^1.5")
     print(f"  motion sickness incidence at the end: head {summary['sickness']['head']['final_msi_percent']:.2f} %, "
           f"head fixed to the seat {summary['sickness']['seat']['final_msi_percent']:.2f} %")
     print(f"wrote {out}/assessment.json, report.html, weighted_spectra.png, running_rms.png, sickness.png")
