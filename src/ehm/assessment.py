@@ -64,12 +64,17 @@ def band_coverage(band_hz: tuple[float, float]) -> dict:
     return {w: band_share_outside(w, *band_hz) for w in ("Wd", "Wk", "Wf")}
 
 
+#: A weighting with at least this share of its power outside the input's band gets a warning (the share is always
+#: in ``assessment.json``): 1 %, about what the weighting's own tolerance in ISO 8041 allows near its band edges.
+BAND_WARNING_SHARE = 0.01
+
+
 def band_warnings(band_hz: tuple[float, float], shares: dict) -> list[str]:
-    """One sentence per weighting whose band the input does not cover."""
+    """One sentence per weighting with at least :data:`BAND_WARNING_SHARE` of its power outside the input's band."""
     lo, hi = band_hz
     out = []
     for w, share in shares.items():
-        if share > 0:
+        if share >= BAND_WARNING_SHARE:
             b_lo, b_hi = WEIGHTING_BANDS_HZ[w]
             out.append(f"the input covers {lo:.3g}-{hi:.3g} Hz, not all of the {w} band ({b_lo:g}-{b_hi:g} Hz): "
                        f"{100 * share:.1f} % of {w}'s power (|W(f)|^2 on a log-frequency axis) lies outside, so "
