@@ -237,8 +237,10 @@ def _join(label: str, glabel: str, t: np.ndarray, data: dict, tg: np.ndarray, gd
     if common <= 0 or common < MIN_OVERLAP * float(last - first):
         what = "do not overlap" if common <= 0 else \
             f"overlap for {common:.6g} s of the {last - first:.6g} s they span ({100 * common / (last - first):.0f} %)"
-        raise InputError(f"{label} and gyro file {glabel}: their time stamps {what} (accelerometer {t[0]:.6g}-"
-                         f"{t[-1]:.6g} s, gyro {tg[0]:.6g}-{tg[-1]:.6g} s); ehm joins them over their common span, "
+        t0 = t[0]
+        raise InputError(f"{label} and gyro file {glabel}: their time stamps {what}: the accelerometer's run from 0 "
+                         f"to {t[-1] - t0:.4g} s, the gyro's from {tg[0] - t0:.4g} to {tg[-1] - t0:.4g} s after the "
+                         "accelerometer's first sample; ehm joins them over their common span, "
                          f"which must cover {100 * MIN_OVERLAP:.0f} % of theirs: give files of one recording, with "
                          "the time channel of one clock (same --channel time and --unit time).")
     i0 = int(np.searchsorted(t, start, side="left"))
@@ -250,5 +252,6 @@ def _join(label: str, glabel: str, t: np.ndarray, data: dict, tg: np.ndarray, gd
     return t, out
 
 
-def _note(text: str) -> None:
-    warnings.warn(text, stacklevel=4)
+def _note(text: str, depth: int) -> None:
+    """One note (a warning) pointing at the caller of read_motion, ``depth`` calls above the caller of _note."""
+    warnings.warn(text, stacklevel=depth + 2)

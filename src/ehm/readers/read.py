@@ -283,7 +283,7 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         step, spread = irregular
         to = f"{rate_hz:g} Hz (rate_hz)" if rate_hz is not None else \
             f"a uniform grid at the median step, {1 / step:.6g} Hz, by linear interpolation"
-        _note(f"{src.label}: the time stamps are irregular ({spread}); the motion is resampled to {to}.")
+        _note(f"{src.label}: the time stamps are irregular ({spread}); the motion is resampled to {to}.", 2)
         if rate_hz is None:
             motion = motion.resample(step)
     if rate_hz is not None:
@@ -390,7 +390,7 @@ def _drop_held(src: _Source, t: np.ndarray, data: dict, keys, i0: int):
     if held is None:
         return t, data
     starts, share, run = held
-    _note(_held_note(src.label, keys, t, starts, share, run))
+    _note(_held_note(src.label, keys, t, starts, share, run), 4 if not src.per_channel_time else 5)
     if not src.per_channel_time:
         src.rows = starts + i0
     return t[starts], {k: v[starts] for k, v in data.items()}
