@@ -104,6 +104,33 @@ def test_a_phone_log_with_held_samples_reads_at_the_sensors_own_rate(tmp_path):
     assert np.all(np.abs(m.acc_mps2 - truth).max(axis=0) < lag + 0.05)
 
 
+def test_old_arguments_only_a_headerless_file_is_refused_naming_columns(tmp_path):
+    # read with the arguments read_motion always had: it used to take the first row of numbers for column names
+    path = tmp_path / "phone.csv"
+    phone_log(path, duration_s=10.0)
+    with pytest.raises(InputError) as exc:
+        read_motion(path)
+    assert "the first row holds 4 numbers, not column names" in one_sentence(exc) and "--columns" in str(exc.value)
+
+
+def test_old_arguments_only_held_repeats_are_dropped(tmp_path):
+    # read with the arguments read_motion always had: a held sensor's repeats used to be read as samples
+    path = tmp_path / "phone.csv"
+    phone_log(path, duration_s=10.0)
+    rows = np.loadtxt(path)
+    t = np.concatenate([[0.0], np.cumsum(rows[1:, 3])]) / 1000.0
+    frame = pd.DataFrame({"time_s": t, "ax_mps2": rows[:, 0], "ay_mps2": rows[:, 1], "az_mps2": rows[:, 2]})
+    with pytest.warns(UserWarning) as record:
+        m = read_motion(frame)
+    assert "a sensor of about 51" in str(record[0].message) and "irregular" in str(record[1].message)
+    assert m.n_samples == pytest.approx(10.0 * 50, rel=0.01)  # not the 2000 rows written
+    # the same as the log with its repeats dropped by hand (each sample at the first row that holds it)
+    first_rows = np.flatnonzero(np.concatenate([[True], np.any(np.diff(rows[:, :3], axis=0) != 0, axis=1)]))
+    with pytest.warns(UserWarning, match="irregular"):
+        by_hand = read_motion(frame.iloc[first_rows])
+    np.testing.assert_allclose(m.acc_mps2, by_hand.acc_mps2, atol=1e-12)
+
+
 def test_a_column_of_time_since_the_previous_row(tmp_path):
     # SYNTHETIC: a 100 Hz log with a 'ms since the previous row' column and no time column
     path = tmp_path / "steps.csv"
