@@ -347,7 +347,7 @@ time_s,ax_mps2,ay_mps2,az_mps2,comment_col
 0.01,0.4,0.5,0.6,b
 
 # a comment in the middle
-0.025,-1e-3,2.5E2,7,c
+0.02,-1e-3,2.5E2,7,c
 """
 
 
@@ -359,7 +359,7 @@ def write(tmp_path, text: str, name: str = "motion.csv"):
 
 def test_csv_good_file(tmp_path):
     motion = load_motion_csv(write(tmp_path, GOOD_CSV))
-    np.testing.assert_array_equal(motion.time_s, [0.0, 0.01, 0.025])
+    np.testing.assert_array_equal(motion.time_s, [0.0, 0.01, 0.02])
     np.testing.assert_array_equal(
         motion.acc_mps2, [[0.1, 0.2, 0.3], [0.4, 0.5, 0.6], [-1e-3, 250.0, 7.0]]
     )

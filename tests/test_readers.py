@@ -365,8 +365,13 @@ def test_jittery_time_stamps_and_a_dropped_sample_are_read():
     steps = 0.02 * rng.uniform(0.4, 1.6, 999)
     steps[500] = 0.06
     t = np.concatenate([[0.0], np.cumsum(steps)])
-    m = read_motion(pd.DataFrame({"time_s": t, "ax_mps2": 0 * t, "ay_mps2": 0 * t, "az_mps2": np.sin(t)}))
-    assert m.n_samples == t.size
+    with pytest.warns(UserWarning, match=r"the time stamps are irregular \(steps from 8.05 to 60 ms, .* median 19.9 "
+                      r"ms\); the motion is resampled to a uniform grid at the median step") as record:
+        m = read_motion(pd.DataFrame({"time_s": t, "ax_mps2": 0 * t, "ay_mps2": 0 * t, "az_mps2": np.sin(t)}))
+    assert len(record) == 1  # one note, and the motion read on one uniform grid
+    median = float(np.median(steps))
+    np.testing.assert_allclose(np.diff(m.time_s), median)
+    np.testing.assert_allclose(m.acc_mps2[:, 2], np.sin(m.time_s), atol=5e-4)  # linear: h^2/8
 
 
 def test_a_gap_is_refused_or_bridged_with_a_warning(tmp_path, capsys):
@@ -392,7 +397,8 @@ def test_a_gap_is_refused_or_bridged_with_a_warning(tmp_path, capsys):
     short = np.delete(np.arange(0, 8.0, 0.01), np.arange(300, 300 + GAP_STEPS - 1))  # one step of GAP_STEPS
     zeros = np.zeros(short.size)
     frame_short = pd.DataFrame({"time_s": short, "ax_mps2": zeros, "ay_mps2": zeros, "az_mps2": zeros})
-    assert read_motion(frame_short).n_samples == short.size
+    with pytest.warns(UserWarning, match="the time stamps are irregular"):  # (resampled: no gap refused)
+        assert read_motion(frame_short).duration_s == pytest.approx(short[-1] - short[0])
     with pytest.raises(InputError, match=f"a gap of .* \\({GAP_STEPS + 1} median steps"):
         read_motion(frame_short.drop(index=300))  # the step after row 299 one longer
     # the command line: refused (exit 2, one line), or bridged with --fill-gaps and a one-line warning

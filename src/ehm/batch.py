@@ -22,6 +22,13 @@ A study file (TOML) names what varies and what to compute::
     # channels = { ax = "AccX", ay = "AccY", az = "AccZ" }   a log's own names (any format ehm.read_motion reads)
     # units = { ax = "g", ay = "g", az = "g" }                units the file does not carry; imu = true for an IMU
     # fill_gaps = true          bridge the drive file's gaps in its time stamps with a straight line (warned)
+    # columns = ["x", "y", "z", "delay_ms"]   names of a headerless text file's columns (channels then name them;
+    #                           channels: dt = "delay_ms" for a column of the time since the previous row, ax = "-x"
+    #                           for a sign flip)
+    # gyro = "gyro.csv"         a gyro in a file of its own (its wx, wy, wz and time named in channels); relative
+    #                           paths start from the study file's folder
+    # mounting = [0.0, 0.0, 90.0]   the sensor's roll, pitch, yaw [deg]: its axes turned into seat axes
+    # start_s = 6.0             read the drive file from 6 s after its first sample (end_s: up to)
     duration_s = 30.0
     route = "nonlinear"         # simulation route of runs: "nonlinear" (MuJoCo) or "linear" (ehm.linear)
 
@@ -131,13 +138,15 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
             raise InputError(f"{label}: [grid] {k!r} must be a non-empty list of values.")
     inp = dict(doc.get("input", {}))
     allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed", "channels", "units", "imu",
-                     "rate_hz", "fill_gaps"}
+                     "rate_hz", "fill_gaps", "columns", "gyro", "mounting", "start_s", "end_s"}
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
     written = dict(inp)  # the study point's key: the drive as written, so that a moved study folder resumes
     if "drive" in inp:
         inp["drive"] = drive_beside(inp["drive"], Path(path))
+    if isinstance(inp.get("gyro"), str) and not Path(inp["gyro"]).is_absolute():
+        inp["gyro"] = str(Path(path).absolute().parent / inp["gyro"])
     _check_input(label, inp, written.get("drive"))
     _check_before_running(label, rows, grid, locks)
     name = str(study.get("name", Path(path).stem))
@@ -223,6 +232,8 @@ def _common_fingerprint(inp: dict, compute: tuple) -> dict:
         from .drives import drive_path
 
         out["drive file content"] = _file_digest(drive_path(drive))
+        if isinstance(inp.get("gyro"), str) and Path(inp["gyro"]).is_file():
+            out["gyro file content"] = _file_digest(Path(inp["gyro"]))
     return out
 
 
@@ -299,17 +310,24 @@ def _drive(inp: dict, dt_s: float):
 
 
 def _read_drive(inp: dict):
-    """The [input] drive file through ehm.readers.read_motion, with its channels, units, imu and rate_hz keys."""
+    """The [input] drive file through ehm.readers.read_motion, with its channels, units, imu, rate_hz, fill_gaps,
+    columns, gyro, mounting (roll, pitch, yaw in degrees), start_s and end_s keys."""
     from .drives import drive_path
-    from .readers import read_motion
+    from .readers import mounting_rotation, read_motion
 
     imu = inp.get("imu", False)
     fill_gaps = inp.get("fill_gaps", False)
     for key, value in (("imu", imu), ("fill_gaps", fill_gaps)):
         if not isinstance(value, bool):
             raise InputError(f"{key} {value!r}: use true or false.")
+    gyro = inp.get("gyro")
+    if gyro is not None and not isinstance(gyro, str):
+        raise InputError(f"gyro {gyro!r}: use the gyro file's path.")
+    mounting = inp.get("mounting")
     return read_motion(drive_path(inp["drive"]), channels=inp.get("channels"), units=inp.get("units"),
-                       rate_hz=inp.get("rate_hz"), imu=imu, fill_gaps=fill_gaps)
+                       rate_hz=inp.get("rate_hz"), imu=imu, fill_gaps=fill_gaps, columns=inp.get("columns"),
+                       gyro=gyro, mounting=None if mounting is None else mounting_rotation(mounting),
+                       start_s=inp.get("start_s"), end_s=inp.get("end_s"))
 
 
 def cut_by_time(motion, duration_s: float):

@@ -48,8 +48,10 @@ def _band(values) -> tuple[float, float]:
 
 def _read_motion_file(args):
     """The --motion file (or a shipped SYNTHETIC drive) through ehm.readers.read_motion."""
-    from ..readers import parse_assignments, read_motion
+    from ..readers import mounting_rotation, parse_assignments, read_motion
 
     return read_motion(drive_path(args.motion), channels=parse_assignments(args.channel, "--channel"),
                        units=parse_assignments(args.unit, "--unit"), rate_hz=args.rate, imu=args.imu,
-                       fill_gaps=args.fill_gaps, gravity=getattr(args, "gravity", "auto"))
+                       fill_gaps=args.fill_gaps, columns=args.columns, gyro=args.gyro,
+                       mounting=mounting_rotation(args.mounting) if args.mounting is not None else None,
+                       start_s=args.start, end_s=args.end, gravity=getattr(args, "gravity", "auto"))

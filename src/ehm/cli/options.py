@@ -30,15 +30,34 @@ def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
 
 
 def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: str) -> None:
-    """--motion FILE and how to read it: --channel, --unit (both repeatable), --imu, --rate."""
+    """--motion FILE and how to read it: --channel, --unit (both repeatable), --columns, --gyro, --mounting, --start,
+    --end, --imu, --fill-gaps, --rate."""
     p.add_argument("--motion", required=required, metavar="FILE", help=help_text)
     p.add_argument("--channel", action="append", metavar="KEY=NAME",
-                   help="the file's name for a channel (KEY: time, ax, ay, az, wx, wy, wz; repeat; --channel time= "
+                   help="the file's name for a channel (KEY: time, ax, ay, az, wx, wy, wz, dt; repeat; --channel time= "
                         "for a file without time stamps; --channel wx= --channel wy= --channel wz= to leave its "
-                        "angular velocities out; MDF: GROUP/NAME for a name in several groups, GROUP its index); "
-                        "default: time_s, ax_mps2, ..., wx_radps, ...")
+                        "angular velocities out; dt=NAME: a column of the time since the previous row, instead of "
+                        "time; KEY=-NAME: the column with its sign flipped; MDF: GROUP/NAME for a name in several "
+                        "groups, GROUP its index); default: time_s, ax_mps2, ..., wx_radps, ...")
     p.add_argument("--unit", action="append", metavar="KEY=UNIT",
-                   help="unit of a channel the file does not label, e.g. ax=g, wx=deg/s, time=ms (repeat; default SI)")
+                   help="unit of a channel the file does not label, e.g. ax=g, wx=deg/s, time=ms, dt=ms (repeat; "
+                        "default SI)")
+    p.add_argument("--columns", metavar="NAME,NAME,...",
+                   help="names of the columns of a text file without a header row, in order (e.g. x,y,z,delay_ms); "
+                        "then name its channels with --channel (a file whose first row is numbers needs them)")
+    p.add_argument("--gyro", metavar="FILE",
+                   help="a gyro logged in a file of its own, with its own time stamps: wx, wy, wz (and the time, "
+                        "named by the same --channel and --unit) come from it, joined onto the accelerometer's time "
+                        "stamps over the span both cover (at least 90 %% of it)")
+    p.add_argument("--mounting", metavar="ROLL,PITCH,YAW",
+                   help="the sensor's mounting in degrees: its axes are the seat's (x forward, y left, z up) turned "
+                        "by YAW about z, then PITCH about y, then ROLL about x; accelerations and angular velocities "
+                        "are turned into seat axes (e.g. 0,0,90: the sensor's x points left; a first angle below 0 "
+                        "with =: --mounting=-90,0,0)")
+    p.add_argument("--start", type=float, metavar="S",
+                   help="read the log from S seconds after its first sample (cut before any check: e.g. a phone "
+                        "being put in place)")
+    p.add_argument("--end", type=float, metavar="S", help="read the log up to S seconds after its first sample")
     p.add_argument("--imu", action="store_true",
                    help="the file is an IMU at the seat: ax, ay, az its specific force (gravity included), wx, wy, wz "
                         "its gyro rates; the log must start with 1 s at rest")

@@ -20,6 +20,12 @@ is standard gravity, 9.80665 m/s^2).  With ``imu=True`` the accelerations are an
 (gravity included, sensor axes) and the rates its gyro rates: :func:`ehm.imu.from_imu` turns them into
 the seat's motion.
 
+Layouts that used to need a script read with options (:mod:`ehm.readers.layout`): ``columns`` names the columns
+of a text file without a header row; ``channels={"dt": NAME}`` takes a column of the time since the previous row;
+``"-NAME"`` flips a channel's sign; ``mounting`` turns the sensor's axes into the seat's; ``gyro`` joins a gyro
+logged in a file of its own; ``start_s``/``end_s`` cut the log before any check.  Held samples (a slow sensor
+written at a higher rate) are dropped, and irregular time stamps resampled, each with one note.
+
 Time stamps must keep one sample rate (a log whose rate changes part way is refused, naming where and the
 two rates: resampled as one rate it would alias) and have no gaps longer than :data:`GAP_STEPS` median steps
 (refused, or bridged with a straight line and a warning with ``fill_gaps=True``, ``--fill-gaps``).
@@ -32,7 +38,9 @@ from __future__ import annotations
 
 from .channels import CHANNEL_KEYS, DEFAULT_CHANNELS, SI_UNITS, parse_assignments
 from .checks import GAP_STEPS, MIN_OVERLAP, RATE_CHANGE_RATIO, RATE_WINDOW
+from .layout import HELD_RUN_MAX, HELD_SHARE, mounting_rotation, parse_columns
 from .read import load_motion_csv, read_motion
 
-__all__ = ["CHANNEL_KEYS", "DEFAULT_CHANNELS", "GAP_STEPS", "MIN_OVERLAP", "RATE_CHANGE_RATIO", "RATE_WINDOW",
-           "SI_UNITS", "load_motion_csv", "parse_assignments", "read_motion"]
+__all__ = ["CHANNEL_KEYS", "DEFAULT_CHANNELS", "GAP_STEPS", "HELD_RUN_MAX", "HELD_SHARE", "MIN_OVERLAP",
+           "RATE_CHANGE_RATIO", "RATE_WINDOW", "SI_UNITS", "load_motion_csv", "mounting_rotation", "parse_assignments",
+           "parse_columns", "read_motion"]

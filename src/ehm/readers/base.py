@@ -20,14 +20,22 @@ class _Source:
     first_comment: str = ""
     per_channel_time: bool = False              # MDF: each channel has its own time stamps
     units: dict = field(default_factory=dict)   # name -> unit string the source gives
+    rows: object = None                         # the source's rows of the values read, once cut (the first row's
+    #                                             index) or thinned (an array of rows); None: the same rows
+
+    def file_row(self, row: int) -> int:
+        """The source's own row of row ``row`` of the values read (they may be cut, or held repeats dropped)."""
+        if self.rows is None:
+            return row
+        return row + self.rows if isinstance(self.rows, int) else int(self.rows[row])
 
     def where(self, row: int) -> str:
         """Where a row is, for messages."""
-        return f"row {row}"
+        return f"row {self.file_row(row)}"
 
     def raw(self, name: str, row: int) -> str:
         """The row's value as the source holds it, for messages."""
-        value = self.values(name)[row]
+        value = self.values(name)[self.file_row(row)]
         return repr(value.item() if hasattr(value, "item") else value)
 
     def has(self, name: str) -> bool:

@@ -8,15 +8,16 @@ import re
 
 from ..errors import InputError
 
-#: The quantities a motion is made of.
-CHANNEL_KEYS = ("time", "ax", "ay", "az", "wx", "wy", "wz")
+#: The quantities a motion is made of (``dt``: time since the previous row, read instead of ``time``).
+CHANNEL_KEYS = ("time", "ax", "ay", "az", "wx", "wy", "wz", "dt")
 #: Default source names: the motion CSV columns.
 DEFAULT_CHANNELS = {"time": "time_s", "ax": "ax_mps2", "ay": "ay_mps2", "az": "az_mps2",
-                    "wx": "wx_radps", "wy": "wy_radps", "wz": "wz_radps"}
+                    "wx": "wx_radps", "wy": "wy_radps", "wz": "wz_radps", "dt": None}
 #: Units inside ehm.
-SI_UNITS = {"time": "s", "ax": "m/s^2", "ay": "m/s^2", "az": "m/s^2", "wx": "rad/s", "wy": "rad/s", "wz": "rad/s"}
+SI_UNITS = {"time": "s", "ax": "m/s^2", "ay": "m/s^2", "az": "m/s^2", "wx": "rad/s", "wy": "rad/s", "wz": "rad/s",
+            "dt": "s"}
 _ACC, _RATES = ("ax", "ay", "az"), ("wx", "wy", "wz")
-_KIND = {"time": ("a time", "'s' or 'ms'"), **{k: ("an acceleration", "'m/s^2' or 'g'") for k in _ACC},
+_KIND = {"time": ("a time", "'s' or 'ms'"), "dt": ("a time step", "'s' or 'ms'"), **{k: ("an acceleration", "'m/s^2' or 'g'") for k in _ACC},
          **{k: ("an angular rate", "'rad/s' or 'deg/s'") for k in _RATES}}
 _LISTED = 25  #: Most channel names listed in a message.
 

@@ -34,8 +34,8 @@ def _check_finite(src: _Source, key: str, name: str, values: np.ndarray) -> None
     where = _column_words(src, name, key)
     if isinstance(src, _TextSource):
         if src.row_field_count(i) != len(src.names):
-            raise InputError(f"{src.label}, {src.where(i)}: expected {len(src.names)} fields as in the header (line "
-                             f"{src.header_line}), found {src.row_field_count(i)}.")
+            raise InputError(f"{src.label}, {src.where(i)}: expected {len(src.names)} fields {src.layout_words}, "
+                             f"found {src.row_field_count(i)}.")
         if not src.field_text(name, i):
             raise InputError(f"{src.label}, {src.where(i)}, {where}: value is empty, expected a number.")
     elif np.isnan(values[i]) and isinstance(src, (_ParquetSource, _FrameSource)):

@@ -35,10 +35,11 @@ class _FrameSource(_Source):
         return self.frame[self.frame.columns[self.names.index(name)]].to_numpy()
 
     def where(self, row: int) -> str:
+        row = self.file_row(row)
         return f"row {row} (index {self.frame.index[row]!r})"
 
     def raw(self, name: str, row: int) -> str:
-        value = self.values(name)[row]
+        value = self.values(name)[self.file_row(row)]
         return repr(value.item() if hasattr(value, "item") else value)
 
 

@@ -17,6 +17,8 @@ from .channels import _ACC, _RATES, CHANNEL_KEYS, DEFAULT_CHANNELS, SI_UNITS, _b
 from .checks import _check_finite, _check_sampling, _check_times, _common_time
 from .frames import _FrameSource, _ParquetSource
 from .gravity import check_mode, handle_gravity
+from .layout import (_cut_rows, _held, _held_note, _irregular, _join, _mounting_matrix, _note, _signed, _window,
+                     parse_columns)
 from .matlab import _MatSource
 from .mdf import _MdfSource
 from .text import _TextSource
@@ -27,12 +29,15 @@ _MDF_SUFFIXES = (".mf4", ".mdf", ".dat4")
 _PARQUET_SUFFIXES = (".parquet", ".pq")
 
 
-def _open(source, label: str | None) -> _Source:
+def _open(source, label: str | None, columns=None) -> _Source:
     try:
         import pandas as pd
     except ImportError:  # pragma: no cover - pandas is a dependency
         raise InputError("reading motions needs pandas: pip install pandas.") from None
     if isinstance(source, pd.DataFrame):
+        if columns is not None:
+            raise InputError(f"{label or 'DataFrame'}: columns= names the columns of a text file without a header "
+                             "row; a DataFrame has its own column names (name its channels with channels=).")
         return _FrameSource(source, label or "DataFrame")
     if not isinstance(source, (str, os.PathLike)):
         raise InputError(f"read_motion: source must be a file path or a pandas DataFrame; got {type(source).__name__}.")
@@ -45,17 +50,21 @@ def _open(source, label: str | None) -> _Source:
     if not os.access(path, os.R_OK):
         raise InputError(f"{label}: motion file cannot be read (permission denied).")
     suffix = path.suffix.lower()
+    if columns is not None and suffix in _PARQUET_SUFFIXES + _MAT_SUFFIXES + _MDF_SUFFIXES:
+        raise InputError(f"{label}: --columns (columns=) names the columns of a text file without a header row; "
+                         f"a {suffix} file names its own channels (name them with --channel KEY=NAME).")
     if suffix in _PARQUET_SUFFIXES:
         return _ParquetSource(path, label)
     if suffix in _MAT_SUFFIXES:
         return _MatSource(path, label)
     if suffix in _MDF_SUFFIXES:
         return _MdfSource(path, label)
-    return _TextSource(path, label)  # .csv, .txt and anything else: a text table
+    return _TextSource(path, label, columns)  # .csv, .txt and anything else: a text table
 
 
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
-                imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False,
+                imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False, *,
+                columns=None, gyro=None, start_s: float | None = None, end_s: float | None = None,
                 gravity: str = "auto") -> SeatMotion:
     """Read a seat motion (or an IMU log) from a file or a pandas DataFrame.
 
@@ -65,10 +74,13 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         ``.csv``/``.txt`` (any other suffix is read as text too), ``.parquet``, ``.mat`` (v5 or v7.3),
         ``.mf4``/``.mdf``, or a DataFrame.
     channels : dict, optional
-        Key (``time, ax, ay, az, wx, wy, wz``) -> the source's name; the others keep their defaults
+        Key (``time, ax, ay, az, wx, wy, wz, dt``) -> the source's name; the others keep their defaults
         (:data:`DEFAULT_CHANNELS`).  ``time`` set to None: a source without a time channel (give
         ``rate_hz``).  ``wx, wy, wz`` all set to None: read the translation only, even where the source has
         angular velocities.  MDF channels carry their own time stamps: their ``time`` is not used.
+        ``dt``: a channel of the time since the previous row, read instead of ``time`` (the time is its
+        cumulative sum from 0 at the first row; give its unit, e.g. ``units={"dt": "ms"}``).  A name with a
+        leading ``-`` (``"ax": "-AccX"``) reads that channel with its sign flipped.
     units : dict, optional
         Key -> unit string, where the source does not carry the unit (an MDF channel's own unit wins;
         a different one here is refused).  Default SI: s, m/s^2, rad/s.
@@ -79,11 +91,30 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     imu : bool
         The source is an IMU at the seat: ``ax, ay, az`` its specific force (gravity included) and
         ``wx, wy, wz`` its gyro rates, all required; see :func:`ehm.imu.from_imu` (``mounting`` is passed on).
+    mounting : scipy.spatial.transform.Rotation or (3, 3) array, optional
+        Rotation from the sensor's axes to the seat's (x forward, y left, z up), as :func:`ehm.imu.from_imu`
+        takes it; applied to the accelerations and the angular velocities alike, for an IMU log or not.  From
+        roll, pitch and yaw: :func:`ehm.readers.mounting_rotation` (degrees, or ``degrees=False``).
     label : str, optional
         How messages name the source (default: its path, or ``DataFrame``).
     fill_gaps : bool
         Bridge gaps in the time stamps (steps longer than :data:`GAP_STEPS` median steps) with a straight line,
         with a warning naming where; by default such a gap is refused.
+    columns : list of str or str, optional
+        Names of the columns of a text file without a header row, in order (``["x", "y", "z", "delay_ms"]`` or
+        ``"x,y,z,delay_ms"``); its first row is then data.  A text file whose first row holds only numbers is
+        refused without them.  The gyro file (``gyro``) is read with the same names.
+    gyro : str, os.PathLike or pandas.DataFrame, optional
+        A gyro logged in a file of its own, with its own time stamps: ``wx, wy, wz`` (and ``time`` or ``dt``,
+        names and units as in ``channels`` and ``units``) are read from it, ``ax, ay, az`` from ``source``.  Its
+        rates are interpolated (linearly) onto the accelerometer's time stamps over the span both cover, which
+        must be at least :data:`MIN_OVERLAP` of the span they reach together; the time stamps of both files
+        must come from one clock.
+    start_s, end_s : float, optional
+        Read the log from ``start_s`` to ``end_s`` seconds after its first sample only (either may be left
+        out).  The cut comes before every check of the values (held samples, sampling, an IMU's rest), so a
+        phone being put in place in the first seconds can be cut away; a cut outside the log, or holding fewer
+        than 2 samples, is refused.
     gravity : {"auto", "included", "removed"}
         Gravity in the accelerations of a seat or floor log (not an IMU log, whose route handles it):
         ``included`` levels the log (static tilt from its quietest 5 s, rotated so that gravity is along z,
@@ -94,7 +125,21 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     -------
     SeatMotion
         Seat acceleration [m/s^2] in seat axes (and angular velocity [rad/s] when the source has rates),
-        on the source's own time stamps [s] unless ``rate_hz`` asks for a rate.
+        on the source's own time stamps [s] unless ``rate_hz`` asks for a rate, or the time stamps are
+        irregular (below).
+
+    Notes
+    -----
+    Two layouts are mended, each with one note (:func:`warnings.warn`):
+
+    * Held samples: when more than :data:`HELD_SHARE` of the rows repeat their predecessor exactly in every
+      acceleration channel (a gyro file: every angular velocity), in runs of 2 to :data:`HELD_RUN_MAX` rows
+      at the median, the sensor is slower than the log was written at (a 51 Hz sensor written at 200 Hz):
+      only the first row of each run is kept, with its time stamp, and the note gives the sensor's own rate.
+    * Irregular time stamps: when they depart from the uniform grid through the first and the last sample by
+      more than :data:`ehm.resampling.UNIFORM_TOLERANCE` of a step, with no gap (gaps and changes of rate are
+      refused, or bridged when asked), the motion is resampled onto a uniform grid at the median step (linear
+      interpolation), or at ``rate_hz`` when given; the note gives the spread of the steps.
     """
     channels = _mapping(channels, "channels")
     units = _mapping(units, "units")
@@ -106,11 +151,19 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         if not (math.isfinite(rate_hz) and rate_hz > 0):
             raise InputError(f"rate_hz must be a positive number of samples per second; got {rate_hz!r}.")
     gravity = check_mode(gravity)
-    src = _open(source, label)
+    columns = parse_columns(columns)
+    window = _window(start_s, end_s)
+    m = _mounting_matrix(mounting, label or (str(source) if isinstance(source, (str, os.PathLike)) else "DataFrame"))
+    src = _open(source, label, columns)
+    gsrc = None
     try:
-        return _read(src, channels, units, rate_hz, bool(imu), mounting, source, bool(fill_gaps), gravity)
+        if gyro is not None:
+            gsrc = _open(gyro, None if isinstance(gyro, (str, os.PathLike)) else "gyro DataFrame", columns)
+        return _read(src, channels, units, rate_hz, bool(imu), m, source, bool(fill_gaps), gsrc, window, gravity)
     finally:
         src.close()
+        if gsrc is not None:
+            gsrc.close()
 
 
 def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
@@ -140,8 +193,9 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
     return read_motion(path)
 
 
-def _resolve(src: _Source, channels: dict, imu: bool, rate_hz) -> dict:
-    """Key -> source name of every channel to read; missing ones named with what the source has."""
+def _resolve(src: _Source, channels: dict, imu: bool, rate_hz, part: str = "all") -> dict:
+    """Key -> source name of every channel to read; missing ones named with what the source has.  ``part``:
+    ``"all"`` (one source), ``"acc"`` (the accelerometer's file of two) or ``"rates"`` (the gyro's file)."""
     names = {k: channels.get(k, DEFAULT_CHANNELS[k]) for k in CHANNEL_KEYS}
 
     def present(key):
@@ -150,13 +204,19 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz) -> dict:
             return False
         return src.has(name) or (isinstance(src, _FrameSource) and key == "time" and src.has_index_time(name))
 
-    wanted = list(_ACC) + list(_RATES if imu else [])
     left_out = [k for k in _RATES if k in channels and channels[k] is None]
-    if left_out and (imu or len(left_out) < 3):
+    if part == "rates":
+        wanted = list(_RATES)
+        if left_out:
+            raise InputError(f"{src.label}: {', '.join(left_out)} {'is' if len(left_out) == 1 else 'are'} left out "
+                             "(given empty); a gyro file gives all three angular velocities.")
+    else:
+        wanted = list(_ACC) + list(_RATES if imu and part == "all" else [])
+    if part == "all" and left_out and (imu or len(left_out) < 3):
         raise InputError(f"{src.label}: {', '.join(left_out)} {'is' if len(left_out) == 1 else 'are'} left out (given "
                          "empty); " + ("an IMU log needs all three angular velocities." if imu else
                                        "leave out all three angular velocities (wx=, wy=, wz=) or none."))
-    if not imu and len(left_out) < 3:
+    if part == "all" and not imu and len(left_out) < 3:
         rates_found = [k for k in _RATES if present(k)]
         explicit = [k for k in _RATES if k in channels]
         if explicit or rates_found:
@@ -166,7 +226,15 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz) -> dict:
                                  "give all three angular velocities or none.")
             wanted += list(_RATES)
     time_needed = not src.per_channel_time
-    if time_needed:
+    if names["dt"] is not None:
+        if not time_needed:
+            raise InputError(f"{src.label}: MDF channels carry their own time stamps; leave out the dt channel "
+                             f"({names['dt']!r}).")
+        if channels.get("time") is not None:
+            raise InputError(f"{src.label}: give the time channel ({channels['time']!r}) or the dt channel "
+                             f"({names['dt']!r}, the time since the previous row), not both.")
+        wanted.insert(0, "dt")
+    elif time_needed:
         if names["time"] is None or ("time" not in channels and rate_hz is not None and not present("time")):
             names["time"] = None
             if rate_hz is None:
@@ -188,47 +256,33 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz) -> dict:
 
 
 def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
-          fill_gaps: bool = False, gravity: str = "auto") -> SeatMotion:
-    use = _resolve(src, channels, imu, rate_hz)
-    if isinstance(src, _TextSource):
-        src.load(list(use.values()))
-    if isinstance(src, _MdfSource):
-        for key, name in use.items():
-            src.check_unique(key, name)
-    data, stamps = {}, {}
-    for key, name in use.items():  # one channel at a time: checked, in SI, each held once
-        raw = src.values(name)
-        values = _as_floats(src, name, key, raw)
-        _check_finite(src, key, name, values)
-        factor = _factor(_unit_of(src, key, name, units), key, src.label, name)
-        if factor != 1.0:
-            owned = values is not raw or not isinstance(src, _FrameSource)  # never change a caller's DataFrame
-            values = np.multiply(values, factor, out=values if owned and values.flags.writeable else None)
-        data[key] = values
-        del raw, values
-        if src.per_channel_time:
-            stamps[key] = src.time_of(name)
-    n = min(v.size for v in data.values())
-    if any(v.size != n for v in data.values()) and not src.per_channel_time:
-        raise InputError(f"{src.label}: the channels have different lengths "
-                         f"({', '.join(f'{k} {v.size}' for k, v in data.items())}).")
-    if src.per_channel_time:
-        time_s, data = _common_time(src, use, data, stamps, fill_gaps)
-    elif "time" in data:
-        time_s = data.pop("time")
-        _check_times(src, use["time"], time_s)
-        _check_sampling(src, use["time"], time_s, fill_gaps)
-    else:
-        time_s = np.arange(n) / rate_hz
+          fill_gaps: bool = False, gsrc: _Source | None = None, window=None,
+          gravity: str = "auto") -> SeatMotion:
+    def has(key, name):
+        return (gsrc if gsrc is not None and key in _RATES else src).has(name)
+
+    channels, signs = _signed(channels, has)
+    use = _resolve(src, channels, imu, rate_hz, "all" if gsrc is None else "acc")
+    time_s, data, origin = _table(src, use, units, signs, rate_hz, window, None, fill_gaps, _ACC)
+    if "time" not in use and "dt" not in use and not src.per_channel_time:
         rate_hz = None  # the source is at this rate already
+    if gsrc is not None:
+        guse = _resolve(gsrc, channels, imu, rate_hz, "rates")
+        tg, gdata, _ = _table(gsrc, guse, units, signs, rate_hz, window, origin, fill_gaps, _RATES)
+        if tg.size >= 2 and time_s.size >= 2:
+            time_s, data = _join(src.label, gsrc.label, time_s, data, tg, gdata, _RATES)
     if time_s.size < 2:
-        where = f", line {src.header_line}" if isinstance(src, _TextSource) else ""
-        raise InputError(f"{src.label}{where}: motion file has {time_s.size} data row(s) after the header; at least 2 "
-                         "are needed.")
-    description = _describe(src, source, time_s)
+        where = f", line {src.header_line}" if isinstance(src, _TextSource) and src.header_line else ""
+        raise InputError(f"{src.label}{where}: motion file has {time_s.size} data row(s)"
+                         f"{' after the header' if where else ''}; at least 2 are needed.")
+    description = _describe(src, source, time_s, gsrc, window)
+    irregular = _irregular(time_s)
     acc = _stack(data, _ACC)
     rates = _stack(data, _RATES) if all(k in data for k in _RATES) else None
     time_s = _frozen(np.array(time_s, dtype=float) if isinstance(src, _FrameSource) else time_s)
+    if mounting is not None and not imu:  # (from_imu turns its own inputs)
+        acc = _frozen(acc @ mounting.T)
+        rates = None if rates is None else _frozen(rates @ mounting.T)
     if imu:
         motion = from_imu(time_s, acc, rates, mounting=mounting, description=f"IMU log {description}",
                           label=src.label)
@@ -236,9 +290,121 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         acc, rates, levelled = handle_gravity(time_s, acc, rates, gravity, src.label)  # ehm.readers.gravity
         description = f"{description}, {levelled}" if levelled else description
         motion = SeatMotion(time_s, acc, description, rates)  # takes the read-only arrays as they are
+    if irregular is not None:
+        step, spread = irregular
+        to = f"{rate_hz:g} Hz (rate_hz)" if rate_hz is not None else \
+            f"a uniform grid at the median step, {1 / step:.6g} Hz, by linear interpolation"
+        _note(f"{src.label}: the time stamps are irregular ({spread}); the motion is resampled to {to}.", 2)
+        if rate_hz is None:
+            motion = motion.resample(step)
     if rate_hz is not None:
         motion = motion.resample(1.0 / rate_hz)
     return motion
+
+
+def _table(src: _Source, use: dict, units: dict, signs: dict, rate_hz, window, origin, fill_gaps: bool,
+           held_keys) -> tuple:
+    """(time [s], key -> values in SI with their signs, the first sample's time before the cut) of the channels
+    ``use`` of one source: the time read (or summed from ``dt``), checked and cut to ``window`` first; then
+    each channel of the cut, checked; held samples dropped; the sampling checked."""
+    if isinstance(src, _TextSource):
+        src.load(list(use.values()))
+    if isinstance(src, _MdfSource):
+        for key, name in use.items():
+            src.check_unique(key, name)
+    strict = origin is None  # (the gyro file of two is cut to the accelerometer's window, and joined after)
+    if src.per_channel_time:
+        return _mdf_table(src, use, units, signs, window, origin, fill_gaps, strict, held_keys)
+    tkey = "dt" if "dt" in use else "time" if "time" in use else None
+    sizes = {}
+    if tkey is not None:
+        t = _channel(src, tkey, use[tkey], units, signs)
+        sizes[tkey] = t.size
+        if tkey == "dt":
+            t = _from_steps(src, use["dt"], t)
+        else:
+            _check_times(src, use["time"], t)
+    else:
+        t = np.arange(np.shape(src.values(use[held_keys[0]]))[0]) / rate_hz
+    first = float(t[0]) if t.size else 0.0
+    i0, i1 = _cut_rows(src.label, t, window, origin, strict)
+    if (i0, i1) != (0, t.size):
+        t = t[i0:i1]
+        src.rows = i0 if i0 else None  # messages name the source's own rows
+    data = {}
+    for key, name in use.items():  # one channel at a time: checked, in SI, each held once
+        if key == tkey:
+            continue
+        sizes[key] = np.shape(src.values(name))[0]
+        data[key] = _channel(src, key, name, units, signs, i0, i1)
+    if len(set(sizes.values())) > 1:
+        raise InputError(f"{src.label}: the channels have different lengths "
+                         f"({', '.join(f'{k} {v}' for k, v in sizes.items())}).")
+    t, data = _drop_held(src, t, data, held_keys, i0)
+    if tkey is not None:
+        _check_sampling(src, use[tkey], t, fill_gaps, tkey)
+    return t, data, first
+
+
+def _mdf_table(src: _Source, use: dict, units: dict, signs: dict, window, origin, fill_gaps: bool, strict: bool,
+               held_keys) -> tuple:
+    """As :func:`_table` for channels with their own time stamps: each cut to the window (seconds after the
+    earliest channel's first sample), then all put on one time base."""
+    data, stamps = {}, {}
+    for key, name in use.items():
+        stamps[key] = np.asarray(src.time_of(name), dtype=float)
+    first = min(float(s[0]) for s in stamps.values() if s.size) if any(s.size for s in stamps.values()) else 0.0
+    for key, name in use.items():
+        i0, i1 = _cut_rows(src.label, stamps[key], window, first if origin is None else origin,
+                           strict and key == next(iter(use)))
+        stamps[key] = stamps[key][i0:i1]
+        data[key] = _channel(src, key, name, units, signs, i0, i1)
+    time_s, data = _common_time(src, use, data, stamps, fill_gaps)
+    time_s, data = _drop_held(src, time_s, data, held_keys, 0)
+    return time_s, data, first
+
+
+def _channel(src: _Source, key: str, name: str, units: dict, signs: dict, i0: int = 0, i1=None) -> np.ndarray:
+    """Rows i0:i1 of one channel as floats in SI (its sign flipped when asked), checked to be finite."""
+    raw = src.values(name)
+    if i0 or i1 is not None:
+        raw = raw[i0:i1]
+    values = _as_floats(src, name, key, raw)
+    _check_finite(src, key, name, values)
+    factor = _factor(_unit_of(src, key, name, units), key, src.label, name) * signs.get(key, 1.0)
+    if factor != 1.0:
+        owned = values is not raw or not isinstance(src, _FrameSource)  # never change a caller's DataFrame
+        values = np.multiply(values, factor, out=values if owned and values.flags.writeable else None)
+    return values
+
+
+def _from_steps(src: _Source, name: str, dt: np.ndarray) -> np.ndarray:
+    """Time stamps from the time since the previous row: 0 at the first row (whose own step is not used), then
+    the cumulative sum; a step that is not positive is refused, naming its row."""
+    bad = np.flatnonzero(dt[1:] <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise InputError(f"{src.label}, {src.where(i)}, column {name} (channel dt): time step {src.raw(name, i)} is "
+                         "not positive; each row's time since the previous row must be > 0.")
+    t = np.empty(dt.size)
+    if dt.size:
+        t[0] = 0.0
+        np.cumsum(dt[1:], out=t[1:])
+    return t
+
+
+def _drop_held(src: _Source, t: np.ndarray, data: dict, keys, i0: int):
+    """Drop held repeats (see :data:`HELD_SHARE`), with a note; the source's rows kept for messages."""
+    if not all(k in data for k in keys):
+        return t, data
+    held = _held([data[k] for k in keys])
+    if held is None:
+        return t, data
+    starts, share, run = held
+    _note(_held_note(src.label, keys, t, starts, share, run), 4 if not src.per_channel_time else 5)
+    if not src.per_channel_time:
+        src.rows = starts + i0
+    return t[starts], {k: v[starts] for k, v in data.items()}
 
 
 def _stack(data: dict, keys) -> np.ndarray:
@@ -265,8 +431,13 @@ def _unit_of(src: _Source, key: str, name: str, units: dict) -> str:
     return given or own or SI_UNITS[key]
 
 
-def _describe(src: _Source, source, time_s: np.ndarray) -> str:
+def _describe(src: _Source, source, time_s: np.ndarray, gsrc=None, window=None) -> str:
     base = os.path.basename(str(source)) if not isinstance(src, _FrameSource) else src.label
+    if gsrc is not None:
+        base += f" with the gyro of {os.path.basename(gsrc.label)}"
+    if window is not None:
+        start, end = window
+        base += f" (cut from {start or 0:g} s" + (f" to {end:g} s)" if end is not None else " to the end)")
     description = f"from {base}, {time_s.size} samples, {float(time_s[-1] - time_s[0]):g} s"
     if src.first_comment:  # a file's first comment line describes it (e.g. "SYNTHETIC city drive ...")
         description = f"{src.first_comment} ({description})"
