@@ -27,12 +27,13 @@ def one_sentence(exc) -> str:
 
 
 def sensor(t):
-    """SYNTHETIC phone acceleration [m/s^2] at times t: slow sways and a 1.5 Hz bounce, gravity on z."""
+    """SYNTHETIC phone acceleration [m/s^2] at times t: slow sways and a 1.5 Hz bounce (gravity taken out: a
+    log with gravity is levelled by the readers, which tests/test_gravity.py checks; here the layouts alone)."""
     return np.column_stack([0.4 * np.sin(2 * np.pi * 0.3 * t), 0.3 * np.sin(2 * np.pi * 0.7 * t + 1.0),
-                            G + 0.5 * np.sin(2 * np.pi * 1.5 * t)])
+                            0.5 * np.sin(2 * np.pi * 1.5 * t)])
 
 
-def phone_log(path, duration_s=20.0, sensor_hz=51.2, seed=0, settle_s=0.0, gravity=True):
+def phone_log(path, duration_s=20.0, sensor_hz=51.2, seed=0, settle_s=0.0, gravity=False):
     """SYNTHETIC phone log as the app writes it: no header, ``x y z delay_ms``, a row every 4-6 ms (200 Hz), each
     row holding the sensor's latest sample (a sensor of ``sensor_hz``, so most rows repeat the one before);
     ``settle_s``: the first seconds shaken hard (the phone being put in place).  Returns the row times, the
@@ -42,7 +43,7 @@ def phone_log(path, duration_s=20.0, sensor_hz=51.2, seed=0, settle_s=0.0, gravi
     delay[0] = 0.0
     t_rows = np.cumsum(delay) / 1000.0
     t_sensor = np.arange(0.0, t_rows[-1] + 1.0, 1.0 / sensor_hz)
-    samples = np.round(sensor(t_sensor) - [0, 0, 0 if gravity else G] + 0.01 * rng.standard_normal((t_sensor.size, 3)),
+    samples = np.round(sensor(t_sensor) + [0, 0, G if gravity else 0] + 0.01 * rng.standard_normal((t_sensor.size, 3)),
                        3)
     if settle_s:
         samples[t_sensor < settle_s] += rng.uniform(-10.0, 10.0, (int(np.sum(t_sensor < settle_s)), 3))
@@ -67,7 +68,7 @@ def test_a_headerless_file_is_refused_without_columns_and_read_with_them(tmp_pat
                                  "in Python), e.g. --columns c1,c2,c3,c4.")
     with pytest.warns(UserWarning):
         m = read_motion(path, columns="x,y,z,delay_ms", channels=PHONE, units={"dt": "ms"})
-    assert m.acc_mps2[:, 2].mean() == pytest.approx(G, abs=0.05)
+    assert m.acc_mps2[:, 2].mean() == pytest.approx(0.0, abs=0.05)
     # the names must match the fields; a file with a header row is not read with columns
     with pytest.raises(InputError, match=r"line 1: --columns \(columns=\) names 3 columns but the row has 4 fields\."):
         read_motion(path, columns=["x", "y", "z"], channels=PHONE)
@@ -210,7 +211,7 @@ def test_a_gyro_in_its_own_file_is_joined_on_the_accelerometers_time_stamps(tmp_
     # the same on the command line (2 s of the files, gravity taken out: a seat motion)
     short = t_acc < 2.0
     _android(tmp_path / "acc2.csv", clock0 + np.round(t_acc[short] * 1e9).astype(np.int64),
-             sensor(t_acc[short]) - [0, 0, G])
+             sensor(t_acc[short]))
     out = tmp_path / "out"
     argv = ["simulate", "--motion", str(tmp_path / "acc2.csv"), "--gyro", str(tmp_path / "gyro.csv"), "--out",
             str(out), "--unit", "time=ns"]
@@ -253,7 +254,7 @@ def test_a_sign_is_flipped_with_a_leading_minus(tmp_path):
         read_motion(_plain(t, acc), channels={"time": "-time_s", "ax": "AccX", "ay": "AccY", "az": "AccZ"})
     # the command line: --channel ax=-AccX
     path = tmp_path / "log.csv"
-    _plain(t, acc - [0, 0, G]).to_csv(path, index=False)
+    _plain(t, acc).to_csv(path, index=False)
     out = tmp_path / "out"
     assert main(["simulate", "--motion", str(path), "--channel", "ax=-AccX", "--channel", "ay=AccY", "--channel",
                  "az=AccZ", "--method", "linear", "--out", str(out)]) == 0
@@ -277,7 +278,7 @@ def test_the_mounting_turns_accelerations_and_rates_into_seat_axes(tmp_path):
         mounting_rotation("0,90")
     # the command line: --mounting in degrees
     path = tmp_path / "log.csv"
-    _plain(t, sensor_acc - [0, 0, G]).to_csv(path, index=False)
+    _plain(t, sensor_acc).to_csv(path, index=False)
     out = tmp_path / "out"
     argv = ["simulate", "--motion", str(path), "--channel", "ax=AccX", "--channel", "ay=AccY", "--channel", "az=AccZ",
             "--mounting", "0,0,90", "--method", "linear", "--out", str(out)]
