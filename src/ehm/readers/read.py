@@ -13,12 +13,13 @@ from ..errors import InputError
 from ..imu import from_imu
 from ..motion import SeatMotion
 from .base import _as_floats, _Source
-from .channels import _ACC, _RATES, CHANNEL_KEYS, DEFAULT_CHANNELS, SI_UNITS, _bracket_unit, _factor, _listed, _mapping
-from .checks import _check_finite, _check_sampling, _check_times, _common_time
+from .channels import _ACC, _RATES, CHANNEL_KEYS, DEFAULT_CHANNELS, _listed, _mapping
+from .checks import _check_finite, _check_plausible, _check_sampling, _check_time_unit, _check_times, _common_time
 from .frames import _FrameSource, _ParquetSource
 from .matlab import _MatSource
 from .mdf import _MdfSource
 from .text import _TextSource
+from .units import _factor, _time_seconds, _unit_of
 
 _TEXT_SUFFIXES = (".csv", ".txt", ".tsv", ".dat")
 _MAT_SUFFIXES = (".mat",)
@@ -187,12 +188,18 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
     if isinstance(src, _MdfSource):
         for key, name in use.items():
             src.check_unique(key, name)
-    data, stamps = {}, {}
+    data, stamps, taken = {}, {}, {}
     for key, name in use.items():  # one channel at a time: checked, in SI, each held once
         raw = src.values(name)
+        if key == "time":  # seconds from the first sample (numbers in their unit, date-times)
+            values, *taken[key] = _time_seconds(src, name, raw, units)
+            _check_finite(src, key, name, values)
+            data[key] = values
+            continue
         values = _as_floats(src, name, key, raw)
         _check_finite(src, key, name, values)
-        factor = _factor(_unit_of(src, key, name, units), key, src.label, name)
+        taken[key] = _unit_of(src, key, name, units)
+        factor = _factor(taken[key][0], key, src.label, name)
         if factor != 1.0:
             owned = values is not raw or not isinstance(src, _FrameSource)  # never change a caller's DataFrame
             values = np.multiply(values, factor, out=values if owned and values.flags.writeable else None)
@@ -206,13 +213,16 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
                          f"({', '.join(f'{k} {v.size}' for k, v in data.items())}).")
     if src.per_channel_time:
         time_s, data = _common_time(src, use, data, stamps, fill_gaps)
+        time_s = time_s - time_s[0] if time_s.size else time_s  # the time axis starts at 0
     elif "time" in data:
         time_s = data.pop("time")
         _check_times(src, use["time"], time_s)
+        _check_time_unit(src, use["time"], time_s, *taken["time"])
         _check_sampling(src, use["time"], time_s, fill_gaps)
     else:
         time_s = np.arange(n) / rate_hz
         rate_hz = None  # the source is at this rate already
+    _check_plausible(src, use, data, {k: o for k, (_, o) in taken.items()})
     if time_s.size < 2:
         where = f", line {src.header_line}" if isinstance(src, _TextSource) else ""
         raise InputError(f"{src.label}{where}: motion file has {time_s.size} data row(s) after the header; at least 2 "
@@ -242,17 +252,6 @@ def _stack(data: dict, keys) -> np.ndarray:
 def _frozen(a: np.ndarray) -> np.ndarray:
     a.flags.writeable = False
     return a
-
-
-def _unit_of(src: _Source, key: str, name: str, units: dict) -> str:
-    own = src.unit_of(name) if isinstance(src, _MdfSource) else src.units.get(name, "")
-    if not own:
-        own = _bracket_unit(name)
-    given = units.get(key)
-    if own and given and _factor(own, key, src.label, name) != _factor(given, key, src.label, name):
-        raise InputError(f"{src.label}, channel {key} ({name!r}): the file gives the unit {own!r}, the units argument "
-                         f"{given!r}; leave the argument out.")
-    return given or own or SI_UNITS[key]
 
 
 def _describe(src: _Source, source, time_s: np.ndarray) -> str:
