@@ -200,7 +200,7 @@ MAX_RATE_P99_RADPS = 35.0
 
 
 def _assumed_words(origin: str, unit: str) -> str:
-    return {ASSUMED: f"if it is in {unit}, as no unit is given", NAME: f"in {unit}, as its name says",
+    return {ASSUMED: f"in {unit}, as no unit is given", NAME: f"in {unit}, as its name says",
             FILE: f"in {unit}, as the file says", INFERRED: f"in {unit}, as its name and whole-number steps suggest",
             GIVEN: f"in {unit}, as given"}[origin]
 

@@ -50,7 +50,7 @@ def _unit_text(unit: str, key: str) -> str:
         if re.fullmatch(r"[gG][nN0]?", text):
             return "standard_gravity"
         if text in ("mg", "mG"):
-            return "milli_standard_gravity"
+            return "millistandard_gravity"
         text = re.sub(r"^m\s*/\s*s\s*\^?\s*2$", "m/s^2", text)
         if text.lower() in ("mps2", "ms2", "m/s/s", "ms^-2", "m s^-2", "m*s^-2", "m.s^-2", "m s-2", "m.s-2"):
             return "m/s^2"
@@ -263,7 +263,7 @@ def _date_times(src: _Source, name: str, arr: np.ndarray, formats) -> np.ndarray
     chosen, stamps = next(iter(read.items()))
     base = stamps.view(np.int64)
     swapped = chosen.replace("%d", "%X").replace("%m", "%d").replace("%X", "%m")
-    if swapped != chosen and attempt(swapped):  # day-first and month-first both read every stamp
+    if not formats and swapped != chosen and attempt(swapped):  # day-first and month-first both read every stamp
         alt = read[swapped].view(np.int64)
         if not np.array_equal(base - base[i0], alt - alt[i0]):
             raise InputError(f"{src.label}, {where_words}: the dates read as {chosen!r} and as {swapped!r} give "
