@@ -59,7 +59,8 @@ NAME_FORMS = [  # (key, the column's name, one of its units in SI)
     ("ax", "acc_x_g", G), ("ax", "Acceleration X in g", G), ("ax", "acc_x (m/s^2)", 1.0), ("ax", "acc_x m/s2", 1.0),
     ("ax", "acc_x (m/s²)", 1.0), ("ax", "acc_x [mg]", G / 1000), ("ax", "acc_x_mg", G / 1000),
     ("ax", "AccX (mG)", G / 1000), ("ax", "ax_mps2", 1.0), ("ax", "Acc X in m/s2", 1.0),
-    ("wx", "Gyroscope X (deg/s)", np.pi / 180), ("wx", "gyro_x °/s", np.pi / 180), ("wx", "gyro_x [°/s]", np.pi / 180),
+    ("wx", "Gyroscope X (deg/s)", np.pi / 180), ("wx", "gyro_x °/s", np.pi / 180),
+    ("wx", "gyro_x [°/s]", np.pi / 180),
     ("wx", "gyro_x_dps", np.pi / 180), ("wx", "GyroX (dps)", np.pi / 180), ("wx", "gyro_x (rad/s)", 1.0),
     ("wx", "wx_radps", 1.0),
     ("time", "Time (s)", 1.0), ("time", "t (ms)", 1e-3), ("time", "t (us)", 1e-6), ("time", "t (µs)", 1e-6),
@@ -79,9 +80,10 @@ def test_a_unit_in_a_column_name_is_read_in_every_form(tmp_path, key, name, unit
     else:
         columns[name] = columns.pop(DEFAULT[key]) / unit_si
     m = read_motion(write(tmp_path, columns), channels={key: name})
-    np.testing.assert_allclose(m.time_s, t, rtol=0, atol=1e-9)
     np.testing.assert_allclose(m.acc_mps2, acc, rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(m.angvel_radps, w, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(m.time_s - m.time_s[0], t, rtol=0, atol=1e-9)
+    assert m.time_s[0] == 0.0  # the time axis starts at 0 at the first sample
 
 
 def test_the_units_argument_wins_over_the_name(tmp_path):
@@ -248,9 +250,9 @@ def test_a_time_step_implausible_in_seconds_is_refused(tmp_path, counts_per_s, f
     path = write(tmp_path, {"t": counts, **acc_columns(acc)})
     with pytest.raises(InputError) as exc:
         read_motion(path, {"time": "t", **XYZ})
-    assert one_sentence(exc) == (f"{path}, column t (channel time): the median time step is {step} s if the time column "
-                                 f"is in s, as no unit is given; give its unit, e.g. --unit time={fix} (units={{'time': "
-                                 f"'{fix}'}}), which makes it 0.01 s.")
+    assert one_sentence(exc) == (f"{path}, column t (channel time): the median time step is {step} s if the time "
+                                 f"column is in s, as no unit is given; give its unit, e.g. --unit time={fix} "
+                                 f"(units={{'time': '{fix}'}}), which makes it 0.01 s.")
     np.testing.assert_allclose(read_motion(path, {"time": "t", **XYZ}, {"time": fix}).time_s, t, atol=1e-12)
     # a name that says seconds does not make it so
     path = write(tmp_path, {"Time (s)": counts, **acc_columns(acc)}, "named.csv")
@@ -333,8 +335,8 @@ def test_a_gyro_in_deg_s_read_as_rad_s_is_refused(tmp_path, scale, words):
     text = one_sentence(exc)
     assert text.startswith(f"{path}: if wx ('p'), wy ('q'), wz ('r') are in rad/s, as no unit is given, the norm of "
                            "the angular velocity has a median of ")
-    assert "give the unit, e.g. --unit wx=deg/s --unit wy=deg/s --unit wz=deg/s (units={'wx': 'deg/s', 'wy': " \
-           "'deg/s', 'wz': 'deg/s'}), or rad/s if that is what it is." in text
+    assert "give the unit, e.g. --unit wx=deg/s --unit wy=deg/s --unit wz=deg/s (units={'wx': 'deg/s', " \
+           "'wy': 'deg/s', 'wz': 'deg/s'}), or rad/s if that is what it is." in text
     m = read_motion(path, names, {"wx": "deg/s", "wy": "deg/s", "wz": "deg/s"})
     np.testing.assert_allclose(m.angvel_radps, np.radians(deg), rtol=1e-12)
     del words
@@ -344,3 +346,21 @@ def test_the_command_line_takes_a_date_time_format_as_the_time_unit(tmp_path):
     from ehm.readers import parse_assignments
 
     assert parse_assignments(["time=%d/%m/%Y %H:%M:%S.%f"], "--unit") == {"time": "%d/%m/%Y %H:%M:%S.%f"}
+
+
+def test_the_command_line_refuses_in_one_line_and_reads_with_unit(tmp_path, capsys):
+    from ehm.cli import main
+
+    t, acc, _ = synthetic(n=1500)
+    dates = pd.Series(pd.to_datetime("2026-11-25 14:03:07") + pd.to_timedelta(t, unit="s"))
+    path = write(tmp_path, {"Zeitstempel": dates.dt.strftime("%Y|%m|%d %H:%M:%S.%f"),
+                            "t": 4_000_000 + np.round(t * 1e6).astype(np.int64), **acc_columns(acc)})
+    argv = ["assess", "--motion", str(path), "--method", "linear", "--channel", "ax=x", "--channel", "ay=y",
+            "--channel", "az=z"]
+    assert main([*argv, "--channel", "time=t", "--out", str(tmp_path / "a")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and err.endswith("give its unit, e.g. --unit time=us (units={'time': 'us'}), which makes "
+                                            "it 0.01 s.")
+    assert main([*argv, "--channel", "time=Zeitstempel", "--unit", "time=%Y|%m|%d %H:%M:%S.%f",
+                 "--out", str(tmp_path / "b")]) == 0
+    assert (tmp_path / "b" / "assessment.json").exists()

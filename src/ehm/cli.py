@@ -126,7 +126,9 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
                         "angular velocities out; MDF: GROUP/NAME for a name in several groups, GROUP its index); "
                         "default: time_s, ax_mps2, ..., wx_radps, ...")
     p.add_argument("--unit", action="append", metavar="KEY=UNIT",
-                   help="unit of a channel the file does not label, e.g. ax=g, wx=deg/s, time=ms (repeat; default SI)")
+                   help="unit of a channel, e.g. ax=g, wx=deg/s, time=ns, or a date-time format such as "
+                        "'time=%%d/%%m/%%Y %%H:%%M:%%S' (repeat; wins over a unit in the channel's name; default: the "
+                        "name's unit, as in 'Accelerometer X (g)' or time_ms, else SI)")
     p.add_argument("--imu", action="store_true",
                    help="the file is an IMU at the seat: ax, ay, az its specific force (gravity included), wx, wy, wz "
                         "its gyro rates; the log must start with 1 s at rest")

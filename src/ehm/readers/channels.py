@@ -94,7 +94,9 @@ def _kind(key: str) -> str:
 
 def _folded(text: str) -> str:
     """A unit word as the tables hold it: lower case, no blanks or ``^``, ``²`` as 2, ``°`` as deg."""
-    text = text.strip().replace("²", "2").replace("°", "deg").replace("º", "deg").replace("µ", "u").replace("μ", "u")
+    text = text.strip()
+    for sign, word in (("²", "2"), ("°", "deg"), ("º", "deg"), ("µ", "u"), ("μ", "u")):
+        text = text.replace(sign, word)
     return re.sub(r"[\s^]", "", text).lower()
 
 

@@ -69,8 +69,11 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         ``rate_hz``).  ``wx, wy, wz`` all set to None: read the translation only, even where the source has
         angular velocities.  MDF channels carry their own time stamps: their ``time`` is not used.
     units : dict, optional
-        Key -> unit string, where the source does not carry the unit (an MDF channel's own unit wins;
-        a different one here is refused).  Default SI: s, m/s^2, rad/s.
+        Key -> unit string (``"g"``, ``"deg/s"``, ``"ns"``; for ``time`` also a strftime format of
+        date-time strings, ``"%d/%m/%Y %H:%M:%S"``).  It wins over a unit in the channel's name; a file's
+        own unit (MDF) and a different one here are refused.  Default: the name's unit (``Accelerometer X
+        (g)``, ``time_ms``, ``uptimeNanos``; see :mod:`ehm.readers`), else SI: s, m/s^2, rad/s; a unit
+        taken that does not fit the values is refused in one sentence naming the unit to give.
     rate_hz : float, optional
         Samples per second of the returned motion: a source without a time channel is taken as sampled
         at this rate from t = 0; one with a time channel is resampled onto it (anti-aliased, as
@@ -88,7 +91,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     -------
     SeatMotion
         Seat acceleration [m/s^2] in seat axes (and angular velocity [rad/s] when the source has rates),
-        on the source's own time stamps [s] unless ``rate_hz`` asks for a rate.
+        on the source's own time stamps [s] moved to start at 0, unless ``rate_hz`` asks for a rate.
     """
     channels = _mapping(channels, "channels")
     units = _mapping(units, "units")
