@@ -217,6 +217,11 @@ def test_date_times_that_read_two_ways_are_refused(tmp_path):
         read_motion(path, {"time": "date", **XYZ})
     assert "line 2, column date (channel time): 'start' is not a number or a date and time ehm reads" in \
         one_sentence(exc)
+    # numbers with one that is not: that one is named
+    path = write(tmp_path, {"date": [str(v) for v in t[:5]] + ["abc"] + [str(v) for v in t[6:]], **acc_columns(acc)},
+                 "numbers.csv")
+    with pytest.raises(InputError, match=r"line 7, column date \(channel time\): 'abc' is not a number\.$"):
+        read_motion(path, {"time": "date", **XYZ})
 
 
 def test_dataframe_date_time_columns_naive_and_with_a_time_zone():

@@ -198,9 +198,9 @@ def _numbers_or_dates(src: _Source, name: str, arr: np.ndarray, given) -> np.nda
     series = pd.Series(arr, dtype=object)
     text = series.astype(str).str.strip()
     filled = series.notna().to_numpy() & (text != "").to_numpy() & (text.str.lower() != "nan").to_numpy()
-    numeric = pd.to_numeric(series.where(filled), errors="coerce")
-    if not np.any(filled & numeric.isna().to_numpy()):
-        return _as_floats(src, name, "time", arr)  # numbers in text: the number's messages
+    numeric = pd.to_numeric(series.where(filled), errors="coerce").isna().to_numpy()
+    if not np.any(filled & numeric) or (filled.any() and not numeric[np.flatnonzero(filled)[0]]):
+        return _as_floats(src, name, "time", arr)  # numbers (one of them maybe not): the number's messages
     if given:
         i = int(np.flatnonzero(filled)[0])
         raise InputError(f"{src.label}, {src.where(i)}, {_column_words(src, name, 'time')}: the time stamps are "
