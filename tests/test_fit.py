@@ -135,6 +135,8 @@ def test_budget_is_never_exceeded_and_a_budget_stop_is_not_identified(synthetic)
         assert r.stopped == "budget" and r.identified == ()
         assert "budget" in r.verdict and f"{r.n_eval} of {budget} evaluations" in r.verdict
         assert r.final == r.start if not r.moved else r.crit_after < r.crit_before
+        # a budget below one step (start, 3 finite differences, the step) says so, with the budget that would do
+        assert ("needs 5 evaluations with 3 free values" in r.message) == (budget < 5)
 
 
 def test_budget_stopped_fit_exits_3_and_grades_moved_values_assumed(synthetic, tmp_path, capsys):

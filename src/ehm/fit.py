@@ -260,10 +260,7 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     base = params if params is not None else Parameters.load()
     body = body if body is not None else load_body()
     locked = resolve_locks(body, lock, unlock)
-    if isinstance(max_evals, bool) or not isinstance(max_evals, int) or max_evals < 1:
-        raise InputError(f"the evaluation budget must be a whole number >= 1, not {max_evals!r}.")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise InputError(f"workers = {workers!r}: use 1 or more processes.")
+    _check_budget(max_evals, workers)
     patterns = free or ["joints.upper_neck.*", "joints.lower_neck.*", "joints.t12.*", "joints.l4_l5.*"]
     free_paths = free_parameters(base, patterns, locked)
     lohi = np.log(np.array([bounds(base, p) for p in free_paths]))
@@ -272,19 +269,7 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
     say = progress or (lambda line: None)
     n_workers = workers if workers is not None else min(2, os.cpu_count() or 1)
     search = _Search(objective, max_evals, say, t0, executor, n_workers)
-    try:
-        crit_before = search.start(x0)
-        say(f"start: criterion {crit_before:.5g} with {len(free_paths)} free parameters "
-            f"(budget {max_evals} evaluations)")
-        try:
-            sol = least_squares(search.fun, x0, jac=search.jac, bounds=(lohi[:, 0], lohi[:, 1]), method="trf",
-                                x_scale=1.0, max_nfev=max_evals, xtol=1e-4, ftol=1e-6, gtol=1e-8)
-            x_end, status, message = sol.x, int(sol.status), str(sol.message)
-        except _BudgetSpent:
-            x_end, status = search.best_x, 0
-            message = f"the evaluation budget ({max_evals}) ran out before the optimiser converged"
-    finally:
-        search.close()
+    crit_before, x_end, status, message = _run_search(search, x0, lohi, max_evals, say, len(free_paths))
     stopped = "converged" if status > 0 else "budget"
     if not search.known(x_end) or search.objective_of(x_end) > search.objective_of(search.best_x):
         x_end = search.best_x  # the best candidate evaluated
@@ -305,6 +290,39 @@ def fit(data: FrfTable, params: Parameters | None = None, free: list[str] | None
                        at_bound=on_bounds(final, {p: bounds(base, p) for p in free_paths}))
     identified = moved if stopped == "converged" and result.improved and not result.at_bound else ()
     return replace(result, identified=identified, verdict=_verdict(replace(result, identified=identified)))
+
+
+def _check_budget(max_evals, workers) -> None:
+    """Refuse an evaluation budget or a number of workers that is not a whole number >= 1."""
+    if isinstance(max_evals, bool) or not isinstance(max_evals, int) or max_evals < 1:
+        raise InputError(f"the evaluation budget must be a whole number >= 1, not {max_evals!r}.")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise InputError(f"workers = {workers!r}: use 1 or more processes.")
+
+
+def _run_search(search, x0: np.ndarray, lohi: np.ndarray, max_evals: int, say, n_free: int):
+    """The bounded least-squares search from ``x0``; returns the start criterion, the end point, status and message.
+
+    A search that spends its budget ends at the best candidate evaluated (status 0).
+    """
+    try:
+        crit_before = search.start(x0)
+        say(f"start: criterion {crit_before:.5g} with {n_free} free parameters "
+            f"(budget {max_evals} evaluations)")
+        try:
+            sol = least_squares(search.fun, x0, jac=search.jac, bounds=(lohi[:, 0], lohi[:, 1]), method="trf",
+                                x_scale=1.0, max_nfev=max_evals, xtol=1e-4, ftol=1e-6, gtol=1e-8)
+            x_end, status, message = sol.x, int(sol.status), str(sol.message)
+        except _BudgetSpent:
+            x_end, status = search.best_x, 0
+            message = f"the evaluation budget ({max_evals}) ran out before the optimiser converged"
+            if max_evals < n_free + 2:
+                message += (f" (one step of the search needs {n_free + 2} evaluations with {n_free} free values: the "
+                            "start, one finite difference per value and the step; give --max-evals "
+                            f"{10 * (n_free + 2)} or more)")
+    finally:
+        search.close()
+    return crit_before, x_end, status, message
 
 
 def on_bounds(values: dict, limits: dict) -> tuple:

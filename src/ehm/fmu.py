@@ -346,14 +346,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
         raise InputError("the pythonfmu unit (--python) takes no body size, time step or rotating seat; set the size "
                          "and step in the parameter file, or export the native unit.")
 
-    try:
-        from pythonfmu.builder import FmuBuilder
-    except ImportError:
-        raise InputError("exporting an FMU needs the pythonfmu package: install ehm[fmu] "
-                         "(pip install \"ehm[fmu]\" or pip install \"pythonfmu>=0.7,<0.8\").") from None
-    if not FmuBuilder.has_binary():
-        raise InputError(f"pythonfmu has no FMU binary for this platform ({sys.platform}); it builds units for "
-                         "64-bit Linux and Windows.")
+    builder = _pythonfmu_builder()
     out = Path(out_path)
     check_file_destination(out, ".fmu", "an FMU")
     lock = [str(j) for j in lock]
@@ -363,20 +356,40 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     setup = {"format": SETUP_FORMAT, "ehm_version": __version__, "params_origin": p.origin, "lock": lock,
              "unlock": unlock, "locked": sorted(human.locked), "dt_s": float(human.model.mj.opt.timestep),
              "inputs": list(INPUTS), "outputs": list(OUTPUTS)}
+    _build_python_unit(builder, p, setup, out)
+    return out
+
+
+def _pythonfmu_builder():
+    """pythonfmu's ``FmuBuilder``, or one sentence on what is missing (the package, or its binary for this platform)."""
+    try:
+        from pythonfmu.builder import FmuBuilder
+    except ImportError:
+        raise InputError("exporting an FMU needs the pythonfmu package: install ehm[fmu] "
+                         "(pip install \"ehm[fmu]\" or pip install \"pythonfmu>=0.7,<0.8\").") from None
+    if not FmuBuilder.has_binary():
+        raise InputError(f"pythonfmu has no FMU binary for this platform ({sys.platform}); it builds units for "
+                         "64-bit Linux and Windows.")
+    return FmuBuilder
+
+
+def _build_python_unit(builder, params, setup: dict, out: Path) -> None:
+    """Build the pythonfmu unit (slave script, parameter file, setup) in a temporary folder and move it to ``out``."""
+    from . import __version__
 
     with tempfile.TemporaryDirectory(prefix="ehm_fmu_") as tmp:
         src = Path(tmp) / "src"
         src.mkdir()
         script = src / f"{SLAVE_MODULE}.py"
         script.write_text(SLAVE_TEMPLATE.format(version=__version__, cls=MODEL_IDENTIFIER), encoding="utf-8")
-        (src / PARAMS_RESOURCE).write_text(p.to_toml(), encoding="utf-8")
+        (src / PARAMS_RESOURCE).write_text(params.to_toml(), encoding="utf-8")
         (src / SETUP_RESOURCE).write_text(json.dumps(setup, indent=2) + "\n", encoding="utf-8")
         built = Path(tmp) / "out" / f"{MODEL_IDENTIFIER}.fmu"
         built.parent.mkdir()
         path_before = list(sys.path)
         sys.modules.pop(SLAVE_MODULE, None)  # a unit loaded earlier in this process must not stand in for it
         try:
-            FmuBuilder.build_FMU(script, dest=built, project_files=[src / PARAMS_RESOURCE, src / SETUP_RESOURCE])
+            builder.build_FMU(script, dest=built, project_files=[src / PARAMS_RESOURCE, src / SETUP_RESOURCE])
         except EhmError:
             raise
         except Exception as exc:  # noqa: BLE001 - the builder's own failures, in one sentence
@@ -385,4 +398,3 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
             sys.path[:] = path_before
             sys.modules.pop(SLAVE_MODULE, None)
         _install_atomic(built, out)
-    return out

@@ -6,34 +6,59 @@ An IMU's accelerometers measure specific force, ``f = R^T (a - g)`` in its own a
 velocity, in seat axes:
 
 1. the mounting rotation (sensor axes -> seat axes) is applied to both;
-2. the first ``rest_s`` seconds must be at rest (vibration is fine, no manoeuvre): their mean specific
-   force gives the initial roll and pitch (gravity's direction) and the local gravity magnitude, their mean
-   gyro rate the gyro bias, which is removed;
-3. the attitude R(t) is integrated from the gyro rates alone (:func:`ehm.motion.integrate_attitude`, the
-   same integrator the simulation uses for a rotating seat), from that initial tilt; there is no
-   accelerometer correction, which would pull the attitude towards the specific force and so tilt it in
-   every sustained manoeuvre (a 3 m/s^2 corner would read as a 17 degree roll);
-4. the seat acceleration is ``a = f + R^T g``.
+2. the units are checked: the accelerometers must read about 9.81 m/s^2 for gravity, and gyro rates that a
+   seat cannot have in rad/s (over 10 rad/s for a second, or a tilt that disagrees with gravity's direction
+   as if they were deg/s) are refused with the ``--unit`` fix;
+3. **rests** are looked for anywhere in the log: ``rest_s`` seconds (default 2) or more whose mean specific
+   force lies within 1 % of its value at rest (the 10th percentile over the log), is steady (its two halves
+   within 0.1 m/s^2) and whose gyro is quiet (mean rate and each axis' standard deviation at most 1 deg/s).
+   Their mean rates give the **gyro bias**, interpolated in time between them (a drifting bias is
+   followed), which is removed.  Without a rest the bias is not measured (a warning says so); for a log of a
+   minute or more its part about the axes across gravity is estimated from the whole log (a seat's roll and
+   pitch rates average to about 0).  A log need not start at rest: a drive may start moving, even in a corner;
+4. the **attitude** R(t) comes from a gravity-aided filter, x-io's Fusion AHRS (``imufusion``, in the
+   ``logs`` extra): the gyro is integrated and the accelerometer's direction pulls the attitude towards
+   gravity with gain 0.05 (time constant 20 s), except while the specific force points more than 5 deg
+   away from the filter's gravity (a horizontal acceleration over 0.86 m/s^2: braking, corners), whose
+   samples are not used; see :mod:`ehm.attitude` for these settings and why.  The filter starts at the longest
+   rest (or else the quietest 5 s of the log), with the tilt of its mean specific force, and runs forwards and
+   backwards in time from there, so long drives do not drift;
+5. the seat's **roll and pitch** must stay within ``max_tilt_deg`` (default 45 deg): an attitude beyond is
+   refused with its time (an IMU not fixed to the seat, its mounting not given, or gyro rates off);
+6. the seat acceleration is ``a = f + R^T g``, with g the mean |f| at the rests (else the mean vertical
+   specific force over the log): the accelerometers' own reading of gravity.
+
+A log **without gyro** (``angular_rate_radps=None``) is levelled with the static tilt of its quietest 5 s and
+the seat is taken as not rotating (the returned motion has no angular velocity): the body's roll and pitch
+in manoeuvres then stay in the horizontal acceleration (about 9 % of it for a car).
 
 The IMU is taken to be at the seat's reference point (no lever-arm terms); yaw is unobservable and
-irrelevant (gravity is vertical) and set to 0.  A simulation of the result starts with the seat level: a
-log that starts on a slope keeps its start tilt in the acceleration it describes, not in the seat's pose.
+irrelevant (gravity is vertical) and starts at 0.  A simulation of the result starts with the seat level: a
+log recorded on a slope keeps that tilt in the acceleration it describes, not in the seat's pose.
+
+Logs already turned into earth axes by a phone (x east, y north, z up) are not seat axes: their
+accelerometers hold gravity on z whatever the car does, and their gyro rates are earth-axis rates.  Give
+such a log without its gyro (it is already levelled), and mind that its x and y are east and north, not
+forward and left.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
+from . import attitude as _att
 from .errors import InputError
-from .motion import SeatMotion, integrate_attitude
+from .motion import SeatMotion
 
 __all__ = ["STANDARD_GRAVITY_MPS2", "from_imu"]
 
-STANDARD_GRAVITY_MPS2 = 9.80665  #: Standard gravity [m/s^2]; the local value is measured at rest.
-_REST_GRAVITY_TOLERANCE = 0.1    #: The specific force at rest must lie within 10 % of standard gravity.
-_REST_RATE_LIMIT_RADPS = math.radians(5.0)  #: Largest mean gyro rate at rest (bias) accepted [rad/s].
+STANDARD_GRAVITY_MPS2 = 9.80665  #: Standard gravity [m/s^2]; the local value is measured from the log.
+_GRAVITY_TOLERANCE = 0.1         #: The accelerometers' gravity reading must lie within 10 % of standard gravity.
+_TILT_BIAS_MIN_S = 60.0          #: Shortest log whose tilt-axis gyro bias is estimated from the whole log [s].
+_ANCHOR_S = 5.0                  #: Length of the quietest window that starts the filter without a rest [s].
 
 
 def _array(value, shape_text: str, arg: str, n: int | None = None) -> np.ndarray:
@@ -68,8 +93,32 @@ def _mounting_matrix(mounting) -> np.ndarray:
     return m
 
 
-def from_imu(time_s, specific_force_mps2, angular_rate_radps, mounting=None, rest_s: float = 1.0,
-             description: str = "IMU log", label: str = "from_imu") -> SeatMotion:
+def _positive(value, arg: str) -> float:
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not (math.isfinite(out) and out > 0):
+        raise InputError(f"from_imu: {arg} must be a positive number, got {value!r}.")
+    return out
+
+
+def _check_tilt(t: np.ndarray, roll: np.ndarray, pitch: np.ndarray, limit: float, label: str, gyro: bool) -> None:
+    over = np.flatnonzero((np.abs(roll) > limit) | (np.abs(pitch) > limit))
+    if not over.size:
+        return
+    k = int(over[0])
+    what, value = ("rolled", roll[k]) if abs(roll[k]) > limit else ("pitched", pitch[k])
+    why = ("the IMU is not fixed to the seat, its mounting (sensor axes -> seat axes) is not given, or its gyro "
+           "rates are not in rad/s" if gyro else
+           "the IMU is not fixed to the seat or its mounting (sensor axes -> seat axes) is not given")
+    raise InputError(f"{label}: at t = {t[k]:.1f} s the seat is {what} {value:.0f} deg, more than the "
+                     f"{limit:g} deg a seat plausibly tilts (max_tilt_deg): perhaps {why}.")
+
+
+def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None, rest_s: float = 2.0,
+             description: str = "IMU log", label: str = "from_imu", max_tilt_deg: float = _att.MAX_TILT_DEG
+             ) -> SeatMotion:
     """The seat's motion from an IMU at the seat (see the module docstring for the method).
 
     Parameters
@@ -78,57 +127,93 @@ def from_imu(time_s, specific_force_mps2, angular_rate_radps, mounting=None, res
         Sample times [s], strictly increasing, starting at or after 0.
     specific_force_mps2 : (n, 3) array
         Accelerometer reading [m/s^2]: specific force, gravity included (+9.81 up at rest), sensor axes.
-    angular_rate_radps : (n, 3) array
-        Gyro rates about the sensor axes [rad/s].
+    angular_rate_radps : (n, 3) array or None
+        Gyro rates about the sensor axes [rad/s]; None for an accelerometer-only log (levelled with its
+        static tilt, the seat taken as not rotating).
     mounting : 3x3 array or scipy.spatial.transform.Rotation, optional
         Rotation from sensor axes to seat axes (x forward, y left, z up); default: aligned.
     rest_s : float
-        Length of the rest at the start of the log [s] (default 1 s): initial tilt, gravity and gyro bias.
+        Shortest rest [s] whose mean gyro rate is taken as the gyro bias (default 2 s); a rest may lie
+        anywhere in the log, and a log without one is used without bias removal.
     description : str
         The returned motion's description starts with this.
     label : str
         How messages name the log.
+    max_tilt_deg : float
+        Largest roll or pitch of the seat accepted [deg] (default 45).
 
     Returns
     -------
     SeatMotion
-        Seat acceleration without gravity and angular velocity (gyro bias removed), seat axes.
+        Seat acceleration without gravity and angular velocity (gyro bias removed; None without gyro), seat
+        axes.  Its description names the filter, the rest used (or that there was none) and the roll and
+        pitch range.
     """
     from scipy.spatial.transform import Rotation
 
     t = _array(time_s, "(n,)", "time_s")
     n = t.size
     f = _array(specific_force_mps2, "(n, 3)", "specific_force_mps2", n)
-    w = _array(angular_rate_radps, "(n, 3)", "angular_rate_radps", n)
+    gyro = angular_rate_radps is not None
+    w = _array(angular_rate_radps, "(n, 3)", "angular_rate_radps", n) if gyro else None
     if n < 2 or np.any(np.diff(t) <= 0):
         raise InputError(f"{label}: time_s must hold at least 2 strictly increasing times.")
+    rest_s = _positive(rest_s, "rest_s")
+    limit = _positive(max_tilt_deg, "max_tilt_deg")
     m = _mounting_matrix(mounting)
-    f, w = f @ m.T, w @ m.T
-    rest_s = float(rest_s)
-    rest = (t - t[0]) <= rest_s
-    if not (rest_s > 0 and rest.sum() >= 2 and t[-1] - t[0] > rest_s):
-        raise InputError(f"{label}: the log ({t[-1] - t[0]:g} s) must be longer than its rest at the start "
-                         f"(rest_s = {rest_s:g} s) and the rest must hold 2 samples or more.")
-    f_rest = f[rest].mean(axis=0)
-    g = float(np.linalg.norm(f_rest))
-    if abs(g / STANDARD_GRAVITY_MPS2 - 1.0) > _REST_GRAVITY_TOLERANCE:
-        raise InputError(f"{label}: the specific force over the first {rest_s:g} s is {g:.3g} m/s^2, not about "
-                         f"{STANDARD_GRAVITY_MPS2:g}: an IMU log must start at rest with its accelerometers in "
-                         "m/s^2 (for a log in g give the unit, e.g. --unit ax=g --unit ay=g --unit az=g).")
-    bias = w[rest].mean(axis=0)
-    if np.linalg.norm(bias) > _REST_RATE_LIMIT_RADPS:
-        raise InputError(f"{label}: the gyro turns at {math.degrees(np.linalg.norm(bias)):.1f} deg/s over the first "
-                         f"{rest_s:g} s: an IMU log must start at rest (or its rates are not in rad/s: give the "
-                         "unit, e.g. --unit wx=deg/s).")
-    w = w - bias
-    up = f_rest / g
-    roll = math.atan2(up[1], up[2])
-    pitch = math.atan2(-up[0], math.hypot(up[1], up[2]))
-    q0 = Rotation.from_euler("ZYX", [0.0, pitch, roll]).as_quat()
-    attitude = Rotation.from_quat(integrate_attitude(t, w, q0))  # seat axes -> world (z up)
+    f = f @ m.T
+    g_ref = _att.gravity_reading(f)
+    if abs(g_ref / STANDARD_GRAVITY_MPS2 - 1.0) > _GRAVITY_TOLERANCE:
+        raise InputError(f"{label}: the accelerometers read {g_ref:.3g} m/s^2 for gravity (the median of |f|), not "
+                         f"about {STANDARD_GRAVITY_MPS2:g}: an IMU log's accelerometers must be in m/s^2 with "
+                         "gravity included (for a log in g give the unit, e.g. --unit ax=g --unit ay=g --unit az=g).")
+    rest = None
+    if not gyro:
+        anchor = _att.quietest_window(t, f, None, _ANCHOR_S, g_ref)
+        q = np.tile(_att.tilt_quaternion(f[anchor.start:anchor.stop].mean(axis=0)), (n, 1))
+        roll, pitch = _att.roll_pitch_deg(q[:1])
+        _check_tilt(t, roll, pitch, limit, label, gyro=False)
+        how = (f"no gyro: levelled with the static tilt of the quietest {anchor.text()} (roll {roll[0]:.1f} deg, "
+               f"pitch {pitch[0]:.1f} deg), the seat taken as not rotating")
+        warnings.warn(f"{label}: without gyro rates the seat is taken as not rotating, levelled with the tilt of "
+                      f"its quietest stretch ({anchor.text()}).", stacklevel=2)
+        bias_text = ""
+    else:
+        w = w @ m.T
+        _att.check_gyro_units(t, f, w, label)
+        rest = _att.find_rests(t, f, w, rest_s)
+        if rest is not None:
+            w = w - rest.bias_at(t)
+            bias_text = rest.text()
+        else:
+            bias_text = (f"no rest of {rest_s:g} s found (mean |f| within 1 % of its value at rest, gyro within "
+                         "1 deg/s)")
+            warnings.warn(f"{label}: no rest of {rest_s:g} s or more found (mean specific force within 1 % of its "
+                          "value at rest and a gyro quiet within 1 deg/s), so the gyro bias is not measured "
+                          "(for a log of a minute or more its part across gravity is estimated from the whole log).",
+                          stacklevel=2)
+        if rest is not None:
+            anchor = max(rest.stretches, key=lambda s: s.t1 - s.t0)
+        else:
+            anchor = _att.quietest_window(t, f, w, _ANCHOR_S, g_ref)
+        q = _att.filter_attitude(t, f, w, anchor)
+        if rest is None and t[-1] - t[0] >= _TILT_BIAS_MIN_S:
+            # no rest: the bias about the axes across gravity from the whole log, then the filter again
+            bias = _att.tilt_bias(t, w, q)
+            w = w - bias
+            q = _att.filter_attitude(t, f, w, anchor)
+            bias_text += (f"; a gyro bias of {math.degrees(np.linalg.norm(bias)):.2f} deg/s about the axes across "
+                          "gravity estimated from the whole log's attitude and removed")
+        roll, pitch = _att.roll_pitch_deg(q)
+        _check_tilt(t, roll, pitch, limit, label, gyro=True)
+        how = (f"attitude by a gravity-aided filter (Fusion AHRS, gain {_att.FILTER_GAIN:g}, acceleration rejection "
+               f"{_att.ACCELERATION_REJECTION_DEG:g} deg, forwards and backwards), roll {roll.min():.1f} to "
+               f"{roll.max():.1f} deg, pitch {pitch.min():.1f} to {pitch.max():.1f} deg")
+    attitude = Rotation.from_quat(q)  # seat axes -> world (z up)
+    # the accelerometers' reading of gravity: at the rests, else the mean vertical specific force over the log
+    g = rest.gravity_mps2 if rest is not None else float(np.mean(attitude.apply(f)[:, 2]))
     acc = f + attitude.inv().apply(np.array([0.0, 0.0, -g]))
     del attitude
-    text = (f"{description}; seat motion from the IMU (initial roll {math.degrees(roll):.1f} deg, pitch "
-            f"{math.degrees(pitch):.1f} deg and gravity {g:.3f} m/s^2 from the first {rest_s:g} s at rest, gyro "
-            f"bias {math.degrees(np.linalg.norm(bias)):.2f} deg/s removed)")
+    text = f"{description}; seat motion from the IMU ({how}; gravity {g:.3f} m/s^2" + \
+        (f"; {bias_text})" if bias_text else ")")
     return SeatMotion(t, acc, text, w)

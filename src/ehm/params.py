@@ -23,6 +23,7 @@ from .tables import JOINT_NAMES, Body
 
 GRADES = ("literature", "assumed", "identified", "at bound")
 _META = ("grade", "source", "bounds", "grades", "sources")
+_SECTIONS = ("simulation", "posture", "seat", "joints", "contacts")  #: the sections every parameter file has
 
 #: Numeric keys allowed in each section, with the check they must pass.
 _SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "back_slide_s": "nonnegative", "noslip_iterations": "count",
@@ -243,87 +244,112 @@ class Parameters:
         return node, parts[-1]
 
     def _check(self, label: str) -> None:
+        """Refuse a parameter file that is not complete and valid, in one sentence naming the first problem."""
         d = self.data
-        sources = d.get("sources", {})
-        if not isinstance(sources, dict):
-            raise InputError(f"{label}: [sources] must be a table of source names and citations.")
-        required = ("simulation", "posture", "seat", "joints", "contacts")
-        if not any(isinstance(d.get(section), dict) for section in required):
-            raise InputError(f"{label}: not an ehm parameter file (none of its sections [{'], ['.join(required)}]); "
-                             "write one with 'ehm params --export FILE.toml'.")
-        for section in required:
-            if not isinstance(d.get(section), dict):
-                raise InputError(f"{label}: missing section [{section}].")
-        unknown = set(d) - {"about", "sources", "simulation", "posture", "seat", "joints", "contacts"}
-        if unknown:
-            raise InputError(f"{label}: unknown section [{sorted(unknown)[0]}].")
-
-        def check_entry(where: str, entry: Any, allowed: Any, inline_value: bool) -> None:
-            """``allowed``: the rule of the entry's ``value`` (inline) or a dict of key -> rule."""
-            if not isinstance(entry, dict):
-                raise InputError(f"{label}: {where} must be a table with its value, grade and source.")
-            grade = entry.get("grade")
-            if grade not in GRADES:
-                raise InputError(f"{label}: {where} has grade {grade!r}; use one of {', '.join(GRADES)}.")
-            src = entry.get("source")
-            if src not in sources:
-                raise InputError(f"{label}: {where} names source {src!r}, which is not in [sources].")
-            for sub, allowed_values in (("grades", GRADES), ("sources", tuple(sources))):
-                per_value = entry.get(sub, {})
-                if sub in entry and (inline_value or not isinstance(per_value, dict)):
-                    raise InputError(f"{label}: {where}.{sub} is only allowed as a table in a joint entry.")
-                for k, v in per_value.items():
-                    if k not in allowed:
-                        raise InputError(f"{label}: unknown key {k!r} in {where}.{sub}.")
-                    if v not in allowed_values:
-                        raise InputError(f"{label}: {where}.{sub}.{k} = {v!r} is not one of {', '.join(allowed_values)}.")
-            keys = ("value",) if inline_value else allowed
-            for key in entry:
-                if key not in _META and key not in keys:
-                    raise InputError(f"{label}: unknown key {key!r} in {where}.")
-            if "bounds" in entry:
-                _check_bounds(label, where, entry["bounds"], None if inline_value else allowed)
-            if inline_value:
-                if "value" not in entry:
-                    raise InputError(f"{label}: {where} has no 'value'.")
-                _check_value(label, where, entry["value"], allowed)
-            else:
-                for key, rule in allowed.items():
-                    if key in entry:
-                        _check_value(label, f"{where}.{key}", entry[key], rule)
-
-        for section, allowed in (("simulation", _SIMULATION), ("posture", _POSTURE), ("seat", _SEAT)):
-            for key, entry in d[section].items():
-                if key not in allowed:
-                    raise InputError(f"{label}: unknown key {key!r} in [{section}].")
-                check_entry(f"{section}.{key}", entry, allowed[key], True)
-            for key in allowed:
-                if key not in d[section]:
-                    raise InputError(f"{label}: [{section}] needs {key!r}.")
+        sources = _check_sections(label, d)
+        _check_flat_sections(label, d, sources)
         settle_s, slide_s = self.value("simulation.settle_s"), self.value("simulation.back_slide_s")
         if slide_s > 0 and slide_s >= settle_s:
             raise InputError(f"{label}: simulation.back_slide_s ({slide_s:g} s) must be shorter than simulation.settle_s "
                              f"({settle_s:g} s): the back needs the rest of the settling time with friction on.")
-        for jname, dofs in d["joints"].items():
-            if jname not in JOINT_NAMES:
-                raise InputError(f"{label}: unknown joint {jname!r} in [joints]; joints are {', '.join(JOINT_NAMES)}.")
-            if not isinstance(dofs, dict):
-                raise InputError(f"{label}: [joints.{jname}] must be a table of degrees of freedom, not {dofs!r}.")
-            for dof, entry in dofs.items():
-                if dof not in ("z", "roll", "pitch", "yaw"):
-                    raise InputError(f"{label}: unknown degree of freedom {dof!r} in [joints.{jname}].")
-                allowed = _TRANS if dof == "z" else _ROT
-                check_entry(f"joints.{jname}.{dof}", entry, allowed, False)
-                for key in allowed:
-                    if key not in entry:
-                        raise InputError(f"{label}: joints.{jname}.{dof} needs {key!r}.")
-        for cname, entries in d["contacts"].items():
-            if not isinstance(entries, dict):
-                raise InputError(f"{label}: [contacts.{cname}] must be a table.")
-            for key, entry in entries.items():
-                if key not in _CONTACT:
-                    raise InputError(f"{label}: unknown key {key!r} in [contacts.{cname}].")
-                check_entry(f"contacts.{cname}.{key}", entry, _CONTACT[key], True)
+        _check_joints(label, d, sources)
+        _check_contacts(label, d, sources)
+
+
+def _check_sections(label: str, d: dict) -> dict:
+    """The file's sections: [sources] a table, every required section present, none unknown; returns [sources]."""
+    sources = d.get("sources", {})
+    if not isinstance(sources, dict):
+        raise InputError(f"{label}: [sources] must be a table of source names and citations.")
+    required = _SECTIONS
+    if not any(isinstance(d.get(section), dict) for section in required):
+        raise InputError(f"{label}: not an ehm parameter file (none of its sections [{'], ['.join(required)}]); "
+                         "write one with 'ehm params --export FILE.toml'.")
+    for section in required:
+        if not isinstance(d.get(section), dict):
+            raise InputError(f"{label}: missing section [{section}].")
+    unknown = set(d) - {"about", "sources", *required}
+    if unknown:
+        raise InputError(f"{label}: unknown section [{sorted(unknown)[0]}].")
+    return sources
+
+
+def _check_flat_sections(label: str, d: dict, sources: dict) -> None:
+    """[simulation], [posture] and [seat]: every key known and present, each one entry with its value."""
+    for section, allowed in (("simulation", _SIMULATION), ("posture", _POSTURE), ("seat", _SEAT)):
+        for key, entry in d[section].items():
+            if key not in allowed:
+                raise InputError(f"{label}: unknown key {key!r} in [{section}].")
+            _check_entry(label, sources, f"{section}.{key}", entry, allowed[key], True)
+        for key in allowed:
+            if key not in d[section]:
+                raise InputError(f"{label}: [{section}] needs {key!r}.")
+
+
+def _check_joints(label: str, d: dict, sources: dict) -> None:
+    """[joints.NAME.DOF]: known joints and degrees of freedom, each entry with all its values."""
+    for jname, dofs in d["joints"].items():
+        if jname not in JOINT_NAMES:
+            raise InputError(f"{label}: unknown joint {jname!r} in [joints]; joints are {', '.join(JOINT_NAMES)}.")
+        if not isinstance(dofs, dict):
+            raise InputError(f"{label}: [joints.{jname}] must be a table of degrees of freedom, not {dofs!r}.")
+        for dof, entry in dofs.items():
+            if dof not in ("z", "roll", "pitch", "yaw"):
+                raise InputError(f"{label}: unknown degree of freedom {dof!r} in [joints.{jname}].")
+            allowed = _TRANS if dof == "z" else _ROT
+            _check_entry(label, sources, f"joints.{jname}.{dof}", entry, allowed, False)
+            for key in allowed:
+                if key not in entry:
+                    raise InputError(f"{label}: joints.{jname}.{dof} needs {key!r}.")
+
+
+def _check_contacts(label: str, d: dict, sources: dict) -> None:
+    """[contacts.NAME]: tables of known keys, each one entry with its value."""
+    for cname, entries in d["contacts"].items():
+        if not isinstance(entries, dict):
+            raise InputError(f"{label}: [contacts.{cname}] must be a table.")
+        for key, entry in entries.items():
+            if key not in _CONTACT:
+                raise InputError(f"{label}: unknown key {key!r} in [contacts.{cname}].")
+            _check_entry(label, sources, f"contacts.{cname}.{key}", entry, _CONTACT[key], True)
+
+
+def _check_entry(label: str, sources: dict, where: str, entry: Any, allowed: Any, inline_value: bool) -> None:
+    """One entry: its grade and source, its keys, bounds and values.
+
+    ``allowed``: the rule of the entry's ``value`` (inline) or a dict of key -> rule.
+    """
+    if not isinstance(entry, dict):
+        raise InputError(f"{label}: {where} must be a table with its value, grade and source.")
+    grade = entry.get("grade")
+    if grade not in GRADES:
+        raise InputError(f"{label}: {where} has grade {grade!r}; use one of {', '.join(GRADES)}.")
+    src = entry.get("source")
+    if src not in sources:
+        raise InputError(f"{label}: {where} names source {src!r}, which is not in [sources].")
+    for sub, allowed_values in (("grades", GRADES), ("sources", tuple(sources))):
+        per_value = entry.get(sub, {})
+        if sub in entry and (inline_value or not isinstance(per_value, dict)):
+            raise InputError(f"{label}: {where}.{sub} is only allowed as a table in a joint entry.")
+        for k, v in per_value.items():
+            if k not in allowed:
+                raise InputError(f"{label}: unknown key {k!r} in {where}.{sub}.")
+            if v not in allowed_values:
+                raise InputError(f"{label}: {where}.{sub}.{k} = {v!r} is not one of {', '.join(allowed_values)}.")
+    keys = ("value",) if inline_value else allowed
+    for key in entry:
+        if key not in _META and key not in keys:
+            raise InputError(f"{label}: unknown key {key!r} in {where}.")
+    if "bounds" in entry:
+        _check_bounds(label, where, entry["bounds"], None if inline_value else allowed)
+    if inline_value:
+        if "value" not in entry:
+            raise InputError(f"{label}: {where} has no 'value'.")
+        _check_value(label, where, entry["value"], allowed)
+    else:
+        for key, rule in allowed.items():
+            if key in entry:
+                _check_value(label, f"{where}.{key}", entry[key], rule)
 
 
 def _check_bounds(label: str, where: str, b: Any, keys: Any) -> None:

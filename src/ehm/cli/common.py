@@ -1,0 +1,55 @@
+"""What several commands make of their arguments: the person, the joints, the body size, the band, the motion file."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..drives import drive_path
+from ..errors import InputError
+from ..params import Parameters
+from ..simulation import SeatedHuman
+from ..tables import load_body
+
+
+def _joint_list(values: list[str] | None) -> list[str]:
+    out: list[str] = []
+    for v in values or []:
+        out += [x.strip() for x in v.split(",") if x.strip()]
+    return out
+
+
+def _human(args, rotating_seat: bool = False) -> SeatedHuman:
+    params = Parameters.load(args.params)
+    if getattr(args, "dt", None) is not None:
+        if not args.dt > 0:
+            raise InputError(f"--dt must be a positive time step in seconds, not {args.dt}.")
+        params = params.with_values({"simulation.dt_s": args.dt})
+    body = load_body(args.segments, args.joints, args.contacts)
+    return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body,
+                       rotating_seat=rotating_seat, size=_size(args))
+
+
+def _size(args):
+    """A BodySize from --stature / --mass / --sitting-height, or None for the reference person."""
+    if args.stature is None and args.mass is None and args.sitting_height is None:
+        return None
+    from ..scaling import REFERENCE_MASS_KG, REFERENCE_STATURE_M, BodySize
+
+    return BodySize(args.stature if args.stature is not None else REFERENCE_STATURE_M,
+                    args.mass if args.mass is not None else REFERENCE_MASS_KG, args.sitting_height)
+
+
+def _band(values) -> tuple[float, float]:
+    lo, hi = values
+    if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi):
+        raise InputError(f"--band {lo:g} {hi:g}: the band needs two finite frequencies with 0 < low < high [Hz].")
+    return float(lo), float(hi)
+
+
+def _read_motion_file(args):
+    """The --motion file (or a shipped SYNTHETIC drive) through ehm.readers.read_motion."""
+    from ..readers import parse_assignments, read_motion
+
+    return read_motion(drive_path(args.motion), channels=parse_assignments(args.channel, "--channel"),
+                       units=parse_assignments(args.unit, "--unit"), rate_hz=args.rate, imu=args.imu,
+                       fill_gaps=args.fill_gaps)

@@ -1,0 +1,256 @@
+"""Run commands: simulate, demo, assess and animate a person on a seat."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import InputError
+from ..io import write_json_atomic
+from ..motion import random_vibration, sine, sweep
+from ..outdir import RunFolder, check_output_file, check_output_folder
+from ..runfiles import DEFAULT_OUTPUT_RATE_HZ
+from .common import _band, _human, _read_motion_file
+from .options import _excitation_options, _model_options, _motion_file_options
+from .progress import _progress_bar
+
+#: The demo's transfer functions: Welch segments of 10 s (0.1 Hz resolution, as its peaks are printed), at least
+#: four of them per run (seven averages with the 50 % overlap), so a run lasts at least 40 s.
+DEMO_SEGMENT_S = 10.0
+DEMO_MIN_SEGMENTS = 4
+
+
+def _random_input(args, axis: str, dt: float):
+    return random_vibration(axis, args.duration, args.rms, seed=args.seed, dt_s=dt, band_hz=_band(args.band))
+
+
+def _motion(args, dt: float):
+    if args.signal == "random":
+        return _random_input(args, args.axis, dt)
+    if args.signal == "sine":
+        return sine(args.axis, args.duration, args.amplitude, args.freq, dt_s=dt)
+    return sweep(args.axis, args.duration, args.amplitude, args.f0, args.f1, dt_s=dt)
+
+
+# --- ehm simulate ---------------------------------------------------------------------------------------------------
+
+def add_simulate(sub) -> None:
+    p = sub.add_parser("simulate", help="run the model with a seat motion and write timeseries.csv, summary.json")
+    _model_options(p)
+    _excitation_options(p, 35.0)
+    p.add_argument("--axis", default="z", help="excited seat axes: x, y, z or a combination (default z)")
+    p.add_argument("--signal", choices=("random", "sine", "sweep"), default="random", help="generated input (default random)")
+    p.add_argument("--amplitude", type=float, default=0.5, help="sine or sweep peak acceleration [m/s^2]")
+    p.add_argument("--freq", type=float, default=4.0, help="sine frequency [Hz]")
+    p.add_argument("--f0", type=float, default=0.5, help="sweep start frequency [Hz]")
+    p.add_argument("--f1", type=float, default=12.0, help="sweep end frequency [Hz]")
+    _motion_file_options(p, False, "seat motion file (.csv/.txt, .parquet, .mat, .mf4, or city / road): time_s, "
+                                   "ax_mps2, ay_mps2, az_mps2 [, wx_radps, wy_radps, wz_radps] unless --channel says")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced whole: one run per folder)")
+    p.add_argument("--output-rate", type=float, metavar="HZ",
+                   help=f"rows per second of the time series, dividing the model's rate (default "
+                        f"{DEFAULT_OUTPUT_RATE_HZ:g}, or every step when the model's rate is lower; summary values "
+                        "use every step)")
+    p.add_argument("--format", choices=("csv", "parquet", "both"), default="csv",
+                   help="time-series file: timeseries.csv, timeseries.parquet (needs ehm[parquet]) or both "
+                        "(default csv)")
+    p.add_argument("--plot", action="store_true", help="also draw time_histories.png")
+    p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
+                   help="simulation route: nonlinear (MuJoCo, default) or linear (the linearised person: about 40x "
+                        "faster, translation only, refuses inputs that make a contact lift off or slide)")
+    p.set_defaults(func=cmd_simulate)
+
+
+def cmd_simulate(args) -> int:
+    from ..runfiles import pyarrow_modules
+
+    formats = ("csv", "parquet") if args.format == "both" else (args.format,)
+    if "parquet" in formats:
+        pyarrow_modules()
+    out = check_output_folder(args.out)
+    if args.motion:  # a drive file with angular velocities needs the rotating seat
+        motion = _read_motion_file(args)
+        # the linear route's seat does not turn: it takes translation (all-zero rates) or refuses, in one sentence
+        human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
+    else:
+        human = _human(args)
+        motion = _motion(args, float(human.params.value("simulation.dt_s")))
+    draw = None
+    if args.plot:  # simulate_to computes; the figure is drawn here, into the folder before it is put in place
+        from ..plotting import plot_run_preview as draw
+    s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats,
+                          progress=_progress_bar("simulate"), plot=draw, method=args.method)
+    files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json" + \
+        (", poses.npz" if args.method != "linear" else "") + \
+        (", time_histories.png" if args.plot else "")
+    print(f"simulated {s['duration_s']:.3g} s of '{s['input']}' in {s['wall_s']:.2f} s "
+          f"({s['realtime_factor']:.0f}x real time); wrote {out}/ ({files}; {s['output_rate_hz']:g} rows per s)")
+    return 0
+
+
+# --- ehm demo -------------------------------------------------------------------------------------------------------
+
+def add_demo(sub) -> None:
+    p = sub.add_parser("demo", help="x, y and z random vibration of the default model, with plots")
+    _model_options(p)
+    _excitation_options(p, 60.0)
+    p.add_argument("--axes", nargs="+", default=["x", "y", "z"], choices=("x", "y", "z"),
+                   help="seat axes to run, one run each (default x y z)")
+    p.add_argument("--out", default="ehm-demo", metavar="DIR", help="output folder (default ehm-demo)")
+    p.set_defaults(func=cmd_demo)
+
+
+def _check_demo_duration(duration_s: float) -> None:
+    """Refuse a demo run too short for its 0.1 Hz transfer-function resolution."""
+    need = DEMO_SEGMENT_S * DEMO_MIN_SEGMENTS
+    if not duration_s >= need:
+        raise InputError(f"--duration {duration_s:g}: the demo's transfer functions need at least {need:g} s per axis "
+                         f"({DEMO_MIN_SEGMENTS} Welch segments of {DEMO_SEGMENT_S:g} s for their "
+                         f"{1 / DEMO_SEGMENT_S:g} Hz resolution); use --duration {need:g} or more.")
+
+
+def cmd_demo(args) -> int:
+    _check_demo_duration(args.duration)
+    final = check_output_folder(args.out)
+    human = _human(args)
+    dt = float(human.params.value("simulation.dt_s"))
+    print(f"ehm demo: default person ({human.mass_kg:.3f} kg, {human.dof} dof) on the validation seat; "
+          f"{args.duration:g} s of {args.rms:g} m/s^2 rms random vibration per axis; output in {final}/")
+    human.settle()
+    with RunFolder(final) as out:
+        peaks = _demo_runs(args, human, dt, out)
+    print("  transmissibility peaks (seat axis -> same axis at the point):")
+    for k, v in peaks.items():
+        print(f"    {k:<12} {v['peak_gain']:.2f} at {v['peak_hz']:.1f} Hz (gain {v['gain_at_0.5_hz']:.2f} at 0.5 Hz)")
+    print(f"wrote {final}/transmissibility.csv, transmissibility.png, demo_summary.json, per-axis "
+          f"timeseries.csv, summary.json, time_histories.png, poses.npz, and {args.axes[-1]}/animation.gif")
+    return 0
+
+
+def _demo_runs(args, human, dt: float, out: Path) -> dict:
+    """The demo's runs, tables and figures, written into ``out``; returns the transmissibility peaks."""
+    from ..animation import animate
+    from ..frf import FrfTable, run_curves
+    from ..plotting import plot_time_histories, plot_transmissibility
+
+    curves, summaries = {}, {}
+    for axis in args.axes:
+        run = human.simulate(_random_input(args, axis, dt), pose_rate_hz=25.0)
+        run.write(out / axis)
+        plot_time_histories(run, out / axis / "time_histories.png", title=f"seat {axis}: {run.description}")
+        if axis == args.axes[-1]:  # one animation: the body's motion, exaggerated 20 times
+            animate(out / axis, out / axis / "animation.gif", exaggerate=20.0, end_s=min(8.0, run.duration_s))
+        curves.update(run_curves(run, axis, tuple(args.band), segment_s=DEMO_SEGMENT_S))
+        summaries[axis] = run.summary()
+        print(f"  {axis}: {run.duration_s:.0f} s simulated in {run.wall_s:.2f} s ({run.realtime_factor:.0f}x real time)")
+    table = FrfTable(curves, method="time", meta={"input": "synthetic random vibration"})
+    table.to_csv(out / "transmissibility.csv")
+    plot_transmissibility(table, out / "transmissibility.png",
+                          title="Seat-to-body transmissibility of the default model (H1 estimate; synthetic input)")
+    peaks = _transmissibility_peaks(table)
+    write_json_atomic(out / "demo_summary.json", {"runs": summaries, "transmissibility_peaks": peaks})
+    return peaks
+
+
+def _transmissibility_peaks(table) -> dict:
+    """Peak and 0.5 Hz gain of each seat axis -> same axis at a point (the apparent masses are in the CSV too)."""
+    from ..frf import POINTS
+
+    peaks = {}
+    for (a, p, dof), c in table.curves.items():
+        if dof == a and p in POINTS:
+            f_pk, g_pk = c.peak((0.5, 12.0))
+            peaks[f"{a}->{p}"] = {"peak_hz": f_pk, "peak_gain": g_pk, "gain_at_0.5_hz": c.at(0.5)}
+    return peaks
+
+
+# --- ehm assess -----------------------------------------------------------------------------------------------------
+
+def add_assess(sub) -> None:
+    p = sub.add_parser("assess", help="comfort (ISO 2631-1) and motion sickness of a drive, at the seat and the body")
+    _model_options(p)
+    _motion_file_options(p, True, "drive file (.csv/.txt, .parquet, .mat, .mf4: time_s, ax_mps2, ay_mps2, az_mps2 "
+                                  "[, wx_radps, wy_radps, wz_radps] unless --channel says) or 'city' / 'road' for the "
+                                  "shipped SYNTHETIC drives")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
+    p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
+                   help="simulation route (default nonlinear; linear: translation only, small inputs)")
+    p.set_defaults(func=cmd_assess)
+
+
+def cmd_assess(args) -> int:
+    from ..assessment import assess
+
+    final = check_output_folder(args.out)
+    motion = _read_motion_file(args)
+    human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
+    result = assess(motion, human, progress=_progress_bar("assess"), method=args.method)
+    summary = _assessment_summary(result, human)
+    with RunFolder(final) as out:
+        _write_assessment(result, summary, out)
+    _print_assessment(result, summary, final)
+    return 0
+
+
+def _assessment_summary(result, human) -> dict:
+    """The assessment's summary with the person it ran: parameter file, locked joints, scaling."""
+    summary = result.summary()
+    summary["params"] = human.params.origin
+    summary["locked"] = sorted(human.locked)
+    if human.size is not None:
+        summary["scaled"] = human.params.data["about"].get("scaled", "")
+    return summary
+
+
+def _write_assessment(result, summary: dict, out: Path) -> None:
+    """assessment.json, the three figures and report.html, written into ``out``."""
+    from ..plotting import plot_running_rms, plot_sickness, plot_weighted_spectra
+    from ..report import write_report
+
+    write_json_atomic(out / "assessment.json", summary)
+    figures = {"spectra": out / "weighted_spectra.png", "running_rms": out / "running_rms.png",
+               "sickness": out / "sickness.png"}
+    plot_weighted_spectra(result, figures["spectra"])
+    plot_running_rms(result, figures["running_rms"])
+    plot_sickness(result, figures["sickness"])
+    write_report(summary, figures, out / "report.html")
+
+
+def _print_assessment(result, summary: dict, out: Path) -> None:
+    loc = summary["locations"]
+    print(f"{result.duration_s:.0f} s of '{result.description}' in {result.wall_s:.0f} s")
+    for name in ("seat", "pelvis", "trunk", "head"):
+        v = loc[name]
+        print(f"  {name:<7} a_v {v['total_value_mps2']:.3f} m/s^2 ({v['comfort_reaction']}), "
+              f"MSDV_z {v['msdv_z_mps15']:.3f} m/s^1.5")
+    print(f"  motion sickness incidence at the end: head {summary['sickness']['head']['final_msi_percent']:.2f} %, "
+          f"head fixed to the seat {summary['sickness']['seat']['final_msi_percent']:.2f} %")
+    print(f"wrote {out}/assessment.json, report.html, weighted_spectra.png, running_rms.png, sickness.png")
+
+
+# --- ehm animate ----------------------------------------------------------------------------------------------------
+
+def add_animate(sub) -> None:
+    p = sub.add_parser("animate", help="draw a run's person and seat into a .gif or .mp4 (offscreen, no display)")
+    p.add_argument("run_dir", metavar="RUN_DIR", help="run folder with poses.npz (from 'ehm simulate --out RUN_DIR')")
+    p.add_argument("--out", required=True, metavar="FILE.gif|FILE.mp4", help="animation file (.mp4 needs ehm[animate])")
+    p.add_argument("--exaggerate", type=float, default=1.0, metavar="F",
+                   help="scale the motion from the settled posture by F (default 1: true scale)")
+    p.add_argument("--fps", type=float, default=25.0, help="frames per second (default 25; poses are stored at 25 Hz)")
+    p.add_argument("--start", type=float, metavar="S", help="first time drawn [s] (default: the start)")
+    p.add_argument("--end", type=float, metavar="S", help="last time drawn [s] (default: the end)")
+    p.add_argument("--max-frames", type=int, metavar="N", help="stop after N frames")
+    p.set_defaults(func=cmd_animate)
+
+
+def cmd_animate(args) -> int:
+    import time
+
+    from ..animation import animate
+
+    check_output_file(args.out, "animation")
+    t0 = time.perf_counter()
+    path = animate(args.run_dir, args.out, exaggerate=args.exaggerate, fps=args.fps, start_s=args.start,
+                   end_s=args.end, max_frames=args.max_frames)
+    print(f"wrote {path} in {time.perf_counter() - t0:.1f} s (motion x{args.exaggerate:g})")
+    return 0

@@ -1,0 +1,37 @@
+"""Whole-body vibration evaluation after ISO 2631-1:1997.
+
+Frequency weightings, their causal digital filters and the evaluation values of the standard:
+weighted rms, maximum transient vibration value, vibration dose value, crest factor, motion sickness
+dose value, vibration total value and the comfort reactions of its Annex C.
+
+Pure array functions: no engine, no plotting, no files, nothing computed at import time.
+
+Public API
+----------
+WEIGHTINGS                              names of the weightings: Wk, Wd, Wf, Wc, We, Wj
+frequency_weighting(name, freq_hz)      exact analog response (complex)
+weighting_sos(name, fs_hz)              second-order sections of the causal digital filter, any rate from 5 f1
+weighting_deviation_db(name, fs_hz)     its largest deviation from the analog magnitude up to 0.4 fs
+weight(name, signal, fs_hz)             causal weighting of a whole record
+WeightingFilter(name, fs_hz)            the same filter sample by sample or block by block
+ComfortMetrics, metrics(signal, fs_hz, weighting)
+total_value(ax, ay, az, fs_hz, purpose="comfort", seated=True)
+comfort_reaction(a_w)                   ISO 2631-1 Annex C label(s)
+seat_value(a_w_body, a_w_seat)          SEAT-style ratio in %
+ComfortAccumulator(weighting, fs_hz)    the metrics of a record fed block by block, in constant memory
+
+Modules: ``weighting`` (the weightings and their digital filters, with their definition), ``values``
+(evaluation values of a whole record), ``streaming`` (``ComfortAccumulator``), ``checks`` (input checks).
+"""
+
+from .streaming import ComfortAccumulator
+from .values import ComfortMetrics, comfort_reaction, metrics, seat_value, total_value
+from .weighting import (ACCURATE_UP_TO_FS, WEIGHTINGS, WeightingFilter, frequency_weighting, weight,
+                        weighting_deviation_db, weighting_sos)
+from .weighting import _WARNED  # noqa: F401  (the (weighting, rate) pairs already warned about)
+
+__all__ = [
+    "WEIGHTINGS", "ACCURATE_UP_TO_FS", "frequency_weighting", "weighting_sos", "weighting_deviation_db", "weight",
+    "WeightingFilter", "ComfortMetrics", "ComfortAccumulator", "metrics", "total_value", "comfort_reaction",
+    "seat_value",
+]
