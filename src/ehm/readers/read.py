@@ -225,7 +225,7 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
     else:
         time_s = np.arange(n) / rate_hz
         rate_hz = None  # the source is at this rate already
-    _check_plausible(src, use, data, {k: o for k, (_, o) in taken.items()})
+    _check_plausible(src, use, data, {k: o for k, (_, o) in taken.items()}, acc=not imu)  # (from_imu: gravity)
     if time_s.size < 2:
         where = f", line {src.header_line}" if isinstance(src, _TextSource) else ""
         raise InputError(f"{src.label}{where}: motion file has {time_s.size} data row(s) after the header; at least 2 "
