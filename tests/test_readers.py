@@ -444,7 +444,7 @@ def test_mdf_channels_overlapping_for_a_small_share_are_refused(tmp_path):
     _mdf_groups(tmp_path / "close.mf4", [("A", t, {"AccX": acc[:, 0], "AccY": acc[:, 1]}),
                                          ("B", t + 0.1, {"AccZ": acc[:, 2]})])
     m = read_motion(tmp_path / "close.mf4", names)
-    assert m.time_s[0] == pytest.approx(0.1) and m.duration_s == pytest.approx(2.9)
+    assert m.time_s[0] == 0.0 and m.duration_s == pytest.approx(2.9)  # from 0.1 s, the time axis from 0
 
 
 def test_mdf_name_in_two_groups_is_refused_and_chosen_as_group_slash_name(tmp_path, capsys):

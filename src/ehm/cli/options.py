@@ -40,8 +40,9 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
                         "time; KEY=-NAME: the column with its sign flipped; MDF: GROUP/NAME for a name in several "
                         "groups, GROUP its index); default: time_s, ax_mps2, ..., wx_radps, ...")
     p.add_argument("--unit", action="append", metavar="KEY=UNIT",
-                   help="unit of a channel the file does not label, e.g. ax=g, wx=deg/s, time=ms, dt=ms (repeat; "
-                        "default SI)")
+                   help="unit of a channel, e.g. ax=g, wx=deg/s, time=ns, dt=ms, or a date-time format such as "
+                        "'time=%%d/%%m/%%Y %%H:%%M:%%S' (repeat; wins over a unit in the channel's name; default: the "
+                        "name's unit, as in 'Accelerometer X (g)' or time_ms, else SI)")
     p.add_argument("--columns", metavar="NAME,NAME,...",
                    help="names of the columns of a text file without a header row, in order (e.g. x,y,z,delay_ms); "
                         "then name its channels with --channel (a file whose first row is numbers needs them)")

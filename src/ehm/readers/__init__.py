@@ -14,9 +14,24 @@ The one door for outside data formats.  :func:`read_motion` reads
 ``channels`` maps the keys ``time, ax, ay, az, wx, wy, wz`` to the source's own names (defaults: the
 motion CSV columns ``time_s, ax_mps2, ay_mps2, az_mps2, wx_radps, wy_radps, wz_radps``; the angular
 velocities are optional, all three or none).  Units come from ``units`` (key -> unit string such as
-``"g"``, ``"m/s^2"``, ``"deg/s"``, ``"rad/s"``, ``"ms"``), else from the file (MDF channel units, a
-``[unit]`` at the end of a column name), else SI; they are converted with pint (``g`` of an acceleration
-is standard gravity, 9.80665 m/s^2).  With ``imu=True`` the accelerations are an IMU's specific force
+``"g"``, ``"m/s^2"``, ``"deg/s"``, ``"rad/s"``, ``"ms"``), else from the file (MDF channel units), else
+from the channel's name, else SI; they are converted with pint (``g`` or ``G`` of an acceleration is
+standard gravity, 9.80665 m/s^2, ``mg`` a thousandth of it).  A name carries its unit at its end in brackets
+(``acc_x [g]``), in parentheses (``Accelerometer X (g)``, ``accelerometerAccelerationX(G)``, ``Time (ms)``),
+after " in " (``Acceleration in m/s^2``), or as its last word (``acc_x_g``, ``gyro_x_dps``, ``Gyro X °/s``,
+``time_ns``, and ehm's own ``_mps2``, ``_radps``, ``_s``).
+
+The time axis starts at 0 at the first sample.  Time stamps may be numbers in s, ms, µs or ns from any
+origin (a logger's clock, Unix time, uptime since boot), date-time values, or date-time strings (ISO 8601,
+``25/11/2026 14:03:07.123``, ``11/25/2026 ...``, ``25.11.2026 ...``; any other with its strftime format as
+the time's unit).  A count's unit nobody gives is inferred only where nothing else fits (whole numbers under
+a name counting ns, ms or µs inside a word, ``uptimeNanos``; Unix time in ns), else seconds are taken.
+After conversion the values must fit their units: a median time step outside 10 µs - 0.5 s (10 s for a table
+of fewer than 1000 rows), an acceleration whose norm is gravity in g, or over 5 g for half the log, and
+angular rates beyond a vehicle's in rad/s are refused in one sentence naming the ``--unit`` (``units``) that
+fixes it where the unit was taken for want of one, and warned about where the name or the file gave it.
+
+With ``imu=True`` the accelerations are an IMU's specific force
 (gravity included, sensor axes) and the rates its gyro rates: :func:`ehm.imu.from_imu` turns them into
 the seat's motion.
 

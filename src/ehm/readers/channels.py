@@ -1,9 +1,9 @@
-"""Channel names and units: the keys a motion is made of, their default names, ``KEY=VALUE`` arguments, and unit
-strings (a file's, a column's ``[unit]``, the caller's) converted to ehm's SI units with pint."""
+"""Channel names and units: the keys a motion is made of, their default names, ``KEY=VALUE`` arguments, and the
+unit a channel's name carries (``[g]``, ``(deg/s)``, `` in g``, ``_mps2``, ``uptimeNanos``); pint converts them in
+:mod:`ehm.readers.units`."""
 
 from __future__ import annotations
 
-import functools
 import re
 
 from ..errors import InputError
@@ -59,51 +59,75 @@ def _listed(names) -> str:
     return ", ".join(names) if names else "none"
 
 
-@functools.cache
-def _registry():
-    import pint
+#: Where a channel's unit came from, from the strongest word to the weakest: the caller (``units``, ``--unit``),
+#: the file (an MDF channel's unit, a Parquet field's ``unit``, a DataFrame's ``attrs["units"]``), the channel's
+#: name (``Accelerometer X (g)``, ``time_ms``), its values (``uptimeNanos`` counting whole nanoseconds), or
+#: nothing (ehm's SI unit assumed).  The plausibility checks refuse what was assumed and warn about the rest.
+GIVEN, FILE, NAME, INFERRED, ASSUMED = "given", "file", "name", "inferred", "assumed"
 
-    return pint.UnitRegistry()
-
-
-def _unit_text(unit: str, key: str) -> str:
-    text = unit.strip().replace("²", "^2").replace("°", "deg").replace("µ", "u")
-    if key in _ACC:  # loggers' g is standard gravity, not the gram
-        if re.fullmatch(r"[gG][nN0]?", text):
-            return "standard_gravity"
-        if text in ("mg", "mG"):
-            return "milli_standard_gravity"
-        text = re.sub(r"^m/s\s*2$", "m/s^2", text)
-    if key in _RATES and text.lower() in ("dps", "deg/sec"):
-        return "deg/s"
-    return text
-
-
-def _factor(unit: str, key: str, label: str, name: str) -> float:
-    """Multiplier from ``unit`` to ehm's SI unit of ``key`` (pint)."""
-    text = _unit_text(unit, key)
-    if text == SI_UNITS[key] or (key == "time" and text in ("s", "sec")):
-        return 1.0
-    import pint
-
-    ureg = _registry()
-    what, examples = _KIND[key]
-    try:
-        q = ureg.Quantity(1.0, text)
-    except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError, AttributeError, TypeError,
-            ValueError, AssertionError):
-        raise InputError(f"{label}, channel {key} ({name!r}): {unit!r} is not a unit pint knows (use e.g. {examples})."
-                         ) from None
-    try:
-        return float(q.to(SI_UNITS[key]).magnitude)
-    except pint.errors.DimensionalityError:
-        raise InputError(f"{label}, channel {key} ({name!r}): unit {unit!r} is not {what} (use e.g. {examples}).") \
-            from None
+#: A unit at the end of a name: in brackets (``acc_x [g]``), in parentheses (``Accelerometer X (g)``,
+#: ``accelerometerAccelerationX(G)``), after " in " (``Acceleration in m/s^2``).
+_IN_BRACKETS = re.compile(r"\[([^\[\]]+)\]\s*$")
+_IN_PARENS = re.compile(r"\(([^()]+)\)\s*$")
+_AFTER_IN = re.compile(r"\s+in\s+(\S+)\s*$", re.IGNORECASE)
+#: The last word of a name after ``_``, ``-``, ``.`` or a blank (``time_ms``, ``ax_mps2``, ``Gyro X °/s``) is
+#: a unit only when it is one of these for the channel's kind (words folded as :func:`_folded`): a short
+#: word such as ``s`` or ``g`` is read as a unit of a time or an acceleration only.
+_LAST_WORD = re.compile(r"(?:^|[_\s.\-])([^_\s.\-]+)\s*$")
+_WORDS = {
+    "time": {"s": "s", "sec": "s", "secs": "s", "second": "s", "seconds": "s", "ms": "ms", "msec": "ms",
+             "millis": "ms", "milliseconds": "ms", "us": "us", "usec": "us", "micros": "us", "microseconds": "us",
+             "ns": "ns", "nsec": "ns", "nanos": "ns", "nanoseconds": "ns"},
+    "acc": {"g": "g", "mg": "mg", "mps2": "m/s^2", "ms2": "m/s^2", "m/s2": "m/s^2", "m/s/s": "m/s^2",
+            "mpss": "m/s^2"},
+    "rate": {"dps": "deg/s", "degps": "deg/s", "degs": "deg/s", "deg/s": "deg/s", "deg/sec": "deg/s",
+             "radps": "rad/s", "rads": "rad/s", "rad/s": "rad/s", "rad/sec": "rad/s"},
+}
+#: A time count whose name says what it counts, inside a word (``uptimeNanos``, ``elapsedRealtimeNanos``,
+#: ``timestampMillis``): a hint, taken only when the values are whole numbers at a plausible step in that unit.
+_HINTS = (("ns", re.compile(r"nano", re.IGNORECASE)), ("us", re.compile(r"micro", re.IGNORECASE)),
+          ("ms", re.compile(r"milli", re.IGNORECASE)))
 
 
-def _bracket_unit(name: str) -> str:
-    """The unit in brackets at the end of a name (``"acc_x [g]"`` -> ``"g"``); a whole number in brackets is
-    a matrix column (``"acc[0]"``, MATLAB), not a unit, and gives ``""``."""
-    m = re.search(r"\[([^\]]+)\]\s*$", name)
-    text = m.group(1).strip() if m else ""
-    return "" if re.fullmatch(r"\d+", text) else text
+def _kind(key: str) -> str:
+    return "time" if key == "time" else "acc" if key in _ACC else "rate"
+
+
+def _folded(text: str) -> str:
+    """A unit word as the tables hold it: lower case, no blanks or ``^``, ``²`` as 2, ``°`` as deg."""
+    text = text.strip()
+    for sign, word in (("²", "2"), ("°", "deg"), ("º", "deg"), ("µ", "u"), ("μ", "u")):
+        text = text.replace(sign, word)
+    return re.sub(r"[\s^]", "", text).lower()
+
+
+def _name_unit(name: str, key: str) -> tuple[str, str]:
+    """The unit a channel's name carries, and how (``"brackets"``, ``"parens"``, ``"in"``, ``"word"``, or
+    ``"hint"`` for a time count named inside a word); ``("", "")`` when it carries none.
+
+    Whole numbers in brackets or parentheses are a matrix column (``acc[0]``, ``acc(1)``), not a unit.  What
+    is in parentheses or after " in " may be words (``Acc (seat pad)``): the caller takes it as a unit only
+    when pint knows it (``"parens"``, ``"in"``); a unit in brackets is always meant as one (``"brackets"``).
+    """
+    name = str(name)
+    for form, pattern in (("brackets", _IN_BRACKETS), ("parens", _IN_PARENS), ("in", _AFTER_IN)):
+        m = pattern.search(name)
+        if m:
+            text = m.group(1).strip()
+            if text and not re.fullmatch(r"\d+", text):
+                return text, form
+            if form == "brackets":
+                return "", ""
+    m = _LAST_WORD.search(name)
+    if m:
+        folded = _folded(m.group(1))
+        if m.group(1) == "G" and _kind(key) == "acc":
+            folded = "g"
+        unit = _WORDS[_kind(key)].get(folded)
+        if unit:
+            return unit, "word"
+    if key == "time":
+        for unit, pattern in _HINTS:
+            if pattern.search(name):
+                return unit, "hint"
+    return "", ""

@@ -1,5 +1,6 @@
-"""Checks of the values read: finite numbers, increasing times, one sample rate, no gaps (or bridged ones), and for
-MDF channels with their own time stamps one common time base."""
+"""Checks of the values read: finite numbers, increasing times, one sample rate, no gaps (or bridged ones), for
+MDF channels with their own time stamps one common time base, and units that fit the values (a time step, an
+acceleration and an angular velocity plausible in s, m/s^2 and rad/s)."""
 
 from __future__ import annotations
 
@@ -8,8 +9,12 @@ import numpy as np
 from ..errors import InputError
 from ..resampling import Resampler
 from .base import _column_words, _Source
+from .channels import _ACC, _RATES, ASSUMED, FILE, GIVEN, INFERRED, NAME, SI_UNITS
 from .frames import _FrameSource, _ParquetSource
 from .text import _TextSource
+from .units import MAX_STEP_S as _MAX_STEP_S
+from .units import MIN_STEP_S as _MIN_STEP_S
+from .units import _factor
 
 #: A step between time stamps longer than this many median steps is a gap (a logger's dropout), refused unless
 #: ``fill_gaps``.  Loggers miss a sample or two now and then (a 100 Hz IMU log: steps of up to 3 median steps; a
@@ -45,11 +50,10 @@ def _check_finite(src: _Source, key: str, name: str, values: np.ndarray) -> None
 
 
 def _check_times(src: _Source, name: str, t: np.ndarray) -> None:
-    """Times >= 0 and strictly increasing, else one sentence with the rows and values."""
+    """Times strictly increasing, else one sentence with the rows and values (they may start below 0: the time
+    axis is moved to start at 0)."""
     where = _column_words(src, name, "time") if not isinstance(src, _TextSource) else f"column {name}"
     text = (lambda i: src.field_text(name, i)) if isinstance(src, _TextSource) else (lambda i: f"{t[i]:.9g}")
-    if t.size and t[0] < 0:
-        raise InputError(f"{src.label}, {src.where(0)}, {where}: time {text(0)} s is negative; times must be >= 0.")
     bad = np.flatnonzero(np.diff(t) <= 0)
     if bad.size:
         i = int(bad[0]) + 1
@@ -156,3 +160,117 @@ def _common_time(src: _Source, use: dict, data: dict, stamps: dict, fill_gaps: b
         out[k] = r.block(offset, min(offset + n, r.n_samples))[:, 0]
     n = min(v.size for v in out.values())
     return start + np.arange(n) * step, {k: v[:n] for k, v in out.items()}
+
+
+# --------------------------------------------------------------------------
+# plausibility of the units: each channel's values, in ehm's units, against what a vehicle's log can hold
+# --------------------------------------------------------------------------
+
+#: The median time step [s] of a logger's recording lies between these: 100 kHz is above any logger of a
+#: seat's motion, and a recording sampled at 2 Hz or slower holds nothing of the comfort band (0.5-80 Hz).
+#: A log of :data:`LOG_SAMPLES` samples or more outside them is refused: the time's unit is wrong.  The upper
+#: bound catches a log stamped in ms read as seconds at every logger rate up to 2 kHz (steps of 0.5 ms and
+#: longer), and one stamped in µs or ns (uptime, Unix time) at any rate.
+MIN_STEP_S = _MIN_STEP_S
+MAX_STEP_S = _MAX_STEP_S
+#: A shorter table (a few rows written by hand: a step, a ramp) may step slowly: it is refused only outside
+#: :data:`MIN_STEP_S` .. :data:`TABLE_MAX_STEP_S`, which still catches stamps in µs and ns (and ms from 100 Hz).
+LOG_SAMPLES = 1000
+TABLE_MAX_STEP_S = 10.0
+#: An acceleration in g read as m/s^2: the median of its norm within this fraction of 1 while its steady part
+#: (the norm of its mean) is at least :data:`G_STEADY_MIN` is gravity in g.  Consumer MEMS accelerometers read
+#: gravity within about 4 % (sensitivity and offset: 2.5 % low and 3.9 % high in the logs of two phones and a
+#: board tried), and a vehicle's own motion moves the median of the norm by well under 1 %; in m/s^2 gravity
+#: is 9.81, and a log without gravity has a steady part near 0 (its velocity comes back), so a median of
+#: 1 +- 0.05 m/s^2 with a steady 0.5 m/s^2 or more is nearly always a log in g.  Refused when the unit was
+#: assumed (one flag, --unit ax=g ..., fixes it; a log really in m/s^2 says so with --unit ax=m/s^2 ...); a
+#: warning when the name or the file gave m/s^2.
+G_NORM_TOLERANCE = 0.05
+G_STEADY_MIN = 0.5
+#: The median norm of an acceleration above this [m/s^2] (5 g for half the log) is no vehicle's: a log in mg
+#: (gravity alone reads 1000) or another unit.
+MAX_ACC_MEDIAN_MPS2 = 50.0
+#: Angular rates implausible in rad/s: a median norm above :data:`MAX_RATE_MEDIAN_RADPS` (115 deg/s for half
+#: the log: no vehicle turns, rolls or pitches that long that fast; a car's median is about 0.1 rad/s) or a 99th
+#: percentile above :data:`MAX_RATE_P99_RADPS` (2000 deg/s, the largest common MEMS gyro range: no gyro of a
+#: vehicle log measures it).  A gyro in deg/s read as rad/s exceeds one or both (a car: median 6, 99th
+#: percentile 37; an IMU moved by hand: 1 and 200).
+MAX_RATE_MEDIAN_RADPS = 2.0
+MAX_RATE_P99_RADPS = 35.0
+
+
+def _assumed_words(origin: str, unit: str) -> str:
+    return {ASSUMED: f"in {unit}, as no unit is given", NAME: f"in {unit}, as its name says",
+            FILE: f"in {unit}, as the file says", INFERRED: f"in {unit}, as its name and whole-number steps suggest",
+            GIVEN: f"in {unit}, as given"}[origin]
+
+
+def _check_time_unit(src: _Source, name: str, t: np.ndarray, unit: str, origin: str) -> None:
+    """Refuse a median time step outside :data:`MIN_STEP_S` .. :data:`MAX_STEP_S` (a short table:
+    :data:`TABLE_MAX_STEP_S`) in one sentence naming the unit taken and the ``--unit`` that would fix it."""
+    if t.size < 2:
+        return
+    step = float(np.median(np.diff(t)))
+    if MIN_STEP_S <= step <= (MAX_STEP_S if t.size >= LOG_SAMPLES else TABLE_MAX_STEP_S):
+        return
+    seconds = step / _factor(unit, "time", src.label, name) if unit != "date-time" else step
+    fits = {u: seconds * f for u, f in (("s", 1.0), ("ms", 1e-3), ("us", 1e-6), ("ns", 1e-9))
+            if MIN_STEP_S <= seconds * f <= MAX_STEP_S}
+    fix = min(fits, key=lambda u: abs(np.log(fits[u] / 0.01))) if fits else None  # nearest to a 100 Hz logger
+    what = "the time stamps" if unit == "date-time" else f"the time column is {_assumed_words(origin, unit)}"
+    if fix and unit != "date-time":
+        hint = f"give its unit, e.g. --unit time={fix} (units={{'time': {fix!r}}}), which makes it {fits[fix]:.3g} s"
+    else:
+        hint = "ehm reads logs sampled between 2 Hz and 100 kHz: resample it, or give the time's unit"
+    raise InputError(f"{src.label}, {_column_words(src, name, 'time')}: the median time step is {step:.3g} s if "
+                     f"{what}; {hint}.")
+
+
+def _check_plausible(src: _Source, use: dict, data: dict, origins: dict, acc: bool = True) -> None:
+    """Refuse (unit assumed) or warn (unit from the name or the file) about accelerations and angular rates that
+    are implausible in m/s^2 and rad/s; channels whose unit the caller gave are taken as they are and left out.
+    ``acc=False``: the accelerations are left to the caller (an IMU log's specific force is checked against
+    gravity by :func:`ehm.imu.from_imu`)."""
+    if min((v.size for k, v in data.items() if k != "time"), default=0) < 2:
+        return  # too short to judge (and refused as such)
+    acc = [k for k in _ACC if acc and k in data and origins[k] != GIVEN]
+    if acc:
+        norm = np.linalg.norm(np.column_stack([data[k] for k in acc]), axis=1)
+        median = float(np.median(norm))
+        steady = float(np.linalg.norm([np.mean(data[k]) for k in acc]))
+        if abs(median - 1.0) <= G_NORM_TOLERANCE and steady >= G_STEADY_MIN:
+            _implausible(src, use, origins, acc, "g", f"the norm of the acceleration has a median of {median:.3g} "
+                         f"and a steady part of {steady:.3g}: gravity in g")
+        elif median > MAX_ACC_MEDIAN_MPS2:
+            _implausible(src, use, origins, acc, "mg", f"the norm of the acceleration has a median of {median:.4g} "
+                         "m/s^2, over 5 g for half the log")
+    rates = [k for k in _RATES if k in data and origins[k] != GIVEN]
+    if rates:
+        norm = np.linalg.norm(np.column_stack([data[k] for k in rates]), axis=1)
+        median, p99 = float(np.median(norm)), float(np.percentile(norm, 99))
+        if median > MAX_RATE_MEDIAN_RADPS or p99 > MAX_RATE_P99_RADPS:
+            _implausible(src, use, origins, rates, "deg/s", f"the norm of the angular velocity has a median of "
+                         f"{median:.3g} rad/s and a 99th percentile of {p99:.3g} rad/s, beyond a vehicle's (and "
+                         f"above {MAX_RATE_P99_RADPS:g} rad/s, 2000 deg/s, no common gyro measures)" if
+                         p99 > MAX_RATE_P99_RADPS else f"the norm of the angular velocity has a median of "
+                         f"{median:.3g} rad/s ({np.degrees(median):.0f} deg/s), beyond a vehicle's")
+
+
+def _implausible(src: _Source, use: dict, origins: dict, keys: list, fix: str, finding: str) -> None:
+    """One sentence: what the values are in the unit taken, and the ``--unit`` that fixes it; refused when a
+    channel's unit was assumed, a warning when the name or the file gave it."""
+    kinds = {origins[k] for k in keys}
+    si = SI_UNITS[keys[0]]
+    channels = ", ".join(f"{k} ({use[k]!r})" for k in keys)
+    how = "as no unit is given" if ASSUMED in kinds else \
+        "as their names say" if kinds == {NAME} else "as the file says" if kinds == {FILE} else \
+        "as the file and their names say"
+    flags = " ".join(f"--unit {k}={fix}" for k in keys)
+    argument = "{" + ", ".join(f"{k!r}: {fix!r}" for k in keys) + "}"
+    sentence = (f"{src.label}: if {channels} {'is' if len(keys) == 1 else 'are'} in {si}, {how}, {finding}; give "
+                f"the unit, e.g. {flags} (units={argument}), or {si} if that is what it is")
+    if ASSUMED in kinds:
+        raise InputError(sentence + ".")
+    import warnings
+
+    warnings.warn(sentence + " (read as it is).", stacklevel=5)

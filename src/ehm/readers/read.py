@@ -13,8 +13,8 @@ from ..errors import InputError
 from ..imu import from_imu
 from ..motion import SeatMotion
 from .base import _as_floats, _Source
-from .channels import _ACC, _RATES, CHANNEL_KEYS, DEFAULT_CHANNELS, SI_UNITS, _bracket_unit, _factor, _listed, _mapping
-from .checks import _check_finite, _check_sampling, _check_times, _common_time
+from .channels import _ACC, _RATES, CHANNEL_KEYS, DEFAULT_CHANNELS, _listed, _mapping
+from .checks import _check_finite, _check_plausible, _check_sampling, _check_time_unit, _check_times, _common_time
 from .frames import _FrameSource, _ParquetSource
 from .gravity import check_mode, handle_gravity
 from .layout import (_cut_rows, _held, _held_note, _irregular, _join, _mounting_matrix, _note, _signed, _window,
@@ -22,6 +22,7 @@ from .layout import (_cut_rows, _held, _held_note, _irregular, _join, _mounting_
 from .matlab import _MatSource
 from .mdf import _MdfSource
 from .text import _TextSource
+from .units import _factor, _time_seconds, _unit_of
 
 _TEXT_SUFFIXES = (".csv", ".txt", ".tsv", ".dat")
 _MAT_SUFFIXES = (".mat",)
@@ -82,8 +83,11 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         cumulative sum from 0 at the first row; give its unit, e.g. ``units={"dt": "ms"}``).  A name with a
         leading ``-`` (``"ax": "-AccX"``) reads that channel with its sign flipped.
     units : dict, optional
-        Key -> unit string, where the source does not carry the unit (an MDF channel's own unit wins;
-        a different one here is refused).  Default SI: s, m/s^2, rad/s.
+        Key -> unit string (``"g"``, ``"deg/s"``, ``"ns"``; for ``time`` also a strftime format of
+        date-time strings, ``"%d/%m/%Y %H:%M:%S"``).  It wins over a unit in the channel's name; a file's
+        own unit (MDF) and a different one here are refused.  Default: the name's unit (``Accelerometer X
+        (g)``, ``time_ms``, ``uptimeNanos``; see :mod:`ehm.readers`), else SI: s, m/s^2, rad/s; a unit
+        taken that does not fit the values is refused in one sentence naming the unit to give.
     rate_hz : float, optional
         Samples per second of the returned motion: a source without a time channel is taken as sampled
         at this rate from t = 0; one with a time channel is resampled onto it (anti-aliased, as
@@ -125,8 +129,8 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     -------
     SeatMotion
         Seat acceleration [m/s^2] in seat axes (and angular velocity [rad/s] when the source has rates),
-        on the source's own time stamps [s] unless ``rate_hz`` asks for a rate, or the time stamps are
-        irregular (below).
+        on the source's own time stamps [s] moved to start at 0, unless ``rate_hz`` asks for a rate, or the
+        time stamps are irregular (below).
 
     Notes
     -----
@@ -263,14 +267,19 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
 
     channels, signs = _signed(channels, has)
     use = _resolve(src, channels, imu, rate_hz, "all" if gsrc is None else "acc")
-    time_s, data, origin = _table(src, use, units, signs, rate_hz, window, None, fill_gaps, _ACC)
+    taken: dict = {}  # channel -> where its unit came from (given, the file, the name, assumed)
+    time_s, data, origin, clock = _table(src, use, units, signs, rate_hz, window, None, fill_gaps, _ACC, taken)
+    _check_plausible(src, use, data, taken, acc=not imu)  # (from_imu checks an IMU's gravity itself)
     if "time" not in use and "dt" not in use and not src.per_channel_time:
         rate_hz = None  # the source is at this rate already
     if gsrc is not None:
         guse = _resolve(gsrc, channels, imu, rate_hz, "rates")
-        tg, gdata, _ = _table(gsrc, guse, units, signs, rate_hz, window, origin, fill_gaps, _RATES)
+        tg, gdata, _, _ = _table(gsrc, guse, units, signs, rate_hz, window, origin, fill_gaps, _RATES, taken, clock)
+        _check_plausible(gsrc, guse, gdata, taken, acc=False)
         if tg.size >= 2 and time_s.size >= 2:
             time_s, data = _join(src.label, gsrc.label, time_s, data, tg, gdata, _RATES)
+    if time_s.size:
+        time_s = time_s - time_s[0]  # the time axis starts at 0 (epoch and uptime stamps, a file's own clock)
     if time_s.size < 2:
         where = f", line {src.header_line}" if isinstance(src, _TextSource) and src.header_line else ""
         raise InputError(f"{src.label}{where}: motion file has {time_s.size} data row(s)"
@@ -303,10 +312,12 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
 
 
 def _table(src: _Source, use: dict, units: dict, signs: dict, rate_hz, window, origin, fill_gaps: bool,
-           held_keys) -> tuple:
-    """(time [s], key -> values in SI with their signs, the first sample's time before the cut) of the channels
-    ``use`` of one source: the time read (or summed from ``dt``), checked and cut to ``window`` first; then
-    each channel of the cut, checked; held samples dropped; the sampling checked."""
+           held_keys, taken: dict, clock: float | None = None) -> tuple:
+    """(time [s], key -> values in SI with their signs, the first sample's time before the cut, the first
+    sample's stamp on the file's own clock [s]) of the channels ``use`` of one source: the time read (or summed
+    from ``dt``), checked and cut to ``window`` first; then each channel of the cut, checked; held samples
+    dropped; the sampling checked.  A time column counts from its first sample; with ``clock`` (the other
+    file's first stamp, for a gyro file of the same clock) it counts from that instead."""
     if isinstance(src, _TextSource):
         src.load(list(use.values()))
     if isinstance(src, _MdfSource):
@@ -314,16 +325,22 @@ def _table(src: _Source, use: dict, units: dict, signs: dict, rate_hz, window, o
             src.check_unique(key, name)
     strict = origin is None  # (the gyro file of two is cut to the accelerometer's window, and joined after)
     if src.per_channel_time:
-        return _mdf_table(src, use, units, signs, window, origin, fill_gaps, strict, held_keys)
+        return _mdf_table(src, use, units, signs, window, origin, fill_gaps, strict, held_keys, taken)
     tkey = "dt" if "dt" in use else "time" if "time" in use else None
     sizes = {}
-    if tkey is not None:
-        t = _channel(src, tkey, use[tkey], units, signs)
-        sizes[tkey] = t.size
-        if tkey == "dt":
-            t = _from_steps(src, use["dt"], t)
-        else:
-            _check_times(src, use["time"], t)
+    start = 0.0
+    if tkey == "time":  # seconds (numbers in their unit, date-times), on the file's own clock
+        t, t_unit, t_origin, start = _time_seconds(src, use["time"], src.values(use["time"]), units)
+        _check_finite(src, "time", use["time"], t)
+        if clock is not None:  # a gyro file: on the accelerometer file's time axis, by their common clock
+            t = t + (start - clock)
+        sizes["time"] = t.size
+        _check_times(src, use["time"], t)
+        _check_time_unit(src, use["time"], t, t_unit, t_origin)
+    elif tkey == "dt":
+        t = _channel(src, "dt", use["dt"], units, signs, taken=taken)
+        sizes["dt"] = t.size
+        t = _from_steps(src, use["dt"], t)
     else:
         t = np.arange(np.shape(src.values(use[held_keys[0]]))[0]) / rate_hz
     first = float(t[0]) if t.size else 0.0
@@ -336,18 +353,18 @@ def _table(src: _Source, use: dict, units: dict, signs: dict, rate_hz, window, o
         if key == tkey:
             continue
         sizes[key] = np.shape(src.values(name))[0]
-        data[key] = _channel(src, key, name, units, signs, i0, i1)
+        data[key] = _channel(src, key, name, units, signs, i0, i1, taken)
     if len(set(sizes.values())) > 1:
         raise InputError(f"{src.label}: the channels have different lengths "
                          f"({', '.join(f'{k} {v}' for k, v in sizes.items())}).")
     t, data = _drop_held(src, t, data, held_keys, i0)
     if tkey is not None:
         _check_sampling(src, use[tkey], t, fill_gaps, tkey)
-    return t, data, first
+    return t, data, first, start
 
 
 def _mdf_table(src: _Source, use: dict, units: dict, signs: dict, window, origin, fill_gaps: bool, strict: bool,
-               held_keys) -> tuple:
+               held_keys, taken: dict) -> tuple:
     """As :func:`_table` for channels with their own time stamps: each cut to the window (seconds after the
     earliest channel's first sample), then all put on one time base."""
     data, stamps = {}, {}
@@ -358,20 +375,25 @@ def _mdf_table(src: _Source, use: dict, units: dict, signs: dict, window, origin
         i0, i1 = _cut_rows(src.label, stamps[key], window, first if origin is None else origin,
                            strict and key == next(iter(use)))
         stamps[key] = stamps[key][i0:i1]
-        data[key] = _channel(src, key, name, units, signs, i0, i1)
+        data[key] = _channel(src, key, name, units, signs, i0, i1, taken)
     time_s, data = _common_time(src, use, data, stamps, fill_gaps)
     time_s, data = _drop_held(src, time_s, data, held_keys, 0)
-    return time_s, data, first
+    return time_s, data, first, first
 
 
-def _channel(src: _Source, key: str, name: str, units: dict, signs: dict, i0: int = 0, i1=None) -> np.ndarray:
-    """Rows i0:i1 of one channel as floats in SI (its sign flipped when asked), checked to be finite."""
+def _channel(src: _Source, key: str, name: str, units: dict, signs: dict, i0: int = 0, i1=None,
+             taken: dict | None = None) -> np.ndarray:
+    """Rows i0:i1 of one channel as floats in SI (its sign flipped when asked), checked to be finite; where its
+    unit came from (given, the file, the name, assumed) goes into ``taken``."""
     raw = src.values(name)
     if i0 or i1 is not None:
         raw = raw[i0:i1]
     values = _as_floats(src, name, key, raw)
     _check_finite(src, key, name, values)
-    factor = _factor(_unit_of(src, key, name, units), key, src.label, name) * signs.get(key, 1.0)
+    unit, origin = _unit_of(src, key, name, units)
+    if taken is not None:
+        taken[key] = origin
+    factor = _factor(unit, key, src.label, name) * signs.get(key, 1.0)
     if factor != 1.0:
         owned = values is not raw or not isinstance(src, _FrameSource)  # never change a caller's DataFrame
         values = np.multiply(values, factor, out=values if owned and values.flags.writeable else None)
@@ -418,17 +440,6 @@ def _stack(data: dict, keys) -> np.ndarray:
 def _frozen(a: np.ndarray) -> np.ndarray:
     a.flags.writeable = False
     return a
-
-
-def _unit_of(src: _Source, key: str, name: str, units: dict) -> str:
-    own = src.unit_of(name) if isinstance(src, _MdfSource) else src.units.get(name, "")
-    if not own:
-        own = _bracket_unit(name)
-    given = units.get(key)
-    if own and given and _factor(own, key, src.label, name) != _factor(given, key, src.label, name):
-        raise InputError(f"{src.label}, channel {key} ({name!r}): the file gives the unit {own!r}, the units argument "
-                         f"{given!r}; leave the argument out.")
-    return given or own or SI_UNITS[key]
 
 
 def _describe(src: _Source, source, time_s: np.ndarray, gsrc=None, window=None) -> str:
