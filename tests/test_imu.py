@@ -244,3 +244,23 @@ def test_from_imu_bad_input_is_one_sentence(drive):
     with pytest.warns(UserWarning, match=r"no rest of 2 s or more found"):
         m = ehm.from_imu(drive.time_s, f, spinning)
     assert "no rest of 2 s found" in m.description
+
+
+def test_an_accelerometer_only_imu_log_reads_through_read_motion():
+    # SYNTHETIC board tilted 3 deg about x on a rough road, no gyro: the three rates left out (wx= wy= wz=)
+    import pandas as pd
+
+    from ehm import read_motion
+
+    rng = np.random.default_rng(5)
+    t = np.arange(0.0, 60.0, 0.01)
+    tilt = np.radians(3.0)
+    gravity_in_sensor = 9.80665 * np.array([0.0, np.sin(tilt), np.cos(tilt)])
+    f = gravity_in_sensor + 0.2 * rng.standard_normal((t.size, 3))
+    frame = pd.DataFrame({"time_s": t, "ax_mps2": f[:, 0], "ay_mps2": f[:, 1], "az_mps2": f[:, 2]})
+    with pytest.warns(UserWarning):
+        m = read_motion(frame, channels={"wx": None, "wy": None, "wz": None}, imu=True)
+    assert m.angvel_radps is None
+    assert np.abs(m.acc_mps2.mean(axis=0)).max() < 0.05  # levelled: gravity and the tilt taken out
+    with pytest.raises(ehm.InputError, match="leave out all three angular velocities"):
+        read_motion(frame, channels={"wx": None}, imu=True)

@@ -61,7 +61,8 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
     p.add_argument("--end", type=float, metavar="S", help="read the log up to S seconds after its first sample")
     p.add_argument("--imu", action="store_true",
                    help="the file is an IMU at the seat: ax, ay, az its specific force (gravity included), wx, wy, wz "
-                        "its gyro rates; the log must start with 1 s at rest")
+                        "its gyro rates (--channel wx= --channel wy= --channel wz= for an accelerometer-only log); "
+                        "attitude from a gravity-aided filter, gyro bias from rests of 2 s or more anywhere in the log")
     p.add_argument("--fill-gaps", action="store_true",
                    help="bridge gaps in the file's time stamps (steps over 5 median steps: a logger's dropout) with a "
                         "straight line, with a warning naming where (default: refuse them)")

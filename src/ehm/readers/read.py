@@ -215,11 +215,11 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz, part: str = "all"
             raise InputError(f"{src.label}: {', '.join(left_out)} {'is' if len(left_out) == 1 else 'are'} left out "
                              "(given empty); a gyro file gives all three angular velocities.")
     else:
-        wanted = list(_ACC) + list(_RATES if imu and part == "all" else [])
-    if part == "all" and left_out and (imu or len(left_out) < 3):
+        # an IMU log with all three rates left out (wx= wy= wz=) is accelerometer-only: from_imu levels it
+        wanted = list(_ACC) + list(_RATES if imu and part == "all" and not left_out else [])
+    if part == "all" and left_out and len(left_out) < 3:
         raise InputError(f"{src.label}: {', '.join(left_out)} {'is' if len(left_out) == 1 else 'are'} left out (given "
-                         "empty); " + ("an IMU log needs all three angular velocities." if imu else
-                                       "leave out all three angular velocities (wx=, wy=, wz=) or none."))
+                         "empty); leave out all three angular velocities (wx=, wy=, wz=) or none.")
     if part == "all" and not imu and len(left_out) < 3:
         rates_found = [k for k in _RATES if present(k)]
         explicit = [k for k in _RATES if k in channels]
