@@ -116,6 +116,7 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
             f"{t0:g}-{t1:g} s")
     if gravity == "auto":
         warnings.warn(f"{label}: the mean acceleration's norm is {norm:.4g} m/s^2, within {G_TOLERANCE:.0%} of g, so "
-                      f"the log is taken to include gravity and is {note} (--gravity removed keeps it as it is).",
+                      f"the log is taken to include gravity and is {note} (--gravity included does the same "
+                      "without this note).",
                       stacklevel=4)
     return levelled, rates, note
