@@ -8,6 +8,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -16,7 +17,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from . import engine
-from .errors import InputError
+from .errors import DivergenceError, InputError
 from .motion import Resampler, SeatMotion, seat_kinematics, seat_rotation_matrices
 from .params import Parameters
 from .results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_runs: also importable from here
@@ -230,8 +231,11 @@ class SeatedHuman:
             else:
                 R, acc_world, rotation, angles = None, acc_seat, None, None
             t0 = time.perf_counter()
-            with engine.captured_warnings():  # MuJoCo's warnings go into ehm's sentences, not raw to the terminal
-                raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation, pose_every=pose_every)
+            try:
+                with engine.captured_warnings():  # MuJoCo's warnings go into ehm's sentences, not raw to the terminal
+                    raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation, pose_every=pose_every)
+            except DivergenceError as exc:
+                raise _with_input_cause(exc, motion, t[-1] + dt) from None
             wall = time.perf_counter() - t0
             result = self._chunk_result(raw, t, acc_seat, R, angles, poses, pivot, wall, description)
             if pose_every:
@@ -266,3 +270,34 @@ class SeatedHuman:
         return RunResult(time_s=t, seat_acc_mps2=acc_seat, points=points, support_N=support, mass_kg=self.mass_kg,
                          dof=self.dof, dt_s=float(self.model.mj.opt.timestep), wall_s=wall, description=description,
                          locked=tuple(sorted(self.locked)), params_origin=self.params.origin, seat_angles_rad=angles)
+
+
+#: A seat input beyond this [m/s^2] (2 g) is out of the ordinary for a vehicle: a sensor handled or knocked.
+UNUSUAL_ACC_MPS2 = 2 * 9.80665
+#: A change between two samples beyond this [m/s^2] (1 g) is a jump, not a vehicle's motion.
+UNUSUAL_JUMP_MPS2 = 9.80665
+
+
+def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) -> DivergenceError:
+    """The divergence sentence naming the input as its cause when the seat input up to ``until_s`` is out of the
+    ordinary (above 2 g, or a jump of 1 g between two samples); the sentence as it was otherwise (then the time
+    step or the parameters are the suspects)."""
+    n = int(np.searchsorted(motion.time_s, until_s, side="right"))
+    acc = motion.acc_mps2[:n]
+    if acc.shape[0] < 2:
+        return exc
+    size = np.linalg.norm(acc, axis=1)
+    jump = np.r_[0.0, np.linalg.norm(np.diff(acc, axis=0), axis=1)]
+    bad = np.flatnonzero((size > UNUSUAL_ACC_MPS2) | (jump > UNUSUAL_JUMP_MPS2))
+    if bad.size == 0:
+        return exc
+    i = int(bad[0])
+    what = (f"{size[i]:.3g} m/s^2, above 2 g" if size[i] > UNUSUAL_ACC_MPS2
+            else f"a jump of {jump[i]:.3g} m/s^2 from one sample to the next")
+    last = float(motion.time_s[int(bad[-1])])
+    where = str(exc).split(" (", 1)[0]
+    return DivergenceError(f"{where}: the seat input is out of the ordinary before it ({what} at t = "
+                           f"{motion.time_s[i]:.3f} s; the last such sample at {last:.3f} s), e.g. a sensor being put "
+                           f"in place or knocked; cut it away with --start {math.ceil(last + 1.0):g} "
+                           f"(start_s= in read_motion), or check the log's units.")
+
