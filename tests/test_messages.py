@@ -171,3 +171,17 @@ def test_a_divergence_names_an_unusual_input_and_the_cut_that_removes_it():
     quiet = ehm.SeatMotion(t, 0.1 * rng.standard_normal((t.size, 3)), "SYNTHETIC quiet ride")
     plain = DivergenceError("the simulation diverged at t = 0.500 s (a reason); try a smaller time step")
     assert _with_input_cause(plain, quiet, 0.6) is plain  # an ordinary input: the time step stays the suspect
+
+
+def test_a_seat_pitch_out_of_range_names_the_units_axes_and_frame():
+    # SYNTHETIC: a 5 deg/s pitch rate written in deg/s and read as rad/s integrates to far beyond 80 deg
+    from ehm.motion import seat_kinematics
+
+    t = np.arange(0.0, 10.0, 0.01)
+    w = np.zeros((t.size, 3))
+    w[:, 1] = 5.0
+    with pytest.raises(InputError) as exc:
+        seat_kinematics(t, w)
+    text = str(exc.value)
+    assert text.startswith("the seat pitch reaches") and "--unit wx=deg/s" in text and "--mounting" in text
+    assert "\n" not in text and text.endswith(".")

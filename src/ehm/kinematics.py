@@ -92,8 +92,10 @@ def seat_kinematics(time_s: np.ndarray, angvel_radps: np.ndarray) -> SeatKinemat
     yaw, pitch, roll = Rotation.from_quat(quats).as_euler("ZYX").T
     if np.abs(pitch).max() > np.radians(80):
         i = int(np.argmax(np.abs(pitch) > np.radians(80)))
-        raise InputError(f"the seat pitch reaches {np.degrees(pitch[i]):.0f} deg at t = {t[i] - t[0]:.2f} s; "
-                         "seat pitch must stay within +-80 deg.")
+        raise InputError(f"the seat pitch reaches {np.degrees(pitch[i]):.0f} deg at t = {t[i] - t[0]:.2f} s when its "
+                         "angular velocities are integrated (it must stay within +-80 deg): check their unit "
+                         "(--unit wx=deg/s ... if they are in deg/s), their axes (--mounting), and that they are the "
+                         "seat's own rates, not rates in earth axes.")
     angles = np.column_stack([np.unwrap(yaw), pitch, roll])
     s, c = np.sin(roll), np.cos(roll)
     rates = np.column_stack([
