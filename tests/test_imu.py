@@ -264,3 +264,31 @@ def test_an_accelerometer_only_imu_log_reads_through_read_motion():
     assert np.abs(m.acc_mps2.mean(axis=0)).max() < 0.05  # levelled: gravity and the tilt taken out
     with pytest.raises(ehm.InputError, match="leave out all three angular velocities"):
         read_motion(frame, channels={"wx": None}, imu=True)
+
+
+def test_imu_options_reach_the_imu_route_from_read_motion_and_the_command_line(tmp_path, capsys):
+    # SYNTHETIC IMU resting 50 deg rolled (beyond the default 45 deg limit), gyro quiet
+    import pandas as pd
+
+    from ehm import read_motion
+    from ehm.cli import main
+
+    rng = np.random.default_rng(2)
+    t = np.arange(0.0, 20.0, 0.01)
+    roll = np.radians(50.0)
+    f = 9.80665 * np.array([0.0, np.sin(roll), np.cos(roll)]) + 0.02 * rng.standard_normal((t.size, 3))
+    w = 0.001 * rng.standard_normal((t.size, 3))
+    frame = pd.DataFrame({"time_s": t, **{f"a{c}_mps2": f[:, j] for j, c in enumerate("xyz")},
+                          **{f"w{c}_radps": w[:, j] for j, c in enumerate("xyz")}})
+    with pytest.raises(ehm.InputError, match="roll"):
+        read_motion(frame, imu=True)
+    m = read_motion(frame, imu=True, imu_options={"max_tilt_deg": 60.0})
+    assert np.abs(m.acc_mps2.mean(axis=0)).max() < 0.05
+    with pytest.raises(ehm.InputError, match="not an option of the IMU route"):
+        read_motion(frame, imu=True, imu_options={"tilt": 60.0})
+    path = tmp_path / "imu.csv"
+    frame.to_csv(path, index=False)
+    out = tmp_path / "run"
+    assert main(["simulate", "--motion", str(path), "--imu", "--out", str(out)]) == 2
+    assert "roll" in capsys.readouterr().err
+    assert main(["simulate", "--motion", str(path), "--imu", "--max-tilt", "60", "--rest", "1", "--out", str(out)]) == 0

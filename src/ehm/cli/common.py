@@ -54,4 +54,5 @@ def _read_motion_file(args):
                        units=parse_assignments(args.unit, "--unit"), rate_hz=args.rate, imu=args.imu,
                        fill_gaps=args.fill_gaps, columns=args.columns, gyro=args.gyro,
                        mounting=mounting_rotation(args.mounting) if args.mounting is not None else None,
-                       start_s=args.start, end_s=args.end, gravity=getattr(args, "gravity", "auto"))
+                       start_s=args.start, end_s=args.end, gravity=getattr(args, "gravity", "auto"),
+                       imu_options={"rest_s": args.rest, "max_tilt_deg": args.max_tilt})

@@ -63,6 +63,10 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
                    help="the file is an IMU at the seat: ax, ay, az its specific force (gravity included), wx, wy, wz "
                         "its gyro rates (--channel wx= --channel wy= --channel wz= for an accelerometer-only log); "
                         "attitude from a gravity-aided filter, gyro bias from rests of 2 s or more anywhere in the log")
+    p.add_argument("--rest", type=float, metavar="S",
+                   help="--imu: the shortest rest whose gyro rate is taken as bias [s] (default 2)")
+    p.add_argument("--max-tilt", type=float, metavar="DEG",
+                   help="--imu: the largest seat roll or pitch accepted [deg] (default 45)")
     p.add_argument("--fill-gaps", action="store_true",
                    help="bridge gaps in the file's time stamps (steps over 5 median steps: a logger's dropout) with a "
                         "straight line, with a warning naming where (default: refuse them)")

@@ -66,7 +66,7 @@ def _open(source, label: str | None, columns=None) -> _Source:
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
                 imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False, *,
                 columns=None, gyro=None, start_s: float | None = None, end_s: float | None = None,
-                gravity: str = "auto") -> SeatMotion:
+                gravity: str = "auto", imu_options: dict | None = None) -> SeatMotion:
     """Read a seat motion (or an IMU log) from a file or a pandas DataFrame.
 
     Parameters
@@ -119,6 +119,9 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         out).  The cut comes before every check of the values (held samples, sampling, an IMU's rest), so a
         phone being put in place in the first seconds can be cut away; a cut outside the log, or holding fewer
         than 2 samples, is refused.
+    imu_options : dict, optional
+        Keyword arguments for :func:`ehm.from_imu` when ``imu`` is true: ``rest_s`` (the shortest rest whose
+        gyro rate is taken as bias) and ``max_tilt_deg`` (the largest seat roll or pitch accepted).
     gravity : {"auto", "included", "removed"}
         Gravity in the accelerations of a seat or floor log (not an IMU log, whose route handles it):
         ``included`` levels the log (static tilt from its quietest 5 s, rotated so that gravity is along z,
@@ -163,11 +166,30 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     try:
         if gyro is not None:
             gsrc = _open(gyro, None if isinstance(gyro, (str, os.PathLike)) else "gyro DataFrame", columns)
-        return _read(src, channels, units, rate_hz, bool(imu), m, source, bool(fill_gaps), gsrc, window, gravity)
+        return _read(src, channels, units, rate_hz, bool(imu), m, source, bool(fill_gaps), gsrc, window, gravity,
+                     _imu_options(imu_options))
     finally:
         src.close()
         if gsrc is not None:
             gsrc.close()
+
+
+_IMU_OPTIONS = ("rest_s", "max_tilt_deg")
+
+
+def _imu_options(options: dict | None) -> dict:
+    """The IMU route's options, checked: only :data:`_IMU_OPTIONS`, each a positive number (or left out)."""
+    out = {}
+    for key, value in (options or {}).items():
+        if key not in _IMU_OPTIONS:
+            raise InputError(f"imu_options: {key!r} is not an option of the IMU route; they are "
+                             f"{', '.join(_IMU_OPTIONS)}.")
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < float("inf"):
+            raise InputError(f"imu_options: {key} = {value!r}; give a positive number.")
+        out[key] = float(value)
+    return out
 
 
 def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
@@ -261,7 +283,7 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz, part: str = "all"
 
 def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
           fill_gaps: bool = False, gsrc: _Source | None = None, window=None,
-          gravity: str = "auto") -> SeatMotion:
+          gravity: str = "auto", imu_options: dict | None = None) -> SeatMotion:
     def has(key, name):
         return (gsrc if gsrc is not None and key in _RATES else src).has(name)
 
@@ -294,7 +316,7 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         rates = None if rates is None else _frozen(rates @ mounting.T)
     if imu:
         motion = from_imu(time_s, acc, rates, mounting=mounting, description=f"IMU log {description}",
-                          label=src.label)
+                          label=src.label, **(imu_options or {}))
     else:
         acc, rates, levelled = handle_gravity(time_s, acc, rates, gravity, src.label)  # ehm.readers.gravity
         description = f"{description}, {levelled}" if levelled else description
