@@ -278,3 +278,24 @@ def test_ctrl_c_ends_a_batch_with_one_line_and_no_worker_tracebacks(tmp_path):
     assert proc.returncode == 130
     assert "Traceback" not in err and "distributed" not in err and "WARNING" not in err, err
     assert err.strip().splitlines()[-1] == "ehm: interrupted"
+
+
+def test_a_study_file_says_how_to_take_gravity_in_its_drive(tmp_path):
+    # SYNTHETIC drive file of a floor board: 1 g on z, small vibration
+    import numpy as np
+
+    t = np.arange(0.0, 20.0, 0.01)
+    rng = np.random.default_rng(0)
+    acc = 0.2 * rng.standard_normal((t.size, 3)) + [0.0, 0.0, 9.80665]
+    (tmp_path / "board.csv").write_text("time_s,ax_mps2,ay_mps2,az_mps2\n" + "".join(
+        f"{a:.3f},{b:.5f},{c:.5f},{d:.5f}\n" for a, (b, c, d) in zip(t, acc)))
+    study = tmp_path / "study.toml"
+    study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "board.csv"\ngravity = "removed"\n')
+    with pytest.raises(InputError, match="cannot be a vehicle.s"):  # "removed" refuses a mean of 1 g, before any run
+        load_study(study)
+    study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "board.csv"\ngravity = "sideways"\n')
+    with pytest.raises(InputError, match="sideways"):
+        load_study(study)
+    study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "board.csv"\ngravity = "included"\n')
+    name, specs = load_study(study)
+    assert len(specs) == 1
