@@ -1,6 +1,6 @@
 """Comfort and sickness assessment of a whole drive, at the seat and through the body.
 
-:func:`assess` runs the seated person through a drive chunk by chunk and evaluates, at the seat (the input)
+:func:`~ehm.assess` runs the seated person through a drive chunk by chunk and evaluates, at the seat (the input)
 and at the pelvis, trunk and head:
 
 * ISO 2631-1 comfort: frequency-weighted rms a_w, MTVV, VDV, crest factor per axis (Wd for x and y, Wk
@@ -15,7 +15,7 @@ Output points are the segments' centres of gravity; their accelerations are in s
 Memory: every figure is accumulated chunk by chunk (comfort: :class:`ehm.comfort.ComfortAccumulator`;
 sickness: :class:`ehm.sickness.SicknessAccumulator`, the model run along on 20 Hz block means), so the working
 memory is set by the chunk, not by the drive.  What grows with the drive is only what the figures draw: the
-running rms of 12 signals at 10 Hz and the MSI and |conflict| of the two sickness runs at 20 Hz, about 6 MB
+running rms of 12 signals at 10 Hz and the MSI and ``|conflict|`` of the two sickness runs at 20 Hz, about 6 MB
 of numbers per hour of drive (3.5 + 2.3 MB), 9 MB with the overhead of the per-chunk pieces they are gathered
 in (measured; a 200 Hz log's own time and three channels take 23 MB per hour).
 """
@@ -39,7 +39,7 @@ AXIS_WEIGHTING = {"x": "Wd", "y": "Wd", "z": "Wk"}  #: ISO 2631-1 seated, comfor
 SICKNESS_RATE_HZ = 20.0  #: Sample rate of the sickness model's input (block means of the run)
 TRACE_RATE_HZ = 10.0  #: Sample rate of the stored running rms and traces
 #: The resampler passes content below this fraction of the lower of two rates (within 0.001 dB,
-#: :meth:`ehm.motion.SeatMotion.resample`); above it the anti-alias filter starts to cut.
+#: :meth:`ehm.SeatMotion.resample`); above it the anti-alias filter starts to cut.
 RESAMPLE_PASS_FRACTION = 0.4
 
 
@@ -122,7 +122,7 @@ class _Spectrum:
 
 @dataclass
 class Assessment:
-    """Results of :func:`assess` (plain data; :meth:`summary` is what ``assessment.json`` holds)."""
+    """Results of :func:`assess` (plain data; ``summary()`` is what ``assessment.json`` holds)."""
 
     description: str
     duration_s: float

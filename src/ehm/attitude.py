@@ -1,6 +1,6 @@
 """The seat's attitude (roll and pitch) from an IMU log: rests, a gravity-aided filter and unit checks.
 
-Used by :func:`ehm.imu.from_imu`; everything works in seat axes (x forward, y left, z up) on arrays that are
+Used by :func:`ehm.from_imu`; everything works in seat axes (x forward, y left, z up) on arrays that are
 already checked.  The attitude R(t) maps seat axes to world axes (z up); yaw is unobservable and irrelevant
 here (gravity is vertical) and is whatever the gyro integrates to from 0.
 

@@ -1,16 +1,16 @@
 """Is the time step small enough?  The model's transfer functions against the same model at a finer step.
 
 A figure the model prints (a transmissibility peak, a fitted stiffness, a comfort value) should belong to
-the person and the seat, not to the integrator's step.  :func:`check_step` builds the same person at the
+the person and the seat, not to the integrator's step.  :func:`~ehm.check_step` builds the same person at the
 step under test and at finer steps (step / 8 and step / 4 by default), computes the exact frequency
-response of each linearised model (:func:`ehm.frf.linear_frf`) and reports, for every seat-to-body path,
+response of each linearised model (:func:`ehm.linear_frf`) and reports, for every seat-to-body path,
 the largest gain difference over the band as a share of the finer model's peak gain::
 
     error = max_f |G_dt(f) - G_fine(f)| / max_f G_fine(f)
 
 Paths count unless they are symmetric zeros or below 5 % of the largest path of the same kind
 (translation or rotation) for that input axis.  The default person is converged (every path within 2 %)
-at its default step of 1 ms, the paper's step (:data:`DEFAULT_STEP_ERRORS`).
+at its default step of 1 ms, the paper's step (``DEFAULT_STEP_ERRORS``).
 
 >>> from ehm.convergence import check_step
 >>> check = check_step()                     # the default person at its default step

@@ -1,8 +1,8 @@
 """SYNTHETIC vehicle drives for examples and tests (no measured drive ships with ehm).
 
-* :func:`city_drive`: repeated accelerating, braking and cornering (0.1-0.5 Hz manoeuvres of a few
+* :func:`~ehm.city_drive`: repeated accelerating, braking and cornering (0.1-0.5 Hz manoeuvres of a few
   m/s^2) with the body roll, pitch and yaw of a car, plus light road vibration.
-* :func:`rough_road`: straight driving on a random road: an ISO 8608 road profile (class and speed
+* :func:`~ehm.rough_road`: straight driving on a random road: an ISO 8608 road profile (class and speed
   given) through a quarter-car model gives the vertical seat acceleration; pitch and roll follow from
   the height differences along and across the car.
 

@@ -11,10 +11,10 @@ weighted mean of the curves' criteria).  The result is checked with time-domain 
 Honest outcomes: the evaluation budget ``max_evals`` counts every evaluation of the linearised model (the
 start, each candidate, each finite-difference column) and is never exceeded; the time-domain check (one
 set of random-vibration runs for the start and one for the result) comes on top of it.  The result says
-how the search ended (:attr:`FitResult.stopped`: ``"converged"`` or ``"budget"``) and which values count
-as identified (:attr:`FitResult.identified`): those that moved from their start, when the search converged,
+how the search ended (``FitResult.stopped``: ``"converged"`` or ``"budget"``) and which values count
+as identified (``FitResult.identified``): those that moved from their start, when the search converged,
 lowered the criterion and, if the time-domain check ran, lowered its criterion too, and no free value
-ended on its search bound.  A value within :data:`AT_BOUND_REL` of a bound (:attr:`FitResult.at_bound`) is
+ended on its search bound.  A value within :data:`AT_BOUND_REL` of a bound (``FitResult.at_bound``) is
 pinned there by the bound, not placed by the data: it is written with grade ``at bound`` and nothing of that
 fit counts as identified.  Other values that moved without meeting all that are written with grade
 ``assumed`` and a source saying why.

@@ -3,14 +3,14 @@
 >>> export_fmu("ehm.fmu", params="my.toml", lock=["lower_neck"])               # native C unit (default)
 >>> export_fmu("ehm-py.fmu", params="my.toml", lock=["lower_neck"], python=True)  # pythonfmu unit
 
-The default unit is native: C on the MuJoCo C library, built at export time (:mod:`ehm.fmu_native`); it
+The default unit is native: C on the MuJoCo C library, built at export time (``ehm.fmu_native``); it
 needs no Python when it runs.  The rest of this module is the older pythonfmu route, kept behind
 ``python=True`` (``ehm export-fmu --python``) for Python hosts that want to choose the parameter file at
 run time (its ``params_file`` parameter).
 
 The pythonfmu unit is built with the PyPI builder `pythonfmu` (``pip install ehm[fmu]``); ehm writes no FMI
-code of its own for it.  Its slave is a few lines generated from :data:`SLAVE_TEMPLATE` that import this module and
-delegate to :class:`SlaveCore`, which runs :class:`ehm.stepping.Simulator`.  The parameter set (its TOML
+code of its own for it.  Its slave is a few lines generated from ``SLAVE_TEMPLATE`` that import this module and
+delegate to :class:`SlaveCore`, which runs :class:`ehm.Simulator`.  The parameter set (its TOML
 text) and the joint locks are embedded in the FMU's ``resources`` folder.
 
 The unit runs its Python inside the host's interpreter: the host process must be able to import ``ehm``

@@ -10,8 +10,8 @@ frequencies, where the body moves with the seat, the vertical apparent mass is t
 carry.  Its CSV (or Parquet) form has the columns ``input_axis, point, dof, freq_hz, gain, phase_deg,
 coherence`` (plus ``gain_sd`` and ``weight`` in measured data).
 
-Two routes compute a model's table: :func:`time_domain_frf` (random seat vibration, the paper's 0-12 Hz
-Butterworth filter on input and output, Welch H1 estimate) and :func:`linear_frf` (exact frequency
+Two routes compute a model's table: :func:`~ehm.time_domain_frf` (random seat vibration, the paper's 0-12 Hz
+Butterworth filter on input and output, Welch H1 estimate) and :func:`~ehm.linear_frf` (exact frequency
 response of the model linearised around its settled posture).
 """
 
@@ -165,7 +165,7 @@ def read_frf_csv(path: Path | str) -> FrfTable:
 
 
 def read_frf(path: Path | str) -> FrfTable:
-    """An FRF table from CSV (:func:`read_frf_csv`) or from Parquet written by :meth:`FrfTable.to_parquet`."""
+    """An FRF table from CSV (:func:`~ehm.frf.read_frf_csv`) or from Parquet written by :meth:`FrfTable.to_parquet`."""
     if not str(path).lower().endswith(".parquet"):
         return read_frf_csv(path)
     from .readers.frames import _ParquetSource
@@ -237,7 +237,7 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
     ``route`` is the simulation route of the runs: ``nonlinear`` (MuJoCo, the default) or ``linear`` (the
     linearised person, :mod:`ehm.linear`: milliseconds per run; refuses inputs that make a contact slide).
 
-    With ``motion`` (a measured seat motion, e.g. from :func:`ehm.readers.read_motion`) the person runs that
+    With ``motion`` (a measured seat motion, e.g. from :func:`ehm.read_motion`) the person runs that
     motion once instead, and each requested seat axis that it moves gives its curves (single-input H1:
     when the motion moves several axes at once, correlated inputs bias each other's estimates).
     """
@@ -277,7 +277,7 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
 
     ``freq_hz`` defaults to 0.1 to 12 Hz in 0.05 Hz steps.  Contacts are linearised as stuck.  By default
     the continuous-time model of the linear route (:meth:`ehm.SeatedHuman.linear_model`, no step error);
-    ``discrete=True`` (or an :class:`ehm.engine.LinearModel` as ``linear_model``) gives the response of one
+    ``discrete=True`` (or an ``ehm.engine.LinearModel`` as ``linear_model``) gives the response of one
     MuJoCo step at the person's own time step, with that step's error (what ``ehm check-step`` compares).
     """
     from . import engine

@@ -1,7 +1,7 @@
 """IMU logs: the seat's motion from an inertial measurement unit fixed to the seat.
 
 An IMU's accelerometers measure specific force, ``f = R^T (a - g)`` in its own axes (at rest, level:
-``(0, 0, +9.81)``), next to gyro rates about those axes.  :func:`from_imu` turns both into what
+``(0, 0, +9.81)``), next to gyro rates about those axes.  :func:`~ehm.from_imu` turns both into what
 :class:`ehm.motion.SeatMotion` holds, the seat's translational acceleration without gravity and its angular
 velocity, in seat axes:
 
@@ -20,12 +20,12 @@ velocity, in seat axes:
    ``logs`` extra): the gyro is integrated and the accelerometer's direction pulls the attitude towards
    gravity with gain 0.05 (time constant 20 s), except while the specific force points more than 5 deg
    away from the filter's gravity (a horizontal acceleration over 0.86 m/s^2: braking, corners), whose
-   samples are not used; see :mod:`ehm.attitude` for these settings and why.  The filter starts at the longest
+   samples are not used; see ``ehm.attitude`` for these settings and why.  The filter starts at the longest
    rest (or else the quietest 5 s of the log), with the tilt of its mean specific force, and runs forwards and
    backwards in time from there, so long drives do not drift;
 5. the seat's **roll and pitch** must stay within ``max_tilt_deg`` (default 45 deg): an attitude beyond is
    refused with its time (an IMU not fixed to the seat, its mounting not given, or gyro rates off);
-6. the seat acceleration is ``a = f + R^T g``, with g the mean |f| at the rests (else the mean vertical
+6. the seat acceleration is ``a = f + R^T g``, with g the mean ``|f|`` at the rests (else the mean vertical
    specific force over the log): the accelerometers' own reading of gravity.
 
 A log **without gyro** (``angular_rate_radps=None``) is levelled with the static tilt of its quietest 5 s and

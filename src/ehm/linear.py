@@ -14,15 +14,15 @@ differences' round-off: the integral actuators' neutral directions) are left out
 quasi-static response added to the direct term; against the full model the outputs stay within 0.1 % of
 their rms (tested).  It discretises the rest exactly at the sample step of its input (first-order hold: the
 seat acceleration linear between samples); :class:`ehm.SeatedHuman` gives it the motion resampled to the
-model's step by the same anti-aliased :class:`ehm.motion.Resampler` as the nonlinear route, so that both
+model's step by the same anti-aliased :class:`ehm.resampling.Resampler` as the nonlinear route, so that both
 routes see the same input (a first-order hold at a low log rate, 20 Hz, would cut the head's rms by a
 fifth).  It arranges the discretised model in blocks of :data:`BLOCK` samples, so that a whole run is one matrix product (block inputs and block start state to
-all the block's outputs) after a recursion over the block starts only (:func:`_block_form`).  While it runs
+all the block's outputs) after a recursion over the block starts only (``_block_form``).  While it runs
 it checks that the model still holds: every touching contact must keep pressing (normal force > 0) and
 stay inside its friction cone; otherwise it raises :class:`LinearRouteError` saying when, where and by how
 much the input was too large.
 
-:func:`ehm.frf.linear_frf` evaluates the same model's frequency response exactly; there is one
+:func:`ehm.linear_frf` evaluates the same model's frequency response exactly; there is one
 linearisation and one state-space model.
 """
 
@@ -131,7 +131,7 @@ def frequency_response(ss: StateSpace, freq_hz: np.ndarray, rows=None) -> np.nda
 #: Modes faster than this follow the seat within a fraction of a millisecond: time runs take them as static
 #: (their quasi-static response is added to D, "residualisation") [Hz].
 STATIC_ABOVE_HZ = 250.0
-#: Samples per block of the block form that time runs evaluate (see :func:`_block_form`).
+#: Samples per block of the block form that time runs evaluate (see ``_block_form``).
 BLOCK = 8
 #: A mode with a time constant beyond 1000 s whose input gain (unit eigenvector) is below this share of the
 #: largest is not reached by the input and left out of time runs.
@@ -242,7 +242,7 @@ def _layout(ss: StateSpace) -> np.ndarray:
 @dataclass(frozen=True)
 class _Blocks:
     """The modal model discretised at one sample step (first-order hold) and arranged for blocks of
-    :data:`BLOCK` samples (see :func:`_block_form`)."""
+    :data:`BLOCK` samples (see ``_block_form``)."""
 
     dt_s: float
     phi: np.ndarray  #: (m,) modal transition over one step
@@ -477,7 +477,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
     :meth:`ehm.SeatedHuman.stream`; raises :class:`LinearRouteError` as soon as a contact would lift off or
     slide.  ``progress(done_s, total_s)`` is called after every chunk.  The person starts at rest in the
     settled posture.  ``dt_s`` [s]: run on this step instead, the motion resampled onto it one chunk at a time
-    (:class:`ehm.motion.Resampler`, as the nonlinear route does), so that no resampled copy of the whole motion
+    (:class:`ehm.resampling.Resampler`, as the nonlinear route does), so that no resampled copy of the whole motion
     is made.
     """
     _check_translation_only(motion)

@@ -3,10 +3,10 @@
 A :class:`SeatMotion` holds the acceleration of the seat in the seat's own
 axes (x forward, y left, z up) as a function of time.  Motions are either
 generated here (band-limited random vibration, a sine, a logarithmic sweep) or
-read from a file or a DataFrame with :func:`ehm.readers.read_motion`.
+read from a file or a DataFrame with :func:`ehm.read_motion`.
 
 Motions are brought onto another sample interval (the model's time step) by
-anti-aliased polyphase resampling (:class:`Resampler`, :meth:`SeatMotion.resample`),
+anti-aliased polyphase resampling (:class:`~ehm.resampling.Resampler`, :meth:`~ehm.SeatMotion.resample`),
 never by plain interpolation: a file sampled faster than the model would alias,
 and a slower log would lose its upper content (linear interpolation of a 100 Hz
 log costs about 5 % of its weighted rms).
@@ -53,7 +53,7 @@ __all__ = [
     "sweep",
 ]
 
-#: Axis names in column order of :attr:`SeatMotion.acc_mps2`.
+#: Axis names in column order of ``SeatMotion.acc_mps2``.
 AXIS_NAMES: tuple[str, str, str] = ("x", "y", "z")
 
 #: Columns required in a motion CSV file, in the order time, x, y, z.
@@ -203,7 +203,7 @@ class SeatMotion:
         Returns
         -------
         numpy.ndarray, shape (n,)
-            Read-only view of that column of :attr:`acc_mps2` [m/s^2].
+            Read-only view of that column of ``acc_mps2`` [m/s^2].
 
         Raises
         ------
@@ -221,7 +221,7 @@ class SeatMotion:
         The record is shifted in time so that it starts at 0, then sampled at
         ``t = 0, dt_s, 2 dt_s, ...`` up to and including the duration (the
         last point lies at most ``dt_s`` before the end of the record), by
-        :class:`Resampler` (``scipy.signal.resample_poly``): content below
+        :class:`~ehm.resampling.Resampler` (``scipy.signal.resample_poly``): content below
         0.4 times the lower of the two sampling rates passes within 0.001 dB,
         content above 0.6 times it is suppressed by more than 80 dB.
 
@@ -240,7 +240,7 @@ class SeatMotion:
         ------
         InputError
             If `dt_s` is not a finite positive number, is longer than the
-            duration, or would give more than :data:`MAX_SAMPLES` samples.
+            duration, or would give more than :data:`~ehm.motion.MAX_SAMPLES` samples.
         """
         dt = _positive("resample", "dt_s", dt_s)
         duration = self.duration_s
@@ -348,7 +348,7 @@ def parse_axes(axis: str) -> tuple[int, ...]:
     Returns
     -------
     tuple of int
-        Sorted column indices into :attr:`SeatMotion.acc_mps2`
+        Sorted column indices into ``SeatMotion.acc_mps2``
         (0 = x, 1 = y, 2 = z).
 
     Raises
@@ -437,7 +437,7 @@ def random_vibration(
     ----------
     axis : str
         Excited axes, e.g. ``"z"``, ``"xz"``, ``"xyz"`` or ``"all"`` (see
-        :func:`parse_axes`).  Each axis gets an independent signal; a given
+        :func:`~ehm.motion.parse_axes`).  Each axis gets an independent signal; a given
         axis gets the same signal for a given seed whichever other axes are
         excited.  The other axes are zero.
     duration_s : float
@@ -539,7 +539,7 @@ def sine(
     Parameters
     ----------
     axis : str
-        Excited axes (see :func:`parse_axes`); all get the same signal.
+        Excited axes (see :func:`~ehm.motion.parse_axes`); all get the same signal.
     duration_s : float
         Record length [s], > 0.
     amplitude_mps2 : float
@@ -587,7 +587,7 @@ def sweep(
     Parameters
     ----------
     axis : str
-        Excited axes (see :func:`parse_axes`); all get the same signal.
+        Excited axes (see :func:`~ehm.motion.parse_axes`); all get the same signal.
     duration_s : float
         Record length [s], > 0.
     amplitude_mps2 : float

@@ -9,7 +9,7 @@ files never sit beside an earlier run's (an old figure, an old ``poses.npz``), a
 at any moment leaves the earlier folder as it was (or no folder, and no parent folders the command made).
 
 A folder is replaced whole, so ehm replaces only a folder it wrote itself: every folder it puts in place carries
-a manifest, :data:`ehm.io.MANIFEST_NAME`, naming the command, the ehm version and every file it wrote with its size.
+a manifest, ``ehm.io.MANIFEST_NAME``, naming the command, the ehm version and every file it wrote with its size.
 An existing folder is replaced only when it is empty, or when it carries that manifest and holds nothing but
 the files listed there, each of its listed size (a file added or changed since is the user's).  Names and
 extensions are never taken as evidence.  Anything else is refused, before the run starts, with one sentence,

@@ -1,6 +1,6 @@
 """Resampling of a record onto a uniform time grid, anti-aliased (polyphase), a block at a time.
 
-:class:`Resampler` is what :meth:`ehm.motion.SeatMotion.resample`, the nonlinear and linear routes and the
+:class:`Resampler` is what :meth:`ehm.SeatMotion.resample`, the nonlinear and linear routes and the
 readers' common time base use; ``ehm.motion.Resampler`` is the same class.
 """
 
@@ -31,7 +31,7 @@ class Resampler:
     """Samples of a record on the uniform grid ``t = k dt_s`` (from the record's start), a block at a time.
 
     Polyphase resampling (``scipy.signal.resample_poly`` with a Kaiser-windowed sinc of
-    :data:`_POLY_HALF_LENGTH` samples of the slower rate either side, edges extended with the edge values):
+    ``_POLY_HALF_LENGTH`` samples of the slower rate either side, edges extended with the edge values):
     an anti-alias filter when the record is faster than the grid, an interpolation filter when slower.
     The rate ratio is the nearest fraction with a denominator of at most 1000 (exact for whole-number rates
     in Hz; otherwise the time scale is off by less than 1e-6 of the duration, typically).  A block computed
@@ -40,7 +40,7 @@ class Resampler:
 
     A record whose time stamps depart from a uniform grid by more than :data:`UNIFORM_TOLERANCE` of a step
     (jitter, gaps, varying rates) is first interpolated linearly onto a uniform grid at its median step, with
-    no anti-alias filter; :func:`ehm.readers.read_motion` therefore refuses logs whose rate changes and
+    no anti-alias filter; :func:`ehm.read_motion` therefore refuses logs whose rate changes and
     refuses (or, asked, bridges) gaps, so that from files this step meets jitter and dropped samples only.
 
     Parameters

@@ -9,7 +9,7 @@
   output rate.
 * ``poses.npz``: segment poses for pictures (streamed to disk, assembled at the end block by block).
 
-:class:`RunWriter` takes the chunks of :meth:`ehm.SeatedHuman.stream` (or one whole :class:`RunResult`); it
+:class:`RunWriter` takes the chunks of :meth:`ehm.SeatedHuman.stream` (or one whole :class:`~ehm.RunResult`); it
 writes into a folder that :class:`ehm.outdir.RunFolder` then puts in place as one unit.
 """
 
@@ -267,7 +267,7 @@ class RunWriter:
 
     def close(self) -> tuple[dict, list]:
         """Finish the files and write ``summary.json``; returns (summary, preview pieces: thinned chunks, in order,
-        for :func:`ehm.results.concatenate_runs`; empty without a preview)."""
+        for ``ehm.results.concatenate_runs``; empty without a preview)."""
         from .io import write_json_atomic
 
         if self.summary.first is None:
@@ -295,7 +295,7 @@ def write_run(folder: Path | str, chunks, output_every: int = 1, formats=("csv",
               n_steps: int | None = None) -> tuple[dict, list]:
     """Write the chunks of one run into ``folder`` as they come; returns (summary, preview pieces): the pieces are
     the chunks thinned to at most ``preview_rows`` rows in all (none when 0), for the caller to join with
-    :func:`ehm.results.concatenate_runs`.  This module reads runs by duck typing and imports no run class."""
+    ``ehm.results.concatenate_runs``.  This module reads runs by duck typing and imports no run class."""
     writer = RunWriter(folder, output_every, formats, preview_rows, n_steps)
     try:
         for chunk in chunks:

@@ -225,7 +225,7 @@ class SicknessResult:
 
     @property
     def conflict_magnitude_mps2(self) -> np.ndarray:
-        """|conflict| per sample [m/s^2], the argument of the Hill function."""
+        """``|conflict|`` per sample [m/s^2], the argument of the Hill function."""
         return np.linalg.norm(self.conflict_mps2, axis=1)
 
 
@@ -298,7 +298,7 @@ class SicknessTrace:
     msi_percent : (n,) array
         Motion sickness incidence [%].
     conflict_magnitude_mps2 : (n,) array
-        |subjective minus sensed vertical| [m/s^2], the argument of the Hill function.
+        ``|subjective minus sensed vertical|`` [m/s^2], the argument of the Hill function.
     """
 
     time_s: np.ndarray

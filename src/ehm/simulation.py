@@ -152,7 +152,7 @@ class SeatedHuman:
 
         ``plot`` draws figures into the folder before it is put in place: a callable ``plot(preview, folder)``
         that gets a :class:`RunResult` of at most :data:`ehm.runfiles.PREVIEW_ROWS` evenly spread rows and the
-        folder being written, e.g. :func:`ehm.plotting.plot_run_preview` (``time_histories.png``).  Computing
+        folder being written, e.g. ``ehm.plotting.plot_run_preview`` (``time_histories.png``).  Computing
         and drawing stay apart: this module does not import matplotlib.
         """
         from .outdir import RunFolder, check_output_folder
@@ -182,7 +182,7 @@ class SeatedHuman:
         """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
 
         Memory stays constant whatever the motion's length: the motion is resampled onto the model's time
-        step (anti-aliased polyphase filter, :class:`ehm.motion.Resampler`) one chunk at a time.
+        step (anti-aliased polyphase filter, :class:`ehm.resampling.Resampler`) one chunk at a time.
         ``progress(done_s, total_s)`` is called after every chunk.  ``method`` as
         for :meth:`simulate` (both routes take the motion resampled to the model's step; the linear route records
         no poses).

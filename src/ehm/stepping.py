@@ -94,7 +94,7 @@ class Simulator:
     Notes
     -----
     Only translational seat motion is supported step by step; a seat that rotates needs the whole drive
-    in advance (:func:`ehm.assessment.assess`), since its orientation is integrated over the record.
+    in advance (:func:`ehm.assess`), since its orientation is integrated over the record.
     """
 
     def __init__(self, params: Parameters | str | None = None, lock=(), unlock=(), comfort: bool = True,

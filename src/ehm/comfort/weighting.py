@@ -325,7 +325,7 @@ def weight(name: str, signal, fs_hz: float) -> np.ndarray:
     """Frequency-weight an acceleration record with a causal filter.
 
     Uses ``scipy.signal.sosfilt`` started in the steady state for the record's start level (``sosfilt_zi``
-    times :func:`start_level`, the median of its first ``START_S`` = 0.1 s: as if the record had stood at that
+    times ``start_level``, the median of its first ``START_S`` = 0.1 s: as if the record had stood at that
     level for ever), so that a record that starts
     at a non-zero level (a mean acceleration, a sensor offset) does not begin with a step and its
     start-up transient; never a forward-backward filter, which would apply the weighting's magnitude
@@ -377,8 +377,8 @@ WEIGHTING_BANDS_HZ: dict[str, tuple[float, float]] = {
 def band_share_outside(name: str, low_hz: float, high_hz: float) -> float:
     """Share (0 to 1) of a weighting's power that lies outside the band [low_hz, high_hz] an input covers.
 
-    The power is |W(f)|^2 of the exact analog weighting integrated over the weighting's band
-    (:data:`WEIGHTING_BANDS_HZ`) on a logarithmic frequency axis (d ln f: the same weight per octave, as
+    The power is ``|W(f)|^2`` of the exact analog weighting integrated over the weighting's band
+    (``WEIGHTING_BANDS_HZ``) on a logarithmic frequency axis (d ln f: the same weight per octave, as
     the standard's one-third-octave bands); the share is the part of that integral below ``low_hz`` or
     above ``high_hz``.  0 when the input covers the whole band.
     """

@@ -1,6 +1,6 @@
 """Outside data in: seat motions and vehicle logs from files and DataFrames, in the logger's names and units.
 
-The one door for outside data formats.  :func:`read_motion` reads
+The one door for outside data formats.  :func:`~ehm.read_motion` reads
 
 * ``.csv`` / ``.txt`` text tables (pandas; the dialect is sniffed: separator ``,`` ``;`` tab ``|`` or
   blanks, decimal comma, byte-order mark, ``#`` comment lines; the first comment line before the header
@@ -32,17 +32,17 @@ angular rates beyond a vehicle's in rad/s are refused in one sentence naming the
 fixes it where the unit was taken for want of one, and warned about where the name or the file gave it.
 
 With ``imu=True`` the accelerations are an IMU's specific force
-(gravity included, sensor axes) and the rates its gyro rates: :func:`ehm.imu.from_imu` turns them into
+(gravity included, sensor axes) and the rates its gyro rates: :func:`ehm.from_imu` turns them into
 the seat's motion.
 
-Layouts that used to need a script read with options (:mod:`ehm.readers.layout`): ``columns`` names the columns
+Layouts that used to need a script read with options (``ehm.readers.layout``): ``columns`` names the columns
 of a text file without a header row; ``channels={"dt": NAME}`` takes a column of the time since the previous row;
 ``"-NAME"`` flips a channel's sign; ``mounting`` turns the sensor's axes into the seat's; ``gyro`` joins a gyro
 logged in a file of its own; ``start_s``/``end_s`` cut the log before any check.  Held samples (a slow sensor
 written at a higher rate) are dropped, and irregular time stamps resampled, each with one note.
 
 Time stamps must keep one sample rate (a log whose rate changes part way is refused, naming where and the
-two rates: resampled as one rate it would alias) and have no gaps longer than :data:`GAP_STEPS` median steps
+two rates: resampled as one rate it would alias) and have no gaps longer than ``GAP_STEPS`` median steps
 (refused, or bridged with a straight line and a warning with ``fill_gaps=True``, ``--fill-gaps``).
 
 Bad input ends in one sentence naming the file, channel, line or row and the value; a channel that is not

@@ -230,7 +230,7 @@ def _check_plausible(src: _Source, use: dict, data: dict, origins: dict, acc: bo
     """Refuse (unit assumed) or warn (unit from the name or the file) about accelerations and angular rates that
     are implausible in m/s^2 and rad/s; channels whose unit the caller gave are taken as they are and left out.
     ``acc=False``: the accelerations are left to the caller (an IMU log's specific force is checked against
-    gravity by :func:`ehm.imu.from_imu`)."""
+    gravity by :func:`ehm.from_imu`)."""
     if min((v.size for k, v in data.items() if k != "time"), default=0) < 2:
         return  # too short to judge (and refused as such)
     acc = [k for k in _ACC if acc and k in data and origins[k] != GIVEN]

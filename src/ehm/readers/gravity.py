@@ -23,7 +23,7 @@ Modes (``read_motion(gravity=...)``, ``--gravity``):
     mean vertical (z) acceleration above :data:`MAX_MEAN_VERTICAL_MPS2` (a vehicle on the road cannot keep
     rising or falling; its mean horizontal acceleration may be large over a short manoeuvre).
 
-IMU logs (``imu=True``) are not touched here: :func:`ehm.imu.from_imu` handles their gravity.
+IMU logs (``imu=True``) are not touched here: :func:`ehm.from_imu` handles their gravity.
 """
 
 from __future__ import annotations

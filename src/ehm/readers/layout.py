@@ -9,7 +9,7 @@ mounting and a gyro logged in a file of its own.
   repeats each sample; the repeats are dropped, with a note giving the sensor's own rate.
 * Irregular time stamps (departing from a uniform grid by more than :data:`ehm.resampling.UNIFORM_TOLERANCE` of a
   step, with no gap): resampled onto a uniform grid at the median step, with a note giving the spread of steps.
-* ``--mounting ROLL,PITCH,YAW`` (``mounting``, as :func:`ehm.imu.from_imu` takes it): sensor axes turned into
+* ``--mounting ROLL,PITCH,YAW`` (``mounting``, as :func:`ehm.from_imu` takes it): sensor axes turned into
   seat axes, accelerations and angular velocities alike.
 * ``--gyro FILE`` (``gyro``): angular velocities from another file with its own time stamps, joined onto the
   accelerometer's time stamps over their common span (at least :data:`ehm.readers.MIN_OVERLAP` of it).
@@ -147,7 +147,7 @@ def _irregular(t: np.ndarray):
 
 
 def _mounting_matrix(mounting, label: str) -> np.ndarray | None:
-    """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix, as :func:`ehm.imu.from_imu` takes it."""
+    """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix, as :func:`ehm.from_imu` takes it."""
     if mounting is None:
         return None
     from scipy.spatial.transform import Rotation
@@ -190,7 +190,7 @@ def mounting_rotation(roll, pitch=None, yaw=None, degrees: bool = True):
     Returns
     -------
     scipy.spatial.transform.Rotation
-        For ``mounting=`` of :func:`ehm.readers.read_motion` and :func:`ehm.imu.from_imu`.
+        For ``mounting=`` of :func:`ehm.read_motion` and :func:`ehm.from_imu`.
     """
     from scipy.spatial.transform import Rotation
 

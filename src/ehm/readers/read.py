@@ -1,5 +1,5 @@
 """Reading a motion: open the source in its format, resolve the channels, convert and check them, and hand the
-result to :class:`ehm.motion.SeatMotion` (or, for an IMU log, to :func:`ehm.imu.from_imu`)."""
+result to :class:`ehm.motion.SeatMotion` (or, for an IMU log, to :func:`ehm.from_imu`)."""
 
 from __future__ import annotations
 
@@ -76,7 +76,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         ``.mf4``/``.mdf``, or a DataFrame.
     channels : dict, optional
         Key (``time, ax, ay, az, wx, wy, wz, dt``) -> the source's name; the others keep their defaults
-        (:data:`DEFAULT_CHANNELS`).  ``time`` set to None: a source without a time channel (give
+        (``ehm.readers.DEFAULT_CHANNELS``).  ``time`` set to None: a source without a time channel (give
         ``rate_hz``).  ``wx, wy, wz`` all set to None: read the translation only, even where the source has
         angular velocities.  MDF channels carry their own time stamps: their ``time`` is not used.
         ``dt``: a channel of the time since the previous row, read instead of ``time`` (the time is its
@@ -91,18 +91,18 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     rate_hz : float, optional
         Samples per second of the returned motion: a source without a time channel is taken as sampled
         at this rate from t = 0; one with a time channel is resampled onto it (anti-aliased, as
-        :meth:`ehm.motion.SeatMotion.resample`).
+        :meth:`ehm.SeatMotion.resample`).
     imu : bool
         The source is an IMU at the seat: ``ax, ay, az`` its specific force (gravity included) and
-        ``wx, wy, wz`` its gyro rates, all required; see :func:`ehm.imu.from_imu` (``mounting`` is passed on).
+        ``wx, wy, wz`` its gyro rates, all required; see :func:`ehm.from_imu` (``mounting`` is passed on).
     mounting : scipy.spatial.transform.Rotation or (3, 3) array, optional
-        Rotation from the sensor's axes to the seat's (x forward, y left, z up), as :func:`ehm.imu.from_imu`
+        Rotation from the sensor's axes to the seat's (x forward, y left, z up), as :func:`ehm.from_imu`
         takes it; applied to the accelerations and the angular velocities alike, for an IMU log or not.  From
         roll, pitch and yaw: :func:`ehm.readers.mounting_rotation` (degrees, or ``degrees=False``).
     label : str, optional
         How messages name the source (default: its path, or ``DataFrame``).
     fill_gaps : bool
-        Bridge gaps in the time stamps (steps longer than :data:`GAP_STEPS` median steps) with a straight line,
+        Bridge gaps in the time stamps (steps longer than ``ehm.readers.GAP_STEPS`` median steps) with a straight line,
         with a warning naming where; by default such a gap is refused.
     columns : list of str or str, optional
         Names of the columns of a text file without a header row, in order (``["x", "y", "z", "delay_ms"]`` or
@@ -112,7 +112,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         A gyro logged in a file of its own, with its own time stamps: ``wx, wy, wz`` (and ``time`` or ``dt``,
         names and units as in ``channels`` and ``units``) are read from it, ``ax, ay, az`` from ``source``.  Its
         rates are interpolated (linearly) onto the accelerometer's time stamps over the span both cover, which
-        must be at least :data:`MIN_OVERLAP` of the span they reach together; the time stamps of both files
+        must be at least ``ehm.readers.MIN_OVERLAP`` of the span they reach together; the time stamps of both files
         must come from one clock.
     start_s, end_s : float, optional
         Read the log from ``start_s`` to ``end_s`` seconds after its first sample only (either may be left
@@ -139,8 +139,8 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     -----
     Two layouts are mended, each with one note (:func:`warnings.warn`):
 
-    * Held samples: when more than :data:`HELD_SHARE` of the rows repeat their predecessor exactly in every
-      acceleration channel (a gyro file: every angular velocity), in runs of 2 to :data:`HELD_RUN_MAX` rows
+    * Held samples: when more than ``ehm.readers.HELD_SHARE`` of the rows repeat their predecessor exactly in every
+      acceleration channel (a gyro file: every angular velocity), in runs of 2 to ``ehm.readers.HELD_RUN_MAX`` rows
       at the median, the sensor is slower than the log was written at (a 51 Hz sensor written at 200 Hz):
       only the first row of each run is kept, with its time stamp, and the note gives the sensor's own rate.
     * Irregular time stamps: when they depart from the uniform grid through the first and the last sample by
@@ -194,7 +194,7 @@ def _imu_options(options: dict | None) -> dict:
 
 def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
     """Read a seat motion from a file with the default channel names; the same as
-    :func:`ehm.readers.read_motion` ``(path)`` (kept for existing code).
+    :func:`ehm.read_motion` ``(path)`` (kept for existing code).
 
     The default columns are ``time_s``, ``ax_mps2``, ``ay_mps2``, ``az_mps2``
     and optionally all of ``wx_radps``, ``wy_radps``, ``wz_radps`` (roll,
@@ -438,7 +438,7 @@ def _from_steps(src: _Source, name: str, dt: np.ndarray) -> np.ndarray:
 
 
 def _drop_held(src: _Source, t: np.ndarray, data: dict, keys, i0: int):
-    """Drop held repeats (see :data:`HELD_SHARE`), with a note; the source's rows kept for messages."""
+    """Drop held repeats (see ``ehm.readers.HELD_SHARE``), with a note; the source's rows kept for messages."""
     if not all(k in data for k in keys):
         return t, data
     held = _held([data[k] for k in keys])
