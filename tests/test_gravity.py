@@ -142,3 +142,22 @@ def test_the_band_of_a_20_hz_log_warns_about_wk():
     # a 500 Hz log covers every band
     m500 = SeatMotion(np.arange(30000) / 500.0, np.zeros((30000, 3)), "SYNTHETIC 500 Hz log")
     assert band_warnings(input_band(m500, 1000.0), band_coverage(input_band(m500, 1000.0))) == []
+
+
+def test_a_log_resampled_by_the_reader_reports_the_band_of_its_own_rate():
+    # SYNTHETIC 100 Hz log read onto a 500 Hz grid (--rate 500): it holds nothing above 40 Hz, 0.4 x 100 Hz
+    import pandas as pd
+
+    from ehm import read_motion
+    from ehm.assessment import input_band
+
+    rng = np.random.default_rng(4)
+    t = np.arange(0.0, 30.0, 0.01)
+    acc = 0.3 * rng.standard_normal((t.size, 3))
+    frame = pd.DataFrame({"time_s": t, "ax_mps2": acc[:, 0], "ay_mps2": acc[:, 1], "az_mps2": acc[:, 2]})
+    fast = read_motion(frame, rate_hz=500.0)
+    assert fast.content_limit_hz == pytest.approx(40.0)
+    assert input_band(fast, 1000.0)[1] == pytest.approx(40.0)  # not 0.4 x 500 Hz
+    own = read_motion(frame)
+    assert own.content_limit_hz is None and input_band(own, 1000.0)[1] == pytest.approx(40.0)
+    assert own.resample(0.02).content_limit_hz == pytest.approx(20.0)  # down to 50 Hz: 0.4 x 50 Hz

@@ -32,30 +32,28 @@ from scipy import signal
 from .comfort import WEIGHTING_BANDS_HZ, ComfortAccumulator, band_share_outside, comfort_reaction
 from .errors import InputError
 from .motion import SeatMotion, seat_rotation_matrices
+from .resampling import PASS_FRACTION
 from .sickness import SicknessAccumulator
 
 LOCATIONS = ("seat", "pelvis", "trunk", "head")
 AXIS_WEIGHTING = {"x": "Wd", "y": "Wd", "z": "Wk"}  #: ISO 2631-1 seated, comfort/health axes
 SICKNESS_RATE_HZ = 20.0  #: Sample rate of the sickness model's input (block means of the run)
 TRACE_RATE_HZ = 10.0  #: Sample rate of the stored running rms and traces
-#: The resampler passes content below this fraction of the lower of two rates (within 0.001 dB,
-#: :meth:`ehm.SeatMotion.resample`); above it the anti-alias filter starts to cut.
-RESAMPLE_PASS_FRACTION = 0.4
-
-
 def input_band(motion: SeatMotion, model_fs_hz: float) -> tuple[float, float]:
     """The band [Hz] a drive's seat input actually covers.
 
     Low: 1 / duration (the longest period the log holds once).  High: the log's Nyquist frequency (half its own
-    rate, from its median time step), or, when it is run at another rate (the model's step), 0.4 times the
-    lower of the two rates, where the resampler's anti-alias filter starts to cut.  A log that the reader
-    resampled (``--rate`` with time stamps) is taken at the rate it was resampled to.
+    rate, from its median time step), or the content limit of a log that was resampled from a slower rate
+    (:attr:`ehm.SeatMotion.content_limit_hz`: a phone's 51 Hz sensor read onto a 50 Hz grid, or a 100 Hz log
+    read with ``--rate 500``, holds nothing above 20 and 40 Hz); and when it is run at another rate (the
+    model's step), at most 0.4 times the lower of the two rates, where the resampler's anti-alias filter starts
+    to cut.
     """
     t = motion.time_s
     fs_log = 1.0 / float(np.median(np.diff(t)))
-    high = fs_log / 2.0
+    high = fs_log / 2.0 if motion.content_limit_hz is None else min(fs_log / 2.0, motion.content_limit_hz)
     if abs(fs_log - model_fs_hz) > 1e-6 * model_fs_hz:
-        high = min(high, RESAMPLE_PASS_FRACTION * min(fs_log, model_fs_hz))
+        high = min(high, PASS_FRACTION * min(fs_log, model_fs_hz))
     return 1.0 / motion.duration_s, high
 
 

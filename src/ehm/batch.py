@@ -343,7 +343,7 @@ def cut_by_time(motion, duration_s: float):
                                      for a in (motion.acc_mps2, motion.angvel_radps) if a is not None]
         rows = [np.concatenate([r, e]) for r, e in zip(rows, extra)]
     angvel = rows[2] if motion.angvel_radps is not None else None
-    return SeatMotion(rows[0], rows[1], motion.description, angvel)
+    return SeatMotion(rows[0], rows[1], motion.description, angvel, motion.content_limit_hz)
 
 
 def run_one(spec: RunSpec) -> dict:

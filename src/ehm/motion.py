@@ -39,7 +39,7 @@ from .kinematics import (  # noqa: F401 - re-exported: ehm.motion.seat_kinematic
     seat_kinematics,
     seat_rotation_matrices,
 )
-from .resampling import UNIFORM_TOLERANCE, Resampler  # noqa: F401 - re-exported: ehm.motion.Resampler
+from .resampling import PASS_FRACTION, UNIFORM_TOLERANCE, Resampler  # noqa: F401 - re-exported: ehm.motion.Resampler
 
 __all__ = [
     "AXIS_NAMES",
@@ -96,6 +96,10 @@ class SeatMotion:
     angvel_radps : numpy.ndarray, shape (n, 3), optional
         Seat (vehicle) angular velocity about its own x, y, z axes (roll, pitch,
         yaw rates) [rad/s]; None for a seat that only translates.
+    content_limit_hz : float, optional
+        The highest frequency [Hz] the record holds, when that is below half its
+        own rate: a record resampled from a slower one holds nothing above 0.4
+        times the slower rate (:meth:`resample` sets it).  None: half its own rate.
 
     Notes
     -----
@@ -110,8 +114,12 @@ class SeatMotion:
     acc_mps2: np.ndarray
     description: str
     angvel_radps: np.ndarray | None = None
+    content_limit_hz: float | None = None
 
     def __post_init__(self) -> None:
+        if self.content_limit_hz is not None:
+            object.__setattr__(self, "content_limit_hz", _positive("SeatMotion", "content_limit_hz",
+                                                                   self.content_limit_hz))
         try:
             time_s = _owned_copy(self.time_s)
             acc = _owned_copy(self.acc_mps2)
@@ -252,7 +260,11 @@ class SeatMotion:
         n = _sample_count("resample", duration, dt)
         data = Resampler.of_motion(self, dt).block(0, n)
         w = None if self.angvel_radps is None else data[:, 3:]
-        return SeatMotion(np.arange(n) * dt, data[:, :3], f"{self.description}, resampled to dt {dt:g} s", w)
+        own_hz = 1.0 / float(np.median(np.diff(self.time_s)))
+        held = self.content_limit_hz if self.content_limit_hz is not None else own_hz / 2.0
+        limit = min(held, PASS_FRACTION * min(own_hz, 1.0 / dt))  # what the resampler passes
+        return SeatMotion(np.arange(n) * dt, data[:, :3], f"{self.description}, resampled to dt {dt:g} s", w,
+                          content_limit_hz=limit)
 
 
 def _owned_copy(values) -> np.ndarray:

@@ -22,6 +22,9 @@ UNIFORM_TOLERANCE = 0.1
 #: Half-length of the polyphase filter, in samples of the slower rate, and its Kaiser window parameter:
 #: within 0.001 dB up to 0.4 times the slower rate, at least 80 dB down from 0.6 times it.
 _POLY_HALF_LENGTH = 20
+#: Content below this fraction of the slower of two rates passes the resampler (within 0.001 dB): a record
+#: resampled from a slower one holds nothing above it.
+PASS_FRACTION = 0.4
 _POLY_KAISER_BETA = 8.0
 #: Largest denominator of the rational rate ratio (whole-number rates in Hz are exact).
 _POLY_MAX_DENOMINATOR = 1000
