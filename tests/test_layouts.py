@@ -361,3 +361,14 @@ def test_the_cut_on_the_command_line_and_in_a_study_file(tmp_path, capsys):
     study.write_text(study.read_text().replace("start_s = 3.5", "start_s = 11.5"))
     with pytest.raises(InputError, match=r"\[input\] drive: end_s \(10 s, --end\) must be after start_s"):
         load_study(study)
+
+
+def test_a_gyro_file_with_nothing_inside_the_cut_is_refused_not_dropped():
+    # SYNTHETIC: accelerometer 0-10 s, gyro 100-110 s on the same clock; a cut to 5 s leaves no gyro sample
+    t = np.arange(0.0, 10.0, 0.01)
+    acc = pd.DataFrame({"time_s": t, "ax_mps2": 0 * t, "ay_mps2": 0 * t, "az_mps2": 0.1 * np.sin(t)})
+    tg = 100.0 + t
+    gyro = pd.DataFrame({"time_s": tg, "wx_radps": 0 * tg, "wy_radps": 0 * tg, "wz_radps": 0.01 + 0 * tg})
+    with pytest.raises(InputError) as exc:
+        read_motion(acc, gyro=gyro, end_s=5.0)
+    assert "at least 2 of each are needed to join them" in one_sentence(exc)

@@ -172,3 +172,24 @@ def test_a_full_disk_during_simulate_is_one_sentence(tmp_path, capsys, monkeypat
     err = _one_error_line(capsys.readouterr().err)
     assert err == f"ehm: error: {out}: cannot write the run's files (No space left on device)."
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_file_edited_in_place_at_the_same_size_is_the_users(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["simulate", "--duration", "1", "--out", str(out)]) == 0
+    text = (out / "summary.json").read_text()
+    (out / "summary.json").write_text(text.replace("0", "1", 1))  # same length, other bytes, a later time
+    before = _tree(out)
+    assert main(["simulate", "--duration", "1", "--out", str(out)]) == 2
+    assert "summary.json, which was changed after ehm wrote it" in _one_error_line(capsys.readouterr().err)
+    assert _tree(out) == before
+
+
+def test_a_picture_drawn_into_a_demos_run_folder_keeps_the_demo_replaceable(tmp_path):
+    out = tmp_path / "demo"
+    assert main(["demo", "--duration", "40", "--axes", "z", "--out", str(out)]) == 0
+    assert main(["animate", str(out / "z"), "--out", str(out / "z" / "a.gif"), "--max-frames", "3"]) == 0
+    assert read_manifest(out / "z")["files"]["a.gif"] == (out / "z" / "a.gif").stat().st_size
+    assert read_manifest(out)["files"]["z/a.gif"] == (out / "z" / "a.gif").stat().st_size
+    assert main(["demo", "--duration", "40", "--axes", "z", "--out", str(out)]) == 0  # still ehm's: replaced
+    assert not (out / "z" / "a.gif").exists()

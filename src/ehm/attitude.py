@@ -143,6 +143,8 @@ def find_rests(t: np.ndarray, f: np.ndarray, w: np.ndarray, min_s: float) -> Res
     if t[-1] - t[0] < min_s:
         return None
     starts, stops, fm, _ = _window_stats(t, f, min_s)
+    if starts.size == 0:  # no window of min_s holds two samples: no rest can be told
+        return None
     _, _, wm, ws = _window_stats(t, w, min_s)
     level = np.linalg.norm(fm, axis=1)
     g_rest = float(np.percentile(level, 10))
@@ -181,6 +183,8 @@ def quietest_window(t: np.ndarray, f: np.ndarray, w: np.ndarray | None, length_s
     if t[-1] - t[0] <= length_s:
         return Window(0, t.size, float(t[0]), float(t[-1]))
     starts, stops, fm, fs = _window_stats(t, f, length_s)
+    if starts.size == 0:  # too sparse for a window of length_s: the whole log
+        return Window(0, t.size, float(t[0]), float(t[-1]))
     score = np.abs(np.linalg.norm(fm, axis=1) / g_ref - 1.0) + np.linalg.norm(fs, axis=1) / g_ref
     if w is not None:
         _, _, wm, ws = _window_stats(t, w, length_s)
@@ -313,8 +317,8 @@ def check_gyro_units(t: np.ndarray, f: np.ndarray, w: np.ndarray, label: str) ->
     speed = np.linalg.norm(w, axis=1)
     if t[-1] - t[0] >= 1.0:
         starts, stops, m, _ = _window_stats(t, speed[:, None], 1.0)
-        k = int(np.argmax(m[:, 0]))
-        if m[k, 0] > SUSTAINED_RATE_LIMIT_RADPS:
+        k = int(np.argmax(m[:, 0])) if starts.size else 0
+        if starts.size and m[k, 0] > SUSTAINED_RATE_LIMIT_RADPS:
             raise InputError(f"{label}: the gyro reads {m[k, 0]:.3g} rad/s ({math.degrees(m[k, 0]):.0f} deg/s) for a "
                              f"second from t = {t[starts[k]]:.1f} s, more than a seat turns, so its rates are "
                              f"probably in deg/s, not the rad/s assumed: {fix}.")

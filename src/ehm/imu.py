@@ -116,6 +116,11 @@ def _check_tilt(t: np.ndarray, roll: np.ndarray, pitch: np.ndarray, limit: float
                      f"{limit:g} deg a seat plausibly tilts (max_tilt_deg): perhaps {why}.")
 
 
+#: The shortest rest accepted [s]: shorter windows average too little vibration to tell a bias (and would make
+#: the search over windows long).
+MIN_REST_S = 0.5
+
+
 def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None, rest_s: float = 2.0,
              description: str = "IMU log", label: str = "from_imu", max_tilt_deg: float = _att.MAX_TILT_DEG
              ) -> SeatMotion:
@@ -159,6 +164,9 @@ def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None
     if n < 2 or np.any(np.diff(t) <= 0):
         raise InputError(f"{label}: time_s must hold at least 2 strictly increasing times.")
     rest_s = _positive(rest_s, "rest_s")
+    if rest_s < MIN_REST_S:
+        raise InputError(f"{label}: rest_s (--rest) = {rest_s:g} s; a rest that tells the gyro's bias from vibration "
+                         f"lasts {MIN_REST_S:g} s or more.")
     limit = _positive(max_tilt_deg, "max_tilt_deg")
     m = _mounting_matrix(mounting)
     f = f @ m.T

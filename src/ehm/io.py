@@ -95,12 +95,23 @@ def read_manifest(folder: Path | str) -> dict | None:
 
 def _record_in_manifest(path: Path) -> None:
     """A file just written into a finished folder of ehm's (an animation or a figure drawn into a run folder) joins
-    that folder's manifest, so that ehm may still replace the folder whole; other folders are left alone."""
-    data = read_manifest(path.parent)
-    if data is None or data.get("state") != "complete":
-        return
-    data["files"][path.name] = path.stat().st_size
-    write_json_atomic(path.parent / MANIFEST_NAME, data)
+    that folder's manifest, so that ehm may still replace the folder whole; so does the manifest it changed, in
+    the folder above when that is ehm's too (a demo's run folders), and so on up.  Other folders are left alone."""
+    changed, folder = [path], path.parent
+    while True:
+        data = read_manifest(folder)
+        if data is None or data.get("state") != "complete":
+            return
+        mtimes = data.setdefault("mtime_ns", {})
+        for c in changed:
+            rel = c.relative_to(folder).as_posix()
+            st = c.stat()
+            data["files"][rel], mtimes[rel] = st.st_size, st.st_mtime_ns
+        write_json_atomic(folder / MANIFEST_NAME, data)
+        changed.append(folder / MANIFEST_NAME)
+        if folder.parent == folder:
+            return
+        folder = folder.parent
 
 
 def _fsync_directory(directory: Path) -> None:

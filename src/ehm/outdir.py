@@ -60,16 +60,18 @@ def _ehm_version() -> str:
 
 
 def _write_manifest(folder: Path, what: str, state: str) -> None:
-    """Write the manifest of ``folder``: every file under it (sub-folders included) with its size in bytes."""
-    files = {}
+    """Write the manifest of ``folder``: every file under it (sub-folders included) with its size in bytes and its
+    modification time in ns (a file edited in place keeps its size, not its time)."""
+    files, mtimes = {}, {}
     if state == "complete":
         for p in sorted(folder.rglob("*")):
             rel = p.relative_to(folder).as_posix()
             if rel != MANIFEST_NAME and p.is_file() and not p.is_symlink():
-                files[rel] = p.stat().st_size
+                st = p.stat()
+                files[rel], mtimes[rel] = st.st_size, st.st_mtime_ns
     data = {"written_by": "ehm", "format": MANIFEST_FORMAT, "state": state, "ehm_version": _ehm_version(),
             "command": _command or f"ehm (Python): {what}",
-            "written_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "files": files}
+            "written_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "files": files, "mtime_ns": mtimes}
     with open(folder / MANIFEST_NAME, "w", encoding="utf-8") as fh:
         json.dump(data, fh, indent=1)
         fh.write("\n")
@@ -81,21 +83,22 @@ def foreign_entry(folder: Path) -> str | None:
     """Why ``folder`` is not a folder that ehm may replace, as the words after its name; None when it may be.
 
     It may be replaced when it is empty, or when it carries an ehm manifest and holds nothing but the files listed
-    there, each of its listed size (sub-folders included)."""
+    there, each of its listed size and modification time (sub-folders included)."""
     entries = sorted(folder.iterdir())
     if not entries:
         return None
     data = read_manifest(folder)
     if data is None or data.get("state") != "complete":
         return f"holds {entries[0].name}, which ehm did not write (the folder has no ehm manifest, {MANIFEST_NAME})"
-    listed = data["files"]
+    listed, mtimes = data["files"], data.get("mtime_ns", {})
     for p in sorted(folder.rglob("*")):
         rel = p.relative_to(folder).as_posix()
         if rel == MANIFEST_NAME or (p.is_dir() and not p.is_symlink()):
             continue
         if p.is_symlink() or not p.is_file() or rel not in listed:
             return f"holds {rel}, which ehm did not write"
-        if p.stat().st_size != listed[rel]:
+        st = p.stat()
+        if st.st_size != listed[rel] or (rel in mtimes and st.st_mtime_ns != mtimes[rel]):
             return f"holds {rel}, which was changed after ehm wrote it"
     return None
 

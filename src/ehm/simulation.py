@@ -296,8 +296,11 @@ def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) 
             else f"a jump of {jump[i]:.3g} m/s^2 from one sample to the next")
     last = float(motion.time_s[int(bad[-1])])
     where = str(exc).split(" (", 1)[0]
+    cut = math.ceil(last + 1.0)
+    fix = (f"cut it away with --start {cut:g} (start_s= in read_motion; counted from the log's first sample, so add "
+           f"any --start given already), or check the log's units" if cut < motion.duration_s
+           else "check the log's units and what the sensor was fixed to")
     return DivergenceError(f"{where}: the seat input is out of the ordinary before it ({what} at t = "
                            f"{motion.time_s[i]:.3f} s; the last such sample at {last:.3f} s), e.g. a sensor being put "
-                           f"in place or knocked; cut it away with --start {math.ceil(last + 1.0):g} "
-                           f"(start_s= in read_motion), or check the log's units.")
+                           f"in place or knocked; {fix}.")
 

@@ -298,8 +298,12 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         guse = _resolve(gsrc, channels, imu, rate_hz, "rates")
         tg, gdata, _, _ = _table(gsrc, guse, units, signs, rate_hz, window, origin, fill_gaps, _RATES, taken, clock)
         _check_plausible(gsrc, guse, gdata, taken, acc=False)
-        if tg.size >= 2 and time_s.size >= 2:
-            time_s, data = _join(src.label, gsrc.label, time_s, data, tg, gdata, _RATES)
+        if tg.size < 2 or time_s.size < 2:
+            raise InputError(f"{gsrc.label}: the gyro file holds {tg.size} sample(s) within the accelerometer's "
+                             f"{'cut of the ' if window is not None else ''}log ({time_s.size} sample(s)); at least "
+                             "2 of each are needed to join them: check the cut (--start, --end) and that both files "
+                             "come from one recording.")
+        time_s, data = _join(src.label, gsrc.label, time_s, data, tg, gdata, _RATES)
     if time_s.size:
         time_s = time_s - time_s[0]  # the time axis starts at 0 (epoch and uptime stamps, a file's own clock)
     if time_s.size < 2:
@@ -310,7 +314,7 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
     irregular = _irregular(time_s)
     acc = _stack(data, _ACC)
     rates = _stack(data, _RATES) if all(k in data for k in _RATES) else None
-    time_s = _frozen(np.array(time_s, dtype=float) if isinstance(src, _FrameSource) else time_s)
+    time_s = _frozen(np.asarray(time_s, dtype=float))  # (a new array: moved to start at 0 above)
     if mounting is not None and not imu:  # (from_imu turns its own inputs)
         acc = _frozen(acc @ mounting.T)
         rates = None if rates is None else _frozen(rates @ mounting.T)
