@@ -292,3 +292,19 @@ def test_imu_options_reach_the_imu_route_from_read_motion_and_the_command_line(t
     assert main(["simulate", "--motion", str(path), "--imu", "--out", str(out)]) == 2
     assert "roll" in capsys.readouterr().err
     assert main(["simulate", "--motion", str(path), "--imu", "--max-tilt", "60", "--rest", "1", "--out", str(out)]) == 0
+
+
+def test_a_too_short_rest_is_refused_and_a_sparse_log_has_no_rest_to_find():
+    # SYNTHETIC IMU at rest; before, rest_s of 1 ms (no window holds 2 samples) crashed the rest search
+    rng = np.random.default_rng(6)
+    t = np.arange(0.0, 20.0, 0.01)
+    f = np.array([0.0, 0.0, 9.80665]) + 0.05 * rng.standard_normal((t.size, 3))
+    w = 0.001 * rng.standard_normal((t.size, 3))
+    with pytest.raises(ehm.InputError, match=r"rest_s \(--rest\) = 0.001 s; .* 0.5 s or more"):
+        ehm.from_imu(t, f, w, rest_s=0.001)
+    sparse = np.arange(0.0, 30.0, 1.0)  # one sample a second: a 2 s window holds 2 samples at most
+    fs = np.array([0.0, 0.0, 9.80665]) + 0.05 * rng.standard_normal((sparse.size, 3))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m = ehm.from_imu(sparse, fs, 0.001 * rng.standard_normal((sparse.size, 3)), rest_s=0.5)
+    assert m.n_samples == sparse.size
