@@ -75,20 +75,26 @@ def _array(value, shape_text: str, arg: str, n: int | None = None) -> np.ndarray
     return out
 
 
-def _mounting_matrix(mounting) -> np.ndarray:
+def mounting_matrix(mounting, label: str = "from_imu") -> np.ndarray:
+    """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix: None (the identity), one scipy Rotation or a
+    proper 3x3 rotation matrix; anything else is refused in one sentence naming ``label``."""
     if mounting is None:
         return np.eye(3)
     from scipy.spatial.transform import Rotation
 
     if isinstance(mounting, Rotation):
+        if not mounting.single:
+            raise InputError(f"{label}: mounting must be one rotation, not {len(mounting)}.")
         return mounting.as_matrix()
     try:
         m = np.array(mounting, dtype=float)
     except (TypeError, ValueError):
-        raise InputError("from_imu: mounting must be a 3x3 rotation matrix (sensor axes -> seat axes) or a "
-                         "scipy Rotation.") from None
-    if m.shape != (3, 3) or not np.allclose(m @ m.T, np.eye(3), atol=1e-6) or np.linalg.det(m) < 0:
-        raise InputError("from_imu: mounting must be a proper 3x3 rotation matrix (orthonormal, determinant +1), "
+        m = None
+    if m is None or m.shape != (3, 3):
+        raise InputError(f"{label}: mounting must be a scipy Rotation or a 3x3 rotation matrix (sensor axes -> seat "
+                         "axes); from roll, pitch and yaw use ehm.readers.mounting_rotation(roll, pitch, yaw).")
+    if not (np.all(np.isfinite(m)) and np.allclose(m @ m.T, np.eye(3), atol=1e-6) and np.linalg.det(m) > 0):
+        raise InputError(f"{label}: mounting must be a proper 3x3 rotation matrix (orthonormal, determinant +1), "
                          "sensor axes -> seat axes.")
     return m
 
@@ -168,7 +174,7 @@ def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None
         raise InputError(f"{label}: rest_s (--rest) = {rest_s:g} s; a rest that tells the gyro's bias from vibration "
                          f"lasts {MIN_REST_S:g} s or more.")
     limit = _positive(max_tilt_deg, "max_tilt_deg")
-    m = _mounting_matrix(mounting)
+    m = mounting_matrix(mounting, label)
     f = f @ m.T
     g_ref = _att.gravity_reading(f)
     if abs(g_ref / STANDARD_GRAVITY_MPS2 - 1.0) > _GRAVITY_TOLERANCE:

@@ -18,6 +18,7 @@ from scipy.spatial.transform import Rotation
 
 from . import engine
 from .errors import DivergenceError, InputError
+from .imu import STANDARD_GRAVITY_MPS2
 from .motion import Resampler, SeatMotion, seat_kinematics, seat_rotation_matrices
 from .params import Parameters
 from .results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_runs: also importable from here
@@ -273,9 +274,9 @@ class SeatedHuman:
 
 
 #: A seat input beyond this [m/s^2] (2 g) is out of the ordinary for a vehicle: a sensor handled or knocked.
-UNUSUAL_ACC_MPS2 = 2 * 9.80665
+UNUSUAL_ACC_MPS2 = 2 * STANDARD_GRAVITY_MPS2
 #: A change between two samples beyond this [m/s^2] (1 g) is a jump, not a vehicle's motion.
-UNUSUAL_JUMP_MPS2 = 9.80665
+UNUSUAL_JUMP_MPS2 = STANDARD_GRAVITY_MPS2
 
 
 def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) -> DivergenceError:

@@ -34,9 +34,10 @@ import warnings
 import numpy as np
 
 from ..errors import InputError
+from ..imu import STANDARD_GRAVITY_MPS2
 
 GRAVITY_MODES = ("auto", "included", "removed")
-STANDARD_GRAVITY = 9.80665  #: [m/s^2]
+STANDARD_GRAVITY = STANDARD_GRAVITY_MPS2  #: [m/s^2] (ehm.imu's)
 G_TOLERANCE = 0.10  #: a mean norm within this share of g is taken as gravity
 MAX_MEAN_VERTICAL_MPS2 = 2.0  #: a gravity-free log's mean z above this is refused
 QUIET_WINDOW_S = 5.0  #: length of the quiet window the tilt is taken from [s]

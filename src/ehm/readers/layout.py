@@ -23,6 +23,7 @@ import warnings
 import numpy as np
 
 from ..errors import InputError
+from ..imu import mounting_matrix
 from ..resampling import UNIFORM_TOLERANCE
 from .checks import GAP_STEPS, MIN_OVERLAP
 
@@ -147,27 +148,9 @@ def _irregular(t: np.ndarray):
 
 
 def _mounting_matrix(mounting, label: str) -> np.ndarray | None:
-    """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix, as :func:`ehm.from_imu` takes it."""
-    if mounting is None:
-        return None
-    from scipy.spatial.transform import Rotation
-
-    if isinstance(mounting, Rotation):
-        if not mounting.single:
-            raise InputError(f"{label}: mounting must be one rotation, not {len(mounting)}.")
-        return mounting.as_matrix()
-    try:
-        m = np.array(mounting, dtype=float)
-    except (TypeError, ValueError):
-        m = None
-    if m is None or m.shape != (3, 3):
-        raise InputError(f"{label}: mounting must be a scipy Rotation or a 3x3 rotation matrix (sensor axes -> seat "
-                         "axes), as ehm.from_imu takes it; from roll, pitch and yaw use "
-                         "ehm.readers.mounting_rotation(roll, pitch, yaw).")
-    if not (np.all(np.isfinite(m)) and np.allclose(m @ m.T, np.eye(3), atol=1e-6)
-            and np.linalg.det(m) > 0):
-        raise InputError(f"{label}: mounting must be a proper 3x3 rotation matrix (orthonormal, determinant +1).")
-    return m
+    """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix, checked as :func:`ehm.from_imu` checks it;
+    None when there is none."""
+    return None if mounting is None else mounting_matrix(mounting, label)
 
 
 def mounting_rotation(roll, pitch=None, yaw=None, degrees: bool = True):
