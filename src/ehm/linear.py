@@ -157,6 +157,9 @@ class _Modes:
     y0: np.ndarray
     static_hz: np.ndarray  #: natural frequencies of the modes taken as static
     unreached: int  #: number of modes left out: time constant over 1000 s, input gain at round-off level
+    V: np.ndarray  #: (n_state, m) the kept modes' eigenvectors: the state x = sum of w Re(V z) + X_static u
+    W: np.ndarray  #: (m, n_state) the kept modes' rows of V^-1: z = W x
+    X_static: np.ndarray  #: (n_state, 3) the static modes' share of the state per unit input
 
 
 def _modes(ss: StateSpace) -> _Modes:
@@ -179,8 +182,12 @@ def _modes(ss: StateSpace) -> _Modes:
         B = np.vstack([Bm[kept_real].real + 0j, Bm[kept_pair]])
         C = np.hstack([Cm[:, kept_real].real + 0j, Cm[:, kept_pair]])
         weight = np.concatenate([np.ones(kept_real.sum()), 2 * np.ones(kept_pair.sum())])
+        Winv = np.linalg.inv(V)
+        kept = np.concatenate([np.flatnonzero(kept_real), np.flatnonzero(kept_pair)])
+        X_static = -(V[:, static] @ (Bm[static] / lam[static, None])).real
         cached = _Modes(lam=lam_k, B=B, C=C, weight=weight, n_real=int(kept_real.sum()), D=D, y0=ss.y0,
-                        static_hz=np.sort(np.abs(lam[static])) / (2 * np.pi), unreached=int(unreached.sum()))
+                        static_hz=np.sort(np.abs(lam[static])) / (2 * np.pi), unreached=int(unreached.sum()),
+                        V=V[:, kept], W=Winv[kept], X_static=X_static)
         ss.cache["modes"] = cached
     return cached
 
@@ -302,6 +309,22 @@ def _block_matrix(m: _Modes, Bd: np.ndarray, hold_D: np.ndarray, P: np.ndarray) 
 def _initial_state(blk: _Blocks, u0: np.ndarray) -> np.ndarray:
     """Modal state z~ of the person at rest (z = 0) when the seat acceleration starts at ``u0``."""
     return -blk.g1 * (blk.B @ u0)
+
+
+def state_of(ss: StateSpace, blk: _Blocks, carry: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """The full state x of the continuous model (:func:`ehm.engine.linearize`'s, relative to the settled state)
+    from a time run's modal state ``carry`` (z~, as :func:`_block_chunk` advances it) at a sample whose input
+    is ``u`` (3,); the modes left out of time runs (not reached by the input) are taken as zero."""
+    m = _modes(ss)
+    z = carry + blk.g1 * (blk.B @ u)
+    return (m.V @ (m.weight * z)).real + m.X_static @ u
+
+
+def carry_of(ss: StateSpace, blk: _Blocks, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """The modal state z~ of a time run at a sample whose state is ``x`` and input ``u`` (3,): the inverse of
+    :func:`state_of` on the kept modes (a state's share in the modes left out is dropped)."""
+    m = _modes(ss)
+    return m.W @ x - blk.g1 * (blk.B @ u)
 
 
 def _block_chunk(blk: _Blocks, u: np.ndarray, carry: np.ndarray) -> np.ndarray:

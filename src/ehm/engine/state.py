@@ -91,3 +91,30 @@ def get_state(model: Model, d: mujoco.MjData) -> np.ndarray:
 def set_state(model: Model, d: mujoco.MjData, state: np.ndarray) -> None:
     """Put a state from :func:`get_state` back into ``d``."""
     mujoco.mj_setState(model.mj, d, state, mujoco.mjtState.mjSTATE_INTEGRATION)
+
+
+def data_at_deviation(model: Model, x: np.ndarray, time_s: float = 0.0) -> mujoco.MjData:
+    """A fresh MjData at the state ``x`` of the linear model (:func:`ehm.engine.linearize`: MuJoCo's tangent-space
+    state, positions, velocities and activations, relative to the settled state), at ``time_s``."""
+    s = model.settled if model.settled is not None else settle(model)
+    d = settled_data(model)
+    nv = model.mj.nv
+    qpos = s["qpos"].copy()
+    mujoco.mj_integratePos(model.mj, qpos, np.ascontiguousarray(x[:nv]), 1.0)
+    d.qpos[:] = qpos
+    d.qvel[:] = s["qvel"] + x[nv:2 * nv]
+    d.act[:] = s["act"] + x[2 * nv:]
+    d.time = time_s
+    mujoco.mj_forward(model.mj, d)
+    return d
+
+
+def deviation_of(model: Model, d: mujoco.MjData) -> np.ndarray:
+    """The state of ``d`` as the linear model's state ``x``: the inverse of :func:`data_at_deviation`."""
+    s = model.settled if model.settled is not None else settle(model)
+    nv = model.mj.nv
+    x = np.empty(2 * nv + model.mj.na)
+    mujoco.mj_differentiatePos(model.mj, x[:nv], 1.0, s["qpos"], d.qpos)
+    x[nv:2 * nv] = d.qvel - s["qvel"]
+    x[2 * nv:] = d.act - s["act"]
+    return x
