@@ -133,6 +133,7 @@ class Assessment:
     final_displacement_m: dict = field(default_factory=dict)
     input_band_hz: tuple | None = None  # (low, high) the seat input covers, see input_band
     band_outside_share: dict = field(default_factory=dict)  # weighting -> share of its power outside that band
+    route: dict | None = None  # how the drive was run and checked (ehm.hybrid.RouteReport.as_dict)
 
     def total_value(self, location: str) -> float:
         """Vibration total value a_v = sqrt(a_wx^2 + a_wy^2 + a_wz^2), k = 1 (comfort) [m/s^2]."""
@@ -144,6 +145,7 @@ class Assessment:
                "weightings": {**AXIS_WEIGHTING, "msdv": "Wf (z)"},
                "input_band_hz": list(self.input_band_hz) if self.input_band_hz else None,
                "band_outside_share": dict(self.band_outside_share),
+               **({"route": self.route} if self.route else {}),
                "locations": {}}
         seat_av = self.total_value("seat")
         for loc in LOCATIONS:
@@ -252,7 +254,7 @@ def _seat_angvel(motion: SeatMotion, t_rel: np.ndarray) -> np.ndarray:
 
 
 def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
-           method: str = "nonlinear") -> Assessment:
+           method: str = "auto", tolerance: float | None = None) -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
 
     Parameters
@@ -267,8 +269,13 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
         the default 1 ms), whatever the drive's length.
     progress : callable(done_s, total_s), optional
     method : str
-        ``nonlinear`` (default: MuJoCo) or ``linear`` (the linearised person, :mod:`ehm.linear`; translation
-        only, refuses drives that make a contact lift off or slide).
+        ``auto`` (default: the hybrid route, :mod:`ehm.hybrid`: the linearised person, with the nonlinear model
+        through the windows where a contact reaches its friction limit or lifts off, and for the whole drive when
+        the seat rotates or those windows would cover most of it), ``nonlinear`` (MuJoCo throughout) or
+        ``linear`` (the linearised person throughout, checked against the nonlinear model in those windows, with
+        a warning above ``tolerance``; translation only).
+    tolerance : float, optional
+        The linear route's tolerance: share of each point acceleration's rms (default 1 %).
     """
     from .simulation import SeatedHuman
 
@@ -294,17 +301,14 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
         warnings.warn(f"{motion.description}: {sentence}", stacklevel=2)
     description, duration = motion.description, motion.duration_s
     t0 = time.perf_counter()
-    if method == "linear":  # on the model's step, so that the metrics see the same sample rate either way
-        from .linear import stream_linear
-
-        # resampled a chunk at a time; the grid t = 0, dt, ... within the drive, as Resampler counts it
+    chunks = human.stream(motion, chunk_s=chunk_s, progress=progress, method=method, tolerance=tolerance)
+    if method != "nonlinear":  # on the model's step, resampled a chunk at a time (the grid t = 0, dt, ...)
         description = f"{motion.description}, resampled to dt {dt:g} s"
         duration = int(np.floor(motion.duration_s / dt + 1e-9)) * dt
-        chunks = stream_linear(human, motion, chunk_s=chunk_s, progress=progress, dt_s=dt)
-    else:
-        chunks = human.stream(motion, chunk_s=chunk_s, progress=progress, method=method)
+    route = None
     for chunk in chunks:
         running.add(chunk, _seat_angvel(motion, chunk.time_s) if rotating else None)
+        route = chunk.extra.get("route", route)
         del chunk  # the next chunk is made without this one held
     wall = time.perf_counter() - t0
     metrics = {loc: {a: running.comfort[loc][a].result() for a in "xyz"} for loc in LOCATIONS}
@@ -314,5 +318,5 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
         spectra={loc: {a: running.spectra[loc][a].result() for a in "xyz"} for loc in LOCATIONS},
         sickness={key: acc.result() for key, acc in running.sickness.items()},
         trace_time_s=np.arange(n_trace) * keep * dt, max_displacement_m=running.max_disp,
-        final_displacement_m=running.final_disp, input_band_hz=band, band_outside_share=shares,
+        final_displacement_m=running.final_disp, input_band_hz=band, band_outside_share=shares, route=route,
     )

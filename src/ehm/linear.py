@@ -160,6 +160,7 @@ class _Modes:
     V: np.ndarray  #: (n_state, m) the kept modes' eigenvectors: the state x = sum of w Re(V z) + X_static u
     W: np.ndarray  #: (m, n_state) the kept modes' rows of V^-1: z = W x
     X_static: np.ndarray  #: (n_state, 3) the static modes' share of the state per unit input
+    P_unreached: np.ndarray  #: (n_state, n_state) projection of a state onto the modes left out (not reached)
 
 
 def _modes(ss: StateSpace) -> _Modes:
@@ -187,7 +188,8 @@ def _modes(ss: StateSpace) -> _Modes:
         X_static = -(V[:, static] @ (Bm[static] / lam[static, None])).real
         cached = _Modes(lam=lam_k, B=B, C=C, weight=weight, n_real=int(kept_real.sum()), D=D, y0=ss.y0,
                         static_hz=np.sort(np.abs(lam[static])) / (2 * np.pi), unreached=int(unreached.sum()),
-                        V=V[:, kept], W=Winv[kept], X_static=X_static)
+                        V=V[:, kept], W=Winv[kept], X_static=X_static,
+                        P_unreached=(V[:, unreached] @ Winv[unreached]).real)
         ss.cache["modes"] = cached
     return cached
 

@@ -171,14 +171,15 @@ def _paths(out: Path, formats, poses: bool) -> dict:
 
 
 def concatenate_runs(chunks: list) -> RunResult:
-    """One :class:`RunResult` from consecutive chunks (as :meth:`ehm.SeatedHuman.stream` yields them)."""
+    """One :class:`RunResult` from consecutive chunks (as :meth:`ehm.SeatedHuman.stream` yields them); ``extra``
+    is the first chunk's, updated by the last one's (which carries a route's report)."""
     first = chunks[0]
     cat = lambda get: np.concatenate([get(c) for c in chunks])  # noqa: E731
     points = {p: PointMotion(p, *(cat(lambda c, f=f: getattr(c.points[p], f)) for f in _POINT_FIELDS))
               for p in first.points}
     return replace(first, time_s=cat(lambda c: c.time_s), seat_acc_mps2=cat(lambda c: c.seat_acc_mps2), points=points,
                    support_N={k: cat(lambda c, k=k: c.support_N[k]) for k in first.support_N},
-                   wall_s=sum(c.wall_s for c in chunks),
+                   wall_s=sum(c.wall_s for c in chunks), extra={**first.extra, **chunks[-1].extra},
                    seat_angles_rad=None if first.seat_angles_rad is None else cat(lambda c: c.seat_angles_rad),
                    poses=None if first.poses is None else {
                        **{k: v for k, v in first.poses.items() if k not in ("time_s", "pos", "quat")},

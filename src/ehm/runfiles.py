@@ -71,7 +71,7 @@ class SummaryAccumulator:
     def __init__(self):
         self.n = 0
         self.wall_s = 0.0
-        self.first = None
+        self.first = self.last = None
         self.sums: dict[str, np.ndarray] = {}
 
     def _add(self, key: str, value: np.ndarray) -> None:
@@ -80,6 +80,7 @@ class SummaryAccumulator:
     def add(self, chunk) -> None:
         if self.first is None:
             self.first = chunk
+        self.last = chunk
         self.n += len(chunk.time_s)
         self.wall_s += chunk.wall_s
         self._add("seat_acc_sq", np.sum(chunk.seat_acc_mps2 ** 2, axis=0))
@@ -116,6 +117,7 @@ class SummaryAccumulator:
         if output_rate_hz is not None:
             out["output_rate_hz"] = output_rate_hz
         out.update(c.extra)
+        out.update(self.last.extra)  # the last chunk carries a route's report (ehm.hybrid)
         return out
 
 

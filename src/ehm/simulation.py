@@ -116,31 +116,31 @@ class SeatedHuman:
         return self._linear
 
     def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None,
-                 method: str = "nonlinear") -> RunResult:
+                 method: str = "nonlinear", tolerance: float | None = None) -> RunResult:
         """Run the settled person with a seat motion.
 
         ``method="nonlinear"`` (default) steps the MuJoCo model (the motion resampled to the model's time
         step); a motion with angular velocity needs a person built with ``rotating_seat=True``; for long
-        drives use :meth:`stream`, which holds one chunk at a time.  ``method="linear"`` runs the person
-        linearised at rest (:mod:`ehm.linear`) on the same input as the nonlinear route (the motion resampled
-        to the model's step, anti-aliased), exactly discretised: about a
-        thousand times faster than real time (about thirty times faster than the nonlinear route), for
-        translation inputs small enough that no contact lifts off or slides (checked while it runs:
-        :class:`ehm.linear.LinearRouteError` otherwise).
-        """
-        if method == "linear":
-            if not isinstance(motion, SeatMotion):
-                raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
-            from .linear import simulate_linear
+        drives use :meth:`stream`, which holds one chunk at a time.
 
-            return simulate_linear(self, motion, dt_s=float(self.model.mj.opt.timestep))
+        ``method="linear"`` runs the person linearised at rest (:mod:`ehm.linear`) on the same input (the
+        motion resampled to the model's step, anti-aliased), exactly discretised, about a thousand times
+        faster than real time, and checks it by its effect (:mod:`ehm.hybrid`): wherever a contact reaches its
+        friction limit or lifts off, the nonlinear model runs too and the two answers are compared; above
+        ``tolerance`` (share of each point acceleration's rms, default 1 %) it warns
+        (:class:`ehm.hybrid.LinearRouteWarning`) with the figure.  ``method="auto"`` (the hybrid route) keeps the nonlinear answer
+        in those windows and the linear one elsewhere.  Both record what they checked in
+        ``result.extra["route"]`` (:class:`ehm.hybrid.RouteReport`) and record no poses.
+        """
+        if method in ("linear", "auto"):
+            return concatenate_runs(list(self.stream(motion, progress=progress, method=method, tolerance=tolerance)))
         if method != "nonlinear":
-            raise InputError(f"method must be 'nonlinear' or 'linear', not {method!r}.")
+            raise InputError(f"method must be 'nonlinear', 'linear' or 'auto', not {method!r}.")
         return concatenate_runs(list(self.stream(motion, progress=progress, pose_rate_hz=pose_rate_hz)))
 
     def simulate_to(self, out_dir: Path | str, motion: SeatMotion, output_rate_hz: float | None = None,
                     formats=("csv",), pose_rate_hz: float | None = 25.0, progress=None, chunk_s: float = 10.0,
-                    plot=None, method: str = "nonlinear") -> dict:
+                    plot=None, method: str = "nonlinear", tolerance: float | None = None) -> dict:
         """Run a seat motion and write its run folder while it runs; returns the summary.
 
         Chunks of ``chunk_s`` go to disk as they are computed (:mod:`ehm.runfiles`), so memory does not grow
@@ -148,8 +148,8 @@ class SeatedHuman:
         (:mod:`ehm.outdir`), and a failure or an interrupt leaves an earlier folder there as it was.
         ``output_rate_hz`` thins the time series (it must divide the model's rate; default
         :data:`ehm.runfiles.DEFAULT_OUTPUT_RATE_HZ`, or the nearest whole fraction of the model's rate above it);
-        ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method`` as for :meth:`simulate` (the linear route
-        records no poses).
+        ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method`` and ``tolerance`` as for :meth:`simulate` (the
+        linear and hybrid routes record no poses).
 
         ``plot`` draws figures into the folder before it is put in place: a callable ``plot(preview, folder)``
         that gets a :class:`RunResult` of at most :data:`ehm.runfiles.PREVIEW_ROWS` evenly spread rows and the
@@ -163,7 +163,7 @@ class SeatedHuman:
             raise InputError("plot must be a function plot(preview, folder), e.g. ehm.plotting.plot_run_preview; "
                              "simulate_to does not draw by itself.")
         dt = float(self.model.mj.opt.timestep)
-        if method == "linear":
+        if method in ("linear", "auto"):
             pose_rate_hz = None
         every = default_output_every(dt) if output_rate_hz is None else output_every(output_rate_hz, dt)
         if "parquet" in formats:
@@ -171,7 +171,8 @@ class SeatedHuman:
         check_output_folder(out_dir)
         n_steps = int(np.floor(motion.duration_s / dt + 1e-9)) + 1 if isinstance(motion, SeatMotion) else None
         with RunFolder(out_dir) as tmp:
-            chunks = self.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz, method=method)
+            chunks = self.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz, method=method,
+                                 tolerance=tolerance)
             summary, pieces = write_run(tmp, chunks, output_every=every, formats=formats,
                                         preview_rows=PREVIEW_ROWS if plot else 0, n_steps=n_steps)
             if plot and pieces:
@@ -179,7 +180,7 @@ class SeatedHuman:
         return summary
 
     def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
-               method: str = "nonlinear"):
+               method: str = "nonlinear", tolerance: float | None = None):
         """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
 
         Memory stays constant whatever the motion's length: the motion is resampled onto the model's time
@@ -190,15 +191,18 @@ class SeatedHuman:
         """
         if not isinstance(motion, SeatMotion):
             raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
-        if method == "linear":
-            from .linear import stream_linear
+        if method in ("linear", "auto"):
+            from .hybrid import TOLERANCE, stream_checked
 
             # on the model's step, resampled as the nonlinear route resamples (the same input either way)
-            yield from stream_linear(self, motion, chunk_s=chunk_s, progress=progress,
-                                     dt_s=float(self.model.mj.opt.timestep))
+            try:
+                yield from stream_checked(self, motion, method=method, chunk_s=chunk_s, progress=progress,
+                                          tolerance=TOLERANCE if tolerance is None else tolerance)
+            except DivergenceError as exc:
+                raise _with_input_cause(exc, motion, motion.duration_s) from None
             return
         if method != "nonlinear":
-            raise InputError(f"method must be 'nonlinear' or 'linear', not {method!r}.")
+            raise InputError(f"method must be 'nonlinear', 'linear' or 'auto', not {method!r}.")
         if motion.angvel_radps is not None and self.model.seat is None:
             raise InputError("this motion rotates the seat (it has angular velocities); build the person with "
                              "SeatedHuman(rotating_seat=True).")

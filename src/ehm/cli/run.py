@@ -54,10 +54,28 @@ def add_simulate(sub) -> None:
                    help="time-series file: timeseries.csv, timeseries.parquet (needs ehm[parquet]) or both "
                         "(default csv)")
     p.add_argument("--plot", action="store_true", help="also draw time_histories.png")
-    p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
-                   help="simulation route: nonlinear (MuJoCo, default) or linear (the linearised person: about 40x "
-                        "faster, translation only, refuses inputs that make a contact lift off or slide)")
+    _route_options(p)
     p.set_defaults(func=cmd_simulate)
+
+
+def _route_options(p) -> None:
+    """--method and --tolerance of simulate and assess (ehm.hybrid)."""
+    p.add_argument("--method", choices=("auto", "nonlinear", "linear"), default="auto",
+                   help="simulation route: auto (default: the linearised person, with the nonlinear model where a "
+                        "contact reaches its friction limit or lifts off, or for the whole drive when the seat rotates "
+                        "or most of it needs it), nonlinear (MuJoCo throughout) or linear (the linearised person "
+                        "throughout, checked against the nonlinear model there; translation only)")
+    p.add_argument("--tolerance", type=float, default=None, metavar="PERCENT",
+                   help="the linear route's tolerance: discrepancy from the nonlinear model in %% of each point "
+                        "acceleration's rms (default 1)")
+
+
+def _tolerance(args) -> float | None:
+    if args.tolerance is None:
+        return None
+    if not (0 < args.tolerance < 100):
+        raise InputError(f"--tolerance is a percentage between 0 and 100, not {args.tolerance:g}.")
+    return args.tolerance / 100.0
 
 
 def cmd_simulate(args) -> int:
@@ -78,12 +96,15 @@ def cmd_simulate(args) -> int:
     if args.plot:  # simulate_to computes; the figure is drawn here, into the folder before it is put in place
         from ..plotting import plot_run_preview as draw
     s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats,
-                          progress=_progress_bar("simulate"), plot=draw, method=args.method)
+                          progress=_progress_bar("simulate"), plot=draw, method=args.method,
+                          tolerance=_tolerance(args))
     files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json" + \
-        (", poses.npz" if args.method != "linear" else "") + \
+        (", poses.npz" if args.method == "nonlinear" else "") + \
         (", time_histories.png" if args.plot else "")
     print(f"simulated {s['duration_s']:.3g} s of '{s['input']}' in {s['wall_s']:.2f} s "
           f"({s['realtime_factor']:.0f}x real time); wrote {out}/ ({files}; {s['output_rate_hz']:g} rows per s)")
+    if "route" in s:
+        print(f"  {s['route']['summary_line']}")
     return 0
 
 
@@ -173,8 +194,7 @@ def add_assess(sub) -> None:
                                   "shipped SYNTHETIC drives")
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
-    p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
-                   help="simulation route (default nonlinear; linear: translation only, small inputs)")
+    _route_options(p)
     p.set_defaults(func=cmd_assess)
 
 
@@ -184,7 +204,7 @@ def cmd_assess(args) -> int:
     final = check_output_folder(args.out)
     motion = _read_motion_file(args)
     human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
-    result = assess(motion, human, progress=_progress_bar("assess"), method=args.method)
+    result = assess(motion, human, progress=_progress_bar("assess"), method=args.method, tolerance=_tolerance(args))
     summary = _assessment_summary(result, human)
     with RunFolder(final) as out:
         _write_assessment(result, summary, out)
@@ -231,6 +251,8 @@ def _print_assessment(result, summary: dict, out: Path) -> None:
         print(f"  {name:<7} a_v {v['total_value_mps2']:.3f} m/s^2 ({v['comfort_reaction']}), "
               f"a_w x/y/z {ax['x']['a_w_mps2']:.4f}/{ax['y']['a_w_mps2']:.4f}/{ax['z']['a_w_mps2']:.4f} m/s^2, "
               f"VDV_z {ax['z']['vdv_mps175']:.3f} m/s^1.75, MSDV_z {v['msdv_z_mps15']:.3f} m/s^1.5")
+    if summary.get("route"):
+        print(f"  {summary['route']['summary_line']}")
     print(f"  motion sickness incidence at the end: head {summary['sickness']['head']['final_msi_percent']:.2f} %, "
           f"head fixed to the seat {summary['sickness']['seat']['final_msi_percent']:.2f} %")
     print(f"wrote {out}/assessment.json, report.html, weighted_spectra.png, running_rms.png, sickness.png")

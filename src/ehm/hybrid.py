@@ -1,0 +1,385 @@
+"""The checked linear route and the hybrid route: the linear model where the contacts hold, the nonlinear
+model where they approach their limits, with the state handed over between them.
+
+The linear route (:mod:`ehm.linear`) is exact for the model linearised at rest, and the nonlinear model stays
+close to it as long as every touching contact keeps pressing and stays inside its friction cone.  Instead of
+refusing a whole drive the first time a contact reaches its Coulomb limit, this module judges the linear
+route by its effect:
+
+1. The linear model runs a chunk ahead and marks every sample where a contact passes its Coulomb limit
+   (:data:`NEAR_LIMIT`: tangential force over mu times normal force) or lifts off.
+2. Each marked stretch becomes a *window*: it opens :data:`LEAD_S` before the first marked sample and
+   closes once no sample has been marked for :data:`QUIET_S`.  The nonlinear model (MuJoCo) runs through the
+   window, starting from the linear model's state at the window's start (positions, velocities and
+   integral actions: :func:`ehm.linear.state_of`, :func:`ehm.engine.data_at_deviation`), so it needs no
+   settling lead-in.  Where a window leaves the body (where it sits and turns on the seat, the preload of a pad
+   that stuck while its segment moved: directions the seat's acceleration does not drive, which the linear
+   time run leaves out) is carried on as a constant offset of the linear model's state and outputs.
+3. Over every window the linear and the nonlinear answers are compared: the *discrepancy* of a point's
+   acceleration is the rms of their difference over the windows, counted over the whole drive, as a share
+   of that acceleration's rms over the drive (what the linear answer alone would be off by).
+4. ``method="auto"`` (the hybrid route) keeps the nonlinear answer in the windows and hands the nonlinear
+   state back to the linear model at each window's end (:func:`ehm.engine.deviation_of`,
+   :func:`ehm.linear.carry_of`), so both pieces join without a jump; when the marked windows would cover
+   more than :data:`FALLBACK_SHARE` of a drive it runs the whole drive on the nonlinear model instead.
+   ``method="linear"`` keeps the linear answer everywhere, the windows only checking it, and warns
+   (:class:`LinearRouteWarning`, one sentence with the figure) when the discrepancy exceeds the tolerance.
+
+Every result carries the check in ``RunResult.extra["route"]`` (:class:`RouteReport`): how much of the
+drive each model carried, the windows, and the discrepancy per point.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from . import engine
+from .errors import InputError
+from .linear import (_block_chunk, _block_form, _check_translation_only, _in_time_order,
+                     _initial_state, _layout, _modes, _result,
+                     _settled_orientations, carry_of, state_of)
+from .resampling import Resampler
+from .results import POINT_NAMES
+
+#: A contact whose tangential force in the linear model passes this share of its Coulomb limit (mu times its
+#: normal force), or that lifts off, opens a nonlinear window.  Measured on a 219 s city-bus floor log (0.59 /
+#: 0.49 / 0.34 m/s^2 rms x / y / z): at 1.0 the windows cover 23 % of the drive and the point accelerations stay
+#: within 0.7 % of rms of one continuous nonlinear run (a_v within 0.02 %); at 1.5, 10 % and 5 % of rms.
+NEAR_LIMIT = 1.0
+#: The nonlinear model takes over this long [s] before the first marked sample of a window.
+LEAD_S = 0.25
+#: A window closes once no sample has been marked for this long [s].
+QUIET_S = 0.5
+#: The linear model looks this far ahead [s] from a window's start to find where it closes (at most).
+LOOKAHEAD_S = 10.0
+#: The hybrid route runs a whole drive on the nonlinear model when its windows would cover more than this share.
+FALLBACK_SHARE = 0.5
+#: Default tolerance of the linear answers: discrepancy as a share of each point acceleration's rms.
+TOLERANCE = 0.01
+
+METHODS = ("auto", "linear", "nonlinear")
+
+
+class LinearRouteWarning(UserWarning):
+    """The linear route's answer is further from the nonlinear model's than its tolerance (``method="linear"``)."""
+
+
+@dataclass
+class RouteReport:
+    """How a drive was run and checked (``RunResult.extra["route"]``, ``summary.json``, ``assessment.json``).
+
+    Attributes
+    ----------
+    method : str
+        ``auto``, ``linear`` or ``nonlinear`` (the method asked for).
+    duration_s : float
+        Length of the drive [s].
+    nonlinear_s : float
+        Time [s] the nonlinear model carried (in the answer: auto; checked only: linear).
+    windows_s : list of [start, end]
+        The nonlinear windows [s].
+    discrepancy : dict
+        Point -> [x, y, z]: rms of the linear answer's difference from the nonlinear one over the windows, as a
+        share of the point acceleration's rms over the drive (0 where no window was needed).
+    tolerance : float
+        The tolerance the discrepancy is held to (share of rms).
+    fallback : str
+        Why the whole drive went to the nonlinear model, or "".
+    """
+
+    method: str
+    duration_s: float
+    nonlinear_s: float = 0.0
+    windows_s: list = field(default_factory=list)
+    discrepancy: dict = field(default_factory=dict)
+    tolerance: float = TOLERANCE
+    fallback: str = ""
+
+    @property
+    def linear_share(self) -> float:
+        """Share of the drive the linear model carried (auto) or answered (linear)."""
+        if self.fallback or self.duration_s <= 0:
+            return 0.0
+        return 1.0 - self.nonlinear_s / self.duration_s if self.method == "auto" else 1.0
+
+    def largest(self) -> tuple[str, str, float]:
+        """The largest discrepancy: point, axis, share of rms."""
+        best = ("head", "x", 0.0)
+        for p, v in self.discrepancy.items():
+            for a, x in zip("xyz", v):
+                if x > best[2]:
+                    best = (p, a, float(x))
+        return best
+
+    def line(self) -> str:
+        """One sentence for the console."""
+        if self.fallback:
+            return f"route: nonlinear model for the whole drive ({self.fallback})."
+        p, a, worst = self.largest()
+        n = len(self.windows_s)
+        share = self.nonlinear_s / self.duration_s if self.duration_s > 0 else 0.0
+        checked = (f"{n} window{'s' if n != 1 else ''} where a contact reached its friction limit or lifted off "
+                   f"({self.nonlinear_s:.1f} s, {share:.1%} of the drive)")
+        if self.method == "auto":
+            return (f"route: linear model {self.linear_share:.1%} of the drive, nonlinear model in {checked}; "
+                    f"there the linear answer alone would differ by up to {worst:.2%} of rms ({p} {a}).")
+        return (f"route: linear model, checked against the nonlinear model in {checked}: largest discrepancy "
+                f"{worst:.2%} of rms ({p} {a}), tolerance {self.tolerance:.0%}.")
+
+    def as_dict(self) -> dict:
+        """Plain data (what ``summary.json`` and ``assessment.json`` hold under ``route``)."""
+        p, a, worst = self.largest()
+        return {"summary_line": self.line(), "method": self.method, "duration_s": self.duration_s, "linear_share": self.linear_share,
+                "nonlinear_s": self.nonlinear_s, "windows_s": [[float(t0), float(t1)] for t0, t1 in self.windows_s],
+                "discrepancy_share_of_rms": {k: [float(x) for x in v] for k, v in self.discrepancy.items()},
+                "largest_discrepancy": {"point": p, "axis": a, "share_of_rms": worst},
+                "tolerance_share_of_rms": self.tolerance, "within_tolerance": worst <= self.tolerance,
+                "fallback": self.fallback}
+
+
+def check_method(method: str) -> str:
+    if method not in METHODS:
+        raise InputError(f"method must be one of {', '.join(METHODS)}, not {method!r}.")
+    return method
+
+
+def _near_limit(ss, y: np.ndarray, n: int) -> np.ndarray:
+    """(n,) bool: samples where a touching contact comes within NEAR_LIMIT of its Coulomb limit or lifts off
+    (``y`` as :func:`ehm.linear._block_chunk` returns it)."""
+    nc = len(ss.contacts)
+    if not nc:
+        return np.zeros(n, dtype=bool)
+    first = y.shape[0] - 3 * nc
+    fn, ft1, ft2 = (_in_time_order(y[first + k * nc:first + (k + 1) * nc])[:, :n] for k in range(3))
+    mu = np.array([ss.friction[c] for c in ss.contacts])[:, None]
+    return ((fn <= 0) | (np.hypot(ft1, ft2) > NEAR_LIMIT * mu * fn)).any(axis=0)
+
+
+def _window_end(flags: np.ndarray, k: int, quiet: int) -> int:
+    """Index (into ``flags``) where the window opened by the marked sample ``k`` closes: ``quiet`` samples after
+    the last marked sample of the stretch, the stretch ending at the first ``quiet`` unmarked samples in a row
+    (or at the end of ``flags``)."""
+    marked = np.flatnonzero(flags[k:]) + k
+    gaps = np.flatnonzero(np.diff(marked) > quiet)
+    last = marked[gaps[0]] if gaps.size else marked[-1]
+    return int(min(flags.size, last + 1 + quiet))
+
+
+class _Discrepancy:
+    """Sums over a drive: each point acceleration's sum and sum of squares, and the squared difference of the
+    linear answer from the nonlinear one in the windows."""
+
+    def __init__(self):
+        self.n = 0
+        self.s1 = np.zeros((len(POINT_NAMES), 3))
+        self.s2 = np.zeros((len(POINT_NAMES), 3))
+        self.d2 = np.zeros((len(POINT_NAMES), 3))
+
+    def add_answer(self, chunk) -> None:
+        a = np.stack([chunk.point(p).acc_mps2 for p in POINT_NAMES])  # (points, n, 3)
+        self.n += a.shape[1]
+        self.s1 += a.sum(axis=1)
+        self.s2 += (a * a).sum(axis=1)
+
+    def add_window(self, linear, nonlinear) -> None:
+        for i, p in enumerate(POINT_NAMES):
+            diff = linear.point(p).acc_mps2 - nonlinear.point(p).acc_mps2
+            self.d2[i] += (diff * diff).sum(axis=0)
+
+    def shares(self) -> dict:
+        if self.n == 0:
+            return {p: [0.0, 0.0, 0.0] for p in POINT_NAMES}
+        var = np.maximum(self.s2 / self.n - (self.s1 / self.n) ** 2, 0.0)
+        rms_diff = np.sqrt(self.d2 / self.n)
+        share = np.divide(rms_diff, np.sqrt(var), out=np.zeros_like(rms_diff), where=var > 0)
+        return {p: share[i].tolist() for i, p in enumerate(POINT_NAMES)}
+
+
+def _flagged_share(ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: int) -> float:
+    """Share of the drive the windows would cover, from one linear pass (from rest, no hand-over)."""
+    n = grid.n_samples
+    carry = None
+    covered = np.zeros(n, dtype=bool)
+    for start in range(0, n, per_chunk):
+        stop = min(n, start + per_chunk)
+        u = grid.block(start, stop)
+        if carry is None:
+            carry = _initial_state(blk, u[0])
+        flags = _near_limit(ss, _block_chunk(blk, u, carry), stop - start)
+        idx = np.flatnonzero(flags) + start
+        if idx.size:  # each marked sample covers [k - lead, k + quiet)
+            edges = np.zeros(n + 1, dtype=int)
+            np.add.at(edges, np.clip(idx - lead, 0, n), 1)
+            np.add.at(edges, np.clip(idx + quiet, 0, n), -1)
+            covered |= np.cumsum(edges[:-1]) > 0
+    return float(covered.mean())
+
+
+def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, progress=None,
+                   tolerance: float = TOLERANCE):
+    """Run ``motion`` on the hybrid route (``method="auto"``) or the checked linear route (``"linear"``), chunk
+    by chunk, as :meth:`ehm.SeatedHuman.stream` does (see the module docstring).
+
+    Yields :class:`ehm.results.RunResult` chunks on the model's time step; the last one carries the
+    :class:`RouteReport` as plain data (:meth:`RouteReport.as_dict`) in ``extra["route"]``.  ``tolerance``:
+    share of rms the linear route's discrepancy may reach (``method="linear"`` warns above it).
+    """
+    if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
+        raise InputError(f"tolerance must be a share of rms between 0 and 1, not {tolerance!r}.")
+    dt = float(human.model.mj.opt.timestep)
+    report = RouteReport(method=method, duration_s=motion.duration_s, tolerance=float(tolerance))
+    rotates = motion.angvel_radps is not None and np.any(motion.angvel_radps != 0)
+    if (rotates or human.model.seat is not None) and method == "auto":
+        report.fallback = ("the seat rotates, and the linear route takes translation only" if rotates else
+                           "the person sits on a rotating seat, and the linear route models a static one")
+        yield from _nonlinear_whole(human, motion, chunk_s, progress, report)
+        return
+    if rotates:
+        _check_translation_only(motion)
+    description = motion.description
+    ss = human.linear_model()
+    blk = _block_form(ss, float(f"{dt:.12g}"))
+    grid = Resampler(motion.time_s, motion.acc_mps2, dt)  # as the nonlinear route resamples (Resampler.of_motion)
+    per_chunk = max(1, int(round(chunk_s / dt)))
+    lead, quiet = int(round(LEAD_S / dt)), int(round(QUIET_S / dt))
+    if method == "auto":
+        share = _flagged_share(ss, blk, grid, per_chunk, lead, quiet)
+        if share > FALLBACK_SHARE:
+            report.fallback = (f"contacts near their friction limit over {share:.0%} of it, more than "
+                               f"{FALLBACK_SHARE:.0%}")
+            yield from _nonlinear_whole(human, motion, chunk_s, progress, report)
+            return
+    pieces = _pieces(human, ss, blk, grid, per_chunk, lead, quiet, method, report, motion.description, dt)
+    held = None
+    for piece in pieces:
+        if held is not None:
+            yield held
+            if progress:
+                progress(min(held.time_s[-1] + dt, motion.duration_s), motion.duration_s)
+        held = piece
+    p, a, worst = report.largest()
+    if method == "linear" and worst > tolerance:
+        warnings.warn(LinearRouteWarning(
+            f"{description}: the linear route's answer is off by {worst:.2%} of rms ({p} {a} acceleration) in the "
+            f"{len(report.windows_s)} windows where a contact reached its friction limit or lifted off "
+            f"({report.nonlinear_s:.1f} s), more than the tolerance {tolerance:.0%}; the hybrid route (method='auto', "
+            "--method auto) runs the nonlinear model there."), stacklevel=2)
+    yield replace(held, extra={**held.extra, "route": report.as_dict()})
+    if progress:
+        progress(motion.duration_s, motion.duration_s)
+
+
+def _nonlinear_whole(human, motion, chunk_s, progress, report: RouteReport):
+    """The whole drive on the nonlinear model; the last chunk carries the report."""
+    report.nonlinear_s = motion.duration_s
+    held = None
+    for chunk in human.stream(motion, chunk_s=chunk_s, progress=progress, method="nonlinear"):
+        if held is not None:
+            yield held
+        held = chunk
+    yield replace(held, extra={**held.extra, "route": report.as_dict()})
+
+
+def _pieces(human, ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: int, method: str,
+            report: RouteReport, description: str, dt: float):
+    """The drive's pieces in time order: linear stretches and nonlinear windows (see the module docstring)."""
+    n = grid.n_samples
+    R0 = _settled_orientations(ss, human.model)
+    poses = engine.settled_point_poses(human.model)
+    sums = _Discrepancy()
+    lin_desc = nl_desc = f"{description}, at dt {dt:g} s, {'hybrid' if method == 'auto' else 'linear'} route"
+
+    # The state's share in the modes the linear time run leaves out (not reached by the seat's acceleration:
+    # where the body sits and turns on the seat pan, the integral actions' neutral directions) stays where a
+    # nonlinear window left it: carried as a constant offset of the linear model's state and outputs.
+    offset = np.zeros(ss.A.shape[0])
+    C_out = ss.C[_layout(ss)]
+    shift = None
+
+    def run_linear(u: np.ndarray, carry: np.ndarray) -> np.ndarray:
+        y = _block_chunk(blk, u, carry)  # advances carry past u
+        if shift is not None:
+            y += shift[:, None, None]
+        return y
+
+    def linear_piece(a: int, b: int, carry: np.ndarray, u=None, y=None, wall_s: float = 0.0):
+        t0 = time.perf_counter()
+        u = grid.block(a, b) if u is None else u
+        y = run_linear(u, carry) if y is None else y  # advances carry to b
+        res = _result(human, ss, y, u, np.arange(a, b) * dt, dt, R0, lin_desc)
+        return replace(res, wall_s=wall_s + time.perf_counter() - t0)
+
+    carry = None
+    pos = 0
+    look = max(per_chunk, int(round(LOOKAHEAD_S / dt)))  # a window may run this far before it is cut
+    while pos < n:
+        t_start = time.perf_counter()
+        stop = min(n, pos + per_chunk)
+        u = grid.block(pos, stop)
+        if carry is None:
+            carry = _initial_state(blk, u[0])
+        ahead = carry.copy()
+        y = run_linear(u, ahead)
+        flags = _near_limit(ss, y, stop - pos)
+        if not flags.any():  # the look ahead is the answer
+            piece = linear_piece(pos, stop, carry, u, y, time.perf_counter() - t_start)
+            carry = ahead
+            sums.add_answer(piece)
+            yield piece
+            pos = stop
+            continue
+        w0 = max(pos, pos + int(np.argmax(flags)) - lead)
+        if w0 > pos:
+            piece = linear_piece(pos, w0, carry)
+            sums.add_answer(piece)
+            yield piece
+        # the window: the linear prediction from w0 marks where it closes, and is what the check compares
+        end = min(n, w0 + look)
+        u_w = grid.block(w0, end)
+        ahead = carry.copy()
+        y_ahead = run_linear(u_w, ahead)
+        flags = _near_limit(ss, y_ahead, end - w0)
+        w1 = w0 + _window_end(flags, int(np.argmax(flags)), quiet) if flags.any() else min(n, w0 + quiet)
+        w1 = max(w1, w0 + 1)
+        nonlinear, d = _nonlinear_window(human, ss, blk, carry, offset, grid, w0, w1, dt, poses, nl_desc)
+        lin_carry = carry.copy()
+        linear = linear_piece(w0, w1, lin_carry)
+        sums.add_window(linear, nonlinear)
+        report.windows_s.append([w0 * dt, w1 * dt])
+        report.nonlinear_s += (w1 - w0) * dt
+        if method == "auto":
+            sums.add_answer(nonlinear)
+            yield nonlinear
+            if w1 < n:
+                x, u1 = engine.deviation_of(human.model, d), grid.block(w1, w1 + 1)[0]
+                carry = carry_of(ss, blk, x, u1)
+                offset = _modes(ss).P_unreached @ x
+                shift = C_out @ offset
+        else:
+            sums.add_answer(linear)
+            yield linear
+            carry = lin_carry
+        pos = w1
+        report.discrepancy = sums.shares()
+    report.discrepancy = sums.shares()
+
+
+def _nonlinear_window(human, ss, blk, carry: np.ndarray, offset: np.ndarray, grid: Resampler, a: int, b: int,
+                      dt: float, poses: dict, description: str):
+    """The nonlinear model over samples a ... b - 1, from the linear model's state at sample a (its time run's
+    modal state ``carry`` plus the ``offset`` in the modes it leaves out); returns the piece and the MjData at
+    sample b."""
+    u = grid.block(a, b)
+    x = state_of(ss, blk, carry, u[0]) + offset
+    d = engine.data_at_deviation(human.model, x, time_s=a * dt)
+    t0 = time.perf_counter()
+    with engine.captured_warnings():
+        raw = engine.run(human.model, u, d=d)
+    wall = time.perf_counter() - t0
+    t = np.arange(a, b) * dt
+    piece = human._chunk_result(raw, t, u, None, None, poses, np.zeros(3), wall, description)
+    return piece, d

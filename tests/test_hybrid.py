@@ -1,0 +1,180 @@
+"""The checked linear route and the hybrid route (ehm.hybrid) against one continuous nonlinear run.
+
+Every drive here is SYNTHETIC (ehm.random_vibration, labelled so by its description)."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+import ehm
+from ehm import engine, linear
+from ehm.cli import main
+from ehm.comfort import total_value
+from ehm.hybrid import LinearRouteWarning, RouteReport
+from ehm.linear import simulate_linear
+from ehm.motion import SeatMotion
+
+
+@pytest.fixture(scope="module")
+def human():
+    h = ehm.SeatedHuman()
+    h.linear_model()
+    return h
+
+
+@pytest.fixture(scope="module")
+def sliding(human):
+    """A SYNTHETIC 20 s three-axis drive at 0.5 m/s^2 rms: the back pads reach their friction limit now and then
+    (the plain linear route is off by a few per cent of rms there), run three ways."""
+    motion = ehm.random_vibration("xyz", 20.0, 0.5, seed=0, dt_s=0.001)
+    return motion, human.simulate(motion), human.simulate(motion, method="auto")
+
+
+def _share(a, b):
+    """rms of a - b as a share of b's rms, per axis."""
+    return np.sqrt(np.mean((a - b) ** 2, axis=0)) / b.std(axis=0)
+
+
+def test_state_hand_over_round_trips(human):
+    # linear state <-> modal state of a time run, and linear state <-> MuJoCo data: exact inverses on what the
+    # time run keeps; a state in the modes it leaves out is what P_unreached projects onto.
+    ss = human.linear_model()
+    blk = linear._block_form(ss, 0.001)
+    rng = np.random.default_rng(1)
+    m = linear._modes(ss)
+    carry = m.W @ rng.standard_normal(ss.A.shape[0]) * 1e-3
+    u = np.array([0.3, -0.2, 0.1])
+    x = linear.state_of(ss, blk, carry, u)
+    np.testing.assert_allclose(linear.carry_of(ss, blk, x, u), carry, rtol=0, atol=1e-12)
+    d = engine.data_at_deviation(human.model, x)
+    np.testing.assert_allclose(engine.deviation_of(human.model, d), x, rtol=0, atol=1e-12)
+    assert np.abs(m.P_unreached @ x).max() < 1e-9 * np.abs(x).max()  # nothing in the modes left out
+    np.testing.assert_allclose(m.P_unreached @ m.P_unreached, m.P_unreached, atol=1e-8)  # a projection
+
+
+def test_small_input_runs_linear_only(human):
+    # 0.1 m/s^2 rms: no contact comes near its limit, no window; the answer is the plain linear route's.
+    motion = ehm.random_vibration("xyz", 8.0, 0.1, seed=2, dt_s=0.001)
+    run = human.simulate(motion, method="auto")
+    route = run.extra["route"]
+    assert route["windows_s"] == [] and route["nonlinear_s"] == 0 and route["linear_share"] == 1.0
+    plain = simulate_linear(human, motion, dt_s=0.001)
+    for p in ("pelvis", "trunk", "head"):
+        np.testing.assert_allclose(run.point(p).acc_mps2, plain.point(p).acc_mps2, rtol=0, atol=1e-12)
+    assert "linear model 100.0% of the drive" in route["summary_line"]
+
+
+def test_hybrid_agrees_with_one_continuous_nonlinear_run(sliding):
+    motion, nl, hy = sliding
+    route = hy.extra["route"]
+    assert hy.time_s.shape == nl.time_s.shape
+    np.testing.assert_array_equal(hy.time_s, nl.time_s)
+    assert route["windows_s"] and 0 < route["nonlinear_s"] < 0.5 * motion.duration_s
+    # the linear answer alone would be off by more than 1 % of rms in the windows: the check found real work
+    assert route["largest_discrepancy"]["share_of_rms"] > 0.01
+    for p in ("pelvis", "trunk", "head"):
+        a, b = hy.point(p).acc_mps2, nl.point(p).acc_mps2
+        assert _share(a, b).max() < 0.02, p
+        assert total_value(*a.T, 1000.0) == pytest.approx(total_value(*b.T, 1000.0), rel=0.005), p
+        # no jump where the routes hand over: the largest sample-to-sample change stays the nonlinear run's
+        assert np.abs(np.diff(a, axis=0)).max() < 1.2 * np.abs(np.diff(b, axis=0)).max(), p
+    # windows in time order, inside the drive, not overlapping
+    w = np.array(route["windows_s"])
+    assert (w[:, 0] < w[:, 1]).all() and (w[1:, 0] >= w[:-1, 1] - 1e-9).all() and w.min() >= 0
+    assert w.max() <= motion.duration_s + 1e-9
+
+
+def test_the_left_out_modes_are_carried_over(human, sliding, monkeypatch):
+    # Without the offset in the modes the time run leaves out (where the body sits and turns on the seat after
+    # a slide), the hybrid answer drifts from the nonlinear run: the hand-over is what holds it there.
+    motion, nl, hy = sliding
+    ss = human.linear_model()
+    m = linear._modes(ss)
+    monkeypatch.setitem(ss.cache, "modes", linear._Modes(**{**m.__dict__, "P_unreached": 0 * m.P_unreached}))
+    dropped = human.simulate(motion, method="auto")
+    worse = max(_share(dropped.point(p).acc_mps2, nl.point(p).acc_mps2).max() for p in ("trunk", "head"))
+    kept = max(_share(hy.point(p).acc_mps2, nl.point(p).acc_mps2).max() for p in ("trunk", "head"))
+    assert worse > 1.5 * kept
+
+
+def test_linear_method_reports_its_discrepancy_and_warns_above_tolerance(human, sliding):
+    motion, nl, hy = sliding
+    with pytest.warns(LinearRouteWarning, match=r"off by [0-9.]+% of rms .* more than the tolerance 1%"):
+        lin = human.simulate(motion, method="linear")
+    route = lin.extra["route"]
+    assert route["method"] == "linear" and not route["within_tolerance"]
+    assert route["windows_s"] and route["nonlinear_s"] > 0
+    # the answer is the linear one everywhere: the plain linear route's, its contact check switched off
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(linear, "_validity", lambda *a, **k: None)
+        plain = simulate_linear(human, motion, dt_s=0.001)
+    np.testing.assert_allclose(lin.point("head").acc_mps2, plain.point("head").acc_mps2, rtol=0, atol=1e-12)
+    # the discrepancy it reports is the one a direct comparison gives, counted over the whole drive
+    for p in ("pelvis", "head"):
+        direct = np.sqrt(np.sum((lin.point(p).acc_mps2 - nl.point(p).acc_mps2) ** 2, axis=0) / nl.time_s.size)
+        reported = np.array(route["discrepancy_share_of_rms"][p]) * lin.point(p).acc_mps2.std(axis=0)
+        # the windows start from the linear state, so the direct difference is the larger (it also holds the
+        # nonlinear run's own memory of earlier slides); the reported one is of the same size
+        assert (reported <= 1.05 * direct).all() and reported.max() > 0.3 * direct.max(), p
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        loose = human.simulate(motion, method="linear", tolerance=0.9)  # nothing to warn about
+    assert loose.extra["route"]["within_tolerance"]
+
+
+def test_most_of_the_drive_near_the_limit_falls_back_to_the_nonlinear_model(human):
+    motion = ehm.random_vibration("xyz", 6.0, 1.0, seed=0, dt_s=0.001)
+    run = human.simulate(motion, method="auto")
+    route = run.extra["route"]
+    assert route["fallback"].startswith("contacts near their friction limit over") and route["linear_share"] == 0
+    nl = human.simulate(motion)
+    np.testing.assert_array_equal(run.point("head").acc_mps2, nl.point("head").acc_mps2)
+
+
+def test_a_rotating_seat_goes_to_the_nonlinear_model_with_a_reason():
+    t = np.arange(0, 3.0, 0.01)
+    m = SeatMotion(t, np.zeros((t.size, 3)), "SYNTHETIC turn", angvel_radps=np.column_stack([0 * t, 0 * t, 0.1 + 0 * t]))
+    run = ehm.SeatedHuman(rotating_seat=True).simulate(m, method="auto")
+    assert "the seat rotates" in run.extra["route"]["fallback"]
+
+
+def test_bad_method_and_tolerance_are_one_sentence(human):
+    motion = ehm.random_vibration("z", 3.0, 0.1, seed=0, dt_s=0.001)
+    with pytest.raises(ehm.errors.InputError, match="method must be"):
+        human.simulate(motion, method="fast")
+    with pytest.raises(ehm.errors.InputError, match="tolerance must be a share of rms between 0 and 1"):
+        human.simulate(motion, method="auto", tolerance=5)
+
+
+def test_report_line_and_dict():
+    r = RouteReport(method="auto", duration_s=100.0, nonlinear_s=20.0, windows_s=[[1.0, 21.0]],
+                    discrepancy={"pelvis": [0.001, 0.002, 0.0], "head": [0.01, 0.05, 0.02]})
+    d = r.as_dict()
+    assert d["linear_share"] == pytest.approx(0.8) and d["largest_discrepancy"] == {
+        "point": "head", "axis": "y", "share_of_rms": 0.05}
+    assert not d["within_tolerance"] and json.loads(json.dumps(d)) == d
+    assert "linear model 80.0% of the drive, nonlinear model in 1 window" in r.line() and "(head y)" in r.line()
+
+
+def test_cli_default_route_and_its_record(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["simulate", "--axis", "xyz", "--rms", "0.5", "--duration", "10", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "route: linear model" in printed and "hybrid route" in printed
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["route"]["method"] == "auto" and not (out / "poses.npz").exists()
+    res = tmp_path / "assess"
+    drive = tmp_path / "drive.csv"
+    m = ehm.random_vibration("xyz", 12.0, 0.5, seed=3, dt_s=0.002)
+    np.savetxt(drive, np.column_stack([m.time_s, m.acc_mps2]), delimiter=",",
+               header="time_s,ax_mps2,ay_mps2,az_mps2", comments="")
+    assert main(["assess", "--motion", str(drive), "--out", str(res)]) == 0
+    assert "route: " in capsys.readouterr().out
+    assessed = json.loads((res / "assessment.json").read_text())
+    assert assessed["route"]["method"] == "auto" and "summary_line" in assessed["route"]
+    assert main(["assess", "--motion", str(drive), "--tolerance", "0", "--out", str(tmp_path / "x")]) == 2
+    assert "--tolerance is a percentage" in capsys.readouterr().err
