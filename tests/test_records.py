@@ -53,7 +53,7 @@ def test_rerun_replaces_the_folder_whole(tmp_path, capsys):
     out = tmp_path / "run"
     assert main(["simulate", "--duration", "1", "--plot", "--out", str(out)]) == 0
     assert (out / "time_histories.png").is_file()
-    assert main(["simulate", "--duration", "2", "--out", str(out)]) == 0
+    assert main(["simulate", "--duration", "2", "--method", "nonlinear", "--out", str(out)]) == 0
     assert sorted(p.name for p in out.iterdir()) == [MANIFEST_NAME, "poses.npz", "summary.json", "timeseries.csv"]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["duration_s"] == pytest.approx(2.0)
@@ -221,7 +221,8 @@ def test_sigterm_removes_temporary_files_and_keeps_the_earlier_run(tmp_path):
     with RunFolder(out) as tmp:
         (tmp / "summary.json").write_text('{"earlier": true}\n')
     env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1])}
-    proc = subprocess.Popen([sys.executable, "-m", "ehm.cli", "simulate", "--duration", "120", "--output-rate", "1000",
+    proc = subprocess.Popen([sys.executable, "-m", "ehm.cli", "simulate", "--duration", "120", "--method", "nonlinear",
+                             "--output-rate", "1000",
                              "--out", str(out)], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 120
     grown = False

@@ -92,7 +92,7 @@ def test_the_demos_nested_folders_are_listed(tmp_path):
 @pytest.mark.parametrize("change", ["added", "added_below", "resized", "link"])
 def test_an_ehm_folder_that_the_user_changed_is_refused(tmp_path, capsys, change):
     out = tmp_path / "run"
-    assert main(["simulate", "--duration", "1", "--out", str(out)]) == 0
+    assert main(["simulate", "--duration", "1", "--method", "nonlinear", "--out", str(out)]) == 0
     if change == "added":
         (out / "notes.txt").write_text("mine")
     elif change == "added_below":
@@ -112,17 +112,17 @@ def test_an_ehm_folder_that_the_user_changed_is_refused(tmp_path, capsys, change
 def test_a_folder_without_a_manifest_is_refused_whatever_its_names(tmp_path, capsys):
     # a folder from an ehm without manifests, or a user's: names alone are no evidence
     out = tmp_path / "run"
-    assert main(["simulate", "--duration", "1", "--out", str(out)]) == 0
+    assert main(["simulate", "--duration", "1", "--method", "nonlinear", "--out", str(out)]) == 0
     (out / MANIFEST_NAME).unlink()
     assert "no ehm manifest" in _rerun_is_refused_and_keeps(out, capsys)
 
 
 def test_an_animation_drawn_into_a_run_folder_joins_its_manifest(tmp_path):
     out = tmp_path / "run"
-    assert main(["simulate", "--duration", "1", "--out", str(out)]) == 0
+    assert main(["simulate", "--duration", "1", "--method", "nonlinear", "--out", str(out)]) == 0
     assert main(["animate", str(out), "--out", str(out / "a.gif"), "--max-frames", "3"]) == 0
     assert read_manifest(out)["files"]["a.gif"] == (out / "a.gif").stat().st_size
-    assert main(["simulate", "--duration", "1", "--out", str(out)]) == 0
+    assert main(["simulate", "--duration", "1", "--method", "nonlinear", "--out", str(out)]) == 0
     assert not (out / "a.gif").exists()
 
 
@@ -179,7 +179,7 @@ def test_a_full_disk_during_simulate_is_one_sentence(tmp_path, capsys, monkeypat
 
 def test_a_file_edited_in_place_at_the_same_size_is_the_users(tmp_path, capsys):
     out = tmp_path / "run"
-    assert main(["simulate", "--duration", "1", "--out", str(out)]) == 0
+    assert main(["simulate", "--duration", "1", "--method", "nonlinear", "--out", str(out)]) == 0
     text = (out / "summary.json").read_text()
     (out / "summary.json").write_text(text.replace("0", "1", 1))  # same length, other bytes, a later time
     assert "summary.json, which was changed after ehm wrote it" in _rerun_is_refused_and_keeps(out, capsys)

@@ -121,6 +121,9 @@ class RouteReport:
             return f"route: nonlinear model for the whole drive ({self.fallback})."
         p, a, worst = self.largest()
         n = len(self.windows_s)
+        if n == 0:
+            return ("route: linear model for the whole drive; no contact reached its friction limit or lifted off "
+                    "(checked at every step).")
         share = self.nonlinear_s / self.duration_s if self.duration_s > 0 else 0.0
         checked = (f"{n} window{'s' if n != 1 else ''} where a contact reached its friction limit or lifted off "
                    f"({self.nonlinear_s:.1f} s, {share:.1%} of the drive)")
