@@ -13,6 +13,7 @@ import ehm
 from ehm import engine, linear
 from ehm.drives import city_drive
 from ehm.motion import SeatMotion
+from ehm.results import concatenate_runs
 
 #: The city drive scaled to this stays within the linear route (its contacts stuck; 0.35 is the limit).
 SCALE = 0.3
@@ -217,3 +218,20 @@ def test_assessment_of_a_rotating_drive_on_the_linear_route(drive):
             assert lin.metrics[loc][a].a_w == pytest.approx(nl.metrics[loc][a].a_w, rel=0.01), (loc, a)
     for key in ("head", "seat"):
         assert lin.sickness[key].final_msi_percent == pytest.approx(nl.sickness[key].final_msi_percent, rel=0.02)
+
+
+def test_streamed_rotating_run_is_the_whole_run(human, drive):
+    # chunk by chunk (the seat's kinematics taken per chunk, the modal state carried over) as in one piece; the
+    # chunks' estimates of what is left out merge into the whole run's
+    whole = human.simulate(drive, method="linear")
+    pieces = concatenate_runs(list(human.stream(drive, chunk_s=4.0, method="linear")))
+    for p in POINTS:
+        for f in TOLERANCE:
+            a, b = getattr(whole.point(p), f), getattr(pieces.point(p), f)
+            np.testing.assert_allclose(b, a, rtol=0, atol=1e-9 * np.abs(a).max(), err_msg=f"{p} {f}")
+    np.testing.assert_array_equal(pieces.seat_angles_rad, whole.seat_angles_rad)
+    a, b = whole.extra["linear_check"], pieces.extra["linear_check"]
+    assert b["share"] == pytest.approx(a["share"], rel=0.05)
+    for p in POINTS:
+        assert b[p]["acc_rms_mps2"] == pytest.approx(a[p]["acc_rms_mps2"], rel=1e-9)
+        assert b[p]["n"] == a[p]["n"] == drive.time_s.size * 10 - 9

@@ -24,6 +24,12 @@ much the input was too large.
 
 :func:`ehm.linear_frf` evaluates the same model's frequency response exactly; there is one
 linearisation and one state-space model.
+
+A motion that rotates the seat runs in the seat's own frame on a second model of the same static-seat
+person, with twelve inputs (:func:`continuous_model` with ``pivot_m``): the uniform field with the tilt taken
+exactly, and the seat's angular acceleration and centripetal matrix as fictitious loads at the bodies' rest
+positions; what that leaves out (Coriolis and the loads' change with the body's displacement) is estimated
+per point in the result (:func:`left_out`).  See :func:`stream_linear`.
 """
 
 from __future__ import annotations
@@ -626,10 +632,14 @@ class SeatRotation:
         pitch, roll = angles[:, 1], angles[:, 2]
         cp = np.cos(pitch)
         g = engine.G0[2] * np.column_stack([-np.sin(pitch), cp * np.sin(roll), cp * np.cos(roll)])
-        S = np.einsum("ni,nj->nij", w, w)
-        S -= np.einsum("ni,ni->n", w, w)[:, None, None] * np.eye(3)
-        rows, cols = np.array(engine.S_ENTRIES).T
-        inputs = np.hstack([acc_mps2 + (engine.G0 - g), alpha, S[:, rows, cols]])
+        inputs = np.empty((t_s.size, 12))
+        np.add(acc_mps2, engine.G0 - g, out=inputs[:, :3])
+        inputs[:, 3:6] = alpha
+        w2 = np.einsum("ni,ni->n", w, w)
+        for k, (i, j) in enumerate(engine.S_ENTRIES):  # S = w w^T - |w|^2 I
+            np.multiply(w[:, i], w[:, j], out=inputs[:, 6 + k])
+            if i == j:
+                inputs[:, 6 + k] -= w2
         return cls(angles_rad=angles, w_radps=w, alpha_radps2=alpha, g_seat_mps2=g, inputs=inputs)
 
     def correct(self, y: np.ndarray) -> None:
