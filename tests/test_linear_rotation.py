@@ -19,8 +19,8 @@ from ehm.results import concatenate_runs
 SCALE = 0.3
 POINTS = ("pelvis", "trunk", "head")
 #: Largest rms difference from the nonlinear route, as a share of the nonlinear rms (vector over x, y, z), per
-#: output.  Measured on the drive below: acc 0.04-0.1 %, gia 0.05-0.13 %, angvel 0.2-0.6 %, rot 0.5-0.8 %,
-#: disp 0.5-0.8 %, angacc 2-3 % (the nonlinear seat tracks its angular acceleration within its 20 Hz
+#: output.  Measured on the drive below: acc 0.04-0.10 %, gia 0.06-0.16 %, angvel 0.2-0.6 %, rot 0.5-0.7 %,
+#: disp 0.4-0.8 %, angacc 2.4-3.5 % (the nonlinear seat tracks its angular acceleration within its 20 Hz
 #: controller's bandwidth only).
 TOLERANCE = {"acc_mps2": 0.005, "gia_mps2": 0.005, "angvel_radps": 0.02, "rot_rad": 0.02, "disp_m": 0.02,
              "angacc_radps2": 0.05}
@@ -127,9 +127,9 @@ def test_a_steady_yaw_carries_the_centripetal_field(human, monkeypatch):
     ok = _errors(nl, lin)
     check = lin.extra["linear_check"]
     for p in ("trunk", "head"):
-        # measured 1.1 % and 3.5 %, mostly where the spin-up ends (the Coriolis acceleration of the body's
-        # sway, left out); the route's own estimate of what it leaves out (3.7 % and 11 %) covers it
-        assert ok[(p, "acc_mps2")] <= 0.05, (p, ok[(p, "acc_mps2")])
+        # measured 0.4 % and 1.7 %, mostly where the spin-up ends (the Coriolis force on the body's sway, left
+        # out of its dynamics); the route's own estimate of what it leaves out (3.7 % and 11 %) covers it
+        assert ok[(p, "acc_mps2")] <= 0.03, (p, ok[(p, "acc_mps2")])
         assert ok[(p, "acc_mps2")] <= check[p]["share"], p
         assert ok[(p, "angvel_radps")] <= 0.005
     for factor in (0.0, -1.0):

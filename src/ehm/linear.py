@@ -145,6 +145,11 @@ def continuous_model(model: engine.Model, refine: int = REFINE, pivot_m: np.ndar
         D_rows += [acc_D[:3], lm.D[keep], acc_D[3:], Vd[3:]]
         y0 += [np.zeros(3), lm.y0[keep], np.zeros(6)]
         out_names += [f"{p}.{k}" for k in _POINT_OUTPUTS]
+        if pivot_m is not None:  # the velocity relative to the seat, for the Coriolis acceleration
+            C_rows.append(V[:3])
+            D_rows.append(Vd[:3])
+            y0.append(np.zeros(3))
+            out_names += [f"{p}.{k}" for k in _VELOCITY]
     rest = [k for k, n in enumerate(names) if n.startswith(("support.", "contact."))]
     C_rows.append(lm.C[rest])
     D_rows.append(lm.D[rest])
@@ -272,15 +277,23 @@ def _foh(lam: np.ndarray, h: float):
 _KINDS = (("ax", "ay", "az"), ("x", "y", "z"), ("roll", "pitch", "yaw"), ("roll_acc", "pitch_acc", "yaw_acc"),
           ("wx", "wy", "wz"))
 _ACC, _DISP, _ROTVEC, _ANGACC, _ANGVEL = range(5)
+#: A model of the seat's rotation also gives each point's velocity relative to the seat (seat axes) [m/s]; a time
+#: run has them after the support forces, before the contacts (see :func:`_layout`).
+_VELOCITY = ("vx", "vy", "vz")
+_SUPPORT_ROWS = slice(45, 45 + 3 * len(engine.SUPPORT_GROUPS))
+_VELOCITY_ROWS = slice(_SUPPORT_ROWS.stop, _SUPPORT_ROWS.stop + 9)
 
 
 def _layout(ss: StateSpace) -> np.ndarray:
     """Output indices in the order a time run computes them: per kind of :data:`_KINDS` the three points'
-    three axes, then the support groups' x, y, z, then all contacts' fn, all ft1, all ft2."""
+    three axes, then the support groups' x, y, z, (for a model of the seat's rotation the points' velocities,
+    :data:`_VELOCITY`,) then all contacts' fn, all ft1, all ft2."""
     cached = ss.cache.get("layout")
     if cached is None:
         names = [f"{p}.{k}" for kind in _KINDS for p in engine.POINTS for k in kind]
         names += [f"support.{g}.f{a}" for g in engine.SUPPORT_GROUPS for a in "xyz"]
+        if ss.pivot_m is not None:
+            names += [f"{p}.{k}" for p in engine.POINTS for k in _VELOCITY]
         names += [f"contact.{c}.{k}" for k in ("fn", "ft1", "ft2") for c in ss.contacts]
         cached = ss.rows(names)
         ss.cache["layout"] = cached
@@ -553,10 +566,11 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
     w w^T - |w|^2 I (the fictitious loads at the bodies' rest positions).  The results are in the nonlinear
     route's terms: absolute point accelerations and angular accelerations in seat axes, angular velocities
     (absolute) and gravito-inertial accelerations in the points' own axes, displacements and rotations
-    relative to the seat, and ``seat_angles_rad``.  What the linear model leaves out (the Coriolis
-    acceleration 2 w x v of the body's motion relative to the seat, the fictitious loads' change with the
-    body's displacement, w x w_rel in the angular acceleration) is estimated per point in
-    ``result.extra["linear_check"]`` (:func:`left_out`); a motion without rotation runs exactly as before.
+    relative to the seat, and ``seat_angles_rad``; the kinematic terms of the body's own motion in the
+    turning frame (Coriolis 2 w x v and the like) are added to the outputs exactly.  What the linear model
+    leaves out of the body's dynamics (the fictitious loads that are products of the seat's rates with the
+    body's own motion) is estimated per point in ``result.extra["linear_check"]`` (:func:`left_out`); a
+    motion without rotation runs exactly as before.
     """
     w_seat = motion.angvel_radps
     rotating = w_seat is not None and bool(np.any(w_seat != 0))
@@ -594,7 +608,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
         y = _block_chunk(blk, inputs, carry)
         check = None
         if seat is not None:
-            check = left_out(y, len(t), dt, seat)
+            check = left_out(y, len(t), seat)
             seat.correct(y)
         _validity(ss, y, len(t), t, whole=stop == n_total)
         result = _result(human, ss, y, u, t, dt, R0, description, seat=seat, check=check)
@@ -643,13 +657,33 @@ class SeatRotation:
         return cls(angles_rad=angles, w_radps=w, alpha_radps2=alpha, g_seat_mps2=g, inputs=inputs)
 
     def correct(self, y: np.ndarray) -> None:
-        """Outputs of :func:`_block_chunk` (in place) to the nonlinear route's terms: the acceleration rows less
-        G0 - R^T G0 (the input's tilt share, which the D matrix's identity put in), the angular velocity rows
-        plus the seat's own (absolute, seat axes)."""
+        """Outputs of :func:`_block_chunk` (in place) to the nonlinear route's terms.
+
+        The acceleration rows less G0 - R^T G0 (the input's tilt share, which the D matrix's identity put in),
+        plus the kinematic terms of the body's own motion in the turning frame, exact given the linear outputs:
+        the Coriolis acceleration 2 w x v, and S dr + alpha x dr (the seat's centripetal and Euler acceleration
+        at the displacement dr from rest; at rest they are in D); the angular acceleration rows plus
+        w x w_rel; the angular velocity rows plus the seat's own w (absolute, seat axes).  (v, dr and w_rel:
+        the point's velocity, displacement and angular velocity relative to the seat, seat axes.)"""
         L, nb = y.shape[1:]
-        acc, angvel = (y[9 * k:9 * k + 9].reshape(3, 3, L, nb) for k in (_ACC, _ANGVEL))
+        acc, disp, angacc, angvel = (y[9 * k:9 * k + 9].reshape(3, 3, L, nb) for k in (_ACC, _DISP, _ANGACC, _ANGVEL))
+        vel = y[_VELOCITY_ROWS].reshape(3, 3, L, nb)
+        w, alpha = _to_blocks(self.w_radps, L, nb), _to_blocks(self.alpha_radps2, L, nb)
         acc -= _to_blocks(engine.G0 - self.g_seat_mps2, L, nb)[None]
-        angvel += _to_blocks(self.w_radps, L, nb)[None]
+        for i in range(3):  # 2 w x v + w x (w x dr) = w x (2 v + w x dr), then alpha x dr
+            _add_cross(acc[i], w, _add_cross(2 * vel[i], w, disp[i]))
+            _add_cross(acc[i], alpha, disp[i])
+            _add_cross(angacc[i], w, angvel[i])
+        angvel += w[None]
+
+
+def _add_cross(out: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """out += a x b for vectors along the first axis (3, ...); returns ``out`` (numpy's cross along another axis
+    than the last copies: four times slower)."""
+    out[0] += a[1] * b[2] - a[2] * b[1]
+    out[1] += a[2] * b[0] - a[0] * b[2]
+    out[2] += a[0] * b[1] - a[1] * b[0]
+    return out
 
 
 def _to_blocks(v: np.ndarray, L: int, nb: int) -> np.ndarray:
@@ -677,29 +711,34 @@ def seat_body_rates(angles_rad: np.ndarray, rates_radps: np.ndarray, accs_radps2
     return w, alpha
 
 
-def left_out(y: np.ndarray, n: int, dt_s: float, seat: SeatRotation) -> dict:
+def left_out(y: np.ndarray, n: int, seat: SeatRotation) -> dict:
     """What the linear model of the seat's rotation leaves out, per point, from a chunk's outputs ``y`` (as
     :func:`_block_chunk` returns them, before :meth:`SeatRotation.correct`) over its ``n`` samples.
 
-    Per point (``pelvis``, ``trunk``, ``head``) a dict: ``coriolis_mps2``, the largest Coriolis acceleration
-    2 |w| |v| of the point's velocity v relative to the seat (from its displacement); ``offset_mps2``, the
-    largest change of the fictitious acceleration with the point's displacement dr from rest,
-    (|w|^2 + |alpha|) |dr|; ``acc_rms_mps2``, the rms of the point's absolute acceleration (vector length);
-    ``share``, the two largest terms' sum over that rms; ``gyro_radps2``, the largest |w| |w_rel| (the angular
-    acceleration's transport term, w_rel the point's angular velocity relative to the seat);
-    ``angacc_rms_radps2`` and ``angular_share`` likewise; and ``n`` the samples.  At the top level ``share``:
-    the largest share of all points, to compare with a tolerance (e.g. 0.01).  These are estimates of the
-    terms' size, not of their effect through the dynamics, which is of the same order.
+    The outputs carry the turning frame's kinematic terms exactly (:meth:`SeatRotation.correct`); the body's
+    dynamics leave out the fictitious loads that are products of the seat's rates with the body's own motion:
+    the Coriolis force -2 m w x v, the change of the Euler and centripetal loads with the displacement, and
+    the gyroscopic torques of the rotation relative to the seat.  Their size per unit mass at each output
+    point, against the point's own acceleration, estimates their effect (the response to a load is of the
+    order of the load per unit mass).
+
+    Per point (``pelvis``, ``trunk``, ``head``) a dict: ``coriolis_mps2``, the largest 2 |w| |v| (v the point's
+    velocity relative to the seat); ``offset_mps2``, the largest (|w|^2 + |alpha|) |dr| (dr its displacement
+    from rest); ``acc_rms_mps2``, the rms of its absolute acceleration (vector length); ``share``, the two
+    largest terms' sum over that rms; ``gyro_radps2``, the largest |w| |w_rel| (w_rel its angular velocity
+    relative to the seat); ``angacc_rms_radps2`` and ``angular_share`` likewise; and ``n`` the samples.  At the
+    top level ``share``: the largest share of all points, to compare with a tolerance (e.g. 0.01).  Largest
+    values against rms values: an estimate on the safe side.
     """
     kind = lambda k: _in_time_order(y[9 * k:9 * k + 9])[:, :n].reshape(3, 3, n)  # noqa: E731
     acc = kind(_ACC) - (engine.G0 - seat.g_seat_mps2).T[None]
     disp, w_rel, angacc = kind(_DISP), kind(_ANGVEL), kind(_ANGACC)
+    vel = _in_time_order(y[_VELOCITY_ROWS])[:, :n].reshape(3, 3, n)
     w = np.linalg.norm(seat.w_radps, axis=1)
     a = np.linalg.norm(seat.alpha_radps2, axis=1)
     out, worst = {}, 0.0
     for i, p in enumerate(POINT_NAMES):
-        v = np.gradient(disp[i], dt_s, axis=1) if n > 1 else np.zeros_like(disp[i])
-        coriolis = float(np.max(2 * w * np.linalg.norm(v, axis=0)))
+        coriolis = float(np.max(2 * w * np.linalg.norm(vel[i], axis=0)))
         offset = float(np.max((w * w + a) * np.linalg.norm(disp[i], axis=0)))
         gyro = float(np.max(w * np.linalg.norm(w_rel[i], axis=0)))
         acc_rms = float(np.sqrt(np.mean(np.sum(acc[i] ** 2, axis=0))))
@@ -806,7 +845,7 @@ def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, 
     points = {p: PointMotion(name=p, acc_mps2=acc[i].T, disp_m=disp[i].T, rot_rad=rot[i].T,
                              angacc_radps2=angacc[i].T, angvel_radps=angvel[i].T, gia_mps2=gia[i].T)
               for i, p in enumerate(POINT_NAMES)}
-    forces = _in_time_order(y[45:45 + 3 * len(engine.SUPPORT_GROUPS)])[:, :n].reshape(-1, 3, n)
+    forces = _in_time_order(y[_SUPPORT_ROWS])[:, :n].reshape(-1, 3, n)
     support = {g: forces[i].T for i, g in enumerate(engine.SUPPORT_GROUPS)}
     return RunResult(time_s=t, seat_acc_mps2=u, points=points, support_N=support, mass_kg=human.mass_kg,
                      dof=human.dof, dt_s=dt, wall_s=0.0, description=f"{description}, linear route",
