@@ -56,7 +56,7 @@ def add_simulate(sub) -> None:
     p.add_argument("--plot", action="store_true", help="also draw time_histories.png")
     p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
                    help="simulation route: nonlinear (MuJoCo, default) or linear (the linearised person: about 40x "
-                        "faster, translation only, refuses inputs that make a contact lift off or slide)")
+                        "faster; seat rotation in the seat's frame; refuses inputs that make a contact lift off or slide)")
     p.set_defaults(func=cmd_simulate)
 
 
@@ -174,7 +174,7 @@ def add_assess(sub) -> None:
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
     p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
-                   help="simulation route (default nonlinear; linear: translation only, small inputs)")
+                   help="simulation route (default nonlinear; linear: small inputs, seat rotation included)")
     p.set_defaults(func=cmd_assess)
 
 
