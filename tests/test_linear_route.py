@@ -119,11 +119,15 @@ def test_refuses_a_sliding_pelvis(human):
         simulate_linear(human, push)
 
 
-def test_rotation_is_refused(human):
+def test_rotation_runs_on_the_model_of_the_seat_rotation(human):
+    # It was refused; it runs now on the linear model of the seat's rotation (tests/test_linear_rotation.py
+    # compares it with the nonlinear route), with the seat's angles and the estimate of what it leaves out.
     t = np.arange(0, 2.0, 0.01)
     m = SeatMotion(t, np.zeros((t.size, 3)), "turning", angvel_radps=np.column_stack([0 * t, 0 * t, 0.1 + 0 * t]))
-    with pytest.raises(ehm.errors.InputError, match="translation only"):
-        human.simulate(m, method="linear")
+    run = human.simulate(m, method="linear")
+    assert run.seat_angles_rad[-1, 0] == pytest.approx(0.1 * t[-1], rel=1e-9)
+    assert run.point("head").angvel_radps[:, 2] == pytest.approx(0.1, abs=2e-3)
+    assert 0 <= run.extra["linear_check"]["share"] < 0.05
 
 
 def test_linear_frf_is_the_converged_step_response(human):
@@ -156,10 +160,10 @@ def test_cli_linear_route(tmp_path, capsys):
     assert "route: linear model, checked against the nonlinear model" in captured.out
 
 
-def test_cli_linear_route_takes_zero_gyro_columns_and_names_what_to_do_for_rotation(tmp_path, capsys):
+def test_cli_linear_route_takes_zero_gyro_columns_and_rotation(tmp_path, capsys):
     # SYNTHETIC drive file with gyro columns.  All exactly zero: no rotation, the translation is run (it was
-    # refused with a sentence about SeatedHuman(rotating_seat=True)).  A real rotation is refused in one
-    # sentence naming command-line actions; --channel wx= wy= wz= reads the translation only.
+    # refused with a sentence about SeatedHuman(rotating_seat=True)).  A real rotation runs on the model of the
+    # seat's rotation (it was refused); --channel wx= wy= wz= reads the translation only.
     vib = ehm.random_vibration("xz", 3.0, 0.3, seed=5, dt_s=0.01)
     frame = pd.DataFrame({"time_s": vib.time_s, **{f"a{c}_mps2": vib.acc_mps2[:, j] for j, c in enumerate("xyz")},
                           **{f"w{c}_radps": np.zeros(vib.n_samples) for c in "xyz"}})
@@ -174,10 +178,9 @@ def test_cli_linear_route_takes_zero_gyro_columns_and_names_what_to_do_for_rotat
     a, b = (pd.read_csv(tmp_path / f"out_{n}" / "timeseries.csv") for n in ("still", "plain"))
     np.testing.assert_array_equal(a["head_az_mps2"].to_numpy(), b["head_az_mps2"].to_numpy())
     capsys.readouterr()
-    assert run("turning") == 2
-    err = capsys.readouterr().err.strip()
-    assert err.count("\n") == 0 and "rotates the seat" in err and "--method nonlinear" in err
-    assert "--channel wx= --channel wy= --channel wz=" in err
+    assert run("turning") == 0
+    turning = pd.read_csv(tmp_path / "out_turning" / "timeseries.csv")
+    assert not np.array_equal(turning["head_az_mps2"].to_numpy(), a["head_az_mps2"].to_numpy())
     assert run("turning", "--channel", "wx=", "--channel", "wy=", "--channel", "wz=") == 0
 
 

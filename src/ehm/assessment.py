@@ -279,13 +279,14 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
     """
     from .simulation import SeatedHuman
 
-    # the linear route takes translation only (it refuses non-zero angular velocities): its seat does not turn
-    rotating = motion.angvel_radps is not None and method != "linear"
+    # the linear route turns the seat only when the angular velocities are not all zero (else it runs the
+    # translation alone, its seat level and without angles); it needs no rotating-seat build
+    rotating = motion.angvel_radps is not None and (method != "linear" or bool(np.any(motion.angvel_radps != 0)))
     if motion.duration_s < 2.0:
         raise InputError(f"the drive '{motion.description}' lasts {motion.duration_s:g} s; an assessment needs at "
                          "least 2 s (the running rms alone spans 1 s).")
     if human is None:
-        human = SeatedHuman(rotating_seat=rotating)
+        human = SeatedHuman(rotating_seat=rotating and method != "linear")
     dt = float(human.params.value("simulation.dt_s"))
     fs = 1.0 / dt
     keep = max(1, int(round(fs / TRACE_RATE_HZ)))

@@ -39,7 +39,7 @@ import numpy as np
 
 from . import engine
 from .errors import InputError
-from .linear import (_block_chunk, _block_form, _check_translation_only, _in_time_order,
+from .linear import (BLOCK, _block_chunk, _block_form, _check_translation_only, _in_time_order,
                      _initial_state, _layout, _modes, _result,
                      _settled_orientations, carry_of, state_of)
 from .resampling import Resampler
@@ -202,11 +202,22 @@ class _Discrepancy:
         return {p: share[i].tolist() for i, p in enumerate(POINT_NAMES)}
 
 
+def _contact_blocks(ss, blk):
+    """The block form reduced to the contacts' forces (the last 3 x contacts outputs): a look ahead that only
+    marks windows costs a third of a full linear run."""
+    key = ("contact blocks", blk.dt_s)
+    if key not in ss.cache:
+        rows = 3 * len(ss.contacts) * BLOCK
+        ss.cache[key] = replace(blk, M=np.ascontiguousarray(blk.M[blk.M.shape[0] - rows:]))
+    return ss.cache[key]
+
+
 def _flagged_share(ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: int) -> float:
     """Share of the drive the windows would cover, from one linear pass (from rest, no hand-over)."""
     n = grid.n_samples
     carry = None
     covered = np.zeros(n, dtype=bool)
+    blk = _contact_blocks(ss, blk)
     for start in range(0, n, per_chunk):
         stop = min(n, start + per_chunk)
         u = grid.block(start, stop)
@@ -303,10 +314,12 @@ def _pieces(human, ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: i
     C_out = ss.C[_layout(ss)]
     shift = None
 
-    def run_linear(u: np.ndarray, carry: np.ndarray) -> np.ndarray:
-        y = _block_chunk(blk, u, carry)  # advances carry past u
+    contact_blk = _contact_blocks(ss, blk)
+
+    def run_linear(u: np.ndarray, carry: np.ndarray, contacts_only: bool = False) -> np.ndarray:
+        y = _block_chunk(contact_blk if contacts_only else blk, u, carry)  # advances carry past u
         if shift is not None:
-            y += shift[:, None, None]
+            y += shift[-y.shape[0]:, None, None]
         return y
 
     def linear_piece(a: int, b: int, carry: np.ndarray, u=None, y=None, wall_s: float = 0.0):
@@ -344,7 +357,7 @@ def _pieces(human, ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: i
         end = min(n, w0 + look)
         u_w = grid.block(w0, end)
         ahead = carry.copy()
-        y_ahead = run_linear(u_w, ahead)
+        y_ahead = run_linear(u_w, ahead, contacts_only=True)
         flags = _near_limit(ss, y_ahead, end - w0)
         w1 = w0 + _window_end(flags, int(np.argmax(flags)), quiet) if flags.any() else min(n, w0 + quiet)
         w1 = max(w1, w0 + 1)

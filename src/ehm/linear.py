@@ -24,6 +24,12 @@ much the input was too large.
 
 :func:`ehm.linear_frf` evaluates the same model's frequency response exactly; there is one
 linearisation and one state-space model.
+
+A motion that rotates the seat runs in the seat's own frame on a second model of the same static-seat
+person, with twelve inputs (:func:`continuous_model` with ``pivot_m``): the uniform field with the tilt taken
+exactly, and the seat's angular acceleration and centripetal matrix as fictitious loads at the bodies' rest
+positions; what that leaves out (Coriolis and the loads' change with the body's displacement) is estimated
+per point in the result (:func:`left_out`).  See :func:`stream_linear`.
 """
 
 from __future__ import annotations
@@ -38,6 +44,7 @@ from scipy.spatial.transform import Rotation
 
 from . import engine
 from .errors import InputError
+from .kinematics import seat_kinematics
 from .results import POINT_NAMES, PointMotion, RunResult
 
 #: Finer step used for the linearisation: the model's step divided by this.
@@ -60,6 +67,13 @@ class StateSpace:
     (angular velocity [rad/s]), all in seat axes; ``support.<group>.f{x,y,z}`` [N]; and
     ``contact.<name>.fn, ft1, ft2`` [N] of every contact touching at rest (with ``friction`` its
     coefficient).  ``y0`` holds the outputs at rest.
+
+    A model of the seat's rotation (``pivot_m`` set, see :func:`continuous_model`) has the twelve inputs
+    ``input_names``: the uniform field's change (the seat's acceleration plus G0 - R^T G0), the seat's angular
+    acceleration and the centripetal matrix of its angular velocity (:data:`ehm.engine.ROTATION_INPUTS`).  Its
+    outputs are relative to the seat's frame (seat axes), except the point accelerations (absolute, once the time
+    run has taken the tilt's share G0 - R^T G0 back out) and angular accelerations (absolute); the time run
+    adds the seat's angular velocity (:func:`stream_linear`).
     """
 
     A: np.ndarray
@@ -71,6 +85,8 @@ class StateSpace:
     contacts: tuple
     friction: dict
     linearised_at_step_s: float
+    input_names: tuple = engine.FIELD_INPUTS
+    pivot_m: np.ndarray | None = None  #: the seat's pivot [m] of a model with its rotation's inputs (else None)
     cache: dict = field(default_factory=dict, repr=False, compare=False)  #: discretisations by sample step
 
     def index(self, name: str) -> int:
@@ -80,10 +96,23 @@ class StateSpace:
         return np.array([self.index(n) for n in names])
 
 
-def continuous_model(model: engine.Model, refine: int = REFINE) -> StateSpace:
-    """Linearise the settled ``model`` at its step / ``refine`` and convert to continuous time."""
+def continuous_model(model: engine.Model, refine: int = REFINE, pivot_m: np.ndarray | None = None) -> StateSpace:
+    """Linearise the settled ``model`` at its step / ``refine`` and convert to continuous time.
+
+    Parameters
+    ----------
+    model : ehm.engine.Model
+        A static-seat model.
+    refine : int
+        The linearisation's step is the model's step divided by this.
+    pivot_m : (3,) array, optional
+        The seat's pivot [m] (:func:`ehm.engine.seat_pivot`): linearise for the seat's rotation about it as well
+        (twelve inputs, :func:`ehm.engine.linearize`); the point accelerations then include the seat's own
+        alpha x r and S r (r the point's rest position from the pivot) and the angular accelerations the seat's
+        alpha, so that they are absolute like the nonlinear route's.  None: seat translation only (three inputs).
+    """
     h = float(model.mj.opt.timestep) / refine
-    lm = engine.linearize(model, step_s=h)
+    lm = engine.linearize(model, step_s=h, pivot_m=pivot_m)
     nx, nu = lm.B.shape
     block = np.zeros((nx + nu, nx + nu))
     block[:nx, :nx], block[:nx, nx:], block[nx:, nx:] = lm.A, lm.B, np.eye(nu)
@@ -98,15 +127,29 @@ def continuous_model(model: engine.Model, refine: int = REFINE) -> StateSpace:
 
     names = list(lm.output_names)
     C_rows, D_rows, y0, out_names = [], [], [], []
+    settled = engine.settled_point_poses(model)
     for i, p in enumerate(engine.POINTS):
         V, Vd = lm.velocity_C[6 * i:6 * i + 6], lm.velocity_D[6 * i:6 * i + 6]  # linear then angular velocity
         acc_C, acc_D = V @ A, V @ B
-        acc_D[:3] += np.eye(3)  # absolute = relative to the seat frame + the seat's own acceleration
+        acc_D[:3, :3] += np.eye(3)  # absolute = relative to the seat frame + the seat's own acceleration
+        if pivot_m is not None:  # + the seat's alpha x r + S r at the point's rest position r; + alpha
+            r = settled[p][0] - np.asarray(pivot_m, dtype=float)
+            acc_D[:3, 3:6] += [[0.0, r[2], -r[1]], [-r[2], 0.0, r[0]], [r[1], -r[0], 0.0]]  # alpha x r
+            for k, (a, b) in enumerate(engine.S_ENTRIES):
+                acc_D[a, 6 + k] += r[b]
+                if a != b:
+                    acc_D[b, 6 + k] += r[a]
+            acc_D[3:, 3:6] += np.eye(3)
         keep = [names.index(f"{p}.{k}") for k in ("x", "y", "z", "roll", "pitch", "yaw")]
         C_rows += [acc_C[:3], lm.C[keep], acc_C[3:], V[3:]]
         D_rows += [acc_D[:3], lm.D[keep], acc_D[3:], Vd[3:]]
         y0 += [np.zeros(3), lm.y0[keep], np.zeros(6)]
         out_names += [f"{p}.{k}" for k in _POINT_OUTPUTS]
+        if pivot_m is not None:  # the velocity relative to the seat, for the Coriolis acceleration
+            C_rows.append(V[:3])
+            D_rows.append(Vd[:3])
+            y0.append(np.zeros(3))
+            out_names += [f"{p}.{k}" for k in _VELOCITY]
     rest = [k for k, n in enumerate(names) if n.startswith(("support.", "contact."))]
     C_rows.append(lm.C[rest])
     D_rows.append(lm.D[rest])
@@ -114,12 +157,15 @@ def continuous_model(model: engine.Model, refine: int = REFINE) -> StateSpace:
     out_names += [names[k] for k in rest]
     contacts = tuple(n.split(".")[1] for n in out_names if n.startswith("contact.") and n.endswith(".fn"))
     friction = {c: float(model.params.value(f"contacts.{c}.friction")) for c in contacts}
-    return StateSpace(A=A, B=B, C=np.vstack(C_rows), D=np.vstack(D_rows), y0=np.concatenate(y0),
-                      output_names=tuple(out_names), contacts=contacts, friction=friction, linearised_at_step_s=h)
+    ss = StateSpace(A=A, B=B, C=np.vstack(C_rows), D=np.vstack(D_rows), y0=np.concatenate(y0),
+                    output_names=tuple(out_names), contacts=contacts, friction=friction, linearised_at_step_s=h,
+                    input_names=lm.input_names, pivot_m=None if pivot_m is None else np.array(pivot_m, dtype=float))
+    _settled_orientations(ss, model)  # kept with the model: a time run need not know which engine model it was
+    return ss
 
 
 def frequency_response(ss: StateSpace, freq_hz: np.ndarray, rows=None) -> np.ndarray:
-    """H(f) = C (j 2 pi f I - A)^-1 B + D, complex (n_freq, n_outputs, 3); ``rows`` selects outputs."""
+    """H(f) = C (j 2 pi f I - A)^-1 B + D, complex (n_freq, n_outputs, n_inputs); ``rows`` selects outputs."""
     C, D = (ss.C, ss.D) if rows is None else (ss.C[rows], ss.D[rows])
     lam, V = np.linalg.eig(ss.A)
     CV, VinvB = C @ V, np.linalg.solve(V, ss.B)
@@ -142,7 +188,7 @@ UNREACHED_GAIN = 1e-6
 class _Modes:
     """The continuous model in modal form as time runs use it.
 
-    ``lam`` holds the kept modes, real ones first, then one of each complex pair; ``B`` (m, 3) and ``C``
+    ``lam`` holds the kept modes, real ones first, then one of each complex pair; ``B`` (m, nu) and ``C``
     (p, m) their input rows and output columns (complex; real for the real modes); a real mode contributes
     ``C z`` to the outputs, a pair ``2 Re(C z)`` (``weight`` 1 or 2).  ``D`` includes the static share of the
     modes above :data:`STATIC_ABOVE_HZ`; modes that the input does not reach (``unreached``) are left out.
@@ -159,7 +205,7 @@ class _Modes:
     unreached: int  #: number of modes left out: time constant over 1000 s, input gain at round-off level
     V: np.ndarray  #: (n_state, m) the kept modes' eigenvectors: the state x = sum of w Re(V z) + X_static u
     W: np.ndarray  #: (m, n_state) the kept modes' rows of V^-1: z = W x
-    X_static: np.ndarray  #: (n_state, 3) the static modes' share of the state per unit input
+    X_static: np.ndarray  #: (n_state, nu) the static modes' share of the state per unit input
     P_unreached: np.ndarray  #: (n_state, n_state) projection of a state onto the modes left out (not reached)
 
 
@@ -233,15 +279,23 @@ def _foh(lam: np.ndarray, h: float):
 _KINDS = (("ax", "ay", "az"), ("x", "y", "z"), ("roll", "pitch", "yaw"), ("roll_acc", "pitch_acc", "yaw_acc"),
           ("wx", "wy", "wz"))
 _ACC, _DISP, _ROTVEC, _ANGACC, _ANGVEL = range(5)
+#: A model of the seat's rotation also gives each point's velocity relative to the seat (seat axes) [m/s]; a time
+#: run has them after the support forces, before the contacts (see :func:`_layout`).
+_VELOCITY = ("vx", "vy", "vz")
+_SUPPORT_ROWS = slice(45, 45 + 3 * len(engine.SUPPORT_GROUPS))
+_VELOCITY_ROWS = slice(_SUPPORT_ROWS.stop, _SUPPORT_ROWS.stop + 9)
 
 
 def _layout(ss: StateSpace) -> np.ndarray:
     """Output indices in the order a time run computes them: per kind of :data:`_KINDS` the three points'
-    three axes, then the support groups' x, y, z, then all contacts' fn, all ft1, all ft2."""
+    three axes, then the support groups' x, y, z, (for a model of the seat's rotation the points' velocities,
+    :data:`_VELOCITY`,) then all contacts' fn, all ft1, all ft2."""
     cached = ss.cache.get("layout")
     if cached is None:
         names = [f"{p}.{k}" for kind in _KINDS for p in engine.POINTS for k in kind]
         names += [f"support.{g}.f{a}" for g in engine.SUPPORT_GROUPS for a in "xyz"]
+        if ss.pivot_m is not None:
+            names += [f"{p}.{k}" for p in engine.POINTS for k in _VELOCITY]
         names += [f"contact.{c}.{k}" for k in ("fn", "ft1", "ft2") for c in ss.contacts]
         cached = ss.rows(names)
         ss.cache["layout"] = cached
@@ -255,13 +309,13 @@ class _Blocks:
 
     dt_s: float
     phi: np.ndarray  #: (m,) modal transition over one step
-    Bd: np.ndarray  #: (m, 3) modal input gain of the hold-transformed state z~
+    Bd: np.ndarray  #: (m, nu) modal input gain of the hold-transformed state z~
     g1: np.ndarray  #: (m,) z = z~ + g1 B u
-    B: np.ndarray  #: (m, 3) continuous modal input rows
+    B: np.ndarray  #: (m, nu) continuous modal input rows
     n_real: int
-    drive: np.ndarray  #: (3 L, 2 m) a block's inputs -> the state one block later (Re, Im of each mode in turn)
+    drive: np.ndarray  #: (nu L, 2 m) a block's inputs -> the state one block later (Re, Im of each mode in turn)
     phi_block: np.ndarray  #: (m,) transition over one block
-    M: np.ndarray  #: (p L, 3 L + n + 1): output o at the block's sample j (row o L + j) from [block inputs,
+    M: np.ndarray  #: (p L, nu L + n + 1): output o at the block's sample j (row o L + j) from [block inputs,
     #: block start state (real modes, then Re and Im of each pair in turn), 1], outputs in :func:`_layout` order
 
 
@@ -281,9 +335,10 @@ def _block_form(ss: StateSpace, dt_s: float) -> _Blocks:
         Bd = gain[:, None] * m.B
         P = phi[None, :] ** np.arange(L + 1)[:, None]  # (L + 1, m): phi^j
         M = _block_matrix(m, Bd, (m.C * (m.weight * g1)) @ m.B, P)[:, :, _layout(ss)]  # (K, L, p)
-        G = (P[L - 1::-1, :, None] * Bd[None, :, :]).transpose(0, 2, 1).reshape(3 * L, -1)  # phi^(L-1-i) Bd
+        nu = m.B.shape[1]
+        G = (P[L - 1::-1, :, None] * Bd[None, :, :]).transpose(0, 2, 1).reshape(nu * L, -1)  # phi^(L-1-i) Bd
         cached = _Blocks(dt_s=dt_s, phi=phi, Bd=Bd, g1=g1, B=m.B, n_real=m.n_real,
-                         drive=np.ascontiguousarray(np.stack([G.real, G.imag], axis=2).reshape(3 * L, -1)),
+                         drive=np.ascontiguousarray(np.stack([G.real, G.imag], axis=2).reshape(nu * L, -1)),
                          phi_block=P[L],
                          M=np.ascontiguousarray(M.transpose(2, 1, 0).reshape(-1, M.shape[0])))
         ss.cache[("blocks", dt_s)] = cached
@@ -293,11 +348,11 @@ def _block_form(ss: StateSpace, dt_s: float) -> _Blocks:
 def _block_matrix(m: _Modes, Bd: np.ndarray, hold_D: np.ndarray, P: np.ndarray) -> np.ndarray:
     """M[k, j, o]: row k of [block inputs (sample i, axis), block start state (real modes, then Re and Im of
     each pair in turn), 1] -> output o at the block's sample j."""
-    L, p, nr = BLOCK, m.C.shape[0], m.n_real
+    L, p, nr, nu = BLOCK, m.C.shape[0], m.n_real, m.B.shape[1]
     Dd = (m.D + hold_D).real  # y = C z + D u = C z~ + (D + C g1 B) u
     Cw = m.C * m.weight
     H = np.einsum("pm,km,mi->kpi", Cw, P[:L - 1], Bd).real  # H_k, k = 0 .. L - 2
-    Mu = np.zeros((L, 3, L, p))  # [input sample i, axis] -> [output sample j, output]
+    Mu = np.zeros((L, nu, L, p))  # [input sample i, input] -> [output sample j, output]
     for j in range(L):
         Mu[j, :, j, :] = Dd.T
         for i in range(j):
@@ -305,7 +360,7 @@ def _block_matrix(m: _Modes, Bd: np.ndarray, hold_D: np.ndarray, P: np.ndarray) 
     Q = Cw[None, :, :] * P[:L, None, :]  # (L, p, m); a pair gives 2 Re(C z) = 2 Re C Re z - 2 Im C Im z
     pairs = np.stack([Q[:, :, nr:].real, -Q[:, :, nr:].imag], axis=3).reshape(L, p, -1)
     O = np.concatenate([Q[:, :, :nr].real, pairs], axis=2)  # (L, p, n)
-    return np.concatenate([Mu.reshape(3 * L, L, p), O.transpose(2, 0, 1), np.tile(m.y0, (1, L, 1))])
+    return np.concatenate([Mu.reshape(nu * L, L, p), O.transpose(2, 0, 1), np.tile(m.y0, (1, L, 1))])
 
 
 def _initial_state(blk: _Blocks, u0: np.ndarray) -> np.ndarray:
@@ -316,31 +371,31 @@ def _initial_state(blk: _Blocks, u0: np.ndarray) -> np.ndarray:
 def state_of(ss: StateSpace, blk: _Blocks, carry: np.ndarray, u: np.ndarray) -> np.ndarray:
     """The full state x of the continuous model (:func:`ehm.engine.linearize`'s, relative to the settled state)
     from a time run's modal state ``carry`` (z~, as :func:`_block_chunk` advances it) at a sample whose input
-    is ``u`` (3,); the modes left out of time runs (not reached by the input) are taken as zero."""
+    is ``u`` (nu,); the modes left out of time runs (not reached by the input) are taken as zero."""
     m = _modes(ss)
     z = carry + blk.g1 * (blk.B @ u)
     return (m.V @ (m.weight * z)).real + m.X_static @ u
 
 
 def carry_of(ss: StateSpace, blk: _Blocks, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """The modal state z~ of a time run at a sample whose state is ``x`` and input ``u`` (3,): the inverse of
+    """The modal state z~ of a time run at a sample whose state is ``x`` and input ``u`` (nu,): the inverse of
     :func:`state_of` on the kept modes (a state's share in the modes left out is dropped)."""
     m = _modes(ss)
     return m.W @ x - blk.g1 * (blk.B @ u)
 
 
 def _block_chunk(blk: _Blocks, u: np.ndarray, carry: np.ndarray) -> np.ndarray:
-    """Outputs (absolute, y0 included) at the input samples ``u`` (n, 3), (p, L, blocks) in :func:`_layout`
+    """Outputs (absolute, y0 included) at the input samples ``u`` (n, nu), (p, L, blocks) in :func:`_layout`
     order: output o at sample b L + j is [o, j, b]; the last block is padded past n.  ``carry`` holds the
     modal state z~ at the chunk's first sample and is advanced past its last sample (in place)."""
-    n, L = u.shape[0], BLOCK
+    (n, nu), L = u.shape, BLOCK
     nb = -(-n // L)
     X = np.empty((nb, blk.M.shape[1]))
-    _block_inputs(X[:, :3 * L], u, L)
-    S = _block_starts(blk, X[:, :3 * L], carry)
+    _block_inputs(X[:, :nu * L], u, L)
+    S = _block_starts(blk, X[:, :nu * L], carry)
     nr = blk.n_real
-    X[:, 3 * L:3 * L + nr] = S[:, :nr].real
-    X[:, 3 * L + nr:-1].view(complex)[:] = S[:, nr:]
+    X[:, nu * L:nu * L + nr] = S[:, :nr].real
+    X[:, nu * L + nr:-1].view(complex)[:] = S[:, nr:]
     X[:, -1] = 1.0
     y = (blk.M @ X.T).reshape(-1, L, nb)
     # the state after the last sample: from the last block's start, r <= L steps
@@ -353,12 +408,12 @@ def _block_chunk(blk: _Blocks, u: np.ndarray, carry: np.ndarray) -> np.ndarray:
 
 def _block_inputs(Xu: np.ndarray, u: np.ndarray, L: int) -> None:
     """Write the input samples into the block rows (the last block padded with zeros)."""
-    n = u.shape[0]
+    n, nu = u.shape
     full = n // L
-    Xu[:full] = u[:full * L].reshape(full, 3 * L)
+    Xu[:full] = u[:full * L].reshape(full, nu * L)
     if full < Xu.shape[0]:
         Xu[full] = 0.0
-        Xu[full, :3 * (n - full * L)] = u[full * L:].ravel()
+        Xu[full, :nu * (n - full * L)] = u[full * L:].ravel()
 
 
 def _block_starts(blk: _Blocks, U: np.ndarray, carry: np.ndarray) -> np.ndarray:
@@ -496,7 +551,7 @@ def _in_time_order(x: np.ndarray) -> np.ndarray:
 
 
 def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: float | None = None):
-    """Run ``motion`` (a translational :class:`ehm.motion.SeatMotion`) through the linear route, chunk by chunk.
+    """Run ``motion`` (a :class:`ehm.motion.SeatMotion`) through the linear route, chunk by chunk.
 
     Yields one :class:`ehm.results.RunResult` per chunk (absolute times, the motion's own time step), like
     :meth:`ehm.SeatedHuman.stream`; raises :class:`LinearRouteError` as soon as a contact would lift off or
@@ -504,8 +559,24 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
     settled posture.  ``dt_s`` [s]: run on this step instead, the motion resampled onto it one chunk at a time
     (:class:`ehm.resampling.Resampler`, as the nonlinear route does), so that no resampled copy of the whole motion
     is made.
+
+    A motion that rotates the seat (angular velocities not all zero) runs on the model of the seat's rotation
+    (``human.linear_model(rotation=True)``, :func:`continuous_model` with the pivot), in the seat's own frame:
+    the seat's orientation R, angular velocity w and angular acceleration alpha come from
+    :func:`ehm.kinematics.seat_kinematics` as in the nonlinear route; the inputs are the uniform field's change
+    a_seat + G0 - R^T G0 (the tilt exactly, no small-angle approximation), alpha and the centripetal matrix
+    w w^T - |w|^2 I (the fictitious loads at the bodies' rest positions).  The results are in the nonlinear
+    route's terms: absolute point accelerations and angular accelerations in seat axes, angular velocities
+    (absolute) and gravito-inertial accelerations in the points' own axes, displacements and rotations
+    relative to the seat, and ``seat_angles_rad``; the kinematic terms of the body's own motion in the
+    turning frame (Coriolis 2 w x v and the like) are added to the outputs exactly.  What the linear model
+    leaves out of the body's dynamics (the fictitious loads that are products of the seat's rates with the
+    body's own motion) is estimated per point in ``result.extra["linear_check"]`` (:func:`left_out`); a
+    motion without rotation runs exactly as before.
     """
-    _check_translation_only(motion)
+    w_seat = motion.angvel_radps
+    rotating = w_seat is not None and bool(np.any(w_seat != 0))
+    kin = seat_kinematics(motion.time_s, w_seat) if rotating else None  # on the motion's own samples, as nonlinear
     grid = None
     if dt_s is None:
         steps = np.diff(motion.time_s)
@@ -518,7 +589,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
 
         dt = float(dt_s)
         grid = Resampler(motion.time_s, motion.acc_mps2, dt)
-    ss = human.linear_model()
+    ss = human.linear_model(rotation=True) if rotating else human.linear_model()
     blk = _block_form(ss, float(f"{dt:.12g}"))  # one discretisation per step, not per rounding of it
     R0 = _settled_orientations(ss, human.model)
     n_total = motion.time_s.size if grid is None else grid.n_samples
@@ -532,29 +603,155 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
             t, u = motion.time_s[start:stop] - motion.time_s[0], motion.acc_mps2[start:stop]
         else:
             t, u = np.arange(start, stop) * dt, grid.block(start, stop)
+        seat = None if kin is None else SeatRotation.at(kin, t, u)
+        inputs = u if seat is None else seat.inputs
         if carry is None:
-            carry = _initial_state(blk, u[0])
-        y = _block_chunk(blk, u, carry)
+            carry = _initial_state(blk, inputs[0])
+        y = _block_chunk(blk, inputs, carry)
+        check = None
+        if seat is not None:
+            check = left_out(y, len(t), seat)
+            seat.correct(y)
         _validity(ss, y, len(t), t, whole=stop == n_total)
-        result = _result(human, ss, y, u, t, dt, R0, description)
+        result = _result(human, ss, y, u, t, dt, R0, description, seat=seat, check=check)
         yield replace(result, wall_s=time.perf_counter() - t0)
-        del result, y, u  # the next chunk is made without this one held here
+        del result, y, u, inputs, seat  # the next chunk is made without this one held here
         if progress:
             progress(min(t[-1] + dt, motion.duration_s), motion.duration_s)
 
 
-def _check_translation_only(motion) -> None:
-    """Refuse a motion that rotates the seat, naming where and what to do; angular velocities that are all
-    exactly zero are no rotation (a gyro that logged none) and pass."""
-    w = motion.angvel_radps
-    if w is None or not np.any(w != 0):
-        return
-    i, j = np.unravel_index(int(np.argmax(np.abs(w))), w.shape)
-    raise InputError(
-        f"the linear route takes seat translation only, but this motion rotates the seat (w{'xyz'[j]} "
-        f"{w[i, j]:.3g} rad/s at t = {motion.time_s[i] - motion.time_s[0]:.3f} s); use --method nonlinear "
-        "(Python: method='nonlinear', SeatedHuman(rotating_seat=True)), or give --channel wx= --channel wy= "
-        "--channel wz= to read the translation only.")
+@dataclass(frozen=True)
+class SeatRotation:
+    """The seat's rotation over a chunk's samples, as the linear route takes it.
+
+    ``angles_rad`` (n, 3) yaw, pitch, roll, as the nonlinear route drives the seat
+    (:func:`ehm.kinematics.seat_kinematics`, linearly interpolated); ``w_radps`` and ``alpha_radps2`` (n, 3) the
+    seat's angular velocity and acceleration in seat axes (from the Euler angles, their rates and accelerations:
+    what the seat's hinges do); ``g_seat_mps2`` (n, 3) gravity in seat axes, R^T G0 with R the rotation of the
+    angles (seat axes -> world axes, :func:`ehm.kinematics.seat_rotation_matrices`); ``inputs`` (n, 12) the
+    linear model's inputs (:func:`continuous_model` with a pivot).
+    """
+
+    angles_rad: np.ndarray
+    w_radps: np.ndarray
+    alpha_radps2: np.ndarray
+    g_seat_mps2: np.ndarray
+    inputs: np.ndarray
+
+    @classmethod
+    def at(cls, kin, t_s: np.ndarray, acc_mps2: np.ndarray) -> "SeatRotation":
+        """The rotation at times ``t_s`` [s] (from the motion's start) with the seat's acceleration ``acc_mps2``
+        (n, 3, seat axes)."""
+        angles, rates, accs = kin.at(t_s)
+        w, alpha = seat_body_rates(angles, rates, accs)
+        # R^T G0 = G0_z (R_20, R_21, R_22) for R = Rz(yaw) Ry(pitch) Rx(roll) and G0 along z
+        pitch, roll = angles[:, 1], angles[:, 2]
+        cp = np.cos(pitch)
+        g = engine.G0[2] * np.column_stack([-np.sin(pitch), cp * np.sin(roll), cp * np.cos(roll)])
+        inputs = np.empty((t_s.size, 12))
+        np.add(acc_mps2, engine.G0 - g, out=inputs[:, :3])
+        inputs[:, 3:6] = alpha
+        w2 = np.einsum("ni,ni->n", w, w)
+        for k, (i, j) in enumerate(engine.S_ENTRIES):  # S = w w^T - |w|^2 I
+            np.multiply(w[:, i], w[:, j], out=inputs[:, 6 + k])
+            if i == j:
+                inputs[:, 6 + k] -= w2
+        return cls(angles_rad=angles, w_radps=w, alpha_radps2=alpha, g_seat_mps2=g, inputs=inputs)
+
+    def correct(self, y: np.ndarray) -> None:
+        """Outputs of :func:`_block_chunk` (in place) to the nonlinear route's terms.
+
+        The acceleration rows less G0 - R^T G0 (the input's tilt share, which the D matrix's identity put in),
+        plus the kinematic terms of the body's own motion in the turning frame, exact given the linear outputs:
+        the Coriolis acceleration 2 w x v, and S dr + alpha x dr (the seat's centripetal and Euler acceleration
+        at the displacement dr from rest; at rest they are in D); the angular acceleration rows plus
+        w x w_rel; the angular velocity rows plus the seat's own w (absolute, seat axes).  (v, dr and w_rel:
+        the point's velocity, displacement and angular velocity relative to the seat, seat axes.)"""
+        L, nb = y.shape[1:]
+        acc, disp, angacc, angvel = (y[9 * k:9 * k + 9].reshape(3, 3, L, nb) for k in (_ACC, _DISP, _ANGACC, _ANGVEL))
+        vel = y[_VELOCITY_ROWS].reshape(3, 3, L, nb)
+        w, alpha = _to_blocks(self.w_radps, L, nb), _to_blocks(self.alpha_radps2, L, nb)
+        acc -= _to_blocks(engine.G0 - self.g_seat_mps2, L, nb)[None]
+        for i in range(3):  # 2 w x v + w x (w x dr) = w x (2 v + w x dr), then alpha x dr
+            _add_cross(acc[i], w, _add_cross(2 * vel[i], w, disp[i]))
+            _add_cross(acc[i], alpha, disp[i])
+            _add_cross(angacc[i], w, angvel[i])
+        angvel += w[None]
+
+
+def _add_cross(out: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """out += a x b for vectors along the first axis (3, ...); returns ``out`` (numpy's cross along another axis
+    than the last copies: four times slower)."""
+    out[0] += a[1] * b[2] - a[2] * b[1]
+    out[1] += a[2] * b[0] - a[0] * b[2]
+    out[2] += a[0] * b[1] - a[1] * b[0]
+    return out
+
+
+def _to_blocks(v: np.ndarray, L: int, nb: int) -> np.ndarray:
+    """(n, 3) samples -> (3, L, blocks) as :func:`_block_chunk` lays outputs out (padding zero)."""
+    out = np.zeros((nb * L, 3))
+    out[:v.shape[0]] = v
+    return out.reshape(nb, L, 3).transpose(2, 1, 0)
+
+
+def seat_body_rates(angles_rad: np.ndarray, rates_radps: np.ndarray, accs_radps2: np.ndarray):
+    """The seat's angular velocity [rad/s] and acceleration [rad/s^2] in its own axes (n, 3 each) from z-y-x
+    angles (yaw psi, pitch theta, roll phi) with their rates and accelerations (columns yaw, pitch, roll):
+    wx = phi' - psi' sin theta, wy = theta' cos phi + psi' cos theta sin phi,
+    wz = -theta' sin phi + psi' cos theta cos phi, and their time derivatives."""
+    th, ph = angles_rad[:, 1], angles_rad[:, 2]
+    dps, dth, dph = rates_radps.T
+    aps, ath, aph = accs_radps2.T
+    sth, cth, sph, cph = np.sin(th), np.cos(th), np.sin(ph), np.cos(ph)
+    w = np.column_stack([dph - dps * sth, dth * cph + dps * cth * sph, -dth * sph + dps * cth * cph])
+    alpha = np.column_stack([
+        aph - aps * sth - dps * dth * cth,
+        ath * cph - dth * dph * sph + aps * cth * sph - dps * dth * sth * sph + dps * dph * cth * cph,
+        -ath * sph - dth * dph * cph + aps * cth * cph - dps * dth * sth * cph - dps * dph * cth * sph,
+    ])
+    return w, alpha
+
+
+def left_out(y: np.ndarray, n: int, seat: SeatRotation) -> dict:
+    """What the linear model of the seat's rotation leaves out, per point, from a chunk's outputs ``y`` (as
+    :func:`_block_chunk` returns them, before :meth:`SeatRotation.correct`) over its ``n`` samples.
+
+    The outputs carry the turning frame's kinematic terms exactly (:meth:`SeatRotation.correct`); the body's
+    dynamics leave out the fictitious loads that are products of the seat's rates with the body's own motion:
+    the Coriolis force -2 m w x v, the change of the Euler and centripetal loads with the displacement, and
+    the gyroscopic torques of the rotation relative to the seat.  Their size per unit mass at each output
+    point, against the point's own acceleration, estimates their effect (the response to a load is of the
+    order of the load per unit mass).
+
+    Per point (``pelvis``, ``trunk``, ``head``) a dict: ``coriolis_mps2``, the largest 2 |w| |v| (v the point's
+    velocity relative to the seat); ``offset_mps2``, the largest (|w|^2 + |alpha|) |dr| (dr its displacement
+    from rest); ``acc_rms_mps2``, the rms of its absolute acceleration (vector length); ``share``, the two
+    largest terms' sum over that rms; ``gyro_radps2``, the largest |w| |w_rel| (w_rel its angular velocity
+    relative to the seat); ``angacc_rms_radps2`` and ``angular_share`` likewise; and ``n`` the samples.  At the
+    top level ``share``: the largest share of all points, to compare with a tolerance (e.g. 0.01).  Largest
+    values against rms values: an estimate on the safe side.
+    """
+    kind = lambda k: _in_time_order(y[9 * k:9 * k + 9])[:, :n].reshape(3, 3, n)  # noqa: E731
+    acc = kind(_ACC) - (engine.G0 - seat.g_seat_mps2).T[None]
+    disp, w_rel, angacc = kind(_DISP), kind(_ANGVEL), kind(_ANGACC)
+    vel = _in_time_order(y[_VELOCITY_ROWS])[:, :n].reshape(3, 3, n)
+    w = np.linalg.norm(seat.w_radps, axis=1)
+    a = np.linalg.norm(seat.alpha_radps2, axis=1)
+    out, worst = {}, 0.0
+    for i, p in enumerate(POINT_NAMES):
+        coriolis = float(np.max(2 * w * np.linalg.norm(vel[i], axis=0)))
+        offset = float(np.max((w * w + a) * np.linalg.norm(disp[i], axis=0)))
+        gyro = float(np.max(w * np.linalg.norm(w_rel[i], axis=0)))
+        acc_rms = float(np.sqrt(np.mean(np.sum(acc[i] ** 2, axis=0))))
+        angacc_rms = float(np.sqrt(np.mean(np.sum(angacc[i] ** 2, axis=0))))
+        share = (coriolis + offset) / acc_rms if acc_rms > 0 else 0.0
+        angular = gyro / angacc_rms if angacc_rms > 0 else 0.0
+        out[p] = {"coriolis_mps2": coriolis, "offset_mps2": offset, "acc_rms_mps2": acc_rms, "share": share,
+                  "gyro_radps2": gyro, "angacc_rms_radps2": angacc_rms, "angular_share": angular, "n": n}
+        worst = max(worst, share, angular)
+    out["share"] = worst
+    return out
 
 
 def _settled_orientations(ss: StateSpace, model: engine.Model) -> dict:
@@ -595,10 +792,11 @@ def _rodrigues_factors(t2: np.ndarray):
     return np.sinc(t / np.pi), 0.5 * np.sinc(t / (2 * np.pi)) ** 2
 
 
-def _orientations(y: np.ndarray, R0: np.ndarray):
+def _orientations(y: np.ndarray, R0: np.ndarray, gravity: np.ndarray | None = None):
     """The points' rotation (roll, pitch, yaw), angular velocity and gravito-inertial acceleration in their own
     axes from the rotation vector r (R = R_rel R0, R_rel = exp([r]x)), all points and axes at once: three
-    arrays (point, axis, L, blocks) like ``y[...]`` of :func:`_block_chunk`'s layout."""
+    arrays (point, axis, L, blocks) like ``y[...]`` of :func:`_block_chunk`'s layout.  ``gravity``: gravity in
+    seat axes per sample, (3, L, blocks) (a rotating seat's R^T G0), default G0."""
     kind = lambda k: y[9 * k:9 * k + 9].reshape(3, 3, *y.shape[1:])  # noqa: E731  (point, axis, L, blocks)
     r, w, acc = kind(_ROTVEC), kind(_ANGVEL), kind(_ACC)
     rot, angvel, gia = (np.empty_like(r) for _ in range(3))
@@ -632,26 +830,30 @@ def _orientations(y: np.ndarray, R0: np.ndarray):
         np.einsum("pki,pk...->pi...", R0, rel, out=into)
 
     body(w, angvel)
-    body(acc - engine.G0[None, :, None, None], gia)
+    body(acc - (engine.G0[None, :, None, None] if gravity is None else gravity[None]), gia)
     return rot, angvel, gia
 
 
 def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, dt: float, R0: np.ndarray,
-            description: str):
-    """Outputs of the linear model (as :func:`_block_chunk` returns them) -> a RunResult in the nonlinear
-    route's terms."""
+            description: str, seat: SeatRotation | None = None, check: dict | None = None):
+    """Outputs of the linear model (as :func:`_block_chunk` returns them, corrected by
+    :meth:`SeatRotation.correct` if the seat rotates) -> a RunResult in the nonlinear route's terms; ``u`` the
+    seat's acceleration (n, 3), ``check`` :func:`left_out`'s estimate."""
     n = len(t)
-    rot, angvel, gia = (_in_time_order(x)[..., :n] for x in _orientations(y, R0))  # (point, axis, sample)
+    gravity = None if seat is None else _to_blocks(seat.g_seat_mps2, *y.shape[1:])
+    rot, angvel, gia = (_in_time_order(x)[..., :n] for x in _orientations(y, R0, gravity))  # (point, axis, sample)
     kind = lambda k: _in_time_order(y[9 * k:9 * k + 9])[:, :n].reshape(3, 3, n)  # noqa: E731
     acc, disp, angacc = kind(_ACC), kind(_DISP), kind(_ANGACC)
     points = {p: PointMotion(name=p, acc_mps2=acc[i].T, disp_m=disp[i].T, rot_rad=rot[i].T,
                              angacc_radps2=angacc[i].T, angvel_radps=angvel[i].T, gia_mps2=gia[i].T)
               for i, p in enumerate(POINT_NAMES)}
-    forces = _in_time_order(y[45:45 + 3 * len(engine.SUPPORT_GROUPS)])[:, :n].reshape(-1, 3, n)
+    forces = _in_time_order(y[_SUPPORT_ROWS])[:, :n].reshape(-1, 3, n)
     support = {g: forces[i].T for i, g in enumerate(engine.SUPPORT_GROUPS)}
     return RunResult(time_s=t, seat_acc_mps2=u, points=points, support_N=support, mass_kg=human.mass_kg,
                      dof=human.dof, dt_s=dt, wall_s=0.0, description=f"{description}, linear route",
-                     locked=tuple(sorted(human.locked)), params_origin=human.params.origin)
+                     locked=tuple(sorted(human.locked)), params_origin=human.params.origin,
+                     seat_angles_rad=None if seat is None else seat.angles_rad,
+                     extra={} if check is None else {"linear_check": check})
 
 
 def simulate_linear(human, motion, dt_s: float | None = None):

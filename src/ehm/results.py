@@ -177,10 +177,40 @@ def concatenate_runs(chunks: list) -> RunResult:
     cat = lambda get: np.concatenate([get(c) for c in chunks])  # noqa: E731
     points = {p: PointMotion(p, *(cat(lambda c, f=f: getattr(c.points[p], f)) for f in _POINT_FIELDS))
               for p in first.points}
+    extra = dict(first.extra)
+    checks = [c.extra.get("linear_check") for c in chunks]
+    if all(ck is not None for ck in checks):
+        if len(checks) > 1:
+            extra["linear_check"] = merge_linear_checks(checks)
+    else:
+        extra.pop("linear_check", None)
     return replace(first, time_s=cat(lambda c: c.time_s), seat_acc_mps2=cat(lambda c: c.seat_acc_mps2), points=points,
+                   extra=extra,
                    support_N={k: cat(lambda c, k=k: c.support_N[k]) for k in first.support_N},
                    wall_s=sum(c.wall_s for c in chunks), extra={**first.extra, **chunks[-1].extra},
                    seat_angles_rad=None if first.seat_angles_rad is None else cat(lambda c: c.seat_angles_rad),
                    poses=None if first.poses is None else {
                        **{k: v for k, v in first.poses.items() if k not in ("time_s", "pos", "quat")},
                        **{k: cat(lambda c, k=k: c.poses[k]) for k in ("time_s", "pos", "quat")}})
+
+
+def merge_linear_checks(checks: list) -> dict:
+    """One estimate of what the linear route leaves out (``extra["linear_check"]``, see
+    :func:`ehm.linear.left_out`) from those of consecutive chunks: the largest terms over all chunks, the rms
+    over all samples, and the shares recomputed from them."""
+    out, worst = {}, 0.0
+    for p in (k for k in checks[0] if k != "share"):
+        parts = [ck[p] for ck in checks]
+        n = sum(c["n"] for c in parts)
+        rms = lambda key: float(np.sqrt(sum(c["n"] * c[key] ** 2 for c in parts) / n))  # noqa: E731
+        acc_rms, angacc_rms = rms("acc_rms_mps2"), rms("angacc_rms_radps2")
+        left = max(c["coriolis_mps2"] + c["offset_mps2"] for c in parts)
+        gyro = max(c["gyro_radps2"] for c in parts)
+        share = left / acc_rms if acc_rms > 0 else 0.0
+        angular = gyro / angacc_rms if angacc_rms > 0 else 0.0
+        out[p] = {"coriolis_mps2": max(c["coriolis_mps2"] for c in parts),
+                  "offset_mps2": max(c["offset_mps2"] for c in parts), "acc_rms_mps2": acc_rms, "share": share,
+                  "gyro_radps2": gyro, "angacc_rms_radps2": angacc_rms, "angular_share": angular, "n": n}
+        worst = max(worst, share, angular)
+    out["share"] = worst
+    return out

@@ -70,7 +70,8 @@ class SeatedHuman:
         self.size = size
         self.locked = resolve_locks(self.body, lock, unlock)
         self.model = engine.build(self.body, self.params, self.locked, rotating_seat=rotating_seat)
-        self._linear = None  # the linear route's model, built on first use (linear_model)
+        self._linear = {}  # the linear route's models (translation, rotation), built on first use (linear_model)
+        self._static_model = None  # a rotating seat's person on a static seat, for the linearisation
 
     @property
     def dof(self) -> int:
@@ -104,16 +105,31 @@ class SeatedHuman:
         """Let the person sink into the seat (done automatically before the first run)."""
         engine.settle(self.model)
 
-    def linear_model(self):
+    def linear_model(self, rotation: bool = False):
         """The person linearised at the settled posture, continuous time (:func:`ehm.linear.continuous_model`;
-        computed once, about 0.1 s after settling)."""
-        if self._linear is None:
+        computed once, about 0.1 s after settling).
+
+        Parameters
+        ----------
+        rotation : bool
+            False: the model of seat translation (three inputs, the seat's acceleration).  True: with the
+            seat's rotation about its pivot (:func:`ehm.engine.seat_pivot`) in the seat's own frame, twelve
+            inputs (see :func:`ehm.linear.stream_linear`), what a motion with angular velocities runs on.
+
+        Both are linearised on the person on a static seat: for a person built with ``rotating_seat=True`` a
+        static-seat build of the same person is made (and settled) once for it.
+        """
+        key = "rotation" if rotation else "translation"
+        if key not in self._linear:
             from .linear import continuous_model
 
-            if self.model.seat is not None:
-                raise InputError("the linear route models a static seat; build the person without rotating_seat.")
-            self._linear = continuous_model(self.model)
-        return self._linear
+            model = self.model
+            if model.seat is not None:  # the linearisation is in the seat's frame: the static seat's model
+                if self._static_model is None:
+                    self._static_model = engine.build(self.body, self.params, self.locked, rotating_seat=False)
+                model = self._static_model
+            self._linear[key] = continuous_model(model, pivot_m=engine.seat_pivot(model) if rotation else None)
+        return self._linear[key]
 
     def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None,
                  method: str = "nonlinear", tolerance: float | None = None) -> RunResult:
@@ -130,7 +146,10 @@ class SeatedHuman:
         ``tolerance`` (share of each point acceleration's rms, default 1 %) it warns
         (:class:`ehm.hybrid.LinearRouteWarning`) with the figure.  ``method="auto"`` (the hybrid route) keeps the nonlinear answer
         in those windows and the linear one elsewhere.  Both record what they checked in
-        ``result.extra["route"]`` (:class:`ehm.hybrid.RouteReport`) and record no poses.
+        ``result.extra["route"]`` (:class:`ehm.hybrid.RouteReport`) and record no poses.  A motion that rotates
+        the seat runs on the linear model of the seat's rotation in the seat's own frame (whether or not the
+        person was built with ``rotating_seat=True``): see :func:`ehm.linear.stream_linear` for what it assumes;
+        its estimate of the terms it leaves out is in ``result.extra["linear_check"]``.
         """
         if method in ("linear", "auto"):
             return concatenate_runs(list(self.stream(motion, progress=progress, method=method, tolerance=tolerance)))

@@ -23,7 +23,8 @@ Map of the package (each module one idea; underscore names are private to the pa
 * :mod:`.sensors`: sensor addresses, support forces and contact forces of a state.
 * :mod:`.stepper`: :func:`step`, :func:`run` (a :class:`RawRun`) and the point accelerations of the
   integrated motion.
-* :mod:`.linearisation`: :func:`linearize` into a :class:`LinearModel`.
+* :mod:`.linearisation`: :func:`linearize` into a :class:`LinearModel`, optionally with the seat rotation's
+  fictitious loads about :func:`seat_pivot` as inputs (:func:`rotation_loads`).
 * :mod:`.export`: the compiled model as an MJB file, the MuJoCo C library (both for the native FMU) and the
   geometry for pictures.
 
@@ -66,7 +67,8 @@ from .diagnostics import (CHECK_EVERY, DIVERGED_M, _build_error, _diverged, _ins
 from .export import c_library, drawing_geometry, save_binary
 from .inertia import PAD_INERTIA_KGM2, ImpossibleInertia, inertia_problem, segment_mass_properties
 from .laws import FRICTION_SOFTNESS, TRAPEZOIDAL_JOINTS, _split_damping, contact_solver_params
-from .linearisation import OUTPUT_DOFS, LinearModel, linearize
+from .linearisation import (FIELD_INPUTS, OUTPUT_DOFS, ROTATION_INPUTS, S_ENTRIES, LinearModel, linearize,
+                             rotation_loads, seat_pivot)
 from .model import G0, POINTS, SUPPORT_GROUPS, Model
 from .seat import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat
 from .sensors import (SENSOR_KINDS, _contact_name, contact_forces, sensor_slices, sliding_contacts,
@@ -76,12 +78,12 @@ from .state import (data_at_deviation, deviation_of, get_state, new_data, set_st
 from .stepper import RawRun, evaluate_velocities, point_accelerations, run, step
 
 __all__ = [
-    "CHECK_EVERY", "DIVERGED_M", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "PAD_INERTIA_KGM2", "POINTS",
+    "CHECK_EVERY", "DIVERGED_M", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS", "S_ENTRIES", "PAD_INERTIA_KGM2", "POINTS",
     "SEAT_DOFS", "SEAT_INERTIA_KGM2", "SENSOR_KINDS", "SUPPORT_GROUPS", "TRAPEZOIDAL_JOINTS",
     "ImpossibleInertia", "LinearModel", "Model", "RawRun", "SeatGeometry",
     "build", "c_library", "captured_warnings", "check_seat", "contact_forces", "contact_solver_params",
     "data_at_deviation", "deviation_of", "dof_name", "drawing_geometry", "evaluate_velocities", "get_state", "inertia_problem", "linearize",
-    "new_data", "point_accelerations", "run", "save_binary", "segment_mass_properties", "sensor_slices",
-    "set_state", "settle", "settled_data", "settled_point_poses", "sliding_contacts", "step", "support_forces",
+    "new_data", "point_accelerations", "rotation_loads", "run", "save_binary", "segment_mass_properties", "sensor_slices",
+    "seat_pivot", "set_state", "settle", "settled_data", "settled_point_poses", "sliding_contacts", "step", "support_forces",
     "support_slices", "take_warnings", "touching_contacts",
 ]

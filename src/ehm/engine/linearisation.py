@@ -3,18 +3,28 @@ as a discrete-time :class:`LinearModel` whose outputs are the point motions, sup
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
 
 from .laws import contact_solver_params
 from .model import G0, POINTS, SUPPORT_GROUPS, Model
+from .seat import SeatGeometry
 from .sensors import SENSOR_KINDS, contact_forces, sensor_slices, support_forces, touching_contacts
 from .state import new_data, settle, settled_data, settled_point_poses
 
 #: Per point, in output order: absolute acceleration, displacement, rotation, angular acceleration.
 OUTPUT_DOFS = ("ax", "ay", "az", "x", "y", "z", "roll", "pitch", "yaw", "roll_acc", "pitch_acc", "yaw_acc")
+#: The uniform field's inputs (seat acceleration less the change of gravity, seat axes [m/s^2]).
+FIELD_INPUTS = ("x", "y", "z")
+#: The seat rotation's inputs of :func:`linearize` with ``pivot_m`` (after :data:`FIELD_INPUTS`): the seat's
+#: angular acceleration alpha (seat axes [rad/s^2]), then the six entries of the symmetric matrix
+#: S = w w^T - |w|^2 I of its angular velocity w [rad^2/s^2] (xx, yy, zz, xy, xz, yz): the centripetal
+#: acceleration of a point at r from the pivot is S r.
+ROTATION_INPUTS = ("alpha_x", "alpha_y", "alpha_z", "s_xx", "s_yy", "s_zz", "s_xy", "s_xz", "s_yz")
+#: (row, column) of S for each of the six S inputs.
+S_ENTRIES = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 
 
 @dataclass(frozen=True)
@@ -29,6 +39,8 @@ class LinearModel:
     (:data:`SUPPORT_GROUPS`) on the body [N]; then ``contact.<name>.fn``, ``.ft1``, ``.ft2``, the normal and
     tangential forces [N] of each contact that touches at rest (contact frame, see :func:`contact_forces`).  ``y0`` holds the outputs in the settled state (the support
     forces carry the body's weight there).  Contacts are linearised as they are at rest: all stuck.
+    With the seat rotation's inputs (:data:`ROTATION_INPUTS`, ``input_names``) the outputs are relative to the
+    seat's frame: the accelerations leave out the seat's own alpha x r and S r (added by :mod:`ehm.linear`).
     """
 
     A: np.ndarray
@@ -37,7 +49,7 @@ class LinearModel:
     D: np.ndarray
     dt_s: float
     output_names: tuple
-    input_names: tuple = ("x", "y", "z")
+    input_names: tuple = FIELD_INPUTS
     y0: np.ndarray | None = None
     #: Per point, linear then angular velocity (world axes) as outputs of the state: rows of C and D.
     velocity_C: np.ndarray | None = None
@@ -63,7 +75,58 @@ def _state_outputs(model: Model, d: mujoco.MjData, ref: dict, slices: dict, cont
     return np.concatenate(out)
 
 
-def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None) -> LinearModel:
+def seat_pivot(model: Model) -> np.ndarray:
+    """The point the rotating seat turns about [m] (world axes of the model at rest): the seat pan's reference
+    point, where :func:`ehm.engine.build` puts the hinges of a ``rotating_seat`` build; the same point for a
+    static build (whose seat does not turn), so that a static model can be linearised about it."""
+    if model.seat is not None:
+        return np.array(model.seat["pivot"], dtype=float)
+    return np.array(SeatGeometry.from_params(model.params, model.body).planes["seat_pan"][0], dtype=float)
+
+
+def _cross_matrix(v: np.ndarray) -> np.ndarray:
+    """[v]x, the matrix of v x ."""
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def rotation_loads(model: Model, pivot_m: np.ndarray) -> np.ndarray:
+    """Fictitious loads of the seat's rotation on every body at rest, per unit input of :data:`ROTATION_INPUTS`:
+    (9, n_body, 6), as ``MjData.xfrc_applied`` (force [N], torque [N m] at the body's centre of mass, world axes).
+
+    In the seat's frame (origin at the pivot, turning with the seat) a body of mass m, centre of mass at c and
+    inertia I (world axes, at rest) feels the Euler force -m alpha x (c - pivot) and torque -I alpha, the
+    centrifugal force -m S (c - pivot) and the gyroscopic torque -w x (I w), which is linear in S as well
+    (-e_ijk (I S)_kj).  The loads are taken at the rest positions: their change with the body's own motion
+    (alpha x dr, S dr) and the Coriolis force -2 m w x v are left out (second order: products of the seat's
+    rates with the body's deviation).
+    """
+    mj = model.mj
+    d = settled_data(model)
+    pivot = np.asarray(pivot_m, dtype=float)
+    loads = np.zeros((len(ROTATION_INPUTS), mj.nbody, 6))
+    for b in range(1, mj.nbody):
+        m = float(mj.body_mass[b])
+        if m == 0.0:
+            continue
+        c = d.xipos[b] - pivot
+        Rb = d.ximat[b].reshape(3, 3)
+        inertia = Rb @ np.diag(mj.body_inertia[b]) @ Rb.T
+        for k in range(3):  # angular acceleration about axis k
+            e = np.zeros(3)
+            e[k] = 1.0
+            loads[k, b, :3] = -m * np.cross(e, c)
+            loads[k, b, 3:] = -inertia[:, k]
+        for k, (i, j) in enumerate(S_ENTRIES):
+            E = np.zeros((3, 3))
+            E[i, j] = E[j, i] = 1.0
+            IE = inertia @ E
+            loads[3 + k, b, :3] = -m * E @ c
+            loads[3 + k, b, 3:] = -np.array([IE[2, 1] - IE[1, 2], IE[0, 2] - IE[2, 0], IE[1, 0] - IE[0, 1]])
+    return loads
+
+
+def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None,
+              pivot_m: np.ndarray | None = None) -> LinearModel:
     """Linearise the settled model by central finite differences of one time step.
 
     The state outputs (positions, rotations, velocities, support forces and the forces of the touching
@@ -71,7 +134,14 @@ def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None) -> L
     over the step plus the seat acceleration, exactly as :func:`run` computes them: with V the velocity rows,
     C_acc = (V A - V) / h and D_acc = V B / h (+ the identity for the seat acceleration).  ``step_s``
     linearises one step of another length h around the same settled state (default: the model's step).
-    Costs 2 (n_state + 3) time steps.
+    Costs 2 (n_state + n_input) time steps.
+
+    ``pivot_m`` (a point [m], :func:`seat_pivot`): also linearise for the seat's rotation about it, in the
+    seat's own frame: nine more inputs (:data:`ROTATION_INPUTS`), the seat's angular acceleration and the
+    centripetal matrix S of its angular velocity, applied as the fictitious loads of :func:`rotation_loads`
+    (``MjData.xfrc_applied``).  The model itself is the static seat's; the first three inputs are then the
+    uniform field's change (seat acceleration plus the change of gravity in seat axes), the acceleration rows'
+    identity is for them as before.
     """
     mj = model.mj
     if model.settled is None:
@@ -86,6 +156,8 @@ def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None) -> L
     nv, na = mj.nv, mj.na
     nx = 2 * nv + na
     warm = settled_data(model).qacc_warmstart.copy()
+    loads = None if pivot_m is None else rotation_loads(model, pivot_m)
+    nu = len(FIELD_INPUTS) + (0 if loads is None else len(ROTATION_INPUTS))
 
     def evaluate(dx: np.ndarray, du: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         mujoco.mj_resetData(mj, d)
@@ -95,7 +167,9 @@ def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None) -> L
         d.qvel[:] = s["qvel"] + dx[nv:2 * nv]
         d.act[:] = s["act"] + dx[2 * nv:]
         d.qacc_warmstart[:] = warm
-        mj.opt.gravity[:] = G0 - du
+        mj.opt.gravity[:] = G0 - du[:3]
+        if loads is not None:
+            d.xfrc_applied[:] = np.tensordot(du[3:], loads, axes=1)
         mj.opt.timestep = h
         try:
             mujoco.mj_step(mj, d)
@@ -112,29 +186,32 @@ def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None) -> L
     if h != own_step:  # the contacts' trapezoidal law is written for the step taken
         contact_solver_params(mj, model.body, model.params, h)
     try:
-        A, B, Cs, Ds, y0 = _differentiate(evaluate, nx, eps)
+        A, B, Cs, Ds, y0 = _differentiate(evaluate, nx, eps, nu)
     finally:
         if h != own_step:
             contact_solver_params(mj, model.body, model.params, own_step)
-    return _with_accelerations(A, B, Cs, Ds, y0, h, contacts)
+    lm = _with_accelerations(A, B, Cs, Ds, y0, h, contacts)
+    if loads is not None:
+        lm = replace(lm, input_names=FIELD_INPUTS + ROTATION_INPUTS)
+    return lm
 
 
-def _differentiate(evaluate, nx: int, eps: float):
+def _differentiate(evaluate, nx: int, eps: float, nu: int = 3):
     """Central differences of one step: state and output matrices (A, B, C, D) and the outputs y0."""
-    _, y0 = evaluate(np.zeros(nx), np.zeros(3))
+    _, y0 = evaluate(np.zeros(nx), np.zeros(nu))
     ny = y0.size
     A, Cs = np.empty((nx, nx)), np.empty((ny, nx))
-    B, Ds = np.empty((nx, 3)), np.empty((ny, 3))
+    B, Ds = np.empty((nx, nu)), np.empty((ny, nu))
     for i in range(nx):
         e = np.zeros(nx)
         e[i] = eps
-        xp, yp = evaluate(e, np.zeros(3))
-        xm, ym = evaluate(-e, np.zeros(3))
+        xp, yp = evaluate(e, np.zeros(nu))
+        xm, ym = evaluate(-e, np.zeros(nu))
         A[:, i] = (xp - xm) / (2 * eps)
         Cs[:, i] = (yp - ym) / (2 * eps)
-    for k in range(3):
-        e = np.zeros(3)
-        e[k] = eps * 1e3  # seat acceleration perturbation [m/s^2]
+    for k in range(nu):
+        e = np.zeros(nu)
+        e[k] = eps * 1e3  # input perturbation [m/s^2, rad/s^2 or rad^2/s^2]
         xp, yp = evaluate(np.zeros(nx), e)
         xm, ym = evaluate(np.zeros(nx), -e)
         B[:, k] = (xp - xm) / (2 * e[k])
@@ -152,7 +229,7 @@ def _with_accelerations(A, B, Cs, Ds, y0, dt, contacts):
         acc_C = lambda v: (Cs[v] @ A - Cs[v]) / dt  # noqa: E731
         acc_D = lambda v: Cs[v] @ B / dt  # noqa: E731
         rows_C += [acc_C(lin), Cs[disp], Cs[rot], acc_C(ang)]
-        rows_D += [acc_D(lin) + np.eye(3), Ds[disp], Ds[rot], acc_D(ang)]
+        rows_D += [acc_D(lin) + np.eye(3, B.shape[1]), Ds[disp], Ds[rot], acc_D(ang)]
         rows_y0 += [np.zeros(3), y0[disp], y0[rot], np.zeros(3)]
         names += [f"{p}.{dof}" for dof in OUTPUT_DOFS]
     forces = slice(12 * len(POINTS), None)
