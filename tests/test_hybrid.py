@@ -14,6 +14,7 @@ import ehm
 from ehm import engine, linear
 from ehm.cli import main
 from ehm.comfort import total_value
+from ehm.drives import city_drive
 from ehm.hybrid import LinearRouteWarning, RouteReport
 from ehm.linear import simulate_linear
 from ehm.motion import SeatMotion
@@ -135,11 +136,37 @@ def test_most_of_the_drive_near_the_limit_falls_back_to_the_nonlinear_model(huma
     np.testing.assert_array_equal(run.point("head").acc_mps2, nl.point("head").acc_mps2)
 
 
-def test_a_rotating_seat_goes_to_the_nonlinear_model_with_a_reason():
-    t = np.arange(0, 3.0, 0.01)
-    m = SeatMotion(t, np.zeros((t.size, 3)), "SYNTHETIC turn", angvel_radps=np.column_stack([0 * t, 0 * t, 0.1 + 0 * t]))
-    run = ehm.SeatedHuman(rotating_seat=True).simulate(m, method="auto")
-    assert "the seat rotates" in run.extra["route"]["fallback"]
+@pytest.fixture(scope="module")
+def turning():
+    h = ehm.SeatedHuman(rotating_seat=True)
+    h.linear_model(rotation=True)
+    return h
+
+
+def test_a_rotating_drive_hands_over_to_the_rotating_seat_and_back(turning):
+    # The SYNTHETIC city drive turns, brakes and accelerates at 1-3.5 m/s^2: the upper back slides in its
+    # corners.  The windows run on the rotating seat from the linear state carried into the world, and back.
+    motion = city_drive(30.0, seed=0, dt_s=0.01)
+    nl, hy = turning.simulate(motion), turning.simulate(motion, method="auto")
+    route = hy.extra["route"]
+    assert route["windows_s"] and 0 < route["linear_share"] < 1 and not route["fallback"]
+    np.testing.assert_array_equal(hy.time_s, nl.time_s)
+    np.testing.assert_allclose(hy.seat_angles_rad, nl.seat_angles_rad, rtol=0, atol=1e-12)
+    for p in ("pelvis", "trunk", "head"):
+        for field in ("acc_mps2", "gia_mps2", "angvel_radps"):
+            a, b = getattr(hy.point(p), field), getattr(nl.point(p), field)
+            assert _share(a, b).max() < 0.02, (p, field)
+        assert total_value(*hy.point(p).acc_mps2.T, 1000.0) == pytest.approx(
+            total_value(*nl.point(p).acc_mps2.T, 1000.0), rel=0.003), p
+
+
+def test_a_turn_without_a_rotating_seat_build_is_one_sentence_when_a_window_needs_it(human):
+    motion = city_drive(30.0, seed=0, dt_s=0.01)
+    with pytest.raises(ehm.errors.InputError, match=r"SeatedHuman\(rotating_seat=True\)"):
+        human.simulate(motion, method="auto")
+    gentle = SeatMotion(motion.time_s, 0.2 * motion.acc_mps2, "SYNTHETIC gentle turn", 0.2 * motion.angvel_radps)
+    run = human.simulate(gentle, method="auto")  # no window needed: the linear model of the seat's rotation
+    assert run.extra["route"]["windows_s"] == [] and "linear_check" in run.extra
 
 
 def test_bad_method_and_tolerance_are_one_sentence(human):

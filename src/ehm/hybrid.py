@@ -39,9 +39,10 @@ import numpy as np
 
 from . import engine
 from .errors import InputError
-from .linear import (BLOCK, _block_chunk, _block_form, _check_translation_only, _in_time_order,
+from .linear import (BLOCK, _block_chunk, _block_form, _in_time_order,
                      _initial_state, _layout, _modes, _result,
-                     _settled_orientations, carry_of, state_of)
+                     _settled_orientations, SeatRotation, carry_of, left_out, seat_body_rates, state_of)
+from .kinematics import seat_kinematics, seat_rotation_matrices
 from .resampling import Resampler
 from .results import POINT_NAMES
 
@@ -212,15 +213,36 @@ def _contact_blocks(ss, blk):
     return ss.cache[key]
 
 
-def _flagged_share(ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: int) -> float:
+class _Drive:
+    """The drive on the model's time step, a stretch at a time: the seat's acceleration (n, 3, seat axes), the
+    linear model's inputs and, when the seat rotates, its rotation (:class:`ehm.linear.SeatRotation`), from the
+    same resampling (:class:`ehm.resampling.Resampler`) and seat kinematics as the nonlinear route."""
+
+    def __init__(self, motion, dt: float, rotates: bool):
+        self.dt = dt
+        self.grid = Resampler(motion.time_s, motion.acc_mps2, dt)
+        self.n = self.grid.n_samples
+        w = motion.angvel_radps if motion.angvel_radps is not None else np.zeros_like(motion.acc_mps2)
+        self.kin = seat_kinematics(motion.time_s, w) if rotates else None
+
+    def at(self, a: int, b: int):
+        """Samples a ... b - 1: (seat acceleration, linear inputs, SeatRotation or None)."""
+        u = self.grid.block(a, b)
+        if self.kin is None:
+            return u, u, None
+        seat = SeatRotation.at(self.kin, np.arange(a, b) * self.dt, u)
+        return u, seat.inputs, seat
+
+
+def _flagged_share(ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int) -> float:
     """Share of the drive the windows would cover, from one linear pass (from rest, no hand-over)."""
-    n = grid.n_samples
+    n = drive.n
     carry = None
     covered = np.zeros(n, dtype=bool)
     blk = _contact_blocks(ss, blk)
     for start in range(0, n, per_chunk):
         stop = min(n, start + per_chunk)
-        u = grid.block(start, stop)
+        _, u, _ = drive.at(start, stop)
         if carry is None:
             carry = _initial_state(blk, u[0])
         flags = _near_limit(ss, _block_chunk(blk, u, carry), stop - start)
@@ -246,28 +268,23 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
         raise InputError(f"tolerance must be a share of rms between 0 and 1, not {tolerance!r}.")
     dt = float(human.model.mj.opt.timestep)
     report = RouteReport(method=method, duration_s=motion.duration_s, tolerance=float(tolerance))
-    rotates = motion.angvel_radps is not None and np.any(motion.angvel_radps != 0)
-    if (rotates or human.model.seat is not None) and method == "auto":
-        report.fallback = ("the seat rotates, and the linear route takes translation only" if rotates else
-                           "the person sits on a rotating seat, and the linear route models a static one")
-        yield from _nonlinear_whole(human, motion, chunk_s, progress, report)
-        return
-    if rotates:
-        _check_translation_only(motion)
+    # a motion that turns the seat, or a person on a rotating seat (which stays level without angular velocities,
+    # as in the nonlinear route): the linear model of the seat's rotation, the rotating seat in the windows
+    rotates = (motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))) or human.model.seat is not None
     description = motion.description
-    ss = human.linear_model()
+    ss = human.linear_model(rotation=rotates)
     blk = _block_form(ss, float(f"{dt:.12g}"))
-    grid = Resampler(motion.time_s, motion.acc_mps2, dt)  # as the nonlinear route resamples (Resampler.of_motion)
+    drive = _Drive(motion, dt, rotates)
     per_chunk = max(1, int(round(chunk_s / dt)))
     lead, quiet = int(round(LEAD_S / dt)), int(round(QUIET_S / dt))
     if method == "auto":
-        share = _flagged_share(ss, blk, grid, per_chunk, lead, quiet)
+        share = _flagged_share(ss, blk, drive, per_chunk, lead, quiet)
         if share > FALLBACK_SHARE:
             report.fallback = (f"contacts near their friction limit over {share:.0%} of it, more than "
                                f"{FALLBACK_SHARE:.0%}")
             yield from _nonlinear_whole(human, motion, chunk_s, progress, report)
             return
-    pieces = _pieces(human, ss, blk, grid, per_chunk, lead, quiet, method, report, motion.description, dt)
+    pieces = _pieces(human, ss, blk, drive, per_chunk, lead, quiet, method, report, description, dt)
     held = None
     for piece in pieces:
         if held is not None:
@@ -298,12 +315,12 @@ def _nonlinear_whole(human, motion, chunk_s, progress, report: RouteReport):
     yield replace(held, extra={**held.extra, "route": report.as_dict()})
 
 
-def _pieces(human, ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: int, method: str,
+def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int, method: str,
             report: RouteReport, description: str, dt: float):
     """The drive's pieces in time order: linear stretches and nonlinear windows (see the module docstring)."""
-    n = grid.n_samples
+    n = drive.n
     R0 = _settled_orientations(ss, human.model)
-    poses = engine.settled_point_poses(human.model)
+    models = _Models(human, drive.kin)
     sums = _Discrepancy()
     lin_desc = nl_desc = f"{description}, at dt {dt:g} s, {'hybrid' if method == 'auto' else 'linear'} route"
 
@@ -322,12 +339,16 @@ def _pieces(human, ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: i
             y += shift[-y.shape[0]:, None, None]
         return y
 
-    def linear_piece(a: int, b: int, carry: np.ndarray, u=None, y=None, wall_s: float = 0.0):
+    def linear_piece(a: int, b: int, carry: np.ndarray, given=None, y=None, wall_s: float = 0.0):
         t0 = time.perf_counter()
-        u = grid.block(a, b) if u is None else u
-        y = run_linear(u, carry) if y is None else y  # advances carry to b
-        res = _result(human, ss, y, u, np.arange(a, b) * dt, dt, R0, lin_desc)
-        return replace(res, wall_s=wall_s + time.perf_counter() - t0)
+        u, inputs, seat = drive.at(a, b) if given is None else given
+        y = run_linear(inputs, carry) if y is None else y  # advances carry to b
+        check = None
+        if seat is not None:
+            check = left_out(y, b - a, seat)
+            seat.correct(y)
+        res = _result(human, ss, y, u, np.arange(a, b) * dt, dt, R0, lin_desc, seat=seat, check=check)
+        return replace(res, description=lin_desc, wall_s=wall_s + time.perf_counter() - t0)
 
     carry = None
     pos = 0
@@ -335,14 +356,14 @@ def _pieces(human, ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: i
     while pos < n:
         t_start = time.perf_counter()
         stop = min(n, pos + per_chunk)
-        u = grid.block(pos, stop)
+        given = drive.at(pos, stop)
         if carry is None:
-            carry = _initial_state(blk, u[0])
+            carry = _initial_state(blk, given[1][0])
         ahead = carry.copy()
-        y = run_linear(u, ahead)
+        y = run_linear(given[1], ahead)
         flags = _near_limit(ss, y, stop - pos)
         if not flags.any():  # the look ahead is the answer
-            piece = linear_piece(pos, stop, carry, u, y, time.perf_counter() - t_start)
+            piece = linear_piece(pos, stop, carry, given, y, time.perf_counter() - t_start)
             carry = ahead
             sums.add_answer(piece)
             yield piece
@@ -355,15 +376,16 @@ def _pieces(human, ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: i
             yield piece
         # the window: the linear prediction from w0 marks where it closes, and is what the check compares
         end = min(n, w0 + look)
-        u_w = grid.block(w0, end)
         ahead = carry.copy()
-        y_ahead = run_linear(u_w, ahead, contacts_only=True)
+        y_ahead = run_linear(drive.at(w0, end)[1], ahead, contacts_only=True)
         flags = _near_limit(ss, y_ahead, end - w0)
         w1 = w0 + _window_end(flags, int(np.argmax(flags)), quiet) if flags.any() else min(n, w0 + quiet)
         w1 = max(w1, w0 + 1)
-        nonlinear, d = _nonlinear_window(human, ss, blk, carry, offset, grid, w0, w1, dt, poses, nl_desc)
+        given = drive.at(w0, w1)
+        x0 = state_of(ss, blk, carry, given[1][0]) + offset
+        nonlinear, x1 = models.window(x0, given, w0, dt, nl_desc)
         lin_carry = carry.copy()
-        linear = linear_piece(w0, w1, lin_carry)
+        linear = linear_piece(w0, w1, lin_carry, given)
         sums.add_window(linear, nonlinear)
         report.windows_s.append([w0 * dt, w1 * dt])
         report.nonlinear_s += (w1 - w0) * dt
@@ -371,9 +393,9 @@ def _pieces(human, ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: i
             sums.add_answer(nonlinear)
             yield nonlinear
             if w1 < n:
-                x, u1 = engine.deviation_of(human.model, d), grid.block(w1, w1 + 1)[0]
-                carry = carry_of(ss, blk, x, u1)
-                offset = _modes(ss).P_unreached @ x
+                u1 = drive.at(w1, w1 + 1)[1][0]
+                carry = carry_of(ss, blk, x1, u1)
+                offset = _modes(ss).P_unreached @ x1
                 shift = C_out @ offset
         else:
             sums.add_answer(linear)
@@ -384,18 +406,54 @@ def _pieces(human, ss, blk, grid: Resampler, per_chunk: int, lead: int, quiet: i
     report.discrepancy = sums.shares()
 
 
-def _nonlinear_window(human, ss, blk, carry: np.ndarray, offset: np.ndarray, grid: Resampler, a: int, b: int,
-                      dt: float, poses: dict, description: str):
-    """The nonlinear model over samples a ... b - 1, from the linear model's state at sample a (its time run's
-    modal state ``carry`` plus the ``offset`` in the modes it leaves out); returns the piece and the MjData at
-    sample b."""
-    u = grid.block(a, b)
-    x = state_of(ss, blk, carry, u[0]) + offset
-    d = engine.data_at_deviation(human.model, x, time_s=a * dt)
-    t0 = time.perf_counter()
-    with engine.captured_warnings():
-        raw = engine.run(human.model, u, d=d)
-    wall = time.perf_counter() - t0
-    t = np.arange(a, b) * dt
-    piece = human._chunk_result(raw, t, u, None, None, poses, np.zeros(3), wall, description)
-    return piece, d
+class _Models:
+    """The nonlinear model for the windows, and the hand-over of the linear model's state to it and back.
+
+    A static seat: the person's own model, whose state the linear model's is.  A rotating seat: the linear
+    model is that of a static-seat build (in the seat's frame); the window runs on the rotating-seat build,
+    its state carried into the world and back (:func:`ehm.engine.rotating_data_at`,
+    :func:`ehm.engine.static_deviation_of`)."""
+
+    def __init__(self, human, kin):
+        self.human = human
+        self.kin, self.rotates = kin, kin is not None
+        if self.rotates and human.model.seat is None:
+            self.static = None  # no rotating-seat build: a window is refused when one is needed
+        else:
+            self.static = human._static_model if human.model.seat is not None else human.model
+        self.poses = engine.settled_point_poses(human.model)
+        self.pivot = human.model.seat["pivot"] if human.model.seat is not None else np.zeros(3)
+
+    def window(self, x0: np.ndarray, given, a: int, dt: float, description: str):
+        """The nonlinear model over the samples of ``given`` (from :meth:`_Drive.at`, starting at sample ``a``)
+        from the linear state ``x0``; returns the piece and the linear state after its last sample."""
+        u, _, seat = given
+        b = a + u.shape[0]
+        t = np.arange(a, b) * dt
+        model = self.human.model
+        if self.rotates:
+            if self.static is None:
+                raise InputError("this drive rotates the seat and a contact reaches its friction limit, which needs "
+                                 "the nonlinear model of a rotating seat: build the person with "
+                                 "SeatedHuman(rotating_seat=True) (the command line does so).")
+            angles, rates, accs = self.kin.at(t)
+            R = seat_rotation_matrices(angles)
+            d = engine.rotating_data_at(model, self.static, x0, R[0], angles[0], rates[0], seat.w_radps[0],
+                                        time_s=a * dt)
+            acc, rotation = np.einsum("nij,nj->ni", R, u), (angles, rates, accs)
+        else:
+            d = engine.data_at_deviation(model, x0, time_s=a * dt)
+            R, angles, acc, rotation = None, None, u, None
+        t0 = time.perf_counter()
+        with engine.captured_warnings():
+            raw = engine.run(model, acc, d=d, seat_rotation=rotation)
+        wall = time.perf_counter() - t0
+        piece = self.human._chunk_result(raw, t, u, R, angles, self.poses, self.pivot, wall, description)
+        if self.rotates:  # the state after the last sample, relative to the seat there
+            angles1, rates1, accs1 = self.kin.at(np.array([b * dt]))
+            w1, _ = seat_body_rates(angles1, rates1, accs1)
+            x1 = engine.static_deviation_of(model, self.static, d, seat_rotation_matrices(angles1)[0], w1[0])
+        else:
+            x1 = engine.deviation_of(model, d)
+        return piece, x1
+

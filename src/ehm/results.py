@@ -172,22 +172,20 @@ def _paths(out: Path, formats, poses: bool) -> dict:
 
 def concatenate_runs(chunks: list) -> RunResult:
     """One :class:`RunResult` from consecutive chunks (as :meth:`ehm.SeatedHuman.stream` yields them); ``extra``
-    is the first chunk's, updated by the last one's (which carries a route's report)."""
+    is the first chunk's, updated by the last one's (which carries a route's report), with the linear route's
+    estimates of what it leaves out (``linear_check``) merged over the chunks that have one."""
     first = chunks[0]
     cat = lambda get: np.concatenate([get(c) for c in chunks])  # noqa: E731
     points = {p: PointMotion(p, *(cat(lambda c, f=f: getattr(c.points[p], f)) for f in _POINT_FIELDS))
               for p in first.points}
-    extra = dict(first.extra)
-    checks = [c.extra.get("linear_check") for c in chunks]
-    if all(ck is not None for ck in checks):
-        if len(checks) > 1:
-            extra["linear_check"] = merge_linear_checks(checks)
-    else:
-        extra.pop("linear_check", None)
+    extra = {**first.extra, **chunks[-1].extra}  # the last chunk carries a route's report (ehm.hybrid)
+    checks = [c.extra["linear_check"] for c in chunks if "linear_check" in c.extra]  # the linear route's pieces
+    if checks:
+        extra["linear_check"] = merge_linear_checks(checks) if len(checks) > 1 else checks[0]
     return replace(first, time_s=cat(lambda c: c.time_s), seat_acc_mps2=cat(lambda c: c.seat_acc_mps2), points=points,
                    extra=extra,
                    support_N={k: cat(lambda c, k=k: c.support_N[k]) for k in first.support_N},
-                   wall_s=sum(c.wall_s for c in chunks), extra={**first.extra, **chunks[-1].extra},
+                   wall_s=sum(c.wall_s for c in chunks),
                    seat_angles_rad=None if first.seat_angles_rad is None else cat(lambda c: c.seat_angles_rad),
                    poses=None if first.poses is None else {
                        **{k: v for k, v in first.poses.items() if k not in ("time_s", "pos", "quat")},

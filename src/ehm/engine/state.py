@@ -118,3 +118,75 @@ def deviation_of(model: Model, d: mujoco.MjData) -> np.ndarray:
     x[nv:2 * nv] = d.qvel - s["qvel"]
     x[2 * nv:] = d.act - s["act"]
     return x
+
+
+def _free_joint(model: Model) -> tuple[int, int]:
+    """qpos and dof address of the (one) free joint, the pelvis's."""
+    j = int(np.flatnonzero(model.mj.jnt_type == mujoco.mjtJoint.mjJNT_FREE)[0])
+    return int(model.mj.jnt_qposadr[j]), int(model.mj.jnt_dofadr[j])
+
+
+def _quat(R: np.ndarray) -> np.ndarray:
+    q = np.empty(4)
+    mujoco.mju_mat2Quat(q, np.ascontiguousarray(R).ravel())
+    return q
+
+
+def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    q = np.empty(4)
+    mujoco.mju_mulQuat(q, a, b)
+    return q
+
+
+def _quat_mat(q: np.ndarray) -> np.ndarray:
+    R = np.empty(9)
+    mujoco.mju_quat2Mat(R, q)
+    return R.reshape(3, 3)
+
+
+def rotating_data_at(rotating: Model, static: Model, x: np.ndarray, seat_R: np.ndarray, seat_angles_rad: np.ndarray,
+                     seat_rates_radps: np.ndarray, seat_w_radps: np.ndarray, time_s: float = 0.0) -> mujoco.MjData:
+    """MjData of the rotating-seat model ``rotating`` in the state that ``x`` (the state of the static-seat model
+    ``static``'s linear model: positions and velocities relative to the seat) has in the world, the seat at
+    ``seat_angles_rad`` (yaw, pitch, roll; rotation ``seat_R``, seat axes -> world axes) turning at
+    ``seat_rates_radps`` (the hinges' rates), ``seat_w_radps`` in its own axes.
+
+    The two models differ by the seat's three hinges, built first: every other joint is the same and relative to
+    its parent, but the pelvis's free joint is in the world: its position p + R (r - p) about the pivot p, its
+    orientation R q, its linear velocity R (v + w x (r - p)) (world axes, as MuJoCo's free joint) and its
+    angular velocity (its own axes) that relative to the seat plus the seat's w.
+    """
+    ds = data_at_deviation(static, x)
+    d = new_data(rotating)
+    k, kv = rotating.mj.nq - static.mj.nq, rotating.mj.nv - static.mj.nv
+    d.qpos[rotating.seat["qpos"]] = seat_angles_rad
+    d.qvel[rotating.seat["dofs"]] = seat_rates_radps
+    d.qpos[k:], d.qvel[kv:], d.act[:] = ds.qpos, ds.qvel, ds.act
+    a, b = _free_joint(static)
+    p = rotating.seat["pivot"]
+    r, q = ds.qpos[a:a + 3], ds.qpos[a + 3:a + 7]
+    d.qpos[k + a:k + a + 3] = p + seat_R @ (r - p)
+    d.qpos[k + a + 3:k + a + 7] = _quat_mul(_quat(seat_R), q)
+    d.qvel[kv + b:kv + b + 3] = seat_R @ (ds.qvel[b:b + 3] + np.cross(seat_w_radps, r - p))
+    d.qvel[kv + b + 3:kv + b + 6] = ds.qvel[b + 3:b + 6] + _quat_mat(q).T @ seat_w_radps
+    d.time = time_s
+    mujoco.mj_forward(rotating.mj, d)
+    return d
+
+
+def static_deviation_of(rotating: Model, static: Model, d: mujoco.MjData, seat_R: np.ndarray,
+                        seat_w_radps: np.ndarray) -> np.ndarray:
+    """The state ``x`` of the static-seat model's linear model that the rotating-seat model's data ``d`` holds,
+    relative to the seat at rotation ``seat_R`` turning at ``seat_w_radps`` (own axes): the inverse of
+    :func:`rotating_data_at`."""
+    ds = new_data(static)
+    k, kv = rotating.mj.nq - static.mj.nq, rotating.mj.nv - static.mj.nv
+    ds.qpos[:], ds.qvel[:], ds.act[:] = d.qpos[k:], d.qvel[kv:], d.act
+    a, b = _free_joint(static)
+    p = rotating.seat["pivot"]
+    r = p + seat_R.T @ (d.qpos[k + a:k + a + 3] - p)
+    q = _quat_mul(_quat(seat_R.T), d.qpos[k + a + 3:k + a + 7])
+    ds.qpos[a:a + 3], ds.qpos[a + 3:a + 7] = r, q
+    ds.qvel[b:b + 3] = seat_R.T @ d.qvel[kv + b:kv + b + 3] - np.cross(seat_w_radps, r - p)
+    ds.qvel[b + 3:b + 6] = d.qvel[kv + b + 3:kv + b + 6] - _quat_mat(q).T @ seat_w_radps
+    return deviation_of(static, ds)
