@@ -253,6 +253,17 @@ def _seat_angvel(motion: SeatMotion, t_rel: np.ndarray) -> np.ndarray:
     return np.column_stack([np.interp(t_rel, window, motion.angvel_radps[lo:hi, j]) for j in range(3)])
 
 
+def needs_rotating_seat(motion: SeatMotion, method: str) -> bool:
+    """Whether a run of ``motion`` by ``method`` needs a person built with ``rotating_seat=True``: a motion that
+    turns the seat (the linear and hybrid routes run its linear model on a static-seat copy, and the nonlinear
+    windows on the rotating seat); for the nonlinear route any motion with angular velocities, zero or not
+    (its seat then stays level).  A motion whose angular velocities are all zero runs the linear and hybrid
+    routes on the translation alone."""
+    if motion.angvel_radps is None:
+        return False
+    return method == "nonlinear" or bool(np.any(motion.angvel_radps != 0))
+
+
 def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
            method: str = "auto", tolerance: float | None = None) -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
@@ -279,14 +290,12 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
     """
     from .simulation import SeatedHuman
 
-    # the linear route turns the seat only when the angular velocities are not all zero (else it runs the
-    # translation alone, its seat level and without angles); it needs no rotating-seat build
-    rotating = motion.angvel_radps is not None and (method != "linear" or bool(np.any(motion.angvel_radps != 0)))
+    rotating = needs_rotating_seat(motion, method)
     if motion.duration_s < 2.0:
         raise InputError(f"the drive '{motion.description}' lasts {motion.duration_s:g} s; an assessment needs at "
                          "least 2 s (the running rms alone spans 1 s).")
     if human is None:
-        human = SeatedHuman(rotating_seat=rotating and method != "linear")
+        human = SeatedHuman(rotating_seat=rotating)
     dt = float(human.params.value("simulation.dt_s"))
     fs = 1.0 / dt
     keep = max(1, int(round(fs / TRACE_RATE_HZ)))

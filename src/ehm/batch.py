@@ -376,12 +376,12 @@ def run_one(spec: RunSpec) -> dict:
                     record["outputs"][f"seat_{axis}->{p}_{axis}.peak_hz"] = f_pk
                     record["outputs"][f"seat_{axis}->{p}_{axis}.peak_gain"] = g_pk
         if "comfort" in spec.compute:
-            from .assessment import assess
+            from .assessment import assess, needs_rotating_seat
 
             motion = _drive(inp, float(params.value("simulation.dt_s")))
             route = inp.get("route", "nonlinear")
             human = SeatedHuman(params=params, lock=spec.lock, size=size,
-                                rotating_seat=motion.angvel_radps is not None and route != "linear")
+                                rotating_seat=needs_rotating_seat(motion, route))
             result = assess(motion, human, method=route)
             record["simulated_s"] += motion.duration_s
             summary = result.summary()

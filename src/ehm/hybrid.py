@@ -222,8 +222,7 @@ class _Drive:
         self.dt = dt
         self.grid = Resampler(motion.time_s, motion.acc_mps2, dt)
         self.n = self.grid.n_samples
-        w = motion.angvel_radps if motion.angvel_radps is not None else np.zeros_like(motion.acc_mps2)
-        self.kin = seat_kinematics(motion.time_s, w) if rotates else None
+        self.kin = seat_kinematics(motion.time_s, motion.angvel_radps) if rotates else None
 
     def at(self, a: int, b: int):
         """Samples a ... b - 1: (seat acceleration, linear inputs, SeatRotation or None)."""
@@ -268,9 +267,9 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
         raise InputError(f"tolerance must be a share of rms between 0 and 1, not {tolerance!r}.")
     dt = float(human.model.mj.opt.timestep)
     report = RouteReport(method=method, duration_s=motion.duration_s, tolerance=float(tolerance))
-    # a motion that turns the seat, or a person on a rotating seat (which stays level without angular velocities,
-    # as in the nonlinear route): the linear model of the seat's rotation, the rotating seat in the windows
-    rotates = (motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))) or human.model.seat is not None
+    # a motion that turns the seat: the linear model of the seat's rotation (a person on a rotating seat whose
+    # motion does not turn it runs the translation's, the windows on the rotating seat held level)
+    rotates = motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))
     description = motion.description
     ss = human.linear_model(rotation=rotates)
     blk = _block_form(ss, float(f"{dt:.12g}"))
@@ -416,30 +415,36 @@ class _Models:
 
     def __init__(self, human, kin):
         self.human = human
-        self.kin, self.rotates = kin, kin is not None
-        if self.rotates and human.model.seat is None:
-            self.static = None  # no rotating-seat build: a window is refused when one is needed
-        else:
-            self.static = human._static_model if human.model.seat is not None else human.model
+        self.kin = kin
+        self.rotating = human.model.seat is not None  # the windows on a rotating seat (level when kin is None)
+        self.static = human._static_model if self.rotating else human.model
         self.poses = engine.settled_point_poses(human.model)
-        self.pivot = human.model.seat["pivot"] if human.model.seat is not None else np.zeros(3)
+        self.pivot = human.model.seat["pivot"] if self.rotating else np.zeros(3)
+
+    def _seat(self, t: np.ndarray):
+        """The seat's angles, their rates and accelerations (the nonlinear route's drive), and its angular
+        velocity in its own axes, at ``t``; level and still without a turning motion."""
+        if self.kin is None:
+            z = np.zeros((t.size, 3))
+            return z, z, z, z
+        angles, rates, accs = self.kin.at(t)
+        return angles, rates, accs, seat_body_rates(angles, rates, accs)[0]
 
     def window(self, x0: np.ndarray, given, a: int, dt: float, description: str):
         """The nonlinear model over the samples of ``given`` (from :meth:`_Drive.at`, starting at sample ``a``)
         from the linear state ``x0``; returns the piece and the linear state after its last sample."""
-        u, _, seat = given
+        u = given[0]
         b = a + u.shape[0]
         t = np.arange(a, b) * dt
         model = self.human.model
-        if self.rotates:
-            if self.static is None:
-                raise InputError("this drive rotates the seat and a contact reaches its friction limit, which needs "
-                                 "the nonlinear model of a rotating seat: build the person with "
-                                 "SeatedHuman(rotating_seat=True) (the command line does so).")
-            angles, rates, accs = self.kin.at(t)
+        if self.kin is not None and not self.rotating:
+            raise InputError("this drive rotates the seat and a contact reaches its friction limit, which needs "
+                             "the nonlinear model of a rotating seat: build the person with "
+                             "SeatedHuman(rotating_seat=True) (the command line does so).")
+        if self.rotating:
+            angles, rates, accs, w = self._seat(t)
             R = seat_rotation_matrices(angles)
-            d = engine.rotating_data_at(model, self.static, x0, R[0], angles[0], rates[0], seat.w_radps[0],
-                                        time_s=a * dt)
+            d = engine.rotating_data_at(model, self.static, x0, R[0], angles[0], rates[0], w[0], time_s=a * dt)
             acc, rotation = np.einsum("nij,nj->ni", R, u), (angles, rates, accs)
         else:
             d = engine.data_at_deviation(model, x0, time_s=a * dt)
@@ -449,9 +454,8 @@ class _Models:
             raw = engine.run(model, acc, d=d, seat_rotation=rotation)
         wall = time.perf_counter() - t0
         piece = self.human._chunk_result(raw, t, u, R, angles, self.poses, self.pivot, wall, description)
-        if self.rotates:  # the state after the last sample, relative to the seat there
-            angles1, rates1, accs1 = self.kin.at(np.array([b * dt]))
-            w1, _ = seat_body_rates(angles1, rates1, accs1)
+        if self.rotating:  # the state after the last sample, relative to the seat there
+            angles1, _, _, w1 = self._seat(np.array([b * dt]))
             x1 = engine.static_deviation_of(model, self.static, d, seat_rotation_matrices(angles1)[0], w1[0])
         else:
             x1 = engine.deviation_of(model, d)

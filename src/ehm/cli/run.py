@@ -87,8 +87,9 @@ def cmd_simulate(args) -> int:
     out = check_output_folder(args.out)
     if args.motion:  # a drive file with angular velocities needs the rotating seat
         motion = _read_motion_file(args)
-        # the linear route's seat does not turn: it takes translation (all-zero rates) or refuses, in one sentence
-        human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
+        from ..assessment import needs_rotating_seat
+
+        human = _human(args, rotating_seat=needs_rotating_seat(motion, args.method))
     else:
         human = _human(args)
         motion = _motion(args, float(human.params.value("simulation.dt_s")))
@@ -199,11 +200,11 @@ def add_assess(sub) -> None:
 
 
 def cmd_assess(args) -> int:
-    from ..assessment import assess
+    from ..assessment import assess, needs_rotating_seat
 
     final = check_output_folder(args.out)
     motion = _read_motion_file(args)
-    human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
+    human = _human(args, rotating_seat=needs_rotating_seat(motion, args.method))
     result = assess(motion, human, progress=_progress_bar("assess"), method=args.method, tolerance=_tolerance(args))
     summary = _assessment_summary(result, human)
     with RunFolder(final) as out:
