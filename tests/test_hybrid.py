@@ -150,6 +150,7 @@ def test_a_rotating_drive_hands_over_to_the_rotating_seat_and_back(turning):
     nl, hy = turning.simulate(motion), turning.simulate(motion, method="auto")
     route = hy.extra["route"]
     assert route["windows_s"] and 0 < route["linear_share"] < 1 and not route["fallback"]
+    assert 0 < route["left_out"]["share"] < 1 and "leaves out" in route["summary_line"]
     np.testing.assert_array_equal(hy.time_s, nl.time_s)
     np.testing.assert_allclose(hy.seat_angles_rad, nl.seat_angles_rad, rtol=0, atol=1e-12)
     for p in ("pelvis", "trunk", "head"):

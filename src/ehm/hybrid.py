@@ -44,7 +44,7 @@ from .linear import (BLOCK, _block_chunk, _block_form, _in_time_order,
                      _settled_orientations, SeatRotation, carry_of, left_out, seat_body_rates, state_of)
 from .kinematics import seat_kinematics, seat_rotation_matrices
 from .resampling import Resampler
-from .results import POINT_NAMES
+from .results import POINT_NAMES, merge_linear_checks
 
 #: A contact whose tangential force in the linear model passes this share of its Coulomb limit (mu times its
 #: normal force), or that lifts off, opens a nonlinear window.  Measured on a 219 s city-bus floor log (0.59 /
@@ -90,6 +90,10 @@ class RouteReport:
         The tolerance the discrepancy is held to (share of rms).
     fallback : str
         Why the whole drive went to the nonlinear model, or "".
+    left_out : dict
+        For a drive that turns the seat: the estimate of the terms the linear model of the seat's rotation
+        leaves out (:func:`ehm.linear.left_out`, merged over the linear pieces); ``share`` its largest share of a
+        point's rms.
     """
 
     method: str
@@ -99,6 +103,7 @@ class RouteReport:
     discrepancy: dict = field(default_factory=dict)
     tolerance: float = TOLERANCE
     fallback: str = ""
+    left_out: dict = field(default_factory=dict)  #: drives that turn the seat: ehm.linear.left_out over the linear pieces
 
     @property
     def linear_share(self) -> float:
@@ -124,15 +129,23 @@ class RouteReport:
         n = len(self.windows_s)
         if n == 0:
             return ("route: linear model for the whole drive; no contact reached its friction limit or lifted off "
-                    "(checked at every step).")
+                    "(checked at every step)." + self._left_out_sentence())
         share = self.nonlinear_s / self.duration_s if self.duration_s > 0 else 0.0
         checked = (f"{n} window{'s' if n != 1 else ''} where a contact reached its friction limit or lifted off "
                    f"({self.nonlinear_s:.1f} s, {share:.1%} of the drive)")
         if self.method == "auto":
-            return (f"route: linear model {self.linear_share:.1%} of the drive, nonlinear model in {checked}; "
+            line = (f"route: linear model {self.linear_share:.1%} of the drive, nonlinear model in {checked}; "
                     f"there the linear answer alone would differ by up to {worst:.2%} of rms ({p} {a}).")
-        return (f"route: linear model, checked against the nonlinear model in {checked}: largest discrepancy "
-                f"{worst:.2%} of rms ({p} {a}), tolerance {self.tolerance:.0%}.")
+        else:
+            line = (f"route: linear model, checked against the nonlinear model in {checked}: largest discrepancy "
+                    f"{worst:.2%} of rms ({p} {a}), tolerance {self.tolerance:.0%}.")
+        return line + self._left_out_sentence()
+
+    def _left_out_sentence(self) -> str:
+        if not self.left_out:
+            return ""
+        return (f" The seat's rotation: the loads the linear model leaves out (Coriolis and the like) are estimated "
+                f"at up to {self.left_out['share']:.1%} of a point's rms on its share of the drive.")
 
     def as_dict(self) -> dict:
         """Plain data (what ``summary.json`` and ``assessment.json`` hold under ``route``)."""
@@ -142,7 +155,7 @@ class RouteReport:
                 "discrepancy_share_of_rms": {k: [float(x) for x in v] for k, v in self.discrepancy.items()},
                 "largest_discrepancy": {"point": p, "axis": a, "share_of_rms": worst},
                 "tolerance_share_of_rms": self.tolerance, "within_tolerance": worst <= self.tolerance,
-                "fallback": self.fallback}
+                "fallback": self.fallback, **({"left_out": self.left_out} if self.left_out else {})}
 
 
 def check_method(method: str) -> str:
@@ -321,6 +334,7 @@ def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int
     R0 = _settled_orientations(ss, human.model)
     models = _Models(human, drive.kin)
     sums = _Discrepancy()
+    checks = []  # the linear pieces' estimates of what the linear model of the seat's rotation leaves out
     lin_desc = nl_desc = f"{description}, at dt {dt:g} s, {'hybrid' if method == 'auto' else 'linear'} route"
 
     # The state's share in the modes the linear time run leaves out (not reached by the seat's acceleration:
@@ -345,6 +359,7 @@ def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int
         check = None
         if seat is not None:
             check = left_out(y, b - a, seat)
+            checks.append(check)
             seat.correct(y)
         res = _result(human, ss, y, u, np.arange(a, b) * dt, dt, R0, lin_desc, seat=seat, check=check)
         return replace(res, description=lin_desc, wall_s=wall_s + time.perf_counter() - t0)
@@ -403,6 +418,8 @@ def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int
         pos = w1
         report.discrepancy = sums.shares()
     report.discrepancy = sums.shares()
+    if checks:
+        report.left_out = merge_linear_checks(checks) if len(checks) > 1 else checks[0]
 
 
 class _Models:
