@@ -264,7 +264,7 @@ def needs_rotating_seat(motion: SeatMotion, method: str) -> bool:
     return method == "nonlinear" or bool(np.any(motion.angvel_radps != 0))
 
 
-def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
+def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
            method: str = "auto", tolerance: float | None = None) -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
 
@@ -277,7 +277,8 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 2.0, progress=None,
     chunk_s : float
         Length of the pieces the drive is simulated and evaluated in [s]: the working memory is about 5 MB per
         second of chunk at a 0.5 ms step (measured; in proportion to the steps per second, so about half at
-        the default 1 ms), whatever the drive's length.
+        the default 1 ms), whatever the drive's length.  Longer pieces cost fewer calls: the metrics of 200 s
+        took 0.84 s in 2 s pieces, 0.59 s in 10 s pieces (the default) and 0.44 s in 40 s pieces.
     progress : callable(done_s, total_s), optional
     method : str
         ``auto`` (default: the hybrid route, :mod:`ehm.hybrid`: the linearised person, with the nonlinear model
