@@ -127,13 +127,20 @@ def test_linear_method_reports_its_discrepancy_and_warns_above_tolerance(human, 
     assert loose.extra["route"]["within_tolerance"]
 
 
-def test_most_of_the_drive_near_the_limit_falls_back_to_the_nonlinear_model(human):
-    motion = ehm.random_vibration("xyz", 6.0, 1.0, seed=0, dt_s=0.001)
+def test_most_of_the_drive_near_the_limit_goes_on_on_the_nonlinear_model(human):
+    # 1 m/s^2 rms on three axes: the back pads are at their limit most of the time; once the windows cover more
+    # than half of the drive so far (after 30 s), the rest runs on the nonlinear model, from the state reached.
+    motion = ehm.random_vibration("xyz", 45.0, 1.0, seed=0, dt_s=0.001)
     run = human.simulate(motion, method="auto")
     route = run.extra["route"]
-    assert route["fallback"].startswith("contacts near their friction limit over") and route["linear_share"] == 0
+    assert route["fallback"].startswith("from t = ") and route["linear_share"] < 0.5
+    start = float(route["fallback"].split()[3])
+    last = route["windows_s"][-1]
+    assert 30.0 <= start < 45.0 and last[0] == pytest.approx(start, abs=0.05) and last[1] == pytest.approx(45.0, abs=0.01)
     nl = human.simulate(motion)
-    np.testing.assert_array_equal(run.point("head").acc_mps2, nl.point("head").acc_mps2)
+    for p in ("pelvis", "head"):
+        a, b = run.point(p).acc_mps2, nl.point(p).acc_mps2
+        assert total_value(*a.T, 1000.0) == pytest.approx(total_value(*b.T, 1000.0), rel=0.01), p
 
 
 @pytest.fixture(scope="module")

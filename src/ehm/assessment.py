@@ -282,10 +282,11 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     progress : callable(done_s, total_s), optional
     method : str
         ``auto`` (default: the hybrid route, :mod:`ehm.hybrid`: the linearised person, with the nonlinear model
-        through the windows where a contact reaches its friction limit or lifts off, and for the whole drive when
-        the seat rotates or those windows would cover most of it), ``nonlinear`` (MuJoCo throughout) or
-        ``linear`` (the linearised person throughout, checked against the nonlinear model in those windows, with
-        a warning above ``tolerance``; translation only).
+        through the windows where a contact reaches its friction limit or lifts off, and for the rest of the drive
+        once those windows cover more than half of it so far), ``nonlinear`` (MuJoCo throughout) or ``linear``
+        (the linearised person throughout, checked against the nonlinear model in those windows, with a warning
+        above ``tolerance``).  A drive that turns the seat runs the linear model of the seat's rotation and the
+        rotating seat in the windows.
     tolerance : float, optional
         The linear route's tolerance: share of each point acceleration's rms (default 1 %).
     """

@@ -20,8 +20,9 @@ route by its effect:
    of that acceleration's rms over the drive (what the linear answer alone would be off by).
 4. ``method="auto"`` (the hybrid route) keeps the nonlinear answer in the windows and hands the nonlinear
    state back to the linear model at each window's end (:func:`ehm.engine.deviation_of`,
-   :func:`ehm.linear.carry_of`), so both pieces join without a jump; when the marked windows would cover
-   more than :data:`FALLBACK_SHARE` of a drive it runs the whole drive on the nonlinear model instead.
+   :func:`ehm.linear.carry_of`), so both pieces join without a jump; once the windows cover more than
+   :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`), it runs the rest of the drive on
+   the nonlinear model.
    ``method="linear"`` keeps the linear answer everywhere, the windows only checking it, and warns
    (:class:`LinearRouteWarning`, one sentence with the figure) when the discrepancy exceeds the tolerance.
 
@@ -57,8 +58,10 @@ LEAD_S = 0.25
 QUIET_S = 0.5
 #: The linear model looks this far ahead [s] from a window's start to find where it closes (at most).
 LOOKAHEAD_S = 10.0
-#: The hybrid route runs a whole drive on the nonlinear model when its windows would cover more than this share.
+#: The hybrid route runs the rest of a drive on the nonlinear model once its windows cover more than this share of
+#: the drive so far, after at least FALLBACK_AFTER_S.
 FALLBACK_SHARE = 0.5
+FALLBACK_AFTER_S = 30.0
 #: Default tolerance of the linear answers: discrepancy as a share of each point acceleration's rms.
 TOLERANCE = 0.01
 
@@ -89,7 +92,7 @@ class RouteReport:
     tolerance : float
         The tolerance the discrepancy is held to (share of rms).
     fallback : str
-        Why the whole drive went to the nonlinear model, or "".
+        From when and why the rest of the drive went to the nonlinear model, or "".
     left_out : dict
         For a drive that turns the seat: the estimate of the terms the linear model of the seat's rotation
         leaves out (:func:`ehm.linear.left_out`, merged over the linear pieces); ``share`` its largest share of a
@@ -108,7 +111,7 @@ class RouteReport:
     @property
     def linear_share(self) -> float:
         """Share of the drive the linear model carried (auto) or answered (linear)."""
-        if self.fallback or self.duration_s <= 0:
+        if self.duration_s <= 0:
             return 0.0
         return 1.0 - self.nonlinear_s / self.duration_s if self.method == "auto" else 1.0
 
@@ -123,8 +126,6 @@ class RouteReport:
 
     def line(self) -> str:
         """One sentence for the console."""
-        if self.fallback:
-            return f"route: nonlinear model for the whole drive ({self.fallback})."
         p, a, worst = self.largest()
         n = len(self.windows_s)
         if n == 0:
@@ -136,6 +137,8 @@ class RouteReport:
         if self.method == "auto":
             line = (f"route: linear model {self.linear_share:.1%} of the drive, nonlinear model in {checked}; "
                     f"there the linear answer alone would differ by up to {worst:.2%} of rms ({p} {a}).")
+            if self.fallback:
+                line += f" The nonlinear model ran the rest {self.fallback}."
         else:
             line = (f"route: linear model, checked against the nonlinear model in {checked}: largest discrepancy "
                     f"{worst:.2%} of rms ({p} {a}), tolerance {self.tolerance:.0%}.")
@@ -246,27 +249,6 @@ class _Drive:
         return u, seat.inputs, seat
 
 
-def _flagged_share(ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int) -> float:
-    """Share of the drive the windows would cover, from one linear pass (from rest, no hand-over)."""
-    n = drive.n
-    carry = None
-    covered = np.zeros(n, dtype=bool)
-    blk = _contact_blocks(ss, blk)
-    for start in range(0, n, per_chunk):
-        stop = min(n, start + per_chunk)
-        _, u, _ = drive.at(start, stop)
-        if carry is None:
-            carry = _initial_state(blk, u[0])
-        flags = _near_limit(ss, _block_chunk(blk, u, carry), stop - start)
-        idx = np.flatnonzero(flags) + start
-        if idx.size:  # each marked sample covers [k - lead, k + quiet)
-            edges = np.zeros(n + 1, dtype=int)
-            np.add.at(edges, np.clip(idx - lead, 0, n), 1)
-            np.add.at(edges, np.clip(idx + quiet, 0, n), -1)
-            covered |= np.cumsum(edges[:-1]) > 0
-    return float(covered.mean())
-
-
 def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, progress=None,
                    tolerance: float = TOLERANCE):
     """Run ``motion`` on the hybrid route (``method="auto"``) or the checked linear route (``"linear"``), chunk
@@ -289,13 +271,6 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     drive = _Drive(motion, dt, rotates)
     per_chunk = max(1, int(round(chunk_s / dt)))
     lead, quiet = int(round(LEAD_S / dt)), int(round(QUIET_S / dt))
-    if method == "auto":
-        share = _flagged_share(ss, blk, drive, per_chunk, lead, quiet)
-        if share > FALLBACK_SHARE:
-            report.fallback = (f"contacts near their friction limit over {share:.0%} of it, more than "
-                               f"{FALLBACK_SHARE:.0%}")
-            yield from _nonlinear_whole(human, motion, chunk_s, progress, report)
-            return
     pieces = _pieces(human, ss, blk, drive, per_chunk, lead, quiet, method, report, description, dt)
     held = None
     for piece in pieces:
@@ -314,17 +289,6 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     yield replace(held, extra={**held.extra, "route": report.as_dict()})
     if progress:
         progress(motion.duration_s, motion.duration_s)
-
-
-def _nonlinear_whole(human, motion, chunk_s, progress, report: RouteReport):
-    """The whole drive on the nonlinear model; the last chunk carries the report."""
-    report.nonlinear_s = motion.duration_s
-    held = None
-    for chunk in human.stream(motion, chunk_s=chunk_s, progress=progress, method="nonlinear"):
-        if held is not None:
-            yield held
-        held = chunk
-    yield replace(held, extra={**held.extra, "route": report.as_dict()})
 
 
 def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int, method: str,
@@ -388,12 +352,15 @@ def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int
             piece = linear_piece(pos, w0, carry)
             sums.add_answer(piece)
             yield piece
-        # the window: the linear prediction from w0 marks where it closes, and is what the check compares
-        end = min(n, w0 + look)
-        ahead = carry.copy()
-        y_ahead = run_linear(drive.at(w0, end)[1], ahead, contacts_only=True)
-        flags = _near_limit(ss, y_ahead, end - w0)
-        w1 = w0 + _window_end(flags, int(np.argmax(flags)), quiet) if flags.any() else min(n, w0 + quiet)
+        # the window closes where the linear prediction from w0 has been clear of marks for QUIET_S: within this
+        # chunk's look ahead if it shows that, else from a look ahead from w0 (the same trajectory, further)
+        k = int(np.argmax(flags))
+        w1 = pos + _window_end(flags, k, quiet)
+        if w1 == stop and stop < n:
+            end = min(n, w0 + look)
+            ahead = carry.copy()
+            marks = _near_limit(ss, run_linear(drive.at(w0, end)[1], ahead, contacts_only=True), end - w0)
+            w1 = w0 + _window_end(marks, pos + k - w0, quiet)
         w1 = max(w1, w0 + 1)
         given = drive.at(w0, w1)
         x0 = state_of(ss, blk, carry, given[1][0]) + offset
@@ -417,6 +384,18 @@ def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int
             carry = lin_carry
         pos = w1
         report.discrepancy = sums.shares()
+        done_s = pos * dt
+        if method == "auto" and pos < n and done_s >= FALLBACK_AFTER_S and report.nonlinear_s > FALLBACK_SHARE * done_s:
+            report.fallback = (f"from t = {done_s:.1f} s on: contacts reached their friction limit over "
+                               f"{report.nonlinear_s / done_s:.0%} of the drive so far, more than {FALLBACK_SHARE:.0%}")
+            for a in range(pos, n, per_chunk):  # the rest on the nonlinear model, chunk by chunk, state carried
+                b = min(n, a + per_chunk)
+                nonlinear, x1 = models.window(x1, drive.at(a, b), a, dt, nl_desc)
+                report.nonlinear_s += (b - a) * dt
+                sums.add_answer(nonlinear)
+                yield nonlinear
+            report.windows_s.append([done_s, n * dt])
+            break
     report.discrepancy = sums.shares()
     if checks:
         report.left_out = merge_linear_checks(checks) if len(checks) > 1 else checks[0]

@@ -62,8 +62,8 @@ def _route_options(p) -> None:
     """--method and --tolerance of simulate and assess (ehm.hybrid)."""
     p.add_argument("--method", choices=("auto", "nonlinear", "linear"), default="auto",
                    help="simulation route: auto (default: the linearised person, with the nonlinear model where a "
-                        "contact reaches its friction limit or lifts off, or for the whole drive when the seat rotates "
-                        "or most of it needs it), nonlinear (MuJoCo throughout) or linear (the linearised person "
+                        "contact reaches its friction limit or lifts off, and for the rest of the drive once those "
+                        "windows cover more than half of it so far), nonlinear (MuJoCo throughout) or linear (the linearised person "
                         "throughout, checked against the nonlinear model there; translation only)")
     p.add_argument("--tolerance", type=float, default=None, metavar="PERCENT",
                    help="the linear route's tolerance: discrepancy from the nonlinear model in %% of each point "
