@@ -14,6 +14,7 @@ Drives:
 
 The recordings are read from their folder where they are; nothing of them is copied.  Printed per drive and
 route: wall time of ``assess`` (the model built and linearised before; reading excluded), real-time factor,
+the peak of Python allocations with ``--memory`` (a second run under tracemalloc; 0 without),
 the share of the drive each model carried, and the largest relative difference of the seat, pelvis, trunk and
 head a_v, VDV_z and MSDV_z and of the final MSI (head and seat) from the continuous nonlinear run, with
 the figure it is.  Timings on a shared machine are noisy; run it alone.
@@ -66,7 +67,7 @@ def figures(summary: dict) -> dict:
     return out
 
 
-def run(motion, method: str):
+def run(motion, method: str, memory: bool = False):
     from ehm import SeatedHuman
     from ehm.assessment import assess
 
@@ -75,14 +76,17 @@ def run(motion, method: str):
     if method != "nonlinear" and not rotating:
         human.linear_model()
     human.settle()
-    tracemalloc.start()
-    t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
+        t0 = time.perf_counter()
         result = assess(motion, human, method=method)
-    wall = time.perf_counter() - t0
-    peak = tracemalloc.get_traced_memory()[1]
-    tracemalloc.stop()
+        wall = time.perf_counter() - t0
+        peak = 0
+        if memory:  # a second run under tracemalloc (which slows Python down several times)
+            tracemalloc.start()
+            assess(motion, human, method=method)
+            peak = tracemalloc.get_traced_memory()[1]
+            tracemalloc.stop()
     return result.summary(), wall, peak
 
 
@@ -92,18 +96,19 @@ def main(argv=None) -> int:
     ap.add_argument("--hours", type=float, default=1.0, help="length of the SYNTHETIC city drive [h]")
     ap.add_argument("--only", default="bus,tram,car,city")
     ap.add_argument("--methods", default="auto,linear")
+    ap.add_argument("--memory", action="store_true", help="also the peak of Python allocations (a second run each)")
     args = ap.parse_args(argv)
     only = set(args.only.split(","))
     print(f"{'drive':<6} {'length':>8} {'route':<9} {'wall':>8} {'x real':>7} {'linear':>7} "
           f"{'peak MB':>8}  largest difference from the continuous nonlinear run")
     for name, motion in drives(Path(args.realdata), args.hours, only).items():
-        ref, wall, peak = run(motion, "nonlinear")
+        ref, wall, peak = run(motion, "nonlinear", args.memory)
         base = figures(ref)
         print(f"{name:<6} {motion.duration_s:>7.0f}s {'nonlinear':<9} {wall:>7.1f}s {motion.duration_s / wall:>7.0f} "
               f"{0:>6.0%} {peak / 1e6:>8.0f}  (reference)", flush=True)
         for method in args.methods.split(","):
             try:
-                got, wall, peak = run(motion, method)
+                got, wall, peak = run(motion, method, args.memory)
             except Exception as exc:  # noqa: BLE001 - a route that refuses the drive is a result here
                 print(f"{name:<6} {motion.duration_s:>7.0f}s {method:<9} refused: {exc}", flush=True)
                 continue

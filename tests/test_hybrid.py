@@ -213,3 +213,23 @@ def test_cli_default_route_and_its_record(tmp_path, capsys):
     assert assessed["route"]["method"] == "auto" and "summary_line" in assessed["route"]
     assert main(["assess", "--motion", str(drive), "--tolerance", "0", "--out", str(tmp_path / "x")]) == 2
     assert "--tolerance is a percentage" in capsys.readouterr().err
+
+
+def test_the_seat_figures_do_not_depend_on_the_route(human, sliding):
+    # The seat's own comfort and sickness figures come from the seat motion alone: the hybrid route's pieces of
+    # any length must give them exactly as the nonlinear route's whole chunks do (the sickness model's 20 Hz
+    # blocks carried across pieces).
+    from ehm.assessment import assess
+
+    motion = sliding[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        nl, hy = assess(motion, human, method="nonlinear"), assess(motion, human, method="auto")
+    a, b = nl.summary(), hy.summary()
+    assert hy.route["windows_s"] and "route" in b and "route" not in a
+    assert b["sickness"]["seat"]["final_msi_percent"] == pytest.approx(a["sickness"]["seat"]["final_msi_percent"],
+                                                                        rel=1e-9)
+    assert b["locations"]["seat"]["total_value_mps2"] == pytest.approx(a["locations"]["seat"]["total_value_mps2"],
+                                                                       rel=1e-9)
+    assert b["sickness"]["head"]["final_msi_percent"] == pytest.approx(a["sickness"]["head"]["final_msi_percent"],
+                                                                        rel=0.01)

@@ -195,6 +195,7 @@ class _Running:
     k_sick: int
     max_disp: dict
     final_disp: dict = field(default_factory=dict)
+    partial: dict = field(default_factory=dict)  # sickness input -> the samples of its unfinished block
 
     @classmethod
     def start(cls, fs: float, keep: int, nper: int, k_sick: int, dt: float) -> _Running:
@@ -222,9 +223,8 @@ class _Running:
                 self.spectra[loc][a].add(self.comfort[loc][a].add(a_xyz[:, j]))
 
     def _sickness(self, chunk, seat_angvel: np.ndarray | None) -> None:
-        k = self.k_sick
         head = chunk.point("head")
-        self.sickness["head"].add(_block_means(head.gia_mps2, k), _block_means(head.angvel_radps, k))
+        self._feed("head", head.gia_mps2, head.angvel_radps)
         # The seat's own GIA and rotation: specific force in seat axes, seat angular velocity.
         g_seat = np.array([0.0, 0.0, 9.81])
         if seat_angvel is not None:
@@ -234,7 +234,17 @@ class _Running:
         else:
             gia_seat = chunk.seat_acc_mps2 + g_seat
             w_seat = np.zeros_like(gia_seat)
-        self.sickness["seat"].add(_block_means(gia_seat, k), _block_means(w_seat, k))
+        self._feed("seat", gia_seat, w_seat)
+
+    def _feed(self, key: str, gia: np.ndarray, w: np.ndarray) -> None:
+        """Block means of k_sick samples into the sickness model, the samples of an unfinished block carried to the
+        next chunk (the hybrid route's pieces have any length)."""
+        if key in self.partial:
+            gia, w = (np.concatenate([a, b]) for a, b in zip(self.partial[key], (gia, w)))
+        n = (gia.shape[0] // self.k_sick) * self.k_sick
+        self.partial[key] = (gia[n:].copy(), w[n:].copy())
+        if n:
+            self.sickness[key].add(_block_means(gia[:n], self.k_sick), _block_means(w[:n], self.k_sick))
 
     def _displacement(self, chunk) -> None:
         for p in self.max_disp:
