@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
@@ -42,7 +42,7 @@ from . import engine
 from .errors import InputError
 from .linear import (BLOCK, _block_chunk, _block_form, _in_time_order,
                      _initial_state, _layout, _modes, _result,
-                     _settled_orientations, SeatRotation, carry_of, left_out, seat_body_rates, state_of)
+                     _settled_orientations, SeatRotation, advance, carry_of, left_out, seat_body_rates, state_of)
 from .kinematics import seat_kinematics, seat_rotation_matrices
 from .resampling import Resampler
 from .results import POINT_NAMES, merge_linear_checks
@@ -317,15 +317,20 @@ def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int
         return y
 
     def linear_piece(a: int, b: int, carry: np.ndarray, given=None, y=None, wall_s: float = 0.0):
+        """The linear answer over samples a ... b - 1 (``given``: the drive there, from :meth:`_Drive.at`; ``y``:
+        outputs already computed from sample a, possibly further than b, carry then left as it is)."""
         t0 = time.perf_counter()
         u, inputs, seat = drive.at(a, b) if given is None else given
         y = run_linear(inputs, carry) if y is None else y  # advances carry to b
+        m, n_y = b - a, u.shape[0]
         check = None
         if seat is not None:
-            check = left_out(y, b - a, seat)
+            check = left_out(y, m, seat if m == n_y else _first(seat, m))
             checks.append(check)
             seat.correct(y)
-        res = _result(human, ss, y, u, np.arange(a, b) * dt, dt, R0, lin_desc, seat=seat, check=check)
+        res = _result(human, ss, y, u, np.arange(a, a + n_y) * dt, dt, R0, lin_desc, seat=seat, check=check)
+        if m < n_y:
+            res = res.take(slice(0, m))
         return replace(res, description=lin_desc, wall_s=wall_s + time.perf_counter() - t0)
 
     carry = None
@@ -348,8 +353,9 @@ def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int
             pos = stop
             continue
         w0 = max(pos, pos + int(np.argmax(flags)) - lead)
-        if w0 > pos:
-            piece = linear_piece(pos, w0, carry)
+        if w0 > pos:  # the look ahead up to the window is the answer there
+            piece = linear_piece(pos, w0, carry, given, y, time.perf_counter() - t_start)
+            advance(blk, given[1][:w0 - pos], carry)
             sums.add_answer(piece)
             yield piece
         # the window closes where the linear prediction from w0 has been clear of marks for QUIET_S: within this
@@ -399,6 +405,11 @@ def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int
     report.discrepancy = sums.shares()
     if checks:
         report.left_out = merge_linear_checks(checks) if len(checks) > 1 else checks[0]
+
+
+def _first(seat: SeatRotation, m: int) -> SeatRotation:
+    """The seat's rotation over its first ``m`` samples."""
+    return SeatRotation(*(getattr(seat, f.name)[:m] for f in fields(SeatRotation)))
 
 
 class _Models:

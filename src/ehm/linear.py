@@ -39,7 +39,7 @@ import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy import linalg, signal
+from scipy import linalg
 from scipy.spatial.transform import Rotation
 
 from . import engine
@@ -398,12 +398,26 @@ def _block_chunk(blk: _Blocks, u: np.ndarray, carry: np.ndarray) -> np.ndarray:
     X[:, nu * L + nr:-1].view(complex)[:] = S[:, nr:]
     X[:, -1] = 1.0
     y = (blk.M @ X.T).reshape(-1, L, nb)
-    # the state after the last sample: from the last block's start, r <= L steps
-    last = (nb - 1) * L
-    r = n - last
-    pw = blk.phi[None, :] ** np.arange(r - 1, -1, -1)[:, None]  # (r, m): phi^(r-1-i)
-    carry[:] = blk.phi ** r * S[-1] + np.einsum("im,mk,ik->m", pw, blk.Bd, u[last:])
+    _carry_past(blk, S[-1], u, carry)
     return y
+
+
+def _carry_past(blk: _Blocks, last_start: np.ndarray, u: np.ndarray, carry: np.ndarray) -> None:
+    """``carry`` (in place) past the input samples ``u``, from the modal state at their last block's start."""
+    n, L = u.shape[0], BLOCK
+    last = (-(-n // L) - 1) * L
+    r = n - last  # r <= L steps from the last block's start
+    pw = blk.phi[None, :] ** np.arange(r - 1, -1, -1)[:, None]  # (r, m): phi^(r-1-i)
+    carry[:] = blk.phi ** r * last_start + np.einsum("im,mk,ik->m", pw, blk.Bd, u[last:])
+
+
+def advance(blk: _Blocks, u: np.ndarray, carry: np.ndarray) -> None:
+    """Advance the modal state ``carry`` (in place) past the input samples ``u`` (n, nu), as :func:`_block_chunk`
+    does, without computing the outputs."""
+    (n, nu), L = u.shape, BLOCK
+    U = np.empty((-(-n // L), nu * L))
+    _block_inputs(U, u, L)
+    _carry_past(blk, _block_starts(blk, U, carry)[-1], u, carry)
 
 
 def _block_inputs(Xu: np.ndarray, u: np.ndarray, L: int) -> None:
