@@ -270,8 +270,7 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     blk = _block_form(ss, float(f"{dt:.12g}"))
     drive = _Drive(motion, dt, rotates)
     per_chunk = max(1, int(round(chunk_s / dt)))
-    lead, quiet = int(round(LEAD_S / dt)), int(round(QUIET_S / dt))
-    pieces = _pieces(human, ss, blk, drive, per_chunk, lead, quiet, method, report, description, dt)
+    pieces = _Hybrid(human, ss, blk, drive, per_chunk, method, report, description).pieces()
     held = None
     for piece in pieces:
         if held is not None:
@@ -291,120 +290,150 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
         progress(motion.duration_s, motion.duration_s)
 
 
-def _pieces(human, ss, blk, drive: _Drive, per_chunk: int, lead: int, quiet: int, method: str,
-            report: RouteReport, description: str, dt: float):
-    """The drive's pieces in time order: linear stretches and nonlinear windows (see the module docstring)."""
-    n = drive.n
-    R0 = _settled_orientations(ss, human.model)
-    models = _Models(human, drive.kin)
-    sums = _Discrepancy()
-    checks = []  # the linear pieces' estimates of what the linear model of the seat's rotation leaves out
-    lin_desc = nl_desc = f"{description}, at dt {dt:g} s, {'hybrid' if method == 'auto' else 'linear'} route"
+class _Hybrid:
+    """One drive through the checked linear route or the hybrid route: :meth:`pieces` yields its linear
+    stretches and nonlinear windows in time order (see the module docstring)."""
 
-    # The state's share in the modes the linear time run leaves out (not reached by the seat's acceleration:
-    # where the body sits and turns on the seat pan, the integral actions' neutral directions) stays where a
-    # nonlinear window left it: carried as a constant offset of the linear model's state and outputs.
-    offset = np.zeros(ss.A.shape[0])
-    C_out = ss.C[_layout(ss)]
-    shift = None
+    def __init__(self, human, ss, blk, drive: _Drive, per_chunk: int, method: str, report: RouteReport,
+                 description: str):
+        self.human, self.ss, self.blk, self.drive, self.method, self.report = human, ss, blk, drive, method, report
+        self.dt = drive.dt
+        self.per_chunk = per_chunk
+        self.lead, self.quiet = int(round(LEAD_S / self.dt)), int(round(QUIET_S / self.dt))
+        self.look = max(per_chunk, int(round(LOOKAHEAD_S / self.dt)))  # how far a window may run before it is cut
+        self.R0 = _settled_orientations(ss, human.model)
+        self.models = _Models(human, drive.kin)
+        self.contact_blk = _contact_blocks(ss, blk)
+        self.sums = _Discrepancy()
+        self.checks = []  # the linear pieces' estimates of what the linear model of the seat's rotation leaves out
+        self.description = f"{description}, at dt {self.dt:g} s, {'hybrid' if method == 'auto' else 'linear'} route"
+        self.carry = None  # the linear time run's modal state at the next sample
+        # The state's share in the modes the linear time run leaves out (not reached by the seat's acceleration:
+        # where the body sits and turns on the seat pan, the integral actions' neutral directions) stays where a
+        # nonlinear window left it: a constant offset of the linear model's state, and ``shift`` of its outputs.
+        self.offset = np.zeros(ss.A.shape[0])
+        self.shift = None
+        self.x_end = None  # the linear state after the last nonlinear window
 
-    contact_blk = _contact_blocks(ss, blk)
+    def pieces(self):
+        """The drive's pieces in time order; the report filled in as they come."""
+        n, pos = self.drive.n, 0
+        while pos < n:
+            pos = yield from self._chunk(pos, min(n, pos + self.per_chunk))
+            self.report.discrepancy = self.sums.shares()
+            done_s = pos * self.dt
+            if (self.method == "auto" and pos < n and done_s >= FALLBACK_AFTER_S
+                    and self.report.nonlinear_s > FALLBACK_SHARE * done_s):
+                yield from self._rest_nonlinear(pos)
+                break
+        self.report.discrepancy = self.sums.shares()
+        if self.checks:
+            self.report.left_out = merge_linear_checks(self.checks) if len(self.checks) > 1 else self.checks[0]
 
-    def run_linear(u: np.ndarray, carry: np.ndarray, contacts_only: bool = False) -> np.ndarray:
-        y = _block_chunk(contact_blk if contacts_only else blk, u, carry)  # advances carry past u
-        if shift is not None:
-            y += shift[-y.shape[0]:, None, None]
+    def _chunk(self, pos: int, stop: int):
+        """Samples from ``pos`` on: the linear look ahead to ``stop``, the answer up to the first window, and the
+        window; returns the sample reached."""
+        t_start = time.perf_counter()
+        given = self.drive.at(pos, stop)
+        if self.carry is None:
+            self.carry = _initial_state(self.blk, given[1][0])
+        ahead = self.carry.copy()
+        y = self._linear(given[1], ahead)
+        flags = _near_limit(self.ss, y, stop - pos)
+        if not flags.any():  # the look ahead is the answer
+            yield self._answer(self._linear_piece(pos, stop, self.carry, given, y, time.perf_counter() - t_start))
+            self.carry = ahead
+            return stop
+        k = int(np.argmax(flags))
+        w0 = max(pos, pos + k - self.lead)
+        if w0 > pos:  # the look ahead up to the window is the answer there
+            yield self._answer(self._linear_piece(pos, w0, self.carry, given, y, time.perf_counter() - t_start))
+            advance(self.blk, given[1][:w0 - pos], self.carry)
+        w1 = self._window_end(flags, pos, k, w0, stop)
+        yield from self._window(w0, w1)
+        return w1
+
+    def _window_end(self, flags: np.ndarray, pos: int, k: int, w0: int, stop: int) -> int:
+        """Where the window opened by the marked sample pos + k closes: QUIET_S after the linear prediction's last
+        mark of the stretch; within the chunk's look ahead if it shows that, else from a look ahead from w0 (the
+        same trajectory, further)."""
+        n = self.drive.n
+        w1 = pos + _window_end(flags, k, self.quiet)
+        if w1 == stop and stop < n:
+            end = min(n, w0 + self.look)
+            ahead = self.carry.copy()
+            marks = _near_limit(self.ss, self._linear(self.drive.at(w0, end)[1], ahead, contacts_only=True), end - w0)
+            w1 = w0 + _window_end(marks, pos + k - w0, self.quiet)
+        return max(w1, w0 + 1)
+
+    def _window(self, w0: int, w1: int):
+        """The nonlinear model over samples w0 ... w1 - 1 from the linear state, compared with the linear answer;
+        the answer kept (nonlinear for auto, linear for linear) and the state handed back."""
+        given = self.drive.at(w0, w1)
+        x0 = state_of(self.ss, self.blk, self.carry, given[1][0]) + self.offset
+        nonlinear, self.x_end = self.models.window(x0, given, w0, self.dt, self.description)
+        lin_carry = self.carry.copy()
+        linear = self._linear_piece(w0, w1, lin_carry, given)
+        self.sums.add_window(linear, nonlinear)
+        self.report.windows_s.append([w0 * self.dt, w1 * self.dt])
+        self.report.nonlinear_s += (w1 - w0) * self.dt
+        if self.method != "auto":
+            yield self._answer(linear)
+            self.carry = lin_carry
+            return
+        yield self._answer(nonlinear)
+        if w1 < self.drive.n:
+            self._hand_back(self.x_end, self.drive.at(w1, w1 + 1)[1][0])
+
+    def _hand_back(self, x: np.ndarray, u: np.ndarray) -> None:
+        """The linear model continues from the nonlinear state ``x`` (input ``u`` at that sample); its share in
+        the modes the time run leaves out becomes the offset."""
+        self.carry = carry_of(self.ss, self.blk, x, u)
+        self.offset = _modes(self.ss).P_unreached @ x
+        self.shift = self.ss.C[_layout(self.ss)] @ self.offset
+
+    def _rest_nonlinear(self, pos: int):
+        """The rest of the drive on the nonlinear model, chunk by chunk, from the state the last window left."""
+        n, dt, done_s = self.drive.n, self.dt, pos * self.dt
+        self.report.fallback = (f"from t = {done_s:.1f} s on: contacts reached their friction limit over "
+                                f"{self.report.nonlinear_s / done_s:.0%} of the drive so far, more than "
+                                f"{FALLBACK_SHARE:.0%}")
+        x = self.x_end
+        for a in range(pos, n, self.per_chunk):
+            b = min(n, a + self.per_chunk)
+            nonlinear, x = self.models.window(x, self.drive.at(a, b), a, dt, self.description)
+            self.report.nonlinear_s += (b - a) * dt
+            yield self._answer(nonlinear)
+        self.report.windows_s.append([done_s, n * dt])
+
+    def _answer(self, piece):
+        self.sums.add_answer(piece)
+        return piece
+
+    def _linear(self, u: np.ndarray, carry: np.ndarray, contacts_only: bool = False) -> np.ndarray:
+        """The linear model's outputs over the inputs ``u`` from ``carry`` (advanced past them), with the offset."""
+        y = _block_chunk(self.contact_blk if contacts_only else self.blk, u, carry)
+        if self.shift is not None:
+            y += self.shift[-y.shape[0]:, None, None]
         return y
 
-    def linear_piece(a: int, b: int, carry: np.ndarray, given=None, y=None, wall_s: float = 0.0):
+    def _linear_piece(self, a: int, b: int, carry: np.ndarray, given=None, y=None, wall_s: float = 0.0):
         """The linear answer over samples a ... b - 1 (``given``: the drive there, from :meth:`_Drive.at`; ``y``:
-        outputs already computed from sample a, possibly further than b, carry then left as it is)."""
+        outputs already computed from sample a, possibly further than b, ``carry`` then left as it is)."""
         t0 = time.perf_counter()
-        u, inputs, seat = drive.at(a, b) if given is None else given
-        y = run_linear(inputs, carry) if y is None else y  # advances carry to b
+        u, inputs, seat = self.drive.at(a, b) if given is None else given
+        y = self._linear(inputs, carry) if y is None else y  # advances carry to b
         m, n_y = b - a, u.shape[0]
         check = None
         if seat is not None:
             check = left_out(y, m, seat if m == n_y else _first(seat, m))
-            checks.append(check)
+            self.checks.append(check)
             seat.correct(y)
-        res = _result(human, ss, y, u, np.arange(a, a + n_y) * dt, dt, R0, lin_desc, seat=seat, check=check)
+        res = _result(self.human, self.ss, y, u, np.arange(a, a + n_y) * self.dt, self.dt, self.R0,
+                      self.description, seat=seat, check=check)
         if m < n_y:
             res = res.take(slice(0, m))
-        return replace(res, description=lin_desc, wall_s=wall_s + time.perf_counter() - t0)
-
-    carry = None
-    pos = 0
-    look = max(per_chunk, int(round(LOOKAHEAD_S / dt)))  # a window may run this far before it is cut
-    while pos < n:
-        t_start = time.perf_counter()
-        stop = min(n, pos + per_chunk)
-        given = drive.at(pos, stop)
-        if carry is None:
-            carry = _initial_state(blk, given[1][0])
-        ahead = carry.copy()
-        y = run_linear(given[1], ahead)
-        flags = _near_limit(ss, y, stop - pos)
-        if not flags.any():  # the look ahead is the answer
-            piece = linear_piece(pos, stop, carry, given, y, time.perf_counter() - t_start)
-            carry = ahead
-            sums.add_answer(piece)
-            yield piece
-            pos = stop
-            continue
-        w0 = max(pos, pos + int(np.argmax(flags)) - lead)
-        if w0 > pos:  # the look ahead up to the window is the answer there
-            piece = linear_piece(pos, w0, carry, given, y, time.perf_counter() - t_start)
-            advance(blk, given[1][:w0 - pos], carry)
-            sums.add_answer(piece)
-            yield piece
-        # the window closes where the linear prediction from w0 has been clear of marks for QUIET_S: within this
-        # chunk's look ahead if it shows that, else from a look ahead from w0 (the same trajectory, further)
-        k = int(np.argmax(flags))
-        w1 = pos + _window_end(flags, k, quiet)
-        if w1 == stop and stop < n:
-            end = min(n, w0 + look)
-            ahead = carry.copy()
-            marks = _near_limit(ss, run_linear(drive.at(w0, end)[1], ahead, contacts_only=True), end - w0)
-            w1 = w0 + _window_end(marks, pos + k - w0, quiet)
-        w1 = max(w1, w0 + 1)
-        given = drive.at(w0, w1)
-        x0 = state_of(ss, blk, carry, given[1][0]) + offset
-        nonlinear, x1 = models.window(x0, given, w0, dt, nl_desc)
-        lin_carry = carry.copy()
-        linear = linear_piece(w0, w1, lin_carry, given)
-        sums.add_window(linear, nonlinear)
-        report.windows_s.append([w0 * dt, w1 * dt])
-        report.nonlinear_s += (w1 - w0) * dt
-        if method == "auto":
-            sums.add_answer(nonlinear)
-            yield nonlinear
-            if w1 < n:
-                u1 = drive.at(w1, w1 + 1)[1][0]
-                carry = carry_of(ss, blk, x1, u1)
-                offset = _modes(ss).P_unreached @ x1
-                shift = C_out @ offset
-        else:
-            sums.add_answer(linear)
-            yield linear
-            carry = lin_carry
-        pos = w1
-        report.discrepancy = sums.shares()
-        done_s = pos * dt
-        if method == "auto" and pos < n and done_s >= FALLBACK_AFTER_S and report.nonlinear_s > FALLBACK_SHARE * done_s:
-            report.fallback = (f"from t = {done_s:.1f} s on: contacts reached their friction limit over "
-                               f"{report.nonlinear_s / done_s:.0%} of the drive so far, more than {FALLBACK_SHARE:.0%}")
-            for a in range(pos, n, per_chunk):  # the rest on the nonlinear model, chunk by chunk, state carried
-                b = min(n, a + per_chunk)
-                nonlinear, x1 = models.window(x1, drive.at(a, b), a, dt, nl_desc)
-                report.nonlinear_s += (b - a) * dt
-                sums.add_answer(nonlinear)
-                yield nonlinear
-            report.windows_s.append([done_s, n * dt])
-            break
-    report.discrepancy = sums.shares()
-    if checks:
-        report.left_out = merge_linear_checks(checks) if len(checks) > 1 else checks[0]
+        return replace(res, description=self.description, wall_s=wall_s + time.perf_counter() - t0)
 
 
 def _first(seat: SeatRotation, m: int) -> SeatRotation:
