@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import math
 from pathlib import Path
 
 from ..errors import InputError
@@ -10,7 +12,7 @@ from ..motion import random_vibration, sine, sweep
 from ..outdir import RunFolder, check_output_file, check_output_folder
 from ..runfiles import DEFAULT_OUTPUT_RATE_HZ
 from .common import _band, _human, _read_motion_file
-from .options import _excitation_options, _model_options, _motion_file_options
+from .options import _excitation_options, _model_options, _motion_file_options, _parallel_options
 from .progress import _progress_bar
 
 #: The demo's transfer functions: Welch segments of 10 s (0.1 Hz resolution, as its peaks are printed), at least
@@ -57,6 +59,7 @@ def add_simulate(sub) -> None:
     p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
                    help="simulation route: nonlinear (MuJoCo, default) or linear (the linearised person: about 40x "
                         "faster, translation only, refuses inputs that make a contact lift off or slide)")
+    _parallel_options(p)
     p.set_defaults(func=cmd_simulate)
 
 
@@ -77,14 +80,58 @@ def cmd_simulate(args) -> int:
     draw = None
     if args.plot:  # simulate_to computes; the figure is drawn here, into the folder before it is put in place
         from ..plotting import plot_run_preview as draw
-    s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats,
-                          progress=_progress_bar("simulate"), plot=draw, method=args.method)
+    with _segments(args) as parallel:
+        show = _progress_bar("simulate")
+        chunks = None if parallel is None else parallel(human, motion, progress=show, chunk_s=10.0, pose_rate_hz=25.0)
+        s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats, progress=show,
+                              plot=draw, method=args.method, chunks=chunks)
     files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json" + \
         (", poses.npz" if args.method != "linear" else "") + \
         (", time_histories.png" if args.plot else "")
     print(f"simulated {s['duration_s']:.3g} s of '{s['input']}' in {s['wall_s']:.2f} s "
           f"({s['realtime_factor']:.0f}x real time); wrote {out}/ ({files}; {s['output_rate_hz']:g} rows per s)")
     return 0
+
+
+class _Parallel:
+    """The nonlinear route in segments as the command line asked for it (:mod:`ehm.segments`)."""
+
+    def __init__(self, workers: int, client, lead_in_s):
+        self.workers, self.client, self.lead_in_s = workers, client, lead_in_s
+
+    def __call__(self, human, motion, **kw):
+        from ..segments import stream_parallel
+
+        return stream_parallel(human, motion, workers=self.workers, client=self.client, lead_in_s=self.lead_in_s,
+                               **kw)
+
+
+@contextlib.contextmanager
+def _segments(args):
+    """None for one continuous run, else a :class:`_Parallel` (with a Dask client for --scheduler, closed on
+    leaving); --workers, --scheduler and --lead-in checked, one sentence each."""
+    workers, scheduler, lead = args.workers, args.scheduler, args.lead_in
+    if workers is None and scheduler is None:
+        if lead is not None:
+            raise InputError("--lead-in is for a run in segments: give --workers N or --scheduler too.")
+        yield None
+        return
+    if workers is not None and workers < 1:
+        raise InputError(f"--workers {workers}: use 1 or more worker processes.")
+    if workers is not None and scheduler is not None:
+        raise InputError("give --workers (local processes) or --scheduler (a Dask cluster's workers), not both.")
+    if args.method != "nonlinear":
+        raise InputError("--workers and --scheduler split the nonlinear route into segments; the linear route runs "
+                         "in one process (it is about a thousand times faster than real time already).")
+    if lead is not None and not (math.isfinite(lead) and lead >= 0):
+        raise InputError(f"--lead-in {lead}: give the lead-in in seconds, 0 or more.")
+    if scheduler is None:
+        yield _Parallel(workers, None, lead)
+        return
+    from ..cluster import _dask_client, check_scheduler
+
+    with _dask_client(check_scheduler(scheduler), None) as client:
+        yield _Parallel(1, client, lead)
 
 
 # --- ehm demo -------------------------------------------------------------------------------------------------------
@@ -175,6 +222,7 @@ def add_assess(sub) -> None:
                    help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
     p.add_argument("--method", choices=("nonlinear", "linear"), default="nonlinear",
                    help="simulation route (default nonlinear; linear: translation only, small inputs)")
+    _parallel_options(p)
     p.set_defaults(func=cmd_assess)
 
 
@@ -184,7 +232,10 @@ def cmd_assess(args) -> int:
     final = check_output_folder(args.out)
     motion = _read_motion_file(args)
     human = _human(args, rotating_seat=motion.angvel_radps is not None and args.method != "linear")
-    result = assess(motion, human, progress=_progress_bar("assess"), method=args.method)
+    with _segments(args) as parallel:
+        kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
+                                          "lead_in_s": parallel.lead_in_s}
+        result = assess(motion, human, progress=_progress_bar("assess"), method=args.method, **kw)
     summary = _assessment_summary(result, human)
     with RunFolder(final) as out:
         _write_assessment(result, summary, out)

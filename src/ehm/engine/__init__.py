@@ -71,7 +71,7 @@ from .model import G0, POINTS, SUPPORT_GROUPS, Model
 from .seat import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat
 from .sensors import (SENSOR_KINDS, _contact_name, contact_forces, sensor_slices, sliding_contacts,
                       support_forces, support_slices, touching_contacts)
-from .state import (data_at_deviation, deviation_of, get_state, new_data, set_state, settle, settled_data,
+from .state import (data_at_deviation, deviation_of, get_state, new_data, set_seat, set_state, settle, settled_data,
                     settled_point_poses)
 from .stepper import RawRun, evaluate_velocities, point_accelerations, run, step
 
@@ -82,6 +82,6 @@ __all__ = [
     "build", "c_library", "captured_warnings", "check_seat", "contact_forces", "contact_solver_params",
     "data_at_deviation", "deviation_of", "dof_name", "drawing_geometry", "evaluate_velocities", "get_state", "inertia_problem", "linearize",
     "new_data", "point_accelerations", "run", "save_binary", "segment_mass_properties", "sensor_slices",
-    "set_state", "settle", "settled_data", "settled_point_poses", "sliding_contacts", "step", "support_forces",
+    "set_seat", "set_state", "settle", "settled_data", "settled_point_poses", "sliding_contacts", "step", "support_forces",
     "support_slices", "take_warnings", "touching_contacts",
 ]

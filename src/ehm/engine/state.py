@@ -118,3 +118,11 @@ def deviation_of(model: Model, d: mujoco.MjData) -> np.ndarray:
     x[nv:2 * nv] = d.qvel - s["qvel"]
     x[2 * nv:] = d.act - s["act"]
     return x
+
+
+def set_seat(model: Model, d: mujoco.MjData, angles_rad: np.ndarray, rates_radps: np.ndarray) -> None:
+    """Put a rotating seat's hinges of ``d`` at yaw, pitch, roll ``angles_rad`` turning at ``rates_radps`` (Euler
+    angle rates), the rest of the state as it is (a segment's start, :mod:`ehm.segments`)."""
+    d.qpos[model.seat["qpos"]] = angles_rad
+    d.qvel[model.seat["dofs"]] = rates_radps
+    mujoco.mj_forward(model.mj, d)
