@@ -12,9 +12,17 @@ import ehm
 from ehm.cli import main
 from ehm.errors import InputError
 from ehm.results import concatenate_runs
+from ehm import segments
 from ehm.segments import Segment, plan_segments, simulate_parallel, stream_parallel
 
 POINTS = ("pelvis", "trunk", "head")
+
+
+@pytest.fixture(autouse=True)
+def no_start_up(monkeypatch):
+    """Segments of equal work on these short motions (the first segment is not made longer by a worker's start-up,
+    which would make it the whole run)."""
+    monkeypatch.setattr(segments, "WORKER_START_S", 0.0)
 
 
 @pytest.fixture(scope="module")
@@ -46,6 +54,16 @@ def test_plan_covers_the_run_in_aligned_segments_of_equal_work():
     assert abs(segs[0].work_steps - segs[1].work_steps) <= 2_000  # the first is longer by about the lead-in
     assert len(plan_segments(3_000, 4, 1_000, align_steps=2_000)) == 2  # never more segments than chunks
     assert plan_segments(10_000, 2, 8_000, align_steps=1_000)[1].lead_steps <= 8_000
+    longer = plan_segments(100_001, 2, 5_000, align_steps=1_000, first_extra_steps=10_000)
+    assert longer[0].stop - segs[0].stop in (4_000, 5_000, 6_000)  # half the start-up's steps more
+
+
+def test_a_short_motion_runs_as_one_segment_here(person, vibration, continuous, monkeypatch):
+    monkeypatch.setattr(segments, "WORKER_START_S", 1.5)  # 12 s: fewer steps than this process makes meanwhile
+    stats = {}
+    run = concatenate_runs(list(stream_parallel(person, vibration, workers=2, _stats=stats)))
+    assert len(stats["segments"]) == 1
+    np.testing.assert_array_equal(run.point("head").acc_mps2, continuous.point("head").acc_mps2)
 
 
 def test_segmented_run_joins_onto_the_continuous_time_axis(person, vibration, continuous):

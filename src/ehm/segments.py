@@ -17,21 +17,54 @@ differs from the continuous run at first; the difference dies away over the lead
 lead-in level: its yaw is offset by a constant (nothing changes in seat axes) and its pitch and roll are faded in
 over the lead-in, so that from the segment's start on the seat's attitude is the continuous run's.
 
-Measured (``benchmarks/bench_parallel.py --lead-in``; default person, 1 ms step; segments of equal work, the
-lead-in's input as recorded, not faded in), as the largest over the segment joins of
-rms(segmented - continuous) / rms(continuous) for the pelvis, trunk and head acceleration (each axis, over the
-run), and the relative difference of a_v (ISO 2631-1 total value), VDV_z, MSDV_z (pelvis, trunk, head) and the
-final MSI (the head-driven sickness model):
+How long a lead-in?  Measured (``benchmarks/bench_parallel.py --lead-in``; default person, 1 ms step; the run in
+4 segments of equal work, each after the lead-in, against the continuous run).  Per point, the rms of the
+acceleration difference as a share of the continuous run's rms (3 axes together; over the run, and the largest
+over the 10 s after a join), and the largest relative difference of a_v (ISO 2631-1 total value), VDV_z and MSDV_z
+over pelvis, trunk and head, and of the head-driven final MSI; in %:
 
-================================  ==========  =========  ========  =========  ==========
-lead-in [s]                         1           2          5         10         20
-================================  ==========  =========  ========  =========  ==========
-bus log, 219 s, 4 segments:
-  acceleration rms share          see below
-rotating city drive, 60 s, 4 seg.
-================================  ==========  =========  ========  =========  ==========
+================================  =======  ===================  ===============  ====  =====  ======  ====
+drive                             lead-in  acc pelvis/trunk/    acc, 10 s after  a_v   VDV_z  MSDV_z  MSI
+                                  [s]      head, run            a join
+================================  =======  ===================  ===============  ====  =====  ======  ====
+bus floor log (measured), 219 s   1        0.30 / 1.08 / 1.31   1.00             0.05  0.08   0.01    0.10
+                                  2        0.30 / 1.08 / 1.31   0.30             0.05  0.08   0.01    0.04
+                                  5        0.30 / 1.08 / 1.31   0.32             0.05  0.08   0.01    0.07
+                                  **10**   0.30 / 1.08 / 1.31   0.32             0.05  0.08   0.01    0.07
+                                  20       0.30 / 1.08 / 1.31   1.08             0.05  0.08   0.01    0.01
+                                  40       0.30 / 1.08 / 1.31   3.18             0.05  0.08   0.01    0.01
+city drive (SYNTHETIC, rotating   2        0.29 / 1.21 / 1.77   5.40             0.27  0.42   0.07    0.05
+seat), 240 s                      5        0.28 / 1.29 / 1.72   4.99             0.13  0.43   0.04    0.02
+                                  **10**   0.24 / 1.05 / 1.18   1.68             0.13  0.50   0.01    0.01
+                                  20       0.22 / 1.01 / 1.12   3.48             0.21  0.51   0.01    0.02
+                                  40       0.14 / 0.79 / 0.77   1.38             0.04  0.11   0.01    0.00
+                                  60       0.11 / 0.58 / 0.51   2.90             0.03  0.12   0.00    0.01
+city drive, 60 s (a join every    1        0.55 / 2.97 / 4.54   9.53             1.35  1.59   0.24    1.11
+15 s: the extreme)                5        0.51 / 2.48 / 3.66   5.83             0.66  1.42   0.22    0.14
+                                  10       0.36 / 1.94 / 2.16   3.32             0.20  1.40   0.71    0.13
+                                  20       0.19 / 1.44 / 1.45   2.86             0.23  1.45   0.05    0.07
+================================  =======  ===================  ===============  ====  =====  ======  ====
 
-(filled in below by the measurement; see :data:`DEFAULT_LEAD_IN_S`.)
+What it shows.  The part of the difference that dies away does so within a few seconds: the posture controllers'
+integral action (Ti = 1 s) and the transient of starting from rest are gone after 2 s on the bus log (10 s after a
+join: 1.00 % with 1 s, 0.30 % with 2 s) and after 10 s on the city drive (5.0 % with 5 s, 1.7 % with 10 s).  What
+remains is the posture that friction holds: in the continuous run the pelvis turns and the hips roll by some
+5-15 mrad under braking and cornering, and stay so (on the bus, at rest from 40 to 55 s, the pelvis stays turned
+by 4.7 mrad), until a larger push moves them again.  A segment started from rest has not been pushed that way;
+its lead-in gives that posture back only if it holds the push that set it, so a longer lead-in helps unevenly
+(city drive: trunk and head 0.8 % with 40 s, 0.5-0.6 % with 60 s; bus log: 1.31 % with 40 s as with 1 s) and the
+10 s after a join is not monotonic in it.  Not a rounding effect: the continuous run with its input changed by a
+factor 1 + 1e-9 differs by 1e-9.
+
+Every comfort and sickness figure (a_v, VDV_z, MSDV_z, final MSI) stays within 0.5 % with 10 s (twice the margin
+to 1 %) on the bus log and the 240 s city drive; the acceleration time histories of trunk and head do not stay
+within 1 % whatever the lead-in (1.05-1.31 % over the run with 10 s, up to 1.7 % after a join).  A join every 15 s
+of a harsh city drive (the 60 s drive in 4 segments) takes head VDV_z 1.4 % off at every lead-in up to 20 s:
+use segments of a minute or more (two workers on a drive of a few minutes give one join).  Fading the input in
+over the lead-in (a quintic ramp) did not help: the same or worse on both drives (city drive, 2 s: head 5.3 %
+against 3.7 %; bus log, 1 s: MSI 0.33 % against 0.10 %), so the lead-in takes the motion's input as it is, from
+the settled, level posture.  :data:`DEFAULT_LEAD_IN_S` is 10 s: the shortest after which the decaying part is gone
+on both drives; a longer one costs little on a long drive (``lead_in_s``, ``--lead-in``).
 """
 
 from __future__ import annotations
@@ -53,6 +86,13 @@ __all__ = ["DEFAULT_LEAD_IN_S", "Segment", "plan_segments", "simulate_parallel",
 
 #: Lead-in of every segment but the first [s], chosen by measurement (module docstring).
 DEFAULT_LEAD_IN_S = 10.0
+#: Wall time a local worker process costs before and after its segment [s]: spawning it (Python, NumPy, SciPy,
+#: MuJoCo and ehm imported, the person built: 1.2 s measured) and handing its result back (0.3 s for 300 s of
+#: run); the first segment, run in this process meanwhile, is made longer by what this process steps in that time.
+WORKER_START_S = 1.5
+#: Steps per wall second of the nonlinear route on a drive, static and rotating seat (``rotating_seat``):
+#: measured 16 000-20 000 on a SYNTHETIC rough road, 13 000-19 000 on the SYNTHETIC city drive with rotation.
+STEPS_PER_WALL_S = {False: 20_000, True: 15_000}
 
 
 @dataclass(frozen=True)
@@ -77,20 +117,24 @@ class Segment:
         return self.stop - self.first + self.lead_steps
 
 
-def plan_segments(n_steps: int, n_segments: int, lead_steps: int, align_steps: int = 1) -> list[Segment]:
+def plan_segments(n_steps: int, n_segments: int, lead_steps: int, align_steps: int = 1,
+                  first_extra_steps: int = 0) -> list[Segment]:
     """Split ``n_steps`` grid steps into at most ``n_segments`` consecutive segments of about equal work.
 
-    Every segment but the first runs ``lead_steps`` more steps before its own, so the first is longer by about
-    the lead-in; boundaries fall on multiples of ``align_steps`` (the chunks of the continuous run, so that the
-    segmented run is cut into the same chunks).  Fewer segments come out when there are fewer aligned blocks.
+    Every segment but the first runs ``lead_steps`` more steps before its own, and ``first_extra_steps`` more
+    work is counted for each of them (a worker process's start-up, while the first segment runs here), so the
+    first segment is longer by both; boundaries fall on multiples of ``align_steps`` (the chunks of the continuous
+    run, so that the segmented run is cut into the same chunks).  Fewer segments come out when there are fewer
+    aligned blocks.
     """
     blocks = math.ceil(n_steps / align_steps)
     k = max(1, min(int(n_segments), blocks))
-    # equal work: first = base + lead, the others base; k base + lead = n
-    base = max(0.0, (n_steps - lead_steps) / k)
+    extra = lead_steps + first_extra_steps
+    # equal work: the first keeps base + extra steps, the others base each (plus their lead-in and start-up)
+    base = max(0.0, (n_steps - extra) / k)
     bounds = [0]
     for i in range(1, k):
-        b = int(round((base * i + lead_steps) / align_steps)) * align_steps
+        b = int(round((base * i + extra) / align_steps)) * align_steps
         bounds.append(min(max(b, bounds[-1] + align_steps), n_steps))
     bounds.append(n_steps)
     bounds = sorted(set(bounds))
@@ -99,23 +143,28 @@ def plan_segments(n_steps: int, n_segments: int, lead_steps: int, align_steps: i
 
 def _run_segment(recipe: dict, motion: SeatMotion, segment: Segment, chunk_s: float, pose_rate_hz, ramp: bool):
     """A worker's task: the person rebuilt from ``recipe``, run over ``segment``; returns the kept part as one
-    :class:`RunResult` and the wall time the task took here (building included)."""
-    t0 = time.perf_counter()
+    :class:`RunResult` and the task's times: ``start`` and ``end`` (epoch seconds), ``build_s``."""
+    start = time.time()
     from .simulation import SeatedHuman
 
     human = SeatedHuman.from_recipe(recipe)
+    built = time.time()
     pieces = list(human._stream_span(motion, segment.first, segment.stop, segment.lead_steps, chunk_s=chunk_s,
                                      pose_rate_hz=pose_rate_hz, ramp=ramp))
-    return concatenate_runs(pieces), time.perf_counter() - t0
+    run = concatenate_runs(pieces)
+    del pieces
+    return run, {"start": start, "build_s": built - start, "end": time.time()}
 
 
 def _check(workers, segment_s, lead_in_s, chunk_s) -> None:
     if isinstance(workers, bool) or not isinstance(workers, Integral) or workers < 1:
         raise InputError(f"workers must be a whole number of processes, 1 or more, not {workers!r}.")
-    for name, v in (("segment_s", segment_s), ("lead_in_s", lead_in_s)):
-        if v is not None and (isinstance(v, bool) or not isinstance(v, Real) or not np.isfinite(v) or v < 0):
-            raise InputError(f"{name} must be a time in seconds, 0 or more, not {v!r}.")
-    if segment_s is not None and segment_s <= 0:
+    def time_s(v) -> bool:
+        return not isinstance(v, bool) and isinstance(v, Real) and bool(np.isfinite(v))
+
+    if lead_in_s is not None and not (time_s(lead_in_s) and lead_in_s >= 0):
+        raise InputError(f"lead_in_s must be a time in seconds, 0 or more, not {lead_in_s!r}.")
+    if segment_s is not None and not (time_s(segment_s) and segment_s > 0):
         raise InputError(f"segment_s must be a positive time in seconds, not {segment_s!r}.")
     if isinstance(chunk_s, bool) or not isinstance(chunk_s, Real) or not chunk_s > 0:
         raise InputError(f"chunk_s must be a positive time in seconds, not {chunk_s!r}.")
@@ -133,9 +182,11 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
         The person (its :meth:`~ehm.SeatedHuman.recipe` goes to the workers; it is settled here first).
     motion : SeatMotion
     workers : int
-        Local worker processes (spawned for this run; they ignore Ctrl-C, which ends the run here and stops
-        them).  1: the run in this process, bit for bit :meth:`~ehm.SeatedHuman.stream`.  With ``client`` the
-        number of segments is at least the cluster's worker count instead.
+        Processes to run on: this one (the first segment, streamed chunk by chunk as it is computed, while the
+        others start) and ``workers - 1`` spawned worker processes, which ignore Ctrl-C (it ends the run here and
+        stops them).  1, or a motion too short to gain from a second process (fewer steps than this process
+        makes while a worker starts, :data:`WORKER_START_S`), runs in this process as one segment: bit for bit
+        :meth:`~ehm.SeatedHuman.stream`.  With ``client``: at least one segment per worker of the cluster.
     segment_s : float, optional
         Longest segment [s] (default: one segment per worker); more segments than workers are handed out as
         workers become free.
@@ -172,22 +223,35 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     if client is not None:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
     n_seg = max(n_workers, math.ceil(motion.duration_s / segment_s) if segment_s else 1)
-    segments = plan_segments(n_steps, n_seg, int(round(lead_s / dt)), per_chunk)
+    local = client is None
+    # locally the first segment runs in this process while the workers start, so it takes their start-up too
+    start_up = int(WORKER_START_S * STEPS_PER_WALL_S[human.model.seat is not None]) if local else 0
+    segments = plan_segments(n_steps, n_seg, int(round(lead_s / dt)), per_chunk, first_extra_steps=start_up)
     if _stats is not None:
-        _stats.update(segments=segments, task_wall_s=[])
-    if len(segments) == 1 or (workers == 1 and client is None):
+        _stats.update(segments=segments, tasks=[])
+    if len(segments) == 1 or (workers == 1 and local):
         yield from human.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
         return
-    human.settle() if human.model.settled is None else None
+    if human.model.settled is None:
+        human.settle()  # once here, not in every worker: the recipe carries the settled state
     recipe = human.recipe()
     args = (chunk_s, pose_rate_hz, _ramp)
     done_s = 0.0
-    with _Runner(client, min(n_workers, len(segments))) as runner:
-        futures = runner.submit_all(recipe, motion, segments, args)
-        for seg, fut in zip(segments, futures):
-            run, task_s = runner.result(fut)
+    remote = segments[1:] if local else segments
+    with _Runner(client, min(n_workers - 1 if local else n_workers, len(remote))) as runner:
+        submitted = time.time()
+        futures = runner.submit_all(recipe, motion, remote, args)
+        if local:  # the first segment here, chunk by chunk: the continuous run's start, bit for bit
+            yield from human._stream_span(motion, 0, segments[0].stop, 0, chunk_s=chunk_s, pose_rate_hz=pose_rate_hz)
+            done_s = segments[0].stop * dt
             if _stats is not None:
-                _stats["task_wall_s"].append(task_s)
+                _stats["first_end"] = time.time()
+            if progress:
+                progress(min(done_s, motion.duration_s), motion.duration_s)
+        for seg, fut in zip(remote, futures):
+            run, times = runner.result(fut)
+            if _stats is not None:
+                _stats["tasks"].append({**times, "submitted": submitted, "received": time.time()})
             done_s += (seg.stop - seg.first) * dt
             for lo in range(0, run.time_s.size, per_chunk):
                 yield run.take(slice(lo, lo + per_chunk)) if run.poses is None else _with_poses(run, lo, per_chunk)
@@ -223,7 +287,7 @@ class _Runner:
     Ctrl-C the local processes are stopped at once, and a Dask client's tasks cancelled."""
 
     def __init__(self, client, n: int):
-        self.client, self.n, self.pool = client, n, None
+        self.client, self.n, self.pool, self.futures = client, n, None, []
 
     def __enter__(self):
         return self
@@ -233,7 +297,9 @@ class _Runner:
             motion_f = self.client.scatter(motion, broadcast=True)
             recipe_f = self.client.scatter(recipe, broadcast=True)
             # largest work first is the plan's order already: the first segment has no lead-in but more steps
-            return [self.client.submit(_run_segment, recipe_f, motion_f, s, *args, pure=False) for s in segments]
+            self.futures = [self.client.submit(_run_segment, recipe_f, motion_f, s, *args, pure=False)
+                            for s in segments]
+            return self.futures
         import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
 
@@ -253,7 +319,7 @@ class _Runner:
                 import contextlib
 
                 with contextlib.suppress(Exception):
-                    self.client.cancel(list(self.client.futures))
+                    self.client.cancel(self.futures)
             return False
         if self.pool is not None:
             if kind is not None:  # stop the workers now, not after their segments
