@@ -88,11 +88,17 @@ def compare(motion, human, cont, seg, joins_s) -> dict:
     for p in POINTS:
         a, b = cont.point(p).acc_mps2, seg.point(p).acc_mps2
         out[f"acc {p}"] = float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(a ** 2)))
-        worst = 0.0
+        axis = np.sqrt(np.mean((a - b) ** 2, axis=0)) / np.sqrt(np.mean(a ** 2, axis=0))
+        out[f"acc {p} worst axis"] = float(axis.max())
+        out[f"acc {p} worst axis name"] = "xyz"[int(axis.argmax())]
+        worst = worst_axis = 0.0
         for j in joins_s:
             w = (cont.time_s >= j) & (cont.time_s < j + JOIN_WINDOW_S)
             worst = max(worst, float(np.sqrt(np.mean((a[w] - b[w]) ** 2)) / np.sqrt(np.mean(a[w] ** 2))))
+            worst_axis = max(worst_axis, float(np.max(np.sqrt(np.mean((a[w] - b[w]) ** 2, axis=0))
+                                                      / np.sqrt(np.mean(a[w] ** 2, axis=0)))))
         out[f"acc {p} after join"] = worst
+        out[f"acc {p} worst axis after join"] = worst_axis
     fc, fs = _figures(motion, human, cont), _figures(motion, human, seg)
     for k in fc:
         out[k] = abs(fs[k] - fc[k]) / abs(fc[k]) if fc[k] else abs(fs[k])
@@ -135,9 +141,10 @@ def measure_lead_in(args) -> None:
                 joins = [s.first * cont.dt_s for s in stats["segments"][1:]]
                 diff = compare(motion, human, cont, seg, joins)
                 rows.append({"drive": name, "ramp": ramp, "lead_in_s": lead, "wall_s": wall, **diff})
-                worst = max(v for k, v in diff.items() if "after join" not in k)
-                print(f"{name}: lead-in {lead:4g} s{' ramp' if ramp else '     '}: worst {100 * worst:6.3f} % "
-                      + " ".join(f"{k}={100 * v:.3f}%" for k, v in diff.items()), flush=True)
+                nums = {k: v for k, v in diff.items() if not isinstance(v, str)}
+                worst = max(v for k, v in nums.items() if "join" not in k and "acc" not in k)
+                print(f"{name}: lead-in {lead:4g} s{' ramp' if ramp else '     '}: figures worst {100 * worst:6.3f} % "
+                      + " ".join(f"{k}={100 * v:.3f}%" for k, v in nums.items()), flush=True)
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1))
 

@@ -142,8 +142,9 @@ def plan_segments(n_steps: int, n_segments: int, lead_steps: int, align_steps: i
 
 
 def _run_segment(recipe: dict, motion: SeatMotion, segment: Segment, chunk_s: float, pose_rate_hz, ramp: bool):
-    """A worker's task: the person rebuilt from ``recipe``, run over ``segment``; returns the kept part as one
-    :class:`RunResult` and the task's times: ``start`` and ``end`` (epoch seconds), ``build_s``."""
+    """A worker's task: the person rebuilt from ``recipe``, run over ``segment``; returns the kept part as its
+    chunks (:class:`RunResult` each, not joined here: the joining is done once, by the caller) and the task's
+    times: ``start`` and ``end`` (epoch seconds), ``build_s``."""
     start = time.time()
     from .simulation import SeatedHuman
 
@@ -151,9 +152,7 @@ def _run_segment(recipe: dict, motion: SeatMotion, segment: Segment, chunk_s: fl
     built = time.time()
     pieces = list(human._stream_span(motion, segment.first, segment.stop, segment.lead_steps, chunk_s=chunk_s,
                                      pose_rate_hz=pose_rate_hz, ramp=ramp))
-    run = concatenate_runs(pieces)
-    del pieces
-    return run, {"start": start, "build_s": built - start, "end": time.time()}
+    return pieces, {"start": start, "build_s": built - start, "end": time.time()}
 
 
 def _check(workers, segment_s, lead_in_s, chunk_s) -> None:
@@ -249,26 +248,14 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
             if progress:
                 progress(min(done_s, motion.duration_s), motion.duration_s)
         for seg, fut in zip(remote, futures):
-            run, times = runner.result(fut)
+            pieces, times = runner.result(fut)
             if _stats is not None:
                 _stats["tasks"].append({**times, "submitted": submitted, "received": time.time()})
             done_s += (seg.stop - seg.first) * dt
-            for lo in range(0, run.time_s.size, per_chunk):
-                yield run.take(slice(lo, lo + per_chunk)) if run.poses is None else _with_poses(run, lo, per_chunk)
-            del run
+            while pieces:  # the segment's chunks, each let go once it is passed on
+                yield pieces.pop(0)
             if progress:
                 progress(min(done_s, motion.duration_s), motion.duration_s)
-
-
-def _with_poses(run: RunResult, lo: int, n: int) -> RunResult:
-    """Rows ``lo`` ... ``lo + n - 1`` of a run with the poses that fall into them."""
-    from dataclasses import replace
-
-    part = run.take(slice(lo, lo + n))
-    t = part.time_s
-    keep = (run.poses["time_s"] >= t[0] - 1e-12) & (run.poses["time_s"] <= t[-1] + 1e-12)
-    poses = {k: (v[keep] if k in ("time_s", "pos", "quat") else v) for k, v in run.poses.items()}
-    return replace(part, poses=poses)
 
 
 def simulate_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: float | None = None,
@@ -322,10 +309,13 @@ class _Runner:
                     self.client.cancel(self.futures)
             return False
         if self.pool is not None:
-            if kind is not None:  # stop the workers now, not after their segments
-                for p in list((getattr(self.pool, "_processes", None) or {}).values()):
+            if kind is not None:  # stop the workers now, not after their segments (and reap them)
+                processes = list((getattr(self.pool, "_processes", None) or {}).values())
+                for p in processes:
                     p.terminate()
                 self.pool.shutdown(wait=False, cancel_futures=True)
+                for p in processes:
+                    p.join(2.0)
             else:
                 self.pool.shutdown(wait=True)
         return False
