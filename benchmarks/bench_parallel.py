@@ -13,7 +13,8 @@ children's largest resident set) are what a user sees.  Accuracy: the segmented 
 per point rms(difference) / rms(continuous) over the run and over the 10 s after each join, and the relative
 difference of a_v, VDV_z, MSDV_z (pelvis, trunk, head) and the head-driven final MSI.
 
-The default drive is SYNTHETIC: ``ehm.rough_road`` (translation; class C road at 15 m/s) of ``--duration`` s.
+The default drive is SYNTHETIC: ``ehm.rough_road`` (class C road at 15 m/s, with the seat's pitch and roll: the
+rotating seat) of ``--duration`` s.
 """
 
 from __future__ import annotations

@@ -133,3 +133,12 @@ def test_cli_parallel_options_are_checked_in_one_sentence(tmp_path, capsys, extr
     err = capsys.readouterr().err.strip()
     assert code == 2 and "Traceback" not in err and err.count("\n") == 0 and words in err
     assert not (tmp_path / "run").exists()
+
+
+def test_assess_in_segments_keeps_the_figures(person, vibration):
+    one = ehm.assess(vibration, person)
+    two = ehm.assess(vibration, person, workers=2, lead_in_s=2.0)
+    for p in POINTS:
+        assert abs(two.total_value(p) / one.total_value(p) - 1) < 0.01
+        assert abs(two.metrics[p]["z"].vdv / one.metrics[p]["z"].vdv - 1) < 0.01
+    assert two.trace_time_s.size == one.trace_time_s.size
