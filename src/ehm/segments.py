@@ -96,9 +96,10 @@ __all__ = ["DEFAULT_LEAD_IN_S", "Segment", "plan_segments", "simulate_parallel",
 
 #: Lead-in of every segment but the first [s], chosen by measurement (module docstring).
 DEFAULT_LEAD_IN_S = 10.0
-#: Wall time a local worker process costs before and after its segment [s]: spawning it (Python, NumPy, SciPy,
-#: MuJoCo and ehm imported, the person built: 1.2 s measured) and handing its result back (0.3 s for 300 s of
-#: run); the first segment, run in this process meanwhile, is made longer by what this process steps in that time.
+#: Wall time a local worker process costs before its segment [s]: spawning it, with Python, NumPy, SciPy, MuJoCo
+#: and ehm imported and the person built (1.2-1.3 s measured, ``benchmarks/bench_parallel.py``), and a margin for
+#: handing its result back; the first segment, run in this process meanwhile, is made longer by what this
+#: process steps in that time.
 WORKER_START_S = 1.5
 #: Steps per wall second of the nonlinear route on a drive, static and rotating seat (``rotating_seat``): measured
 #: 31 000 on the bus floor log and 28 000-32 000 on random vibration (static); 13 000-16 000 on the SYNTHETIC rough
@@ -153,10 +154,12 @@ def plan_segments(n_steps: int, n_segments: int, lead_steps: int, align_steps: i
     return [Segment(lo, hi, 0 if lo == 0 else min(lead_steps, lo)) for lo, hi in zip(bounds[:-1], bounds[1:])]
 
 
-def _run_segment(recipe: dict, motion: SeatMotion, segment: Segment, chunk_s: float, pose_rate_hz, ramp: bool):
+def _run_segment(recipe: dict, motion: SeatMotion, segment: Segment, chunk_s: float, pose_rate_hz, ramp: bool,
+                 hand_over_dir: str | None = None):
     """A worker's task: the person rebuilt from ``recipe``, run over ``segment``; returns the kept part as its
     chunks (:class:`RunResult` each, not joined here: the joining is done once, by the caller) and the task's
-    times: ``start`` and ``end`` (epoch seconds), ``build_s``."""
+    times: ``start`` and ``end`` (epoch seconds), ``build_s``.  With ``hand_over_dir`` the chunks' arrays go
+    into a file there (:func:`_to_file`) and what is returned is the file's description."""
     start = time.time()
     from .simulation import SeatedHuman
 
@@ -164,12 +167,56 @@ def _run_segment(recipe: dict, motion: SeatMotion, segment: Segment, chunk_s: fl
     built = time.time()
     pieces = list(human._stream_span(motion, segment.first, segment.stop, segment.lead_steps, chunk_s=chunk_s,
                                      pose_rate_hz=pose_rate_hz, ramp=ramp))
-    return pieces, {"start": start, "build_s": built - start, "end": time.time()}
+    times = {"start": start, "build_s": built - start, "end": time.time()}
+    return (pieces if hand_over_dir is None else _to_file(pieces, hand_over_dir)), times
+
+
+def _to_file(obj, folder: str) -> dict:
+    """``obj`` pickled with its arrays' data out of band, into one file in ``folder``: a segment's result passed
+    through a pipe came at about 130 MB/s here (2.6 s for 10 min of run), through a file in memory (/dev/shm)
+    at the speed of copying memory."""
+    import os
+    import pickle
+    import tempfile
+
+    buffers = []
+    meta = pickle.dumps(obj, protocol=5, buffer_callback=buffers.append)
+    fd, path = tempfile.mkstemp(prefix="segment-", suffix=".bin", dir=folder)
+    sizes = []
+    with os.fdopen(fd, "wb") as f:
+        for b in buffers:
+            raw = b.raw()
+            f.write(raw)
+            sizes.append(raw.nbytes)
+    return {"meta": meta, "path": path, "sizes": sizes}
+
+
+def _from_file(handed: dict):
+    """The object of :func:`_to_file`, its arrays mapped from the file (copy on write), the file removed."""
+    import mmap
+    import os
+    import pickle
+
+    try:
+        views = []
+        if sum(handed["sizes"]):
+            with open(handed["path"], "rb") as f:
+                whole = memoryview(mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_COPY))
+            offset = 0
+            for n in handed["sizes"]:
+                views.append(whole[offset:offset + n])
+                offset += n
+        else:
+            views = [memoryview(b"") for _ in handed["sizes"]]
+        return pickle.loads(handed["meta"], buffers=views)
+    finally:
+        os.unlink(handed["path"])
 
 
 def _check(workers, segment_s, lead_in_s, chunk_s) -> None:
     if isinstance(workers, bool) or not isinstance(workers, Integral) or workers < 1:
         raise InputError(f"workers must be a whole number of processes, 1 or more, not {workers!r}.")
+
     def time_s(v) -> bool:
         return not isinstance(v, bool) and isinstance(v, Real) and bool(np.isfinite(v))
 
@@ -286,7 +333,7 @@ class _Runner:
     Ctrl-C the local processes are stopped at once, and a Dask client's tasks cancelled."""
 
     def __init__(self, client, n: int):
-        self.client, self.n, self.pool, self.futures = client, n, None, []
+        self.client, self.n, self.pool, self.futures, self.hand_over = client, n, None, [], None
 
     def __enter__(self):
         return self
@@ -300,17 +347,23 @@ class _Runner:
                             for s in segments]
             return self.futures
         import multiprocessing
+        import os
+        import tempfile
         from concurrent.futures import ProcessPoolExecutor
 
+        # results come back through files in memory (removed on leaving, whatever happens)
+        shm = "/dev/shm"
+        self.hand_over = tempfile.mkdtemp(prefix="ehm-segments-", dir=shm if os.path.isdir(shm) else None)
         # the processes are spawned while SIGINT is ignored (they inherit it: only this process answers Ctrl-C)
         # and with one thread each for the numerical libraries; submitting starts them all here
         with sigint_ignored(), environ_default(ONE_THREAD):
             self.pool = ProcessPoolExecutor(self.n, mp_context=multiprocessing.get_context("spawn"),
                                             initializer=ignore_sigint)
-            return [self.pool.submit(_run_segment, recipe, motion, s, *args) for s in segments]
+            return [self.pool.submit(_run_segment, recipe, motion, s, *args, self.hand_over) for s in segments]
 
     def result(self, future):
-        return future.result()
+        out, times = future.result()
+        return (out if self.hand_over is None else _from_file(out)), times
 
     def __exit__(self, kind, exc, tb):
         if self.client is not None:
@@ -330,4 +383,8 @@ class _Runner:
                     p.join(2.0)
             else:
                 self.pool.shutdown(wait=True)
+        if self.hand_over is not None:
+            import shutil
+
+            shutil.rmtree(self.hand_over, ignore_errors=True)
         return False
