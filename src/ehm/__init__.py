@@ -7,6 +7,7 @@ contacts to a seat pan, a two-pad backrest and the floor.
 Public API
 ----------
 SeatedHuman        one person on one seat: ``info()``, ``simulate(motion)``, ``stream``, ``linear_model()``
+simulate_parallel  a long nonlinear run in segments on several processes or a Dask cluster
 RunResult          a run's time histories by name: ``run.point("head").acc_mps2``
 PointMotion        acceleration, displacement and rotation of pelvis, trunk or head
 Simulator, StepState    step by step (one seat acceleration per call) and real time
@@ -59,6 +60,7 @@ from .readers import load_motion_csv, read_motion
 from .imu import from_imu
 from .drives import city_drive, rough_road
 from .assessment import Assessment, assess
+from .segments import simulate_parallel
 from .frf import FrfTable, linear_frf, read_frf, time_domain_frf
 from .criterion import compare
 from .scaling import BodySize
@@ -67,7 +69,7 @@ from .linear import LinearRouteError
 
 __all__ = [
     "DivergenceError", "EhmError", "InputError",
-    "SeatedHuman", "RunResult", "PointMotion", "Simulator", "StepState",
+    "SeatedHuman", "RunResult", "PointMotion", "simulate_parallel", "Simulator", "StepState",
     "SeatMotion", "random_vibration", "sine", "sweep", "read_motion", "load_motion_csv", "from_imu",
     "city_drive", "rough_road", "assess", "Assessment",
     "FrfTable", "linear_frf", "time_domain_frf", "read_frf", "compare",

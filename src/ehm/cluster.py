@@ -8,25 +8,12 @@ import contextlib
 import logging
 import multiprocessing
 import os
-import signal
-import threading
 import time
 
 from .errors import InputError
-
-
-@contextlib.contextmanager
-def _environ_default(values: dict):
-    """Environment variables set (where unset) while inside, as they were again on leaving."""
-
-    added = [k for k in values if k not in os.environ]
-    for k in added:
-        os.environ[k] = values[k]
-    try:
-        yield
-    finally:
-        for k in added:
-            os.environ.pop(k, None)
+from .processes import ONE_THREAD
+from .processes import environ_default as _environ_default
+from .processes import sigint_ignored as _sigint_ignored
 
 
 @contextlib.contextmanager
@@ -45,7 +32,7 @@ def _dask_client(scheduler: str | None, workers: int | None):
             # one thread per worker process: numerical libraries' own thread pools would oversubscribe the
             # cores (measured here: two workers ran no faster than one until this was set); the workers inherit
             # it when they start, and the calling process gets its own settings back
-            with _environ_default({v: "1" for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")}):
+            with _environ_default(ONE_THREAD):
                 cluster, client = _local_cluster(workers)
         yield client
     except BaseException:
@@ -89,20 +76,6 @@ def _wait_for_processes(before: set, n: int, timeout_s: float = 10.0) -> None:
     end = time.monotonic() + timeout_s
     while len(set(multiprocessing.active_children()) - before) < n and time.monotonic() < end:
         time.sleep(0.01)
-
-
-@contextlib.contextmanager
-def _sigint_ignored():
-    """SIGINT (Ctrl-C) ignored while inside; processes started inside keep ignoring it.  Outside the main
-    thread (where signal handlers cannot be set) this does nothing."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
 
 
 def _close(client, cluster) -> None:

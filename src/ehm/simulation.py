@@ -73,6 +73,30 @@ class SeatedHuman:
         self._linear = {}  # the linear route's models (translation, rotation), built on first use (linear_model)
         self._static_model = None  # a rotating seat's person on a static seat, for the linearisation
 
+    def recipe(self) -> dict:
+        """What rebuilds this person in another process (:meth:`from_recipe`), as plain picklable data: the body
+        tables and parameters as built (scaled, with the time step), the locked joints, the seat kind, the body
+        size, and the settled state when the person has settled (so that a rebuilt person need not settle again:
+        settling is deterministic, so this is the state it would reach)."""
+        settled = self.model.settled
+        return {"body": self.body, "params": self.params, "locked": frozenset(self.locked),
+                "rotating_seat": self.model.seat is not None, "size": self.size,
+                "settled": None if settled is None else {k: (v.copy() if isinstance(v, np.ndarray) else v)
+                                                         for k, v in settled.items()}}
+
+    @classmethod
+    def from_recipe(cls, recipe: dict) -> SeatedHuman:
+        """The person of :meth:`recipe`, built anew (the same MuJoCo model, and settled if it was)."""
+        human = cls.__new__(cls)
+        human.body, human.params, human.size = recipe["body"], recipe["params"], recipe["size"]
+        human.locked = frozenset(recipe["locked"])
+        human.model = engine.build(human.body, human.params, human.locked, rotating_seat=recipe["rotating_seat"])
+        human._linear = None
+        if recipe.get("settled") is not None:
+            human.model.settled = {k: (v.copy() if isinstance(v, np.ndarray) else v)
+                                   for k, v in recipe["settled"].items()}
+        return human
+
     @property
     def dof(self) -> int:
         """Degrees of freedom of the person (28 by default, 31 with the waist unlocked)."""
@@ -159,7 +183,7 @@ class SeatedHuman:
 
     def simulate_to(self, out_dir: Path | str, motion: SeatMotion, output_rate_hz: float | None = None,
                     formats=("csv",), pose_rate_hz: float | None = 25.0, progress=None, chunk_s: float = 10.0,
-                    plot=None, method: str = "nonlinear", tolerance: float | None = None) -> dict:
+                    plot=None, method: str = "nonlinear", tolerance: float | None = None, chunks=None) -> dict:
         """Run a seat motion and write its run folder while it runs; returns the summary.
 
         Chunks of ``chunk_s`` go to disk as they are computed (:mod:`ehm.runfiles`), so memory does not grow
@@ -174,6 +198,9 @@ class SeatedHuman:
         that gets a :class:`RunResult` of at most :data:`ehm.runfiles.PREVIEW_ROWS` evenly spread rows and the
         folder being written, e.g. ``ehm.plotting.plot_run_preview`` (``time_histories.png``).  Computing
         and drawing stay apart: this module does not import matplotlib.
+
+        ``chunks``: the run's chunks made elsewhere, in order (e.g. :func:`ehm.segments.stream_parallel` with the
+        same ``chunk_s`` and ``pose_rate_hz``), written instead of this person's own :meth:`stream`.
         """
         from .outdir import RunFolder, check_output_folder
         from .runfiles import PREVIEW_ROWS, default_output_every, output_every, pyarrow_modules, write_run
@@ -190,8 +217,9 @@ class SeatedHuman:
         check_output_folder(out_dir)
         n_steps = int(np.floor(motion.duration_s / dt + 1e-9)) + 1 if isinstance(motion, SeatMotion) else None
         with RunFolder(out_dir) as tmp:
-            chunks = self.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz, method=method,
-                                 tolerance=tolerance)
+            if chunks is None:
+                chunks = self.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz,
+                                     method=method, tolerance=tolerance)
             summary, pieces = write_run(tmp, chunks, output_every=every, formats=formats,
                                         preview_rows=PREVIEW_ROWS if plot else 0, n_steps=n_steps)
             if plot and pieces:
@@ -228,12 +256,28 @@ class SeatedHuman:
         dt = float(self.model.mj.opt.timestep)
         if dt > motion.duration_s:
             raise InputError(f"the motion lasts {motion.duration_s:g} s, less than one time step ({dt:g} s).")
+        yield from self._stream_span(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
+
+    def _stream_span(self, motion: SeatMotion, first: int = 0, stop: int | None = None, lead_steps: int = 0,
+                     chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None, ramp: bool = False):
+        """The nonlinear route over grid steps ``first`` ... ``stop - 1`` of the motion resampled to the model's
+        step (default: all of it), yielding one :class:`RunResult` per chunk of ``chunk_s`` from ``first``.
+
+        With ``first`` > 0 the person starts from the settled rest ``lead_steps`` steps before ``first`` (at most
+        at the motion's start) and is run with the motion's own input over that lead-in, which is not yielded
+        (:mod:`ehm.segments`).  A rotating seat starts level there: its yaw is offset by the yaw at the lead-in's
+        start (a rotation about the vertical changes nothing in seat axes), and its pitch and roll at the
+        lead-in's start are faded in over the lead-in (a quintic smoothstep); from ``first`` on the seat's
+        attitude is the continuous run's.  ``ramp`` also fades the translational input in over the lead-in.
+        ``progress(done_s, total_s)`` after every yielded chunk.  The checks are :meth:`stream`'s.
+        """
+        dt = float(self.model.mj.opt.timestep)
         rotating = self.model.seat is not None  # a rotating seat without angular velocities stays level
         if rotating:
             angvel = motion.angvel_radps if motion.angvel_radps is not None else np.zeros_like(motion.acc_mps2)
             kin = seat_kinematics(motion.time_s, angvel)
         grid = Resampler.of_motion(motion, dt)  # anti-aliased polyphase resampling, chunk by chunk
-        n_total = grid.n_samples
+        n_total = grid.n_samples if stop is None else min(stop, grid.n_samples)
         per_chunk = max(1, int(round(chunk_s / dt)))
         d = engine.settled_data(self.model)
         poses = engine.settled_point_poses(self.model)
@@ -244,22 +288,31 @@ class SeatedHuman:
             pose_every = max(1, int(round(1.0 / (pose_rate_hz * dt))))
             per_chunk = max(pose_every, per_chunk // pose_every * pose_every)  # chunks hold whole pose periods
             geometry = {f"geometry_{k}": v for k, v in engine.drawing_geometry(self.model).items()}
-        for start in range(0, n_total, per_chunk):
-            t = np.arange(start, min(n_total, start + per_chunk)) * dt
+        lead = _LeadIn(max(0, first - lead_steps), first, dt, kin if rotating else None, ramp)
+        if lead.steps:
+            d.time = lead.start * dt  # where the divergence check's sentences count from
+            lead.start_seat(self.model, d)
+        for start in list(range(lead.start, first, per_chunk)) + list(range(first, n_total, per_chunk)):
+            t = np.arange(start, min(first if start < first else n_total, start + per_chunk)) * dt
             acc_seat = grid.block(start, start + t.size)[:, :3]  # from the samples around this chunk only
             if rotating:
                 angles, rates, accs = kin.at(t)
-                R = seat_rotation_matrices(angles)
-                acc_world = np.einsum("nij,nj->ni", R, acc_seat)
-                rotation = (angles, rates, accs)
+                run_angles, rates, accs = lead.seat(t, angles, rates, accs)
+                R = seat_rotation_matrices(run_angles)
+                acc_world = np.einsum("nij,nj->ni", R, lead.fade(t, acc_seat))
+                rotation = (run_angles, rates, accs)
             else:
-                R, acc_world, rotation, angles = None, acc_seat, None, None
+                R, acc_world, rotation, angles = None, lead.fade(t, acc_seat), None, None
             t0 = time.perf_counter()
             try:
                 with engine.captured_warnings():  # MuJoCo's warnings go into ehm's sentences, not raw to the terminal
-                    raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation, pose_every=pose_every)
+                    raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation,
+                                     pose_every=pose_every if start >= first else None)
             except DivergenceError as exc:
                 raise _with_input_cause(exc, motion, t[-1] + dt) from None
+            if start < first:  # the lead-in: only its end state goes on
+                del raw
+                continue
             wall = time.perf_counter() - t0
             result = self._chunk_result(raw, t, acc_seat, R, angles, poses, pivot, wall, description)
             if pose_every:
@@ -294,6 +347,57 @@ class SeatedHuman:
         return RunResult(time_s=t, seat_acc_mps2=acc_seat, points=points, support_N=support, mass_kg=self.mass_kg,
                          dof=self.dof, dt_s=float(self.model.mj.opt.timestep), wall_s=wall, description=description,
                          locked=tuple(sorted(self.locked)), params_origin=self.params.origin, seat_angles_rad=angles)
+
+
+class _LeadIn:
+    """A segment's lead-in, grid steps ``start`` ... ``first - 1`` (none when they are equal): what the run does
+    differently there from the continuous run (:meth:`SeatedHuman._stream_span`)."""
+
+    def __init__(self, start: int, first: int, dt: float, kin, ramp: bool):
+        self.start, self.steps, self.dt, self.ramp = start, first - start, dt, ramp
+        self.t0, self.length_s, self.kin = start * dt, (first - start) * dt, kin
+        if kin is not None and self.steps:
+            a0 = kin.at(np.array([self.t0]))[0][0]
+            self.yaw0, self.tilt0 = float(a0[0]), np.array([0.0, a0[1], a0[2]])
+        else:
+            self.yaw0, self.tilt0 = 0.0, np.zeros(3)
+
+    def _smooth(self, t: np.ndarray):
+        """Quintic smoothstep r(t) from 0 at the lead-in's start to 1 at its end, and r', r''."""
+        if not self.steps:
+            one = np.ones_like(t)
+            return one, 0 * one, 0 * one
+        L = self.length_s
+        x = np.clip((t - self.t0) / L, 0.0, 1.0)
+        inside = (x > 0) & (x < 1)
+        r = x ** 3 * (10 - 15 * x + 6 * x ** 2)
+        r1 = np.where(inside, 30 * x ** 2 * (1 - x) ** 2 / L, 0.0)
+        r2 = np.where(inside, 60 * x * (1 - x) * (1 - 2 * x) / L ** 2, 0.0)
+        return r, r1, r2
+
+    def fade(self, t: np.ndarray, acc: np.ndarray) -> np.ndarray:
+        """The translational input, faded in over the lead-in when asked to."""
+        if not (self.ramp and self.steps) or t[0] >= self.t0 + self.length_s:
+            return acc
+        return acc * self._smooth(t)[0][:, None]
+
+    def seat(self, t: np.ndarray, angles: np.ndarray, rates: np.ndarray, accs: np.ndarray):
+        """The seat's driven angles, rates and accelerations: level at the lead-in's start (yaw offset, pitch and
+        roll faded in), the continuous run's but for a constant yaw offset from the lead-in's end on."""
+        if not self.steps:
+            return angles, rates, accs
+        r, r1, r2 = self._smooth(t)
+        offset = np.array([self.yaw0, 0.0, 0.0])[None, :] + (1 - r)[:, None] * self.tilt0[None, :]
+        return angles - offset, rates + r1[:, None] * self.tilt0, accs + r2[:, None] * self.tilt0
+
+    def start_seat(self, model, d) -> None:
+        """Put the seat's hinges at the lead-in's first angles and rates (level, moving with the drive)."""
+        if model.seat is None or self.kin is None:
+            return
+        # the level seat turning at the drive's rates; the person, at rest on it, is carried along by the contacts
+        t = np.array([self.t0])
+        angles, rates, _ = self.seat(t, *self.kin.at(t))
+        engine.set_seat(model, d, angles[0], rates[0])
 
 
 #: A seat input beyond this [m/s^2] (2 g) is out of the ordinary for a vehicle: a sensor handled or knocked.

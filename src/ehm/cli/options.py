@@ -76,3 +76,15 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
                         "(default): level it, with a warning, when its mean is within 10 %% of g")
     p.add_argument("--rate", type=float, metavar="HZ",
                    help="sample rate of a file without time stamps (otherwise: resample the file to this rate)")
+
+
+def _parallel_options(p: argparse.ArgumentParser) -> None:
+    """--workers, --scheduler, --lead-in: the nonlinear route in segments on several cores (ehm.segments)."""
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="run the nonlinear route in N segments on N local processes, each after a lead-in (default: "
+                        "one continuous run in this process); see 'Long runs on several cores' in the user guide for "
+                        "how close to the continuous run this comes")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="run the segments on this Dask scheduler's workers instead (one segment per worker)")
+    p.add_argument("--lead-in", type=float, metavar="S",
+                   help="lead-in of each segment but the first [s] (default: ehm.segments.DEFAULT_LEAD_IN_S)")

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
+import math
+import time
 from pathlib import Path
 
 from ..errors import InputError
@@ -10,7 +13,7 @@ from ..motion import random_vibration, sine, sweep
 from ..outdir import RunFolder, check_output_file, check_output_folder
 from ..runfiles import DEFAULT_OUTPUT_RATE_HZ
 from .common import _band, _human, _read_motion_file
-from .options import _excitation_options, _model_options, _motion_file_options
+from .options import _excitation_options, _model_options, _motion_file_options, _parallel_options
 from .progress import _progress_bar
 
 #: The demo's transfer functions: Welch segments of 10 s (0.1 Hz resolution, as its peaks are printed), at least
@@ -55,6 +58,7 @@ def add_simulate(sub) -> None:
                         "(default csv)")
     p.add_argument("--plot", action="store_true", help="also draw time_histories.png")
     _route_options(p)
+    _parallel_options(p)
     p.set_defaults(func=cmd_simulate)
 
 
@@ -96,17 +100,71 @@ def cmd_simulate(args) -> int:
     draw = None
     if args.plot:  # simulate_to computes; the figure is drawn here, into the folder before it is put in place
         from ..plotting import plot_run_preview as draw
-    s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats,
-                          progress=_progress_bar("simulate"), plot=draw, method=args.method,
-                          tolerance=_tolerance(args))
+    t0 = time.perf_counter()
+    with _segments(args) as parallel:
+        show = _progress_bar("simulate")
+        chunks = None if parallel is None else parallel(human, motion, progress=show, chunk_s=10.0, pose_rate_hz=25.0)
+        s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats, progress=show,
+                              plot=draw, method=args.method, tolerance=_tolerance(args), chunks=chunks)
     files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json" + \
         (", poses.npz" if args.method == "nonlinear" else "") + \
         (", time_histories.png" if args.plot else "")
-    print(f"simulated {s['duration_s']:.3g} s of '{s['input']}' in {s['wall_s']:.2f} s "
-          f"({s['realtime_factor']:.0f}x real time); wrote {out}/ ({files}; {s['output_rate_hz']:g} rows per s)")
+    if parallel is None:
+        speed = f"in {s['wall_s']:.2f} s ({s['realtime_factor']:.0f}x real time)"
+    else:  # the stepping's time summed over the processes is not the time it took
+        wall = time.perf_counter() - t0
+        speed = (f"in {wall:.2f} s on {parallel.describe()} ({s['duration_s'] / wall:.0f}x real time, files "
+                 f"included; {s['wall_s']:.2f} s of stepping in all)")
+    print(f"simulated {s['duration_s']:.3g} s of '{s['input']}' {speed}; wrote {out}/ ({files}; "
+          f"{s['output_rate_hz']:g} rows per s)")
     if "route" in s:
         print(f"  {s['route']['summary_line']}")
     return 0
+
+
+class _Parallel:
+    """The nonlinear route in segments as the command line asked for it (:mod:`ehm.segments`)."""
+
+    def __init__(self, workers: int, client, lead_in_s):
+        self.workers, self.client, self.lead_in_s = workers, client, lead_in_s
+
+    def describe(self) -> str:
+        return "the Dask cluster's workers" if self.client is not None else f"{self.workers} processes"
+
+    def __call__(self, human, motion, **kw):
+        from ..segments import stream_parallel
+
+        return stream_parallel(human, motion, workers=self.workers, client=self.client, lead_in_s=self.lead_in_s,
+                               **kw)
+
+
+@contextlib.contextmanager
+def _segments(args):
+    """None for one continuous run, else a :class:`_Parallel` (with a Dask client for --scheduler, closed on
+    leaving); --workers, --scheduler and --lead-in checked, one sentence each."""
+    workers, scheduler, lead = args.workers, args.scheduler, args.lead_in
+    if workers is None and scheduler is None:
+        if lead is not None:
+            raise InputError("--lead-in is for a run in segments: give --workers N or --scheduler too.")
+        yield None
+        return
+    if workers is not None and workers < 1:
+        raise InputError(f"--workers {workers}: use 1 or more worker processes.")
+    if workers is not None and scheduler is not None:
+        raise InputError("give --workers (local processes) or --scheduler (a Dask cluster's workers), not both.")
+    if args.method != "nonlinear":
+        raise InputError(f"--workers and --scheduler split the nonlinear route into segments; add --method nonlinear "
+                         f"(the {args.method} route, {'the default, ' if args.method == 'auto' else ''}runs in one "
+                         "process).")
+    if lead is not None and not (math.isfinite(lead) and lead >= 0):
+        raise InputError(f"--lead-in {lead}: give the lead-in in seconds, 0 or more.")
+    if scheduler is None:
+        yield _Parallel(workers, None, lead)
+        return
+    from ..cluster import _dask_client, check_scheduler
+
+    with _dask_client(check_scheduler(scheduler), None) as client:
+        yield _Parallel(1, client, lead)
 
 
 # --- ehm demo -------------------------------------------------------------------------------------------------------
@@ -196,6 +254,7 @@ def add_assess(sub) -> None:
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
     _route_options(p)
+    _parallel_options(p)
     p.set_defaults(func=cmd_assess)
 
 
@@ -205,7 +264,11 @@ def cmd_assess(args) -> int:
     final = check_output_folder(args.out)
     motion = _read_motion_file(args)
     human = _human(args, rotating_seat=needs_rotating_seat(motion, args.method))
-    result = assess(motion, human, progress=_progress_bar("assess"), method=args.method, tolerance=_tolerance(args))
+    with _segments(args) as parallel:
+        kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
+                                          "lead_in_s": parallel.lead_in_s}
+        result = assess(motion, human, progress=_progress_bar("assess"), method=args.method,
+                        tolerance=_tolerance(args), **kw)
     summary = _assessment_summary(result, human)
     with RunFolder(final) as out:
         _write_assessment(result, summary, out)
@@ -275,7 +338,6 @@ def add_animate(sub) -> None:
 
 
 def cmd_animate(args) -> int:
-    import time
 
     from ..animation import animate
 

@@ -73,8 +73,8 @@ from .model import G0, POINTS, SUPPORT_GROUPS, Model
 from .seat import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat
 from .sensors import (SENSOR_KINDS, _contact_name, contact_forces, sensor_slices, sliding_contacts,
                       support_forces, support_slices, touching_contacts)
-from .state import (data_at_deviation, deviation_of, get_state, new_data, rotating_data_at, set_state, settle,
-                    settled_data, settled_point_poses, static_deviation_of)
+from .state import (data_at_deviation, deviation_of, get_state, new_data, rotating_data_at, set_seat, set_state,
+                    settle, settled_data, settled_point_poses, static_deviation_of)
 from .stepper import RawRun, evaluate_velocities, point_accelerations, run, step
 
 __all__ = [
@@ -82,8 +82,9 @@ __all__ = [
     "SEAT_DOFS", "SEAT_INERTIA_KGM2", "SENSOR_KINDS", "SUPPORT_GROUPS", "TRAPEZOIDAL_JOINTS",
     "ImpossibleInertia", "LinearModel", "Model", "RawRun", "SeatGeometry",
     "build", "c_library", "captured_warnings", "check_seat", "contact_forces", "contact_solver_params",
-    "data_at_deviation", "deviation_of", "rotating_data_at", "static_deviation_of", "dof_name", "drawing_geometry", "evaluate_velocities", "get_state", "inertia_problem", "linearize",
-    "new_data", "point_accelerations", "rotation_loads", "run", "save_binary", "segment_mass_properties", "sensor_slices",
-    "seat_pivot", "set_state", "settle", "settled_data", "settled_point_poses", "sliding_contacts", "step", "support_forces",
+    "data_at_deviation", "deviation_of", "dof_name", "drawing_geometry", "evaluate_velocities", "get_state",
+    "inertia_problem", "linearize", "new_data", "point_accelerations", "rotating_data_at", "rotation_loads", "run",
+    "save_binary", "seat_pivot", "segment_mass_properties", "sensor_slices", "set_seat", "set_state", "settle",
+    "settled_data", "settled_point_poses", "sliding_contacts", "static_deviation_of", "step", "support_forces",
     "support_slices", "take_warnings", "touching_contacts",
 ]

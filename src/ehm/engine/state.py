@@ -190,3 +190,11 @@ def static_deviation_of(rotating: Model, static: Model, d: mujoco.MjData, seat_R
     ds.qvel[b:b + 3] = seat_R.T @ d.qvel[kv + b:kv + b + 3] - np.cross(seat_w_radps, r - p)
     ds.qvel[b + 3:b + 6] = d.qvel[kv + b + 3:kv + b + 6] - _quat_mat(q).T @ seat_w_radps
     return deviation_of(static, ds)
+
+
+def set_seat(model: Model, d: mujoco.MjData, angles_rad: np.ndarray, rates_radps: np.ndarray) -> None:
+    """Put a rotating seat's hinges of ``d`` at yaw, pitch, roll ``angles_rad`` turning at ``rates_radps`` (Euler
+    angle rates), the rest of the state as it is (a segment's start, :mod:`ehm.segments`)."""
+    d.qpos[model.seat["qpos"]] = angles_rad
+    d.qvel[model.seat["dofs"]] = rates_radps
+    mujoco.mj_forward(model.mj, d)

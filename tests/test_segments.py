@@ -1,0 +1,147 @@
+"""A long nonlinear run in segments on local processes (ehm.segments), against one continuous run.
+
+Every motion here is SYNTHETIC (generated random vibration and the generated city drive).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import ehm
+from ehm.cli import main
+from ehm.errors import InputError
+from ehm.results import concatenate_runs
+from ehm import segments
+from ehm.segments import Segment, plan_segments, simulate_parallel, stream_parallel
+
+POINTS = ("pelvis", "trunk", "head")
+
+
+@pytest.fixture(autouse=True)
+def no_start_up(monkeypatch):
+    """Segments of equal work on these short motions (the first segment is not made longer by a worker's start-up,
+    which would make it the whole run)."""
+    monkeypatch.setattr(segments, "WORKER_START_S", 0.0)
+
+
+@pytest.fixture(scope="module")
+def person():
+    human = ehm.SeatedHuman()
+    human.settle()
+    return human
+
+
+@pytest.fixture(scope="module")
+def vibration():
+    return ehm.random_vibration("xyz", 12.0, 0.5, seed=3)  # SYNTHETIC
+
+
+@pytest.fixture(scope="module")
+def continuous(person, vibration):
+    return person.simulate(vibration)
+
+
+def _share(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(a ** 2)))
+
+
+def test_plan_covers_the_run_in_aligned_segments_of_equal_work():
+    segs = plan_segments(100_001, 2, 5_000, align_steps=2_000)
+    assert segs[0] == Segment(0, segs[0].stop, 0) and segs[-1].stop == 100_001
+    assert all(a.stop == b.first for a, b in zip(segs, segs[1:]))  # no gap, no overlap
+    assert all(s.first % 2_000 == 0 for s in segs) and segs[1].lead_steps == 5_000
+    assert abs(segs[0].work_steps - segs[1].work_steps) <= 2_000  # the first is longer by about the lead-in
+    assert len(plan_segments(3_000, 4, 1_000, align_steps=2_000)) == 2  # never more segments than chunks
+    assert plan_segments(10_000, 2, 8_000, align_steps=1_000)[1].lead_steps <= 8_000
+    longer = plan_segments(100_001, 2, 5_000, align_steps=1_000, first_extra_steps=10_000)
+    assert longer[0].stop - segs[0].stop in (4_000, 5_000, 6_000)  # half the start-up's steps more
+
+
+def test_a_short_motion_runs_as_one_segment_here(person, vibration, continuous, monkeypatch):
+    monkeypatch.setattr(segments, "WORKER_START_S", 1.5)  # 12 s: fewer steps than this process makes meanwhile
+    stats = {}
+    run = concatenate_runs(list(stream_parallel(person, vibration, workers=2, _stats=stats)))
+    assert len(stats["segments"]) == 1
+    np.testing.assert_array_equal(run.point("head").acc_mps2, continuous.point("head").acc_mps2)
+
+
+def test_segmented_run_joins_onto_the_continuous_time_axis(person, vibration, continuous):
+    stats = {}
+    seg = concatenate_runs(list(stream_parallel(person, vibration, workers=2, lead_in_s=2.0, chunk_s=2.0,
+                                                _stats=stats)))
+    first, second = stats["segments"]
+    assert second.first > 0 and second.lead_steps == 2000
+    np.testing.assert_array_equal(seg.time_s, continuous.time_s)  # same axis: no gap, no repeated sample
+    assert np.all(np.diff(seg.time_s) > 0)
+    np.testing.assert_array_equal(seg.seat_acc_mps2, continuous.seat_acc_mps2)
+    assert set(seg.points) == set(continuous.points) and set(seg.support_N) == set(continuous.support_N)
+    k = second.first
+    for p in POINTS:  # the first segment is the continuous run's start bit for bit, the rest close to it
+        np.testing.assert_array_equal(seg.point(p).acc_mps2[:k], continuous.point(p).acc_mps2[:k])
+        assert _share(continuous.point(p).acc_mps2, seg.point(p).acc_mps2) < 0.02
+
+
+def test_one_worker_is_the_continuous_run_bit_for_bit(person, vibration, continuous):
+    one = simulate_parallel(person, vibration, workers=1)
+    np.testing.assert_array_equal(one.time_s, continuous.time_s)
+    for p in POINTS:
+        for f in ("acc_mps2", "disp_m", "rot_rad", "gia_mps2"):
+            np.testing.assert_array_equal(getattr(one.point(p), f), getattr(continuous.point(p), f))
+
+
+def test_rotating_seat_segment_starts_level_and_joins():
+    drive = ehm.city_drive(16.0, seed=2)  # SYNTHETIC, with yaw, pitch and roll of the seat
+    human = ehm.SeatedHuman(rotating_seat=True)
+    cont = human.simulate(drive)
+    seg = simulate_parallel(human, drive, workers=2, lead_in_s=3.0)
+    np.testing.assert_array_equal(seg.time_s, cont.time_s)
+    np.testing.assert_array_equal(seg.seat_angles_rad, cont.seat_angles_rad)  # the drive's attitude, reported
+    for p in POINTS:
+        assert _share(cont.point(p).acc_mps2, seg.point(p).acc_mps2) < 0.05
+
+
+@pytest.mark.parametrize("kw, words", [
+    ({"workers": 0}, "workers must be a whole number"),
+    ({"workers": 1.5}, "workers must be a whole number"),
+    ({"lead_in_s": -1.0}, "lead_in_s must be a time"),
+    ({"segment_s": 0.0}, "segment_s must be a positive time"),
+    ({"lead_in_s": float("nan")}, "lead_in_s must be a time"),
+])
+def test_bad_arguments_are_one_sentence(person, vibration, kw, words):
+    with pytest.raises(InputError, match=words) as err:
+        simulate_parallel(person, vibration, **kw)
+    assert str(err.value).count(". ") == 0 and str(err.value).endswith(".")
+
+
+def test_wrong_motion_or_seat_is_refused(person):
+    with pytest.raises(InputError, match="needs a SeatMotion"):
+        simulate_parallel(person, np.zeros((10, 3)))
+    with pytest.raises(InputError, match="rotating_seat=True"):
+        simulate_parallel(person, ehm.city_drive(12.0))  # SYNTHETIC drive with rates, static seat
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--workers", "0"], "--workers 0: use 1 or more"),
+    (["--lead-in", "5"], "--lead-in is for a run in segments"),
+    (["--workers", "2", "--method", "linear"], "split the nonlinear route"),
+    (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
+    (["--workers", "2", "--method", "nonlinear", "--lead-in", "-1"], "--lead-in -1.0: give the lead-in in seconds"),
+    (["--workers", "2"], "add --method nonlinear (the auto route, the default, runs in one process)"),
+])
+def test_cli_parallel_options_are_checked_in_one_sentence(tmp_path, capsys, extra, words):
+    code = main(["simulate", "--duration", "2", "--out", str(tmp_path / "run"), *extra])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "Traceback" not in err and err.count("\n") == 0 and words in err
+    assert not (tmp_path / "run").exists()
+
+
+def test_assess_in_segments_keeps_the_figures(person, vibration):
+    one = ehm.assess(vibration, person, method="nonlinear")
+    two = ehm.assess(vibration, person, method="nonlinear", workers=2, lead_in_s=2.0)
+    with pytest.raises(InputError, match="split the nonlinear route into segments"):
+        ehm.assess(vibration, person, workers=2)  # the hybrid route, the default, runs in one process
+    for p in POINTS:
+        assert abs(two.total_value(p) / one.total_value(p) - 1) < 0.01
+        assert abs(two.metrics[p]["z"].vdv / one.metrics[p]["z"].vdv - 1) < 0.01
+    assert two.trace_time_s.size == one.trace_time_s.size
