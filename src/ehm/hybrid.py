@@ -11,7 +11,7 @@ route by its effect:
 2. Each marked stretch becomes a *window*: it opens :data:`LEAD_S` before the first marked sample and
    closes once no sample has been marked for :data:`QUIET_S`.  The nonlinear model (MuJoCo) runs through the
    window, starting from the linear model's state at the window's start (positions, velocities and
-   integral actions: :func:`ehm.linear.state_of`, :func:`ehm.engine.data_at_deviation`), so it needs no
+   integral actions: :func:`ehm.linear.state_of`, ``ehm.engine.data_at_deviation``), so it needs no
    settling lead-in.  Where a window leaves the body (where it sits and turns on the seat, the preload of a pad
    that stuck while its segment moved: directions the seat's acceleration does not drive, which the linear
    time run leaves out) is carried on as a constant offset of the linear model's state and outputs.
@@ -19,7 +19,7 @@ route by its effect:
    acceleration is the rms of their difference over the windows, counted over the whole drive, as a share
    of that acceleration's rms over the drive (what the linear answer alone would be off by).
 4. ``method="auto"`` (the hybrid route) keeps the nonlinear answer in the windows and hands the nonlinear
-   state back to the linear model at each window's end (:func:`ehm.engine.deviation_of`,
+   state back to the linear model at each window's end (``ehm.engine.deviation_of``,
    :func:`ehm.linear.carry_of`), so both pieces join without a jump; once the windows cover more than
    :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`), it runs the rest of the drive on
    the nonlinear model.
@@ -61,6 +61,7 @@ LOOKAHEAD_S = 10.0
 #: The hybrid route runs the rest of a drive on the nonlinear model once its windows cover more than this share of
 #: the drive so far, after at least FALLBACK_AFTER_S.
 FALLBACK_SHARE = 0.5
+#: The rest of a drive goes to the nonlinear model no earlier than this far into it [s].
 FALLBACK_AFTER_S = 30.0
 #: Default tolerance of the linear answers: discrepancy as a share of each point acceleration's rms.
 TOLERANCE = 0.01
@@ -446,8 +447,8 @@ class _Models:
 
     A static seat: the person's own model, whose state the linear model's is.  A rotating seat: the linear
     model is that of a static-seat build (in the seat's frame); the window runs on the rotating-seat build,
-    its state carried into the world and back (:func:`ehm.engine.rotating_data_at`,
-    :func:`ehm.engine.static_deviation_of`)."""
+    its state carried into the world and back (``ehm.engine.rotating_data_at``,
+    ``ehm.engine.static_deviation_of``)."""
 
     def __init__(self, human, kin):
         self.human = human

@@ -29,7 +29,7 @@ A motion that rotates the seat runs in the seat's own frame on a second model of
 person, with twelve inputs (:func:`continuous_model` with ``pivot_m``): the uniform field with the tilt taken
 exactly, and the seat's angular acceleration and centripetal matrix as fictitious loads at the bodies' rest
 positions; what that leaves out (Coriolis and the loads' change with the body's displacement) is estimated
-per point in the result (:func:`left_out`).  See :func:`stream_linear`.
+per point in the result (:func:`ehm.linear.left_out`).  See :func:`stream_linear`.
 """
 
 from __future__ import annotations
@@ -106,8 +106,8 @@ def continuous_model(model: engine.Model, refine: int = REFINE, pivot_m: np.ndar
     refine : int
         The linearisation's step is the model's step divided by this.
     pivot_m : (3,) array, optional
-        The seat's pivot [m] (:func:`ehm.engine.seat_pivot`): linearise for the seat's rotation about it as well
-        (twelve inputs, :func:`ehm.engine.linearize`); the point accelerations then include the seat's own
+        The seat's pivot [m] (``ehm.engine.seat_pivot``): linearise for the seat's rotation about it as well
+        (twelve inputs, ``ehm.engine.linearize``); the point accelerations then include the seat's own
         alpha x r and S r (r the point's rest position from the pivot) and the angular accelerations the seat's
         alpha, so that they are absolute like the nonlinear route's.  None: seat translation only (three inputs).
     """
@@ -369,8 +369,8 @@ def _initial_state(blk: _Blocks, u0: np.ndarray) -> np.ndarray:
 
 
 def state_of(ss: StateSpace, blk: _Blocks, carry: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """The full state x of the continuous model (:func:`ehm.engine.linearize`'s, relative to the settled state)
-    from a time run's modal state ``carry`` (z~, as :func:`_block_chunk` advances it) at a sample whose input
+    """The full state x of the continuous model (``ehm.engine.linearize``'s, relative to the settled state)
+    from a time run's modal state ``carry`` (z~, as ``_block_chunk`` advances it) at a sample whose input
     is ``u`` (nu,); the modes left out of time runs (not reached by the input) are taken as zero."""
     m = _modes(ss)
     z = carry + blk.g1 * (blk.B @ u)
@@ -412,7 +412,7 @@ def _carry_past(blk: _Blocks, last_start: np.ndarray, u: np.ndarray, carry: np.n
 
 
 def advance(blk: _Blocks, u: np.ndarray, carry: np.ndarray) -> None:
-    """Advance the modal state ``carry`` (in place) past the input samples ``u`` (n, nu), as :func:`_block_chunk`
+    """Advance the modal state ``carry`` (in place) past the input samples ``u`` (n, nu), as ``_block_chunk``
     does, without computing the outputs."""
     (n, nu), L = u.shape, BLOCK
     U = np.empty((-(-n // L), nu * L))
@@ -469,7 +469,7 @@ def _scan(a: np.ndarray, e: np.ndarray, z0: np.ndarray) -> np.ndarray:
 
 def _validity(ss: StateSpace, y: np.ndarray, n: int, t: np.ndarray, whole: bool = True) -> None:
     """Raise :class:`LinearRouteError` if a contact lifts off or slides anywhere in the run's ``n`` samples
-    (``y`` as :func:`_block_chunk` returns it); ``whole``: these samples end the motion (else the advised scale
+    (``y`` as ``_block_chunk`` returns it); ``whole``: these samples end the motion (else the advised scale
     covers the motion up to them only)."""
     nc = len(ss.contacts)
     if not nc:
@@ -577,15 +577,15 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
     A motion that rotates the seat (angular velocities not all zero) runs on the model of the seat's rotation
     (``human.linear_model(rotation=True)``, :func:`continuous_model` with the pivot), in the seat's own frame:
     the seat's orientation R, angular velocity w and angular acceleration alpha come from
-    :func:`ehm.kinematics.seat_kinematics` as in the nonlinear route; the inputs are the uniform field's change
+    ``ehm.kinematics.seat_kinematics`` as in the nonlinear route; the inputs are the uniform field's change
     a_seat + G0 - R^T G0 (the tilt exactly, no small-angle approximation), alpha and the centripetal matrix
-    w w^T - |w|^2 I (the fictitious loads at the bodies' rest positions).  The results are in the nonlinear
+    ``w w^T - |w|^2 I`` (the fictitious loads at the bodies' rest positions).  The results are in the nonlinear
     route's terms: absolute point accelerations and angular accelerations in seat axes, angular velocities
     (absolute) and gravito-inertial accelerations in the points' own axes, displacements and rotations
     relative to the seat, and ``seat_angles_rad``; the kinematic terms of the body's own motion in the
     turning frame (Coriolis 2 w x v and the like) are added to the outputs exactly.  What the linear model
     leaves out of the body's dynamics (the fictitious loads that are products of the seat's rates with the
-    body's own motion) is estimated per point in ``result.extra["linear_check"]`` (:func:`left_out`); a
+    body's own motion) is estimated per point in ``result.extra["linear_check"]`` (:func:`ehm.linear.left_out`); a
     motion without rotation runs exactly as before.
     """
     w_seat = motion.angvel_radps
@@ -639,10 +639,10 @@ class SeatRotation:
     """The seat's rotation over a chunk's samples, as the linear route takes it.
 
     ``angles_rad`` (n, 3) yaw, pitch, roll, as the nonlinear route drives the seat
-    (:func:`ehm.kinematics.seat_kinematics`, linearly interpolated); ``w_radps`` and ``alpha_radps2`` (n, 3) the
+    (``ehm.kinematics.seat_kinematics``, linearly interpolated); ``w_radps`` and ``alpha_radps2`` (n, 3) the
     seat's angular velocity and acceleration in seat axes (from the Euler angles, their rates and accelerations:
     what the seat's hinges do); ``g_seat_mps2`` (n, 3) gravity in seat axes, R^T G0 with R the rotation of the
-    angles (seat axes -> world axes, :func:`ehm.kinematics.seat_rotation_matrices`); ``inputs`` (n, 12) the
+    angles (seat axes -> world axes, ``ehm.kinematics.seat_rotation_matrices``); ``inputs`` (n, 12) the
     linear model's inputs (:func:`continuous_model` with a pivot).
     """
 
@@ -673,7 +673,7 @@ class SeatRotation:
         return cls(angles_rad=angles, w_radps=w, alpha_radps2=alpha, g_seat_mps2=g, inputs=inputs)
 
     def correct(self, y: np.ndarray) -> None:
-        """Outputs of :func:`_block_chunk` (in place) to the nonlinear route's terms.
+        """Outputs of ``_block_chunk`` (in place) to the nonlinear route's terms.
 
         The acceleration rows less G0 - R^T G0 (the input's tilt share, which the D matrix's identity put in),
         plus the kinematic terms of the body's own motion in the turning frame, exact given the linear outputs:
@@ -703,7 +703,7 @@ def _add_cross(out: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _to_blocks(v: np.ndarray, L: int, nb: int) -> np.ndarray:
-    """(n, 3) samples -> (3, L, blocks) as :func:`_block_chunk` lays outputs out (padding zero)."""
+    """(n, 3) samples -> (3, L, blocks) as ``_block_chunk`` lays outputs out (padding zero)."""
     out = np.zeros((nb * L, 3))
     out[:v.shape[0]] = v
     return out.reshape(nb, L, 3).transpose(2, 1, 0)
@@ -729,7 +729,7 @@ def seat_body_rates(angles_rad: np.ndarray, rates_radps: np.ndarray, accs_radps2
 
 def left_out(y: np.ndarray, n: int, seat: SeatRotation) -> dict:
     """What the linear model of the seat's rotation leaves out, per point, from a chunk's outputs ``y`` (as
-    :func:`_block_chunk` returns them, before :meth:`SeatRotation.correct`) over its ``n`` samples.
+    ``_block_chunk`` returns them, before :meth:`SeatRotation.correct`) over its ``n`` samples.
 
     The outputs carry the turning frame's kinematic terms exactly (:meth:`SeatRotation.correct`); the body's
     dynamics leave out the fictitious loads that are products of the seat's rates with the body's own motion:
@@ -738,10 +738,10 @@ def left_out(y: np.ndarray, n: int, seat: SeatRotation) -> dict:
     point, against the point's own acceleration, estimates their effect (the response to a load is of the
     order of the load per unit mass).
 
-    Per point (``pelvis``, ``trunk``, ``head``) a dict: ``coriolis_mps2``, the largest 2 |w| |v| (v the point's
-    velocity relative to the seat); ``offset_mps2``, the largest (|w|^2 + |alpha|) |dr| (dr its displacement
+    Per point (``pelvis``, ``trunk``, ``head``) a dict: ``coriolis_mps2``, the largest ``2 |w| |v|`` (v the point's
+    velocity relative to the seat); ``offset_mps2``, the largest ``(|w|^2 + |alpha|) |dr|`` (dr its displacement
     from rest); ``acc_rms_mps2``, the rms of its absolute acceleration (vector length); ``share``, the two
-    largest terms' sum over that rms; ``gyro_radps2``, the largest |w| |w_rel| (w_rel its angular velocity
+    largest terms' sum over that rms; ``gyro_radps2``, the largest ``|w| |w_rel|`` (w_rel its angular velocity
     relative to the seat); ``angacc_rms_radps2`` and ``angular_share`` likewise; and ``n`` the samples.  At the
     top level ``share``: the largest share of all points, to compare with a tolerance (e.g. 0.01).  Largest
     values against rms values: an estimate on the safe side.
@@ -809,7 +809,7 @@ def _rodrigues_factors(t2: np.ndarray):
 def _orientations(y: np.ndarray, R0: np.ndarray, gravity: np.ndarray | None = None):
     """The points' rotation (roll, pitch, yaw), angular velocity and gravito-inertial acceleration in their own
     axes from the rotation vector r (R = R_rel R0, R_rel = exp([r]x)), all points and axes at once: three
-    arrays (point, axis, L, blocks) like ``y[...]`` of :func:`_block_chunk`'s layout.  ``gravity``: gravity in
+    arrays (point, axis, L, blocks) like ``y[...]`` of ``_block_chunk``'s layout.  ``gravity``: gravity in
     seat axes per sample, (3, L, blocks) (a rotating seat's R^T G0), default G0."""
     kind = lambda k: y[9 * k:9 * k + 9].reshape(3, 3, *y.shape[1:])  # noqa: E731  (point, axis, L, blocks)
     r, w, acc = kind(_ROTVEC), kind(_ANGVEL), kind(_ACC)
@@ -850,9 +850,9 @@ def _orientations(y: np.ndarray, R0: np.ndarray, gravity: np.ndarray | None = No
 
 def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, dt: float, R0: np.ndarray,
             description: str, seat: SeatRotation | None = None, check: dict | None = None):
-    """Outputs of the linear model (as :func:`_block_chunk` returns them, corrected by
+    """Outputs of the linear model (as ``_block_chunk`` returns them, corrected by
     :meth:`SeatRotation.correct` if the seat rotates) -> a RunResult in the nonlinear route's terms; ``u`` the
-    seat's acceleration (n, 3), ``check`` :func:`left_out`'s estimate."""
+    seat's acceleration (n, 3), ``check`` :func:`ehm.linear.left_out`'s estimate."""
     n = len(t)
     gravity = None if seat is None else _to_blocks(seat.g_seat_mps2, *y.shape[1:])
     rot, angvel, gia = (_in_time_order(x)[..., :n] for x in _orientations(y, R0, gravity))  # (point, axis, sample)

@@ -5,10 +5,10 @@ r"""A long nonlinear run in segments on several cores: local processes or a Dask
 
 The motion is split into consecutive segments (at least one per worker).  Each segment is run from the settled
 rest over [start - lead-in, end] with the motion's own input over the lead-in, which is then discarded; the
-pieces are joined (:func:`ehm.results.concatenate_runs`) into one :class:`~ehm.RunResult` on the continuous run's
+pieces are joined (``ehm.results.concatenate_runs``) into one :class:`~ehm.RunResult` on the continuous run's
 time axis, without a gap or a repeated sample.  The first segment starts at the motion's start and is the
-continuous run's first part bit for bit; one worker runs the motion in this process (:meth:`SeatedHuman.stream`).
-Workers rebuild the person from :meth:`SeatedHuman.recipe` (the tables, parameters, locks, seat, size and the
+continuous run's first part bit for bit; one worker runs the motion in this process (:meth:`ehm.SeatedHuman.stream`).
+Workers rebuild the person from ``SeatedHuman.recipe`` (the tables, parameters, locks, seat, size and the
 settled state: no MuJoCo object is pickled, and no worker settles again).
 
 The lead-in is needed because the person has memory: the posture controllers' integral action and the positions
@@ -322,7 +322,7 @@ def simulate_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: fl
                       pose_rate_hz: float | None = None) -> RunResult:
     """The nonlinear run of ``motion`` in segments on ``workers`` processes (or a Dask ``client``'s cluster), as
     one :class:`~ehm.RunResult` with the continuous run's time axis and fields; the arguments are
-    :func:`stream_parallel`'s.  Within 1 % of the continuous run with the default lead-in (module docstring)."""
+    :func:`ehm.segments.stream_parallel`'s.  Within 1 % of the continuous run with the default lead-in (module docstring)."""
     return concatenate_runs(list(stream_parallel(human, motion, workers=workers, segment_s=segment_s,
                                                  lead_in_s=lead_in_s, client=client, progress=progress,
                                                  pose_rate_hz=pose_rate_hz)))

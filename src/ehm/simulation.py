@@ -137,7 +137,7 @@ class SeatedHuman:
         ----------
         rotation : bool
             False: the model of seat translation (three inputs, the seat's acceleration).  True: with the
-            seat's rotation about its pivot (:func:`ehm.engine.seat_pivot`) in the seat's own frame, twelve
+            seat's rotation about its pivot (``ehm.engine.seat_pivot``) in the seat's own frame, twelve
             inputs (see :func:`ehm.linear.stream_linear`), what a motion with angular velocities runs on.
 
         Both are linearised on the person on a static seat: for a person built with ``rotating_seat=True`` a
