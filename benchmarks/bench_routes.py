@@ -69,12 +69,12 @@ def figures(summary: dict) -> dict:
 
 def run(motion, method: str, memory: bool = False):
     from ehm import SeatedHuman
-    from ehm.assessment import assess
+    from ehm.assessment import assess, needs_rotating_seat
 
-    rotating = motion.angvel_radps is not None
-    human = SeatedHuman(rotating_seat=rotating and method == "nonlinear")
-    if method != "nonlinear" and not rotating:
-        human.linear_model()
+    human = SeatedHuman(rotating_seat=needs_rotating_seat(motion, method))
+    if method != "nonlinear":
+        turns = motion.angvel_radps is not None and bool((motion.angvel_radps != 0).any())
+        human.linear_model(rotation=turns)
     human.settle()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -48,8 +48,8 @@ from .resampling import Resampler
 from .results import POINT_NAMES, merge_linear_checks
 
 #: A contact whose tangential force in the linear model passes this share of its Coulomb limit (mu times its
-#: normal force), or that lifts off, opens a nonlinear window.  Measured on a 219 s city-bus floor log (0.59 /
-#: 0.49 / 0.34 m/s^2 rms x / y / z): at 1.0 the windows cover 23 % of the drive and the point accelerations stay
+#: normal force), or that lifts off, opens a nonlinear window.  Measured on a 219 s city-bus floor log (0.58 /
+#: 0.46 / 0.34 m/s^2 rms x / y / z): at 1.0 the windows cover 23 % of the drive and the point accelerations stay
 #: within 0.7 % of rms of one continuous nonlinear run (a_v within 0.02 %); at 1.5, 10 % and 5 % of rms.
 NEAR_LIMIT = 1.0
 #: The nonlinear model takes over this long [s] before the first marked sample of a window.
