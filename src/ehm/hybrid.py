@@ -114,7 +114,7 @@ class RouteReport:
         """Share of the drive the linear model carried (auto) or answered (linear)."""
         if self.duration_s <= 0:
             return 0.0
-        return 1.0 - self.nonlinear_s / self.duration_s if self.method == "auto" else 1.0
+        return max(0.0, 1.0 - self.nonlinear_s / self.duration_s) if self.method == "auto" else 1.0
 
     def largest(self) -> tuple[str, str, float]:
         """The largest discrepancy: point, axis, share of rms."""
@@ -132,7 +132,8 @@ class RouteReport:
         if n == 0:
             return ("route: linear model for the whole drive; no contact reached its friction limit or lifted off "
                     "(checked at every step)." + self._left_out_sentence())
-        share = self.nonlinear_s / self.duration_s if self.duration_s > 0 else 0.0
+        share = min(1.0, self.nonlinear_s / self.duration_s) if self.duration_s > 0 else 0.0  # the grid's last
+        # sample may lie up to a step past the drive's length
         checked = (f"{n} window{'s' if n != 1 else ''} where a contact reached its friction limit or lifted off "
                    f"({self.nonlinear_s:.1f} s, {share:.1%} of the drive)")
         if self.method == "auto":
