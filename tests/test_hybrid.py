@@ -233,3 +233,15 @@ def test_the_seat_figures_do_not_depend_on_the_route(human, sliding):
                                                                        rel=1e-9)
     assert b["sickness"]["head"]["final_msi_percent"] == pytest.approx(a["sickness"]["head"]["final_msi_percent"],
                                                                         rel=0.01)
+
+
+def test_a_rotating_seat_held_level_takes_the_windows_of_a_translation(turning, sliding):
+    # A person built on the rotating seat, a motion without angular velocities: the translation's linear model,
+    # its windows on the rotating seat held level (the state carried into its world frame at zero angles).
+    motion, nl_static, _ = sliding
+    nl, hy = turning.simulate(motion), turning.simulate(motion, method="auto")
+    assert hy.extra["route"]["windows_s"] and "linear_check" not in hy.extra
+    for p in ("pelvis", "trunk", "head"):
+        a, b = hy.point(p).acc_mps2, nl.point(p).acc_mps2
+        assert _share(a, b).max() < 0.02, p
+        assert total_value(*a.T, 1000.0) == pytest.approx(total_value(*b.T, 1000.0), rel=0.005), p
