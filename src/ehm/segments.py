@@ -265,12 +265,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     _check(workers, segment_s, lead_in_s, chunk_s)
     if not isinstance(motion, SeatMotion):
         raise InputError("simulate_parallel() needs a SeatMotion (see ehm.random_vibration, ehm.read_motion).")
-    if motion.angvel_radps is not None and human.model.seat is None:
-        raise InputError("this motion rotates the seat (it has angular velocities); build the person with "
-                         "SeatedHuman(rotating_seat=True).")
-    dt = float(human.model.mj.opt.timestep)
-    if dt > motion.duration_s:
-        raise InputError(f"the motion lasts {motion.duration_s:g} s, less than one time step ({dt:g} s).")
+    dt = human.check_nonlinear_motion(motion)
     lead_s = DEFAULT_LEAD_IN_S if lead_in_s is None else float(lead_in_s)
     n_steps = Resampler.of_motion(motion, dt).n_samples
     per_chunk = max(1, int(round(chunk_s / dt)))

@@ -250,13 +250,19 @@ class SeatedHuman:
             return
         if method != "nonlinear":
             raise InputError(f"method must be 'nonlinear', 'linear' or 'auto', not {method!r}.")
+        self.check_nonlinear_motion(motion)
+        yield from self._stream_span(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
+
+    def check_nonlinear_motion(self, motion: SeatMotion) -> float:
+        """Refuse, in one sentence, a motion the nonlinear model cannot run on this person: one that turns the seat
+        of a person built without ``rotating_seat=True``, or one shorter than a time step; returns the step [s]."""
         if motion.angvel_radps is not None and self.model.seat is None:
             raise InputError("this motion rotates the seat (it has angular velocities); build the person with "
                              "SeatedHuman(rotating_seat=True).")
         dt = float(self.model.mj.opt.timestep)
         if dt > motion.duration_s:
             raise InputError(f"the motion lasts {motion.duration_s:g} s, less than one time step ({dt:g} s).")
-        yield from self._stream_span(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
+        return dt
 
     def _stream_span(self, motion: SeatMotion, first: int = 0, stop: int | None = None, lead_steps: int = 0,
                      chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None, ramp: bool = False):
