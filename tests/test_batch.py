@@ -75,7 +75,8 @@ def test_bad_study_files(tmp_path):
                         ('[input]\nmethod = "tim"\n', "method 'tim'"),
                         ('[input]\naxes = ["x", "w"]\n', "axes"),
                         ('[input]\ndrive = "nowhere.csv"\n', "drive 'nowhere.csv'"),
-                        ('[input]\nduration_s = -2\n', "duration_s -2")):
+                        ('[input]\nduration_s = -2\n', "duration_s -2"),
+                        ('[input]\nroute = "hybrid"\n', "use \"nonlinear\", \"auto\" or \"linear\"")):
         bad.write_text(text)
         with pytest.raises(InputError, match=words):
             load_study(bad)
@@ -299,3 +300,14 @@ def test_a_study_file_says_how_to_take_gravity_in_its_drive(tmp_path):
     study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "board.csv"\ngravity = "included"\n')
     name, specs = load_study(study)
     assert len(specs) == 1
+
+
+def test_a_comfort_study_on_the_hybrid_route_records_its_linear_share(tmp_path):
+    path = tmp_path / "hybrid.toml"
+    path.write_text('[study]\nname = "hybrid"\ncompute = ["comfort"]\n'
+                    '[input]\naxes = ["x", "y", "z"]\nrms_mps2 = 0.5\nduration_s = 12.0\nroute = "auto"\n')
+    _, specs = load_study(path)
+    res = run_study(specs, tmp_path / "res", workers=1)
+    assert res["ran"] == 1 and res["failed"] == 0
+    rows = {r["output"]: r["value"] for r in pq.read_table(tmp_path / "res" / "results.parquet").to_pylist()}
+    assert 0 < rows["route.linear_share"] <= 1 and rows["head.a_v_mps2"] > 0

@@ -31,7 +31,7 @@ A study file (TOML) names what varies and what to compute::
     # start_s = 6.0             read the drive file from 6 s after its first sample (end_s: up to)
     # gravity = "auto"          gravity in the drive file's accelerations: auto, included (level it) or removed
     duration_s = 30.0
-    route = "nonlinear"         # simulation route of runs: "nonlinear" (MuJoCo) or "linear" (ehm.linear)
+    route = "nonlinear"         # simulation route of runs: "nonlinear" (MuJoCo), "auto" (ehm.hybrid) or "linear"
 
 Every run is recorded (its inputs, and its outputs or its error) in ``OUT/runs/<point>.json`` as soon as it
 ends, so an interrupted study resumes without redoing finished runs; at the end all runs are gathered
@@ -238,8 +238,8 @@ def _check_input(label: str, inp: dict, written_drive=None) -> None:
     the drive as the file gives it, when ``inp`` holds it resolved."""
     if inp.get("method", "linear") not in ("linear", "time"):
         raise InputError(f"{label}: [input] method {inp['method']!r}: use \"linear\" or \"time\".")
-    if inp.get("route", "nonlinear") not in ("nonlinear", "linear"):
-        raise InputError(f"{label}: [input] route {inp['route']!r}: use \"nonlinear\" or \"linear\".")
+    if inp.get("route", "nonlinear") not in ("nonlinear", "linear", "auto"):
+        raise InputError(f"{label}: [input] route {inp['route']!r}: use \"nonlinear\", \"auto\" or \"linear\".")
     axes = inp.get("axes", ["x"])
     if not isinstance(axes, list) or not axes or any(a not in ("x", "y", "z") for a in axes) or len(set(axes)) < len(axes):
         raise InputError(f"{label}: [input] axes {axes!r}: use a list of distinct axes from \"x\", \"y\", \"z\".")
@@ -390,6 +390,8 @@ def run_one(spec: RunSpec) -> dict:
                 for a in "xyz":
                     record["outputs"][f"{loc}.a_w_{a}_mps2"] = v["axes"][a]["a_w_mps2"]
             record["outputs"]["head.msi_percent"] = summary["sickness"]["head"]["final_msi_percent"]
+            if "route" in summary:  # the hybrid and linear routes: how much of the drive the linear model carried
+                record["outputs"]["route.linear_share"] = summary["route"]["linear_share"]
     except EhmError as exc:
         record["error"] = str(exc)
     except Exception as exc:  # noqa: BLE001 - a failed run is recorded, the study goes on
