@@ -145,3 +145,12 @@ def test_assess_in_segments_keeps_the_figures(person, vibration):
         assert abs(two.total_value(p) / one.total_value(p) - 1) < 0.01
         assert abs(two.metrics[p]["z"].vdv / one.metrics[p]["z"].vdv - 1) < 0.01
     assert two.trace_time_s.size == one.trace_time_s.size
+
+
+def test_a_rebuilt_person_is_the_same_person(person):
+    # A worker's person, rebuilt from the recipe, has the same settled state and linearises as the original.
+    from ehm import SeatedHuman
+
+    again = SeatedHuman.from_recipe(person.recipe())
+    np.testing.assert_array_equal(again.model.settled["qpos"], person.model.settled["qpos"])
+    np.testing.assert_array_equal(again.linear_model().A, person.linear_model().A)

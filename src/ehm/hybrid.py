@@ -40,9 +40,9 @@ import numpy as np
 
 from . import engine
 from .errors import InputError
-from .linear import (BLOCK, _block_chunk, _block_form, _in_time_order,
-                     _initial_state, _layout, _modes, _result,
-                     _settled_orientations, SeatRotation, advance, carry_of, left_out, seat_body_rates, state_of)
+from .linear import (BLOCK, SeatRotation, _block_chunk, _block_form, _in_time_order, _initial_state, _layout, _modes,
+                     _result, _settled_orientations, advance, carry_of, contact_rows, left_out, seat_body_rates,
+                     state_of)
 from .kinematics import seat_kinematics, seat_rotation_matrices
 from .resampling import Resampler
 from .results import POINT_NAMES, merge_linear_checks
@@ -65,9 +65,6 @@ FALLBACK_SHARE = 0.5
 FALLBACK_AFTER_S = 30.0
 #: Default tolerance of the linear answers: discrepancy as a share of each point acceleration's rms.
 TOLERANCE = 0.01
-
-METHODS = ("auto", "linear", "nonlinear")
-
 
 class LinearRouteWarning(UserWarning):
     """The linear route's answer is further from the nonlinear model's than its tolerance (``method="linear"``)."""
@@ -163,20 +160,12 @@ class RouteReport:
                 "fallback": self.fallback, **({"left_out": self.left_out} if self.left_out else {})}
 
 
-def check_method(method: str) -> str:
-    if method not in METHODS:
-        raise InputError(f"method must be one of {', '.join(METHODS)}, not {method!r}.")
-    return method
-
-
 def _near_limit(ss, y: np.ndarray, n: int) -> np.ndarray:
     """(n,) bool: samples where a touching contact comes within NEAR_LIMIT of its Coulomb limit or lifts off
     (``y`` as :func:`ehm.linear._block_chunk` returns it)."""
-    nc = len(ss.contacts)
-    if not nc:
+    if not ss.contacts:
         return np.zeros(n, dtype=bool)
-    first = y.shape[0] - 3 * nc
-    fn, ft1, ft2 = (_in_time_order(y[first + k * nc:first + (k + 1) * nc])[:, :n] for k in range(3))
+    fn, ft1, ft2 = (_in_time_order(f)[:, :n] for f in contact_rows(ss, y))
     mu = np.array([ss.friction[c] for c in ss.contacts])[:, None]
     return ((fn <= 0) | (np.hypot(ft1, ft2) > NEAR_LIMIT * mu * fn)).any(axis=0)
 

@@ -467,15 +467,21 @@ def _scan(a: np.ndarray, e: np.ndarray, z0: np.ndarray) -> np.ndarray:
     return out
 
 
+def contact_rows(ss: StateSpace, y: np.ndarray):
+    """The touching contacts' normal and tangential forces fn, ft1, ft2 [N] among a time run's outputs ``y`` (as
+    ``_block_chunk`` returns them; the contacts' rows come last): three (contacts, L, blocks) views."""
+    nc = len(ss.contacts)
+    first = y.shape[0] - 3 * nc
+    return tuple(y[first + k * nc:first + (k + 1) * nc] for k in range(3))
+
+
 def _validity(ss: StateSpace, y: np.ndarray, n: int, t: np.ndarray, whole: bool = True) -> None:
     """Raise :class:`LinearRouteError` if a contact lifts off or slides anywhere in the run's ``n`` samples
     (``y`` as ``_block_chunk`` returns it); ``whole``: these samples end the motion (else the advised scale
     covers the motion up to them only)."""
-    nc = len(ss.contacts)
-    if not nc:
+    if not ss.contacts:
         return
-    first = y.shape[0] - 3 * nc
-    fn, ft1, ft2 = (y[first + k * nc:first + (k + 1) * nc] for k in range(3))  # (contacts, L, blocks)
+    fn, ft1, ft2 = contact_rows(ss, y)
     # A quick test over all samples, the last block's padding included: if every one is clearly inside (the
     # squares, with a margin of 1e-12), the run holds; otherwise the exact test below decides, on the run's
     # own samples.

@@ -91,7 +91,7 @@ class SeatedHuman:
         human.body, human.params, human.size = recipe["body"], recipe["params"], recipe["size"]
         human.locked = frozenset(recipe["locked"])
         human.model = engine.build(human.body, human.params, human.locked, rotating_seat=recipe["rotating_seat"])
-        human._linear = None
+        human._linear, human._static_model = {}, None
         if recipe.get("settled") is not None:
             human.model.settled = {k: (v.copy() if isinstance(v, np.ndarray) else v)
                                    for k, v in recipe["settled"].items()}
