@@ -147,15 +147,15 @@ def find_rests(t: np.ndarray, f: np.ndarray, w: np.ndarray, min_s: float) -> Res
         return None
     _, _, wm, ws = _window_stats(t, w, min_s)
     level = np.linalg.norm(fm, axis=1)
-    g_rest = float(np.percentile(level, 10))
     c1 = np.vstack([np.zeros((1, 3)), np.cumsum(f, axis=0)])
     mid = (starts + stops) // 2
     halves = ((c1[stops] - c1[mid]) / (stops - mid)[:, None] - (c1[mid] - c1[starts]) / (mid - starts)[:, None])
-    ok = ((np.abs(level / g_rest - 1.0) <= REST_GRAVITY_TOLERANCE)
-          & (np.linalg.norm(halves, axis=1) <= REST_STEADY_MPS2)
-          & (np.linalg.norm(wm, axis=1) <= REST_RATE_LIMIT_RADPS) & (ws.max(axis=1) <= REST_RATE_LIMIT_RADPS))
-    if not ok.any():
+    quiet = ((np.linalg.norm(halves, axis=1) <= REST_STEADY_MPS2)
+             & (np.linalg.norm(wm, axis=1) <= REST_RATE_LIMIT_RADPS) & (ws.max(axis=1) <= REST_RATE_LIMIT_RADPS))
+    if not quiet.any():
         return None
+    g_rest = float(np.median(level[quiet]))
+    ok = quiet & (np.abs(level / g_rest - 1.0) <= REST_GRAVITY_TOLERANCE)
     runs, run = [], None  # [first window, last window] index pairs
     for k, good in enumerate(ok.tolist()):
         if good and run is not None and starts[k] <= stops[run[1]]:
@@ -301,6 +301,22 @@ def filter_attitude(t: np.ndarray, f: np.ndarray, w: np.ndarray, anchor: Window,
     fwd += back
     fwd /= np.linalg.norm(fwd, axis=1)[:, None]
     return fwd
+
+
+def rates_of(t: np.ndarray, quat_xyzw: np.ndarray) -> np.ndarray:
+    """Body-axis angular velocity (n, 3) [rad/s] whose integration (:func:`ehm.kinematics.integrate_attitude`,
+    the rotating seat's) follows the attitude ``quat_xyzw`` (seat -> world, scipy order) over each step: the
+    rotation vector of each step, q(k)^-1 q(k+1), over its duration, taken at the samples as the mean of the
+    two steps either side (the first and last sample: their one step).  So the simulated seat tilts as the
+    filter's attitude does, gravity-aided, instead of as the gyro alone integrates."""
+    from scipy.spatial.transform import Rotation
+
+    rot = Rotation.from_quat(quat_xyzw)
+    step = (rot[:-1].inv() * rot[1:]).as_rotvec() / np.diff(t)[:, None]
+    out = np.empty((t.size, 3))
+    out[0], out[-1] = step[0], step[-1]
+    out[1:-1] = 0.5 * (step[:-1] + step[1:])
+    return out
 
 
 def check_gyro_units(t: np.ndarray, f: np.ndarray, w: np.ndarray, label: str) -> None:
