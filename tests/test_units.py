@@ -63,7 +63,8 @@ def one_sentence(exc) -> str:
 # --------------------------------------------------------------------------
 
 NAME_FORMS = [  # (key, the column's name, one of its units in SI)
-    ("ax", "acc_x [g]", G), ("ax", "Accelerometer X (g)", G), ("ax", "accelerometerAccelerationX(G)", G),
+    ("ax", "acc_x [g]", G), ("ax", "Accelerometer X (g)", G),
+    ("ax", "accelerometerAccelerationX(G)", -G),  # Core Motion's: the negative of the specific force
     ("ax", "acc_x_g", G), ("ax", "Acceleration X in g", G), ("ax", "acc_x (m/s^2)", 1.0), ("ax", "acc_x m/s2", 1.0),
     ("ax", "acc_x (m/s²)", 1.0), ("ax", "acc_x [mg]", G / 1000), ("ax", "acc_x_mg", G / 1000),
     ("ax", "AccX (mG)", G / 1000), ("ax", "ax_mps2", 1.0), ("ax", "Acc X in m/s2", 1.0),
@@ -121,21 +122,28 @@ def test_words_in_parentheses_that_are_no_unit_are_passed_over(tmp_path):
 
 
 def test_a_phone_app_log_in_g_with_units_in_parentheses_read_as_an_imu(tmp_path):
-    # SYNTHETIC, the layout of an iPhone sensor app: a text time column "(txt)", seconds since reboot, g and rad/s
+    # SYNTHETIC, the layout of an iPhone sensor app: a text time column "(txt)", seconds since reboot, g and rad/s,
+    # and Core Motion's sign: its accelerometer reads minus the specific force (-1 g on z lying face up)
     t, acc, w = synthetic(n=3000, gravity=True)
     acc[:100], w[:] = (0.0, 0.0, G), 0.0  # the first second at rest; the seat does not turn
     path = write(tmp_path, {"loggingTime(txt)": [f"2026-11-25 14:03:{7 + i / 100:06.3f}" for i in range(t.size)],
                             "accelerometerTimestamp_sinceReboot(s)": 8123.25 + t,
-                            **{f"accelerometerAcceleration{a}(G)": acc[:, j] / G for j, a in enumerate("XYZ")},
+                            **{f"accelerometerAcceleration{a}(G)": -acc[:, j] / G for j, a in enumerate("XYZ")},
                             **{f"gyroRotation{a}(rad/s)": w[:, j] for j, a in enumerate("XYZ")}})
     names = {"time": "accelerometerTimestamp_sinceReboot(s)",
              **{k: f"accelerometerAcceleration{a}(G)" for k, a in zip(("ax", "ay", "az"), "XYZ")},
              **{k: f"gyroRotation{a}(rad/s)" for k, a in zip(("wx", "wy", "wz"), "XYZ")}}
-    m = read_motion(path, names, imu=True)
+    with pytest.warns(UserWarning, match=r"ax \('accelerometerAccelerationX\(G\)'\), ay .* are Apple Core Motion "
+                      r"columns, which hold the negative of the specific force .*: ax, ay, az read with the sign "
+                      r"flipped"):
+        m = read_motion(path, names, imu=True)
     reference = from_imu(t, acc, w)
     np.testing.assert_allclose(m.time_s, t, atol=1e-9)
     np.testing.assert_allclose(m.acc_mps2, reference.acc_mps2, rtol=1e-9, atol=1e-12)
-    # before: the (G) was passed over, g read as m/s^2, and the IMU refused (gravity 1 m/s^2 at rest)
+    # before: the (G) was passed over, g read as m/s^2, and the IMU refused (gravity 1 m/s^2 at rest); and the
+    # sign was taken as it is: upside down, refused (roll 180 deg); '-' before the names keeps the file's sign
+    with pytest.raises(InputError, match="roll"):
+        read_motion(path, {**names, **{k: "-" + names[k] for k in ("ax", "ay", "az")}}, imu=True)
 
 
 # --------------------------------------------------------------------------

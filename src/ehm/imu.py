@@ -124,6 +124,10 @@ def _check_tilt(t: np.ndarray, roll: np.ndarray, pitch: np.ndarray, limit: float
     why = ("the IMU is not fixed to the seat, its mounting (sensor axes -> seat axes) is not given, or its gyro "
            "rates are not in rad/s" if gyro else
            "the IMU is not fixed to the seat or its mounting (sensor axes -> seat axes) is not given")
+    if abs(value) > 135.0:  # gravity reads downwards in seat axes
+        why = ("its mounting (sensor axes -> seat axes) is upside down, or its accelerometers hold the negative of the "
+               "specific force (as Apple's Core Motion does): then flip them with a '-' before each name, "
+               "e.g. --channel ax=-NAME")
     raise InputError(f"{label}: at t = {t[k]:.1f} s the seat is {what} {value:.0f} deg, more than the "
                      f"{limit:g} deg a seat plausibly tilts (max_tilt_deg): perhaps {why}.")
 
@@ -131,6 +135,23 @@ def _check_tilt(t: np.ndarray, roll: np.ndarray, pitch: np.ndarray, limit: float
 #: The shortest rest accepted [s]: shorter windows average too little vibration to tell a bias (and would make
 #: the search over windows long).
 MIN_REST_S = 0.5
+
+
+def _filter_settings(t: np.ndarray, f: np.ndarray, w: np.ndarray, rest, label: str) -> tuple[float, float, str]:
+    """The attitude filter's gain and acceleration rejection [deg] for this gyro, and a note for the description:
+    the vehicle settings, or, for a gyro that misses the tilt from rest to rest by more than
+    ``ehm.attitude.GYRO_DRIFT_LIMIT``, settings that lean on gravity (with a warning)."""
+    drift = _att.gyro_drift(t, f, w, rest)
+    if drift is None or drift <= _att.GYRO_DRIFT_LIMIT:
+        return _att.FILTER_GAIN, _att.ACCELERATION_REJECTION_DEG, ""
+    rate = 1.0 / float(np.median(np.diff(t)))
+    why = (f"its rates, integrated from one rest to the next, miss the next rest's tilt by {drift:.2f} deg per "
+           f"square root of a second (more than {_att.GYRO_DRIFT_LIMIT:g}): a gyro logged at {rate:.3g} Hz may be "
+           "slower than its mount vibrates, or noisy")
+    warnings.warn(f"{label}: the gyro cannot carry the seat's attitude through manoeuvres: {why}; so the attitude "
+                  f"leans on gravity (filter gain {_att.WEAK_GYRO_GAIN:g}, acceleration rejection "
+                  f"{_att.WEAK_GYRO_REJECTION_DEG:g} deg), and a log at 50 Hz or more would be better.", stacklevel=3)
+    return _att.WEAK_GYRO_GAIN, _att.WEAK_GYRO_REJECTION_DEG, f"; a weak gyro: {why}"
 
 
 def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None, rest_s: float = 2.0,
@@ -216,19 +237,20 @@ def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None
             anchor = max(rest.stretches, key=lambda s: s.t1 - s.t0)
         else:
             anchor = _att.quietest_window(t, f, w, _ANCHOR_S, g_ref)
-        q = _att.filter_attitude(t, f, w, anchor)
+        gain, rejection, weak = _filter_settings(t, f, w, rest, label)
+        q = _att.filter_attitude(t, f, w, anchor, gain, rejection)
         if rest is None and t[-1] - t[0] >= _TILT_BIAS_MIN_S:
             # no rest: the bias about the axes across gravity from the whole log, then the filter again
             bias = _att.tilt_bias(t, w, q)
             w = w - bias
-            q = _att.filter_attitude(t, f, w, anchor)
+            q = _att.filter_attitude(t, f, w, anchor, gain, rejection)
             bias_text += (f"; a gyro bias of {math.degrees(np.linalg.norm(bias)):.2f} deg/s about the axes across "
                           "gravity estimated from the whole log's attitude and removed")
         roll, pitch = _att.roll_pitch_deg(q)
         _check_tilt(t, roll, pitch, limit, label, gyro=True)
         w = _att.rates_of(t, q)  # the seat turns as the filtered attitude does
-        how = (f"attitude by a gravity-aided filter (Fusion AHRS, gain {_att.FILTER_GAIN:g}, acceleration rejection "
-               f"{_att.ACCELERATION_REJECTION_DEG:g} deg, forwards and backwards), roll {roll.min():.1f} to "
+        how = (f"attitude by a gravity-aided filter (Fusion AHRS, gain {gain:g}, acceleration rejection "
+               f"{rejection:g} deg, forwards and backwards{weak}), roll {roll.min():.1f} to "
                f"{roll.max():.1f} deg, pitch {pitch.min():.1f} to {pitch.max():.1f} deg")
     attitude = Rotation.from_quat(q)  # seat axes -> world (z up)
     # the accelerometers' reading of gravity: at the rests, else the mean vertical specific force over the log

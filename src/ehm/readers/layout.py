@@ -54,6 +54,37 @@ def _signed(channels: dict, has) -> tuple[dict, dict]:
     return out, signs
 
 
+#: Column-name prefixes of Apple's Core Motion accelerations (iPhone apps such as SensorLog write
+#: ``accelerometerAccelerationX(G)``, ``motionUserAccelerationX(G)``, ``motionGravityX(G)``): Core Motion reports
+#: the negative of the specific force (-1 g on z for a phone lying face up), so they are read with their sign
+#: flipped (:func:`_core_motion`).
+CORE_MOTION_PREFIXES = ("accelerometerAcceleration", "motionUserAcceleration", "motionGravity")
+
+
+def _core_motion(label: str, channels: dict, signs: dict) -> dict:
+    """``signs`` with each acceleration read from a Core Motion column (:data:`CORE_MOTION_PREFIXES`) flipped,
+    and one note naming them; a ``-`` the caller put before such a name flips it back to the file's sign."""
+    flipped = [k for k in ("ax", "ay", "az")
+               if isinstance(channels.get(k), str) and channels[k].startswith(CORE_MOTION_PREFIXES)]
+    if not flipped:
+        return signs
+    signs = dict(signs)
+    for k in flipped:
+        signs[k] = -signs.get(k, 1.0)
+    now = [k for k in flipped if signs[k] < 0]
+    kept = [k for k in flipped if signs[k] > 0]
+    names = ", ".join(f"{k} ({channels[k]!r})" for k in flipped)
+    what = "are Apple Core Motion columns" if len(flipped) > 1 else "is an Apple Core Motion column"
+    done = []
+    if now:
+        done.append(f"{', '.join(now)} read with the sign flipped (a '-' before a name keeps the file's sign)")
+    if kept:
+        done.append(f"{', '.join(kept)} with the file's sign, as the '-' before the name asks")
+    _note(f"{label}: {names} {what}, which hold{'' if len(flipped) > 1 else 's'} the negative of the specific force (-1 g on z for a phone lying "
+          f"face up): {'; '.join(done)}.", 3)
+    return signs
+
+
 def _window(start_s, end_s):
     """(start, end) of a cut [s from the first sample], either None, or None for no cut; bad values refused."""
     out = []

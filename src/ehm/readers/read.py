@@ -17,8 +17,8 @@ from .channels import _ACC, _RATES, CHANNEL_KEYS, DEFAULT_CHANNELS, _listed, _ma
 from .checks import _check_finite, _check_plausible, _check_sampling, _check_time_unit, _check_times, _common_time
 from .frames import _FrameSource, _ParquetSource
 from .gravity import check_mode, handle_gravity
-from .layout import (_cut_rows, _held, _held_note, _irregular, _join, _mounting_matrix, _note, _signed, _window,
-                     parse_columns)
+from .layout import (_core_motion, _cut_rows, _held, _held_note, _irregular, _join, _mounting_matrix, _note, _signed,
+                     _window, parse_columns)
 from .matlab import _MatSource
 from .mdf import _MdfSource
 from .text import _TextSource
@@ -288,6 +288,7 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         return (gsrc if gsrc is not None and key in _RATES else src).has(name)
 
     channels, signs = _signed(channels, has)
+    signs = _core_motion(src.label, channels, signs)
     use = _resolve(src, channels, imu, rate_hz, "all" if gsrc is None else "acc")
     taken: dict = {}  # channel -> where its unit came from (given, the file, the name, assumed)
     time_s, data, origin, clock = _table(src, use, units, signs, rate_hz, window, None, fill_gaps, _ACC, taken)
