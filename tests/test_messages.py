@@ -173,6 +173,46 @@ def test_a_divergence_names_an_unusual_input_and_the_cut_that_removes_it():
     assert _with_input_cause(plain, quiet, 0.6) is plain  # an ordinary input: the time step stays the suspect
 
 
+def test_a_divergence_blames_only_the_input_before_it_and_names_a_tilted_seat(monkeypatch):
+    # SYNTHETIC: the hybrid route diverging at 1 s (raised by hand) on a log with a 1.5 g jump at 5 s: the jump came
+    # after, so the time step stays the suspect (it was named "before it"; a real case: a hand-moved IMU whose
+    # seat rolled past 30 deg at 15.5 s while a jump came at 81 s); at 6 s the jump is named
+    import ehm
+    import ehm.hybrid
+    from ehm.errors import DivergenceError
+
+    def diverging_at(time_s):
+        def stream(*args, **kwargs):
+            err = DivergenceError(f"the simulation diverged at t = {time_s:.3f} s (a reason); try a smaller time step")
+            err.time_s = time_s
+            raise err
+            yield  # a generator, as stream_checked is
+
+        return stream
+
+    t = np.arange(0.0, 10.0, 0.01)
+    acc = np.zeros((t.size, 3))
+    acc[t >= 5.0, 2] = 15.0
+    motion = ehm.SeatMotion(t, acc, "SYNTHETIC log with a jump at 5 s")
+    human = ehm.SeatedHuman()
+    monkeypatch.setattr(ehm.hybrid, "stream_checked", diverging_at(1.0))
+    with pytest.raises(DivergenceError) as exc:
+        human.simulate(motion, method="auto")
+    assert "time step" in str(exc.value) and "jump" not in str(exc.value)
+    monkeypatch.setattr(ehm.hybrid, "stream_checked", diverging_at(6.0))
+    with pytest.raises(DivergenceError, match=r"out of the ordinary before it \(a jump of 15 m/s\^2"):
+        human.simulate(motion, method="auto")
+    # a seat that rolls at 10 deg/s passes 30 deg at 3 s: named, with what to check, and no time step
+    turning = ehm.SeatMotion(t, np.zeros((t.size, 3)), "SYNTHETIC seat rolling over",
+                             np.column_stack([np.radians(10.0) * np.ones(t.size), np.zeros(t.size), np.zeros(t.size)]))
+    from ehm.simulation import _with_input_cause
+
+    plain = DivergenceError("the simulation diverged at t = 4.000 s (a reason); try a smaller time step")
+    text = str(_with_input_cause(plain, turning, 4.0))
+    assert "the seat is rolled 30 deg at t = 3.0" in text and "--mounting" in text and "time step" not in text
+    assert _with_input_cause(plain, turning, 2.5) is plain  # before 30 deg: ordinary
+
+
 def test_a_seat_pitch_out_of_range_names_the_units_axes_and_frame():
     # SYNTHETIC: a 5 deg/s pitch rate written in deg/s and read as rad/s integrates to far beyond 80 deg
     from ehm.motion import seat_kinematics

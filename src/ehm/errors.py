@@ -18,4 +18,7 @@ class InputError(EhmError, ValueError):
 
 
 class DivergenceError(EhmError, RuntimeError):
-    """A simulation became unstable; the message gives the simulated time."""
+    """A simulation became unstable; the message gives the simulated time, and ``time_s`` holds it [s] (None
+    where it is not known)."""
+
+    time_s: float | None = None

@@ -29,7 +29,7 @@ velocity, in seat axes:
 6. the seat acceleration is ``a = f + R^T g``, with g the mean ``|f|`` at the rests (else the mean vertical
    specific force over the log): the accelerometers' own reading of gravity;
 7. the seat's **angular velocity** is that of the filtered attitude (each step's rotation over its duration,
-   :func:`ehm.attitude.rates_of`): the gyro's rates with the bias removed and the filter's gravity-aided
+   ``ehm.attitude.rates_of``): the gyro's rates with the bias removed and the filter's gravity-aided
    corrections added, so that the rotating seat of a simulation, which integrates them, tilts as the
    attitude does (the gyro alone would drift: on a synthetic 20 min drive with a drifting bias, 4.7 deg
    against 1.0 deg).

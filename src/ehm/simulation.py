@@ -245,8 +245,9 @@ class SeatedHuman:
             try:
                 yield from stream_checked(self, motion, method=method, chunk_s=chunk_s, progress=progress,
                                           tolerance=TOLERANCE if tolerance is None else tolerance)
-            except DivergenceError as exc:
-                raise _with_input_cause(exc, motion, motion.duration_s) from None
+            except DivergenceError as exc:  # the input up to the divergence is the suspect, not what follows
+                until = motion.duration_s if exc.time_s is None else min(motion.duration_s, exc.time_s)
+                raise _with_input_cause(exc, motion, until) from None
             return
         if method != "nonlinear":
             raise InputError(f"method must be 'nonlinear', 'linear' or 'auto', not {method!r}.")
@@ -315,7 +316,8 @@ class SeatedHuman:
                     raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation,
                                      pose_every=pose_every if start >= first else None)
             except DivergenceError as exc:
-                raise _with_input_cause(exc, motion, t[-1] + dt) from None
+                until = t[-1] + dt if exc.time_s is None else min(t[-1] + dt, exc.time_s)
+                raise _with_input_cause(exc, motion, until) from None
             if start < first:  # the lead-in: only its end state goes on
                 del raw
                 continue
@@ -410,12 +412,15 @@ class _LeadIn:
 UNUSUAL_ACC_MPS2 = 2 * STANDARD_GRAVITY_MPS2
 #: A change between two samples beyond this [m/s^2] (1 g) is a jump, not a vehicle's motion.
 UNUSUAL_JUMP_MPS2 = STANDARD_GRAVITY_MPS2
+#: A seat rolled or pitched beyond this [deg] is out of the ordinary: the unbelted person is held by friction
+#: (0.5 by default: it holds on a flat pan up to 27 deg) and the seat's bolsters, and slides off beyond.
+UNUSUAL_TILT_DEG = 30.0
 
 
 def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) -> DivergenceError:
     """The divergence sentence naming the input as its cause when the seat input up to ``until_s`` is out of the
-    ordinary (above 2 g, or a jump of 1 g between two samples); the sentence as it was otherwise (then the time
-    step or the parameters are the suspects)."""
+    ordinary (above 2 g, a jump of 1 g between two samples, or a seat tilted beyond 30 deg); the sentence as it
+    was otherwise (then the time step or the parameters are the suspects)."""
     n = int(np.searchsorted(motion.time_s, until_s, side="right"))
     acc = motion.acc_mps2[:n]
     if acc.shape[0] < 2:
@@ -423,13 +428,21 @@ def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) 
     size = np.linalg.norm(acc, axis=1)
     jump = np.r_[0.0, np.linalg.norm(np.diff(acc, axis=0), axis=1)]
     bad = np.flatnonzero((size > UNUSUAL_ACC_MPS2) | (jump > UNUSUAL_JUMP_MPS2))
+    tilted = _tilted(motion, n)
+    where = str(exc).split(" (", 1)[0]
+    if tilted is not None and (bad.size == 0 or tilted[0] <= bad[0]):
+        k, what, angle = tilted
+        return DivergenceError(
+            f"{where}: the seat input is out of the ordinary before it (the seat is {what} {angle:.0f} deg at t = "
+            f"{motion.time_s[k]:.3f} s, beyond the {UNUSUAL_TILT_DEG:g} deg that friction and bolsters hold an "
+            "unbelted person on): check that the sensor was fixed to the seat and its mounting (--mounting), or cut "
+            "the log (--start, --end).")
     if bad.size == 0:
         return exc
     i = int(bad[0])
     what = (f"{size[i]:.3g} m/s^2, above 2 g" if size[i] > UNUSUAL_ACC_MPS2
             else f"a jump of {jump[i]:.3g} m/s^2 from one sample to the next")
     last = float(motion.time_s[int(bad[-1])])
-    where = str(exc).split(" (", 1)[0]
     cut = math.ceil(last + 1.0)
     fix = (f"cut it away with --start {cut:g} (start_s= in read_motion; counted from the log's first sample, so add "
            f"any --start given already), or check the log's units" if cut < motion.duration_s
@@ -437,4 +450,21 @@ def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) 
     return DivergenceError(f"{where}: the seat input is out of the ordinary before it ({what} at t = "
                            f"{motion.time_s[i]:.3f} s; the last such sample at {last:.3f} s), e.g. a sensor being put "
                            f"in place or knocked; {fix}.")
+
+
+def _tilted(motion: SeatMotion, n: int):
+    """(sample, "rolled" or "pitched", angle [deg]) where the seat's first n samples first tilt beyond
+    :data:`UNUSUAL_TILT_DEG`, or None (also for a motion that does not turn the seat)."""
+    if motion.angvel_radps is None or n < 2:
+        return None
+    try:
+        angles = np.degrees(seat_kinematics(motion.time_s[:n], motion.angvel_radps[:n]).angles_rad)
+    except InputError:  # pitch beyond 80 deg: the seat tilts out of the ordinary, and further than told here
+        return None
+    over = np.flatnonzero((np.abs(angles[:, 1]) > UNUSUAL_TILT_DEG) | (np.abs(angles[:, 2]) > UNUSUAL_TILT_DEG))
+    if over.size == 0:
+        return None
+    k = int(over[0])
+    return (k, "rolled", float(angles[k, 2])) if abs(angles[k, 2]) > UNUSUAL_TILT_DEG else \
+        (k, "pitched", float(angles[k, 1]))
 

@@ -99,7 +99,9 @@ def _diverged(model: Model, t: float, why: str, phase: str = "") -> DivergenceEr
         said, when = _warning_sentence(model, message)
         why = f"{why}; MuJoCo: {said}"
         t = when if when is not None else t
-    return DivergenceError(
+    err = DivergenceError(
         f"the simulation diverged at t = {t:.3f} s{phase} ({why}); try a smaller time step than dt = {dt:g} s "
         "or check the stiffness and damping parameters."
     )
+    err.time_s = float(t)
+    return err
