@@ -302,10 +302,13 @@ def test_a_cut_comes_before_the_checks(tmp_path):
     drive = t >= 5.5
     acc[drive, 2] += 0.5 * np.sin(2 * np.pi * 1.5 * t[drive])
     frame = _plain(t, acc, w)
-    with pytest.warns(UserWarning, match="no rest of 2 s or more found"):  # the shaking spoils the levelling
-        whole = read_motion(frame, channels=NAMES, imu=True)
-    assert np.abs(whole.acc_mps2[: 300]).max() > 5.0
     import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        whole = read_motion(frame, channels=NAMES, imu=True)
+    assert "rest at 3.0-11.5 s" in whole.description  # the rest is found after the shaking (the level at rest: the
+    assert np.abs(whole.acc_mps2[: 300]).max() > 5.0  # steady, quiet windows'), but the shaking stays in the motion
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # cut: no note, the rest found
@@ -372,3 +375,39 @@ def test_a_gyro_file_with_nothing_inside_the_cut_is_refused_not_dropped():
     with pytest.raises(InputError) as exc:
         read_motion(acc, gyro=gyro, end_s=5.0)
     assert "at least 2 of each are needed to join them" in one_sentence(exc)
+
+
+# --------------------------------------------------------------------------
+# earth axes
+# --------------------------------------------------------------------------
+
+
+def test_an_earth_axis_log_is_read_as_it_is_with_one_note_and_what_it_cannot_take_is_refused(tmp_path, capsys):
+    # SYNTHETIC Android log already turned into earth axes by the phone (x east, y north, z up, gravity on z)
+    clock0 = 12_893_233_616_460
+    t = np.arange(0, 20.0, 0.02)
+    earth = sensor(t) + np.array([0.0, 0.0, G])
+    _android(tmp_path / "earth.csv", clock0 + np.round(t * 1e9).astype(np.int64), earth)
+    channels = {"time": "uptimeNanos", "ax": "x", "ay": "y", "az": "z"}
+    with pytest.warns(UserWarning) as notes:
+        m = read_motion(tmp_path / "earth.csv", channels=channels, frame="earth", gravity="included")
+    said = [str(n.message) for n in notes if "earth axes" in str(n.message)]
+    assert len(said) == 1 and "the seat's a_v, VDV and MSDV do not depend on it and are right" in said[0]
+    assert "given for x east and y north" in said[0]
+    assert "earth axes (x east, y north, z up)" in m.description
+    np.testing.assert_allclose(m.acc_mps2, sensor(t), atol=1e-6)  # as it is, gravity taken off z
+    # what an earth-axis log cannot be read with: each one sentence
+    _android(tmp_path / "gyro.csv", clock0 + np.round(t * 1e9).astype(np.int64), rates(t))
+    for kwargs, words in (({"gyro": tmp_path / "gyro.csv", "channels": {**channels, "wx": "x", "wy": "y", "wz": "z"}},
+                           "angular rates in earth axes are not the seat's own"),
+                          ({"imu": True}, "read it without --imu"),
+                          ({"mounting": mounting_rotation(0, 0, 90)}, "not both"),
+                          ({"frame": "north"}, "frame must be one of seat, earth")):
+        with pytest.raises(InputError) as exc:
+            read_motion(tmp_path / "earth.csv", **{"channels": channels, "frame": "earth", **kwargs})
+        assert words in one_sentence(exc)
+    # the same from the command line
+    out = tmp_path / "out"
+    assert main(["simulate", "--motion", str(tmp_path / "earth.csv"), "--frame", "earth", "--channel", "time=uptimeNanos",
+                 "--channel", "ax=x", "--channel", "ay=y", "--channel", "az=z", "--end", "2", "--out", str(out)]) == 0
+    assert "earth axes (x east, y north, z up) are not the vehicle's" in capsys.readouterr().err

@@ -30,6 +30,7 @@ A study file (TOML) names what varies and what to compute::
     # mounting = [0.0, 0.0, 90.0]   the sensor's roll, pitch, yaw [deg]: its axes turned into seat axes
     # start_s = 6.0             read the drive file from 6 s after its first sample (end_s: up to)
     # gravity = "auto"          gravity in the drive file's accelerations: auto, included (level it) or removed
+    # frame = "seat"            the drive file's axes: seat, or earth (x east, y north, z up: read with a note)
     duration_s = 30.0
     route = "nonlinear"         # simulation route of runs: "nonlinear" (MuJoCo), "auto" (ehm.hybrid) or "linear"
 
@@ -134,7 +135,7 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
             raise InputError(f"{label}: [grid] {k!r} must be a non-empty list of values.")
     inp = dict(doc.get("input", {}))
     allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed", "channels", "units", "imu",
-                     "rate_hz", "fill_gaps", "columns", "gyro", "mounting", "start_s", "end_s", "gravity"}
+                     "rate_hz", "fill_gaps", "columns", "gyro", "mounting", "start_s", "end_s", "gravity", "frame"}
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
@@ -307,7 +308,7 @@ def _drive(inp: dict, dt_s: float):
 
 def _read_drive(inp: dict):
     """The [input] drive file through ehm.readers.read_motion, with its channels, units, imu, rate_hz, fill_gaps,
-    columns, gyro, mounting (roll, pitch, yaw in degrees), start_s, end_s and gravity keys."""
+    columns, gyro, mounting (roll, pitch, yaw in degrees), start_s, end_s, gravity and frame keys."""
     from .drives import drive_path
     from .readers import mounting_rotation, read_motion
 
@@ -323,7 +324,8 @@ def _read_drive(inp: dict):
     return read_motion(drive_path(inp["drive"]), channels=inp.get("channels"), units=inp.get("units"),
                        rate_hz=inp.get("rate_hz"), imu=imu, fill_gaps=fill_gaps, columns=inp.get("columns"),
                        gyro=gyro, mounting=None if mounting is None else mounting_rotation(mounting),
-                       start_s=inp.get("start_s"), end_s=inp.get("end_s"), gravity=inp.get("gravity", "auto"))
+                       start_s=inp.get("start_s"), end_s=inp.get("end_s"), gravity=inp.get("gravity", "auto"),
+                       frame=inp.get("frame", "seat"))
 
 
 def cut_by_time(motion, duration_s: float):

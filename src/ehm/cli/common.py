@@ -55,4 +55,5 @@ def _read_motion_file(args):
                        fill_gaps=args.fill_gaps, columns=args.columns, gyro=args.gyro,
                        mounting=mounting_rotation(args.mounting) if args.mounting is not None else None,
                        start_s=args.start, end_s=args.end, gravity=getattr(args, "gravity", "auto"),
-                       imu_options={"rest_s": args.rest, "max_tilt_deg": args.max_tilt})
+                       imu_options={"rest_s": args.rest, "max_tilt_deg": args.max_tilt},
+                       frame=getattr(args, "frame", "seat"))

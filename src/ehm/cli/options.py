@@ -74,6 +74,10 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
                    help="gravity in the file's accelerations (not --imu): included: level the log (tilt from its "
                         "quietest 5 s, g removed); removed: take it as it is (a mean near 1 g is refused); auto "
                         "(default): level it, with a warning, when its mean is within 10 %% of g")
+    p.add_argument("--frame", choices=("seat", "earth"), default="seat",
+                   help="axes of the file's accelerations: seat (x forward, y left, z up; default) or earth (x east, "
+                        "y north, z up, as a phone app turns them): read as they are, with a note on what the "
+                        "missing heading leaves out")
     p.add_argument("--rate", type=float, metavar="HZ",
                    help="sample rate of a file without time stamps (otherwise: resample the file to this rate)")
 

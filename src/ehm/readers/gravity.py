@@ -82,9 +82,12 @@ def rotation_to_up(v: np.ndarray) -> np.ndarray:
     return np.eye(3) + s * kx + (1 - c) * (kx @ kx)
 
 
-def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None, gravity: str, label: str):
+def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None, gravity: str, label: str,
+                   earth: bool = False):
     """Apply the gravity mode to a (non-IMU) log: returns ``(acc, rates, note)``, ``note`` an empty string
-    when nothing was done, else what was done (for the motion's description)."""
+    when nothing was done, else what was done (for the motion's description).  ``earth``: the log is in earth
+    axes, so gravity lies along z by construction; levelling then takes the log's mean z off z, without a
+    tilt."""
     mean = acc.mean(axis=0)
     norm = float(np.linalg.norm(mean))
     near_g = abs(norm - STANDARD_GRAVITY) <= G_TOLERANCE * STANDARD_GRAVITY
@@ -98,6 +101,16 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
         return acc, rates, ""
     if gravity == "auto" and not near_g:
         return acc, rates, ""
+    if earth:
+        levelled = acc.copy()
+        levelled[:, 2] -= mean[2]
+        levelled.flags.writeable = False
+        note = f"levelled: earth axes, their mean z ({mean[2]:.4g} m/s^2) taken as g and removed"
+        if gravity == "auto":
+            warnings.warn(f"{label}: the mean acceleration's norm is {norm:.4g} m/s^2, within {G_TOLERANCE:.0%} of g, "
+                          f"so the log is taken to include gravity and is {note} (--gravity included does the same "
+                          "without this note).", stacklevel=4)
+        return levelled, rates, note
     i, j = quiet_window(time_s, acc)
     g_vec = acc[i:j].mean(axis=0)
     g_norm = float(np.linalg.norm(g_vec))

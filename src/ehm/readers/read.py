@@ -66,7 +66,7 @@ def _open(source, label: str | None, columns=None) -> _Source:
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
                 imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False, *,
                 columns=None, gyro=None, start_s: float | None = None, end_s: float | None = None,
-                gravity: str = "auto", imu_options: dict | None = None) -> SeatMotion:
+                gravity: str = "auto", imu_options: dict | None = None, frame: str = "seat") -> SeatMotion:
     """Read a seat motion (or an IMU log) from a file or a pandas DataFrame.
 
     Parameters
@@ -127,6 +127,13 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         ``included`` levels the log (static tilt from its quietest 5 s, rotated so that gravity is along z,
         g subtracted); ``removed`` takes it as it is but refuses a mean near 1 g; ``auto`` levels it, with a
         warning, when the mean's norm is within 10 % of g.  See :mod:`ehm.readers.gravity`.
+    frame : {"seat", "earth"}
+        The axes of the accelerations: ``seat`` (x forward, y left, z up) or ``earth`` (x east, y north, z up: a
+        phone app's log turned into earth axes by the phone's own fusion).  Earth axes cannot be turned into the
+        vehicle's without its heading, which such a log does not hold: an earth-axis log is read as it is, with
+        one note saying that the seat's a_v, VDV and MSDV (which do not depend on the heading) are right and its
+        x and y values and the body's response are given for x east and y north.  Angular rates about earth axes
+        (not the seat's own) and ``imu`` (the phone levelled the log already) are refused.
 
     Returns
     -------
@@ -158,16 +165,21 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         if not (math.isfinite(rate_hz) and rate_hz > 0):
             raise InputError(f"rate_hz must be a positive number of samples per second; got {rate_hz!r}.")
     gravity = check_mode(gravity)
+    if frame not in FRAMES:
+        raise InputError(f"frame must be one of {', '.join(FRAMES)}; got {frame!r}.")
+    named = label or (str(source) if isinstance(source, (str, os.PathLike)) else "DataFrame")
+    if frame == "earth":
+        _check_earth(named, bool(imu), None, mounting)
     columns = parse_columns(columns)
     window = _window(start_s, end_s)
-    m = _mounting_matrix(mounting, label or (str(source) if isinstance(source, (str, os.PathLike)) else "DataFrame"))
+    m = _mounting_matrix(mounting, named)
     src = _open(source, label, columns)
     gsrc = None
     try:
         if gyro is not None:
             gsrc = _open(gyro, None if isinstance(gyro, (str, os.PathLike)) else "gyro DataFrame", columns)
         return _read(src, channels, units, rate_hz, bool(imu), m, source, bool(fill_gaps), gsrc, window, gravity,
-                     _imu_options(imu_options))
+                     _imu_options(imu_options), frame)
     finally:
         src.close()
         if gsrc is not None:
@@ -283,7 +295,7 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz, part: str = "all"
 
 def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
           fill_gaps: bool = False, gsrc: _Source | None = None, window=None,
-          gravity: str = "auto", imu_options: dict | None = None) -> SeatMotion:
+          gravity: str = "auto", imu_options: dict | None = None, frame: str = "seat") -> SeatMotion:
     def has(key, name):
         return (gsrc if gsrc is not None and key in _RATES else src).has(name)
 
@@ -315,6 +327,8 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
     irregular = _irregular(time_s)
     acc = _stack(data, _ACC)
     rates = _stack(data, _RATES) if all(k in data for k in _RATES) else None
+    if frame == "earth":
+        _check_earth(src.label, False, rates, None)
     time_s = _frozen(np.asarray(time_s, dtype=float))  # (a new array: moved to start at 0 above)
     if mounting is not None and not imu:  # (from_imu turns its own inputs)
         acc = _frozen(acc @ mounting.T)
@@ -323,8 +337,15 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         motion = from_imu(time_s, acc, rates, mounting=mounting, description=f"IMU log {description}",
                           label=src.label, **(imu_options or {}))
     else:
-        acc, rates, levelled = handle_gravity(time_s, acc, rates, gravity, src.label)  # ehm.readers.gravity
+        acc, rates, levelled = handle_gravity(time_s, acc, rates, gravity, src.label,  # ehm.readers.gravity
+                                              earth=frame == "earth")
         description = f"{description}, {levelled}" if levelled else description
+        if frame == "earth":
+            description += ", earth axes (x east, y north, z up)"
+            _note(f"{src.label}: earth axes (x east, y north, z up) are not the vehicle's, and the log holds no heading "
+                  "to turn them: the seat's a_v, VDV and MSDV do not depend on it and are right, but its x and y "
+                  "values and the body's response do, and are given for x east and y north (a log in the vehicle's "
+                  "axes gives them).", 2)
         motion = SeatMotion(time_s, acc, description, rates)  # takes the read-only arrays as they are
     if irregular is not None:
         step, spread = irregular
@@ -336,6 +357,22 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
     if rate_hz is not None:
         motion = motion.resample(1.0 / rate_hz)
     return motion
+
+
+FRAMES = ("seat", "earth")  #: the axes a log's accelerations may be in (read_motion's ``frame``)
+
+
+def _check_earth(label: str, imu: bool, rates, mounting) -> None:
+    """Refuse, in one sentence, what an earth-axis log cannot be read with."""
+    if imu:
+        raise InputError(f"{label}: a log in earth axes was levelled by the phone already and is no IMU log: read it "
+                         "without --imu (imu=False).")
+    if rates is not None:
+        raise InputError(f"{label}: angular rates in earth axes are not the seat's own roll, pitch and yaw rates: "
+                         "leave them out (--channel wx= --channel wy= --channel wz=; channels wx, wy, wz set to None).")
+    if mounting is not None:
+        raise InputError(f"{label}: a mounting turns the log's axes into the seat's, so they are no longer earth "
+                         "axes: give either --frame earth or --mounting, not both.")
 
 
 def _table(src: _Source, use: dict, units: dict, signs: dict, rate_hz, window, origin, fill_gaps: bool,
