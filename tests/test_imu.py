@@ -337,7 +337,7 @@ def test_the_simulated_seat_tilts_as_the_filtered_attitude_not_as_the_gyro_alone
     """SYNTHETIC 20 min city drive, gyro bias doubling over the drive: the motion's angular velocity, integrated
     from the true start as the rotating seat does, keeps the seat's tilt within 1.5 deg of the truth (measured
     1.0 deg; the bias-corrected gyro alone, as before: 4.7 deg), and the rates themselves stay within
-    0.02 deg/s rms of the truth."""
+    0.03 deg/s rms of the truth (the gyro's 0.02 deg/s noise passes, as its vibration would)."""
     truth = city_drive(1200.0, seed=3, dt_s=0.02)
     bias = np.outer(1.0 + truth.time_s / truth.time_s[-1], BIAS_DEG_S)
     R = seat_rotation_matrices(seat_kinematics(truth.time_s, truth.angvel_radps).angles_rad)
@@ -347,7 +347,7 @@ def test_the_simulated_seat_tilts_as_the_filtered_attitude_not_as_the_gyro_alone
     up = Rotation.from_quat(q).inv().apply([0.0, 0.0, 1.0])
     tilt_err = np.degrees(np.arccos(np.clip(np.sum(up * R[:, 2, :], axis=1), -1, 1)))
     assert tilt_err.max() < 1.5
-    assert rms(m.angvel_radps - truth.angvel_radps) < np.radians(0.02)
+    assert rms(m.angvel_radps - truth.angvel_radps) < np.radians(0.03)
 
 
 def test_a_gyro_that_misses_the_tilt_from_rest_to_rest_makes_the_filter_lean_on_gravity():
@@ -372,8 +372,23 @@ def test_a_gyro_that_misses_the_tilt_from_rest_to_rest_makes_the_filter_lean_on_
         warnings.simplefilter("error")  # no warning for the good gyro
         m = ehm.from_imu(t, f, good)
     assert "gain 0.05, acceleration rejection 5 deg" in m.description
-    with pytest.warns(UserWarning, match=r"the gyro cannot carry the seat's attitude through manoeuvres: its "
-                                         r"rates, integrated from one rest to the next, miss the next rest's tilt "
-                                         r"by 1\.[4-9]"):
+    with pytest.warns(UserWarning, match=r"the gyro cannot carry the seat's attitude through manoeuvres, so the "
+                                         r"attitude leans on gravity .* because its rates, integrated from one rest "
+                                         r"to the next, miss the next rest's tilt by 1\.[4-9].*; it is noisy"):
         m = ehm.from_imu(t, f, bad)
     assert "gain 0.1, acceleration rejection 10 deg" in m.description and "a weak gyro" in m.description
+
+
+def test_the_angular_velocity_keeps_the_gyros_vibration():
+    """SYNTHETIC 100 Hz IMU: 10 s at rest, 10 s of a 20 Hz roll vibration (rates of 10 deg/s amplitude), 10 s
+    at rest: the seat's angular velocity carries the vibration within 1 % rms (taken as the mean of the
+    attitude's steps, it lost 24 %)."""
+    t = np.arange(0.0, 30.0, 0.01)
+    shaking = (t >= 10.0) & (t < 20.0)
+    w = np.zeros((t.size, 3))
+    w[:, 0] = np.where(shaking, np.radians(10.0) * np.sin(2 * np.pi * 20.0 * t), 0.0)
+    roll = np.concatenate([[0.0], np.cumsum(0.5 * (w[1:, 0] + w[:-1, 0]) * np.diff(t))])
+    f = G * np.column_stack([np.zeros_like(t), np.sin(roll), np.cos(roll)])
+    m = ehm.from_imu(t, f, w)
+    k = shaking
+    assert rms(m.angvel_radps[k, 0] - w[k, 0]) < 0.01 * rms(w[k, 0])

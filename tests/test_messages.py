@@ -202,6 +202,10 @@ def test_a_divergence_blames_only_the_input_before_it_and_names_a_tilted_seat(mo
     monkeypatch.setattr(ehm.hybrid, "stream_checked", diverging_at(6.0))
     with pytest.raises(DivergenceError, match=r"out of the ordinary before it \(a jump of 15 m/s\^2"):
         human.simulate(motion, method="auto")
+    # a motion whose clock starts at 100 s: the divergence's time counts from its first sample
+    later = ehm.SeatMotion(t + 100.0, acc, "SYNTHETIC log with a jump at 105 s")
+    with pytest.raises(DivergenceError, match=r"a jump of 15 m/s\^2 .* at t = 105.000 s.* --start 6 "):
+        human.simulate(later, method="auto")
     # a seat that rolls at 10 deg/s passes 30 deg at 3 s: named, with what to check, and no time step
     turning = ehm.SeatMotion(t, np.zeros((t.size, 3)), "SYNTHETIC seat rolling over",
                              np.column_stack([np.radians(10.0) * np.ones(t.size), np.zeros(t.size), np.zeros(t.size)]))
@@ -209,7 +213,8 @@ def test_a_divergence_blames_only_the_input_before_it_and_names_a_tilted_seat(mo
 
     plain = DivergenceError("the simulation diverged at t = 4.000 s (a reason); try a smaller time step")
     text = str(_with_input_cause(plain, turning, 4.0))
-    assert "the seat is rolled 30 deg at t = 3.0" in text and "--mounting" in text and "time step" not in text
+    assert "the seat is rolled beyond 30 deg from t = 3.0" in text and "up to 40 deg" in text
+    assert "--mounting" in text and "time step" not in text
     assert _with_input_cause(plain, turning, 2.5) is plain  # before 30 deg: ordinary
 
 

@@ -60,6 +60,8 @@ MAX_TILT_DEG = 45.0
 GYRO_DRIFT_LIMIT = 0.4
 #: The shortest time between two rests that :func:`gyro_drift` counts [s].
 DRIFT_GAP_S = 10.0
+#: :func:`gyro_drift` compares the tilt of a rest's last and the next rest's first seconds, this long [s].
+DRIFT_EDGE_S = 2.0
 #: For such a gyro the filter leans on gravity: a gain of 0.1 (time constant 10 s) and an acceleration rejection
 #: of 10 deg (1.7 m/s^2).  On the iPhone drive: horizontal acceleration 0.73 m/s^2 rms from the car's own
 #: CAN-bus accelerometer, against 1.10 with the settings above; on the synthetic drives these settings would
@@ -144,11 +146,12 @@ class Rest:
 def find_rests(t: np.ndarray, f: np.ndarray, w: np.ndarray, min_s: float) -> Rest | None:
     """The rests of at least ``min_s`` seconds in a log and the gyro bias they show, or None.
 
-    Every window of ``min_s`` (a step of a quarter of that) is a rest when its mean specific force lies
-    within :data:`REST_GRAVITY_TOLERANCE` of the log's gravity reading at rest (the 10th percentile of those
-    window means: a vehicle's accelerations only add to it), the mean specific forces of its two halves lie
-    within :data:`REST_STEADY_MPS2` of each other, and its gyro is quiet: the mean rate and the
-    standard deviation of each axis at most :data:`REST_RATE_LIMIT_RADPS`.  Overlapping rest windows join
+    Every window of ``min_s`` (a step of a quarter of that) is a rest when the mean specific forces of its two
+    halves lie within :data:`REST_STEADY_MPS2` of each other, its gyro is quiet (the mean rate and the
+    standard deviation of each axis at most :data:`REST_RATE_LIMIT_RADPS`) and the norm of its mean specific
+    force lies within :data:`REST_GRAVITY_TOLERANCE` of the log's gravity reading at rest: the median of that
+    norm over the steady, quiet windows (on a rocking mount the norm of the mean of a swinging vector is
+    short, so a low percentile over all windows would miss the true rests).  Overlapping rest windows join
     into stretches; each stretch's bias is the median of its windows' mean rates (axis by axis), then the
     median of the stretches within :data:`BIAS_SPAN_S` either side.  A stretch
     that only looks like rest (a steady pull-away, a straight at constant speed) does not turn the seat
@@ -315,8 +318,8 @@ def filter_attitude(t: np.ndarray, f: np.ndarray, w: np.ndarray, anchor: Window,
 
 def gyro_drift(t: np.ndarray, f: np.ndarray, w: np.ndarray, rest: Rest | None) -> float | None:
     """How well the gyro carries the attitude [deg/sqrt(s)]: its rates (bias removed) integrated from the end
-    of each rest to the start of the next, from the first rest's tilt, against the second's tilt, over the
-    square root of the time between them; the median over rests :data:`DRIFT_GAP_S` or more apart (None with
+    of each rest to the start of the next, from the tilt of the first rest's last :data:`DRIFT_EDGE_S`, against
+    the tilt of the second's first, over the square root of the time between them; the median over rests :data:`DRIFT_GAP_S` or more apart (None with
     fewer than two such rests)."""
     from scipy.spatial.transform import Rotation
 
@@ -335,27 +338,34 @@ def gyro_drift(t: np.ndarray, f: np.ndarray, w: np.ndarray, rest: Rest | None) -
             steps = steps[0:len(steps) - 1:2] * steps[1:len(steps) - (len(steps) % 2):2]
             if odd is not None:
                 steps = Rotation.concatenate([steps, odd])
-        end = Rotation.from_quat(tilt_quaternion(f[a.start:a.stop].mean(axis=0))) * steps[0]
+        tail = f[max(a.start, int(np.searchsorted(t, t[a.stop - 1] - DRIFT_EDGE_S))):a.stop]
+        end = Rotation.from_quat(tilt_quaternion(tail.mean(axis=0))) * steps[0]
         up = end.inv().apply([0.0, 0.0, 1.0])
-        seen = f[b.start:b.stop].mean(axis=0)
+        seen = f[b.start:max(b.start + 1, min(b.stop, int(np.searchsorted(t, t[b.start] + DRIFT_EDGE_S))))].mean(axis=0)
         seen = seen / np.linalg.norm(seen)
         out.append(math.degrees(math.acos(max(-1.0, min(1.0, float(up @ seen))))) / math.sqrt(gap))
     return float(np.median(out)) if out else None
 
 
-def rates_of(t: np.ndarray, quat_xyzw: np.ndarray) -> np.ndarray:
-    """Body-axis angular velocity (n, 3) [rad/s] whose integration (:func:`ehm.kinematics.integrate_attitude`,
-    the rotating seat's) follows the attitude ``quat_xyzw`` (seat -> world, scipy order) over each step: the
-    rotation vector of each step, q(k)^-1 q(k+1), over its duration, taken at the samples as the mean of the
-    two steps either side (the first and last sample: their one step).  So the simulated seat tilts as the
-    filter's attitude does, gravity-aided, instead of as the gyro alone integrates."""
+def rates_of(t: np.ndarray, quat_xyzw: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Body-axis angular velocity (n, 3) [rad/s], n >= 2: the gyro rates ``w`` (bias removed) with the filter's
+    corrections added, so that their integration (:func:`ehm.kinematics.integrate_attitude`, the rotating
+    seat's) follows the attitude ``quat_xyzw`` (seat -> world, scipy order) while the gyro's own content passes
+    unchanged.  Each step's correction is the rotation the attitude makes beyond the gyro's, exp(w dt)^-1 q(k)^-1
+    q(k+1) with w the mean of the step's two samples, over the step's duration; at the samples it is the mean
+    of the two steps either side, weighted by their durations (the first and last sample: their one step).
+    So the simulated seat tilts as the filter's attitude does, gravity-aided, instead of as the gyro alone
+    integrates."""
     from scipy.spatial.transform import Rotation
 
     rot = Rotation.from_quat(quat_xyzw)
-    step = (rot[:-1].inv() * rot[1:]).as_rotvec() / np.diff(t)[:, None]
-    out = np.empty((t.size, 3))
-    out[0], out[-1] = step[0], step[-1]
-    out[1:-1] = 0.5 * (step[:-1] + step[1:])
+    dt = np.diff(t)[:, None]
+    gyro = Rotation.from_rotvec(0.5 * (w[1:] + w[:-1]) * dt)
+    turn = (gyro.inv() * rot[:-1].inv() * rot[1:]).as_rotvec()  # each step's correction [rad]
+    out = np.array(w, dtype=float, copy=True)
+    out[0] += turn[0] / dt[0]
+    out[-1] += turn[-1] / dt[-1]
+    out[1:-1] += (turn[:-1] + turn[1:]) / (dt[:-1] + dt[1:])
     return out
 
 

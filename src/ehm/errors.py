@@ -18,7 +18,7 @@ class InputError(EhmError, ValueError):
 
 
 class DivergenceError(EhmError, RuntimeError):
-    """A simulation became unstable; the message gives the simulated time, and ``time_s`` holds it [s] (None
-    where it is not known)."""
+    """A simulation became unstable; the message gives the simulated time, and ``time_s`` holds it [s] from the
+    motion's first sample (None where it is not known, or while settling)."""
 
     time_s: float | None = None

@@ -23,16 +23,18 @@ velocity, in seat axes:
    away from the filter's gravity (a horizontal acceleration over 0.86 m/s^2: braking, corners), whose
    samples are not used; see ``ehm.attitude`` for these settings and why.  The filter starts at the longest
    rest (or else the quietest 5 s of the log), with the tilt of its mean specific force, and runs forwards and
-   backwards in time from there, so long drives do not drift;
+   backwards in time from there, so long drives do not drift.  A **weak gyro**, whose rates integrated from one
+   rest to the next miss the next rest's tilt by more than 0.4 deg per square root of a second (a gyro logged
+   more slowly than its mount vibrates, or a noisy one: ``ehm.attitude.gyro_drift``), makes the filter lean on
+   gravity instead: gain 0.1, rejection 10 deg, with a warning;
 5. the seat's **roll and pitch** must stay within ``max_tilt_deg`` (default 45 deg): an attitude beyond is
    refused with its time (an IMU not fixed to the seat, its mounting not given, or gyro rates off);
 6. the seat acceleration is ``a = f + R^T g``, with g the mean ``|f|`` at the rests (else the mean vertical
    specific force over the log): the accelerometers' own reading of gravity;
-7. the seat's **angular velocity** is that of the filtered attitude (each step's rotation over its duration,
-   ``ehm.attitude.rates_of``): the gyro's rates with the bias removed and the filter's gravity-aided
-   corrections added, so that the rotating seat of a simulation, which integrates them, tilts as the
-   attitude does (the gyro alone would drift: on a synthetic 20 min drive with a drifting bias, 4.7 deg
-   against 1.0 deg).
+7. the seat's **angular velocity** is the gyro's, bias removed, with the filter's gravity-aided corrections
+   added (``ehm.attitude.rates_of``), so that the rotating seat of a simulation, which integrates it, tilts as
+   the attitude does (the gyro alone would drift: on a synthetic 20 min drive with a drifting bias, 4.7 deg
+   against 1.0 deg), while the gyro's own vibration passes unchanged.
 
 A log **without gyro** (``angular_rate_radps=None``) is levelled with the static tilt of its quietest 5 s and
 the seat is taken as not rotating (the returned motion has no angular velocity): the body's roll and pitch
@@ -125,9 +127,9 @@ def _check_tilt(t: np.ndarray, roll: np.ndarray, pitch: np.ndarray, limit: float
            "rates are not in rad/s" if gyro else
            "the IMU is not fixed to the seat or its mounting (sensor axes -> seat axes) is not given")
     if abs(value) > 135.0:  # gravity reads downwards in seat axes
-        why = ("its mounting (sensor axes -> seat axes) is upside down, or its accelerometers hold the negative of the "
-               "specific force (as Apple's Core Motion does): then flip them with a '-' before each name, "
-               "e.g. --channel ax=-NAME")
+        why = ("the mounting (sensor axes -> seat axes; --mounting, mounting=) is upside down, or the accelerometers "
+               "hold the negative of the specific force, as Apple's Core Motion does, which a '-' before each "
+               "channel's name (--channel ax=-NAME) or negated values fix")
     raise InputError(f"{label}: at t = {t[k]:.1f} s the seat is {what} {value:.0f} deg, more than the "
                      f"{limit:g} deg a seat plausibly tilts (max_tilt_deg): perhaps {why}.")
 
@@ -146,11 +148,12 @@ def _filter_settings(t: np.ndarray, f: np.ndarray, w: np.ndarray, rest, label: s
         return _att.FILTER_GAIN, _att.ACCELERATION_REJECTION_DEG, ""
     rate = 1.0 / float(np.median(np.diff(t)))
     why = (f"its rates, integrated from one rest to the next, miss the next rest's tilt by {drift:.2f} deg per "
-           f"square root of a second (more than {_att.GYRO_DRIFT_LIMIT:g}): a gyro logged at {rate:.3g} Hz may be "
-           "slower than its mount vibrates, or noisy")
-    warnings.warn(f"{label}: the gyro cannot carry the seat's attitude through manoeuvres: {why}; so the attitude "
-                  f"leans on gravity (filter gain {_att.WEAK_GYRO_GAIN:g}, acceleration rejection "
-                  f"{_att.WEAK_GYRO_REJECTION_DEG:g} deg), and a log at 50 Hz or more would be better.", stacklevel=3)
+           f"square root of a second, more than {_att.GYRO_DRIFT_LIMIT:g}")
+    cause = (f"logged at {rate:.3g} Hz it is probably slower than its mount vibrates, so log it at 50 Hz or more"
+             if rate < 50.0 else "it is noisy or not fixed to the seat")
+    warnings.warn(f"{label}: the gyro cannot carry the seat's attitude through manoeuvres, so the attitude leans on "
+                  f"gravity (filter gain {_att.WEAK_GYRO_GAIN:g}, acceleration rejection "
+                  f"{_att.WEAK_GYRO_REJECTION_DEG:g} deg), because {why}; {cause}.", stacklevel=3)
     return _att.WEAK_GYRO_GAIN, _att.WEAK_GYRO_REJECTION_DEG, f"; a weak gyro: {why}"
 
 
@@ -248,7 +251,7 @@ def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None
                           "gravity estimated from the whole log's attitude and removed")
         roll, pitch = _att.roll_pitch_deg(q)
         _check_tilt(t, roll, pitch, limit, label, gyro=True)
-        w = _att.rates_of(t, q)  # the seat turns as the filtered attitude does
+        w = _att.rates_of(t, q, w)  # the seat turns as the filtered attitude does
         how = (f"attitude by a gravity-aided filter (Fusion AHRS, gain {gain:g}, acceleration rejection "
                f"{rejection:g} deg, forwards and backwards{weak}), roll {roll.min():.1f} to "
                f"{roll.max():.1f} deg, pitch {pitch.min():.1f} to {pitch.max():.1f} deg")

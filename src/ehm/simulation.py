@@ -246,7 +246,8 @@ class SeatedHuman:
                 yield from stream_checked(self, motion, method=method, chunk_s=chunk_s, progress=progress,
                                           tolerance=TOLERANCE if tolerance is None else tolerance)
             except DivergenceError as exc:  # the input up to the divergence is the suspect, not what follows
-                until = motion.duration_s if exc.time_s is None else min(motion.duration_s, exc.time_s)
+                t0 = float(motion.time_s[0])
+                until = t0 + (motion.duration_s if exc.time_s is None else min(motion.duration_s, exc.time_s))
                 raise _with_input_cause(exc, motion, until) from None
             return
         if method != "nonlinear":
@@ -315,9 +316,9 @@ class SeatedHuman:
                 with engine.captured_warnings():  # MuJoCo's warnings go into ehm's sentences, not raw to the terminal
                     raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation,
                                      pose_every=pose_every if start >= first else None)
-            except DivergenceError as exc:
+            except DivergenceError as exc:  # (t counts from the motion's first sample)
                 until = t[-1] + dt if exc.time_s is None else min(t[-1] + dt, exc.time_s)
-                raise _with_input_cause(exc, motion, until) from None
+                raise _with_input_cause(exc, motion, float(motion.time_s[0]) + until) from None
             if start < first:  # the lead-in: only its end state goes on
                 del raw
                 continue
@@ -418,9 +419,9 @@ UNUSUAL_TILT_DEG = 30.0
 
 
 def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) -> DivergenceError:
-    """The divergence sentence naming the input as its cause when the seat input up to ``until_s`` is out of the
-    ordinary (above 2 g, a jump of 1 g between two samples, or a seat tilted beyond 30 deg); the sentence as it
-    was otherwise (then the time step or the parameters are the suspects)."""
+    """The divergence sentence naming the input as its cause when the seat input up to ``until_s`` (on the motion's
+    own time axis) is out of the ordinary (above 2 g, a jump of 1 g between two samples, or a seat tilted beyond
+    30 deg); the sentence as it was otherwise (then the time step or the parameters are the suspects)."""
     n = int(np.searchsorted(motion.time_s, until_s, side="right"))
     acc = motion.acc_mps2[:n]
     if acc.shape[0] < 2:
@@ -433,9 +434,9 @@ def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) 
     if tilted is not None and (bad.size == 0 or tilted[0] <= bad[0]):
         k, what, angle = tilted
         return DivergenceError(
-            f"{where}: the seat input is out of the ordinary before it (the seat is {what} {angle:.0f} deg at t = "
-            f"{motion.time_s[k]:.3f} s, beyond the {UNUSUAL_TILT_DEG:g} deg that friction and bolsters hold an "
-            "unbelted person on): check that the sensor was fixed to the seat and its mounting (--mounting), or cut "
+            f"{where}: the seat input is out of the ordinary before it (the seat is {what} beyond "
+            f"{UNUSUAL_TILT_DEG:g} deg from t = {motion.time_s[k]:.3f} s, up to {angle:.0f} deg, further than friction "
+            "and bolsters hold an unbelted person): check that the sensor was fixed to the seat and its mounting (--mounting), or cut "
             "the log (--start, --end).")
     if bad.size == 0:
         return exc
@@ -443,7 +444,7 @@ def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) 
     what = (f"{size[i]:.3g} m/s^2, above 2 g" if size[i] > UNUSUAL_ACC_MPS2
             else f"a jump of {jump[i]:.3g} m/s^2 from one sample to the next")
     last = float(motion.time_s[int(bad[-1])])
-    cut = math.ceil(last + 1.0)
+    cut = math.ceil(last - float(motion.time_s[0]) + 1.0)  # a cut counts from the first sample
     fix = (f"cut it away with --start {cut:g} (start_s= in read_motion; counted from the log's first sample, so add "
            f"any --start given already), or check the log's units" if cut < motion.duration_s
            else "check the log's units and what the sensor was fixed to")
@@ -453,8 +454,9 @@ def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) 
 
 
 def _tilted(motion: SeatMotion, n: int):
-    """(sample, "rolled" or "pitched", angle [deg]) where the seat's first n samples first tilt beyond
-    :data:`UNUSUAL_TILT_DEG`, or None (also for a motion that does not turn the seat)."""
+    """(sample, "rolled" or "pitched", largest angle [deg]): where the seat's first n samples first tilt beyond
+    :data:`UNUSUAL_TILT_DEG`, and how far they tilt about that axis; None if they do not (also for a motion that
+    does not turn the seat)."""
     if motion.angvel_radps is None or n < 2:
         return None
     try:
@@ -465,6 +467,6 @@ def _tilted(motion: SeatMotion, n: int):
     if over.size == 0:
         return None
     k = int(over[0])
-    return (k, "rolled", float(angles[k, 2])) if abs(angles[k, 2]) > UNUSUAL_TILT_DEG else \
-        (k, "pitched", float(angles[k, 1]))
+    j, what = (2, "rolled") if abs(angles[k, 2]) > UNUSUAL_TILT_DEG else (1, "pitched")
+    return k, what, float(angles[np.argmax(np.abs(angles[:, j])), j])
 

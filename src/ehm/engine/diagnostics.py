@@ -103,5 +103,5 @@ def _diverged(model: Model, t: float, why: str, phase: str = "") -> DivergenceEr
         f"the simulation diverged at t = {t:.3f} s{phase} ({why}); try a smaller time step than dt = {dt:g} s "
         "or check the stiffness and damping parameters."
     )
-    err.time_s = float(t)
+    err.time_s = None if phase else float(t)  # (settling has a clock of its own)
     return err
