@@ -105,7 +105,7 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
         levelled = acc.copy()
         levelled[:, 2] -= mean[2]
         levelled.flags.writeable = False
-        note = f"levelled: earth axes, their mean z ({mean[2]:.4g} m/s^2) taken as g and removed"
+        note = f"levelled: its mean z ({mean[2]:.4g} m/s^2) taken as g and removed (earth axes: no tilt)"
         if gravity == "auto":
             warnings.warn(f"{label}: the mean acceleration's norm is {norm:.4g} m/s^2, within {G_TOLERANCE:.0%} of g, "
                           f"so the log is taken to include gravity and is {note} (--gravity included does the same "
