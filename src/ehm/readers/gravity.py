@@ -102,15 +102,27 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
     if gravity == "auto" and not near_g:
         return acc, rates, ""
     if earth:
-        levelled = acc.copy()
-        levelled[:, 2] -= mean[2]
-        levelled.flags.writeable = False
-        note = f"levelled: its mean z ({mean[2]:.4g} m/s^2) taken as g and removed (earth axes: no tilt)"
-        if gravity == "auto":
-            warnings.warn(f"{label}: the mean acceleration's norm is {norm:.4g} m/s^2, within {G_TOLERANCE:.0%} of g, "
-                          f"so the log is taken to include gravity and is {note} (--gravity included does the same "
-                          "without this note).", stacklevel=4)
-        return levelled, rates, note
+        levelled, note = _level_earth(acc, mean)
+    else:
+        levelled, rates, note = _level_by_tilt(time_s, acc, rates, label)
+    if gravity == "auto":
+        warnings.warn(f"{label}: the mean acceleration's norm is {norm:.4g} m/s^2, within {G_TOLERANCE:.0%} of g, so "
+                      f"the log is taken to include gravity and is {note} (--gravity included does the same "
+                      "without this note).",
+                      stacklevel=4)
+    return levelled, rates, note
+
+
+def _level_earth(acc: np.ndarray, mean: np.ndarray):
+    """An earth-axis log levelled: gravity lies along z by construction, so the log's mean z is taken off z."""
+    levelled = acc.copy()
+    levelled[:, 2] -= mean[2]
+    levelled.flags.writeable = False
+    return levelled, f"levelled: its mean z ({mean[2]:.4g} m/s^2) taken as g and removed (earth axes: no tilt)"
+
+
+def _level_by_tilt(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None, label: str):
+    """A sensor's log levelled with the static tilt of its quietest window (the module docstring's steps 1-3)."""
     i, j = quiet_window(time_s, acc)
     g_vec = acc[i:j].mean(axis=0)
     g_norm = float(np.linalg.norm(g_vec))
@@ -126,11 +138,5 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
         rates.flags.writeable = False
     tilt = math.degrees(math.acos(max(-1.0, min(1.0, g_vec[2] / g_norm))))
     t0, t1 = float(time_s[i]), float(time_s[j - 1])
-    note = (f"levelled: tilt {tilt:.2f} deg, g {g_norm:.4g} m/s^2 removed, from the quietest window "
-            f"{t0:g}-{t1:g} s")
-    if gravity == "auto":
-        warnings.warn(f"{label}: the mean acceleration's norm is {norm:.4g} m/s^2, within {G_TOLERANCE:.0%} of g, so "
-                      f"the log is taken to include gravity and is {note} (--gravity included does the same "
-                      "without this note).",
-                      stacklevel=4)
-    return levelled, rates, note
+    return levelled, rates, (f"levelled: tilt {tilt:.2f} deg, g {g_norm:.4g} m/s^2 removed, from the quietest window "
+                             f"{t0:g}-{t1:g} s")

@@ -80,7 +80,8 @@ def _core_motion(label: str, channels: dict, signs: dict) -> dict:
         done.append(f"{', '.join(now)} read with the sign flipped (a '-' before a name keeps the file's sign)")
     if kept:
         done.append(f"{', '.join(kept)} with the file's sign, as the '-' before the name asks")
-    _note(f"{label}: {names} {what}, which hold{'' if len(flipped) > 1 else 's'} the negative of the specific force (-1 g on z for a phone lying "
+    verb = "hold" if len(flipped) > 1 else "holds"
+    _note(f"{label}: {names} {what}, which {verb} the negative of the specific force (-1 g on z for a phone lying "
           f"face up): {'; '.join(done)}.", 3)
     return signs
 

@@ -169,7 +169,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         raise InputError(f"frame must be one of {', '.join(FRAMES)}; got {frame!r}.")
     named = label or (str(source) if isinstance(source, (str, os.PathLike)) else "DataFrame")
     if frame == "earth":
-        _check_earth(named, bool(imu), None, mounting)
+        _check_earth(named, bool(imu), mounting)
     columns = parse_columns(columns)
     window = _window(start_s, end_s)
     m = _mounting_matrix(mounting, named)
@@ -327,8 +327,9 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
     irregular = _irregular(time_s)
     acc = _stack(data, _ACC)
     rates = _stack(data, _RATES) if all(k in data for k in _RATES) else None
-    if frame == "earth":
-        _check_earth(src.label, False, rates, None)
+    if frame == "earth" and rates is not None:
+        raise InputError(f"{src.label}: angular rates in earth axes are not the seat's own roll, pitch and yaw rates: "
+                         "leave them out (--channel wx= --channel wy= --channel wz=; channels wx, wy, wz set to None).")
     time_s = _frozen(np.asarray(time_s, dtype=float))  # (a new array: moved to start at 0 above)
     if mounting is not None and not imu:  # (from_imu turns its own inputs)
         acc = _frozen(acc @ mounting.T)
@@ -362,14 +363,12 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
 FRAMES = ("seat", "earth")  #: the axes a log's accelerations may be in (read_motion's ``frame``)
 
 
-def _check_earth(label: str, imu: bool, rates, mounting) -> None:
-    """Refuse, in one sentence, what an earth-axis log cannot be read with."""
+def _check_earth(label: str, imu: bool, mounting) -> None:
+    """Refuse, in one sentence, the options an earth-axis log cannot be read with (its angular rates are refused
+    once they are read)."""
     if imu:
         raise InputError(f"{label}: a log in earth axes was levelled by the phone already and is no IMU log: read it "
                          "without --imu (imu=False).")
-    if rates is not None:
-        raise InputError(f"{label}: angular rates in earth axes are not the seat's own roll, pitch and yaw rates: "
-                         "leave them out (--channel wx= --channel wy= --channel wz=; channels wx, wy, wz set to None).")
     if mounting is not None:
         raise InputError(f"{label}: a mounting turns the log's axes into the seat's, so they are no longer earth "
                          "axes: give either --frame earth or --mounting, not both.")
