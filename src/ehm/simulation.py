@@ -245,10 +245,8 @@ class SeatedHuman:
             try:
                 yield from stream_checked(self, motion, method=method, chunk_s=chunk_s, progress=progress,
                                           tolerance=TOLERANCE if tolerance is None else tolerance)
-            except DivergenceError as exc:  # the input up to the divergence is the suspect, not what follows
-                t0 = float(motion.time_s[0])
-                until = t0 + (motion.duration_s if exc.time_s is None else min(motion.duration_s, exc.time_s))
-                raise _with_input_cause(exc, motion, until) from None
+            except DivergenceError as exc:
+                raise _with_input_cause(exc, motion, motion.duration_s) from None
             return
         if method != "nonlinear":
             raise InputError(f"method must be 'nonlinear', 'linear' or 'auto', not {method!r}.")
@@ -316,9 +314,8 @@ class SeatedHuman:
                 with engine.captured_warnings():  # MuJoCo's warnings go into ehm's sentences, not raw to the terminal
                     raw = engine.run(self.model, acc_world, d=d, seat_rotation=rotation,
                                      pose_every=pose_every if start >= first else None)
-            except DivergenceError as exc:  # (t counts from the motion's first sample)
-                until = t[-1] + dt if exc.time_s is None else min(t[-1] + dt, exc.time_s)
-                raise _with_input_cause(exc, motion, float(motion.time_s[0]) + until) from None
+            except DivergenceError as exc:
+                raise _with_input_cause(exc, motion, t[-1] + dt) from None
             if start < first:  # the lead-in: only its end state goes on
                 del raw
                 continue
@@ -418,10 +415,13 @@ UNUSUAL_JUMP_MPS2 = STANDARD_GRAVITY_MPS2
 UNUSUAL_TILT_DEG = 30.0
 
 
-def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) -> DivergenceError:
-    """The divergence sentence naming the input as its cause when the seat input up to ``until_s`` (on the motion's
-    own time axis) is out of the ordinary (above 2 g, a jump of 1 g between two samples, or a seat tilted beyond
-    30 deg); the sentence as it was otherwise (then the time step or the parameters are the suspects)."""
+def _with_input_cause(exc: DivergenceError, motion: SeatMotion, ran_s: float) -> DivergenceError:
+    """The divergence sentence naming the input as its cause when the seat input before the divergence is out of
+    the ordinary (above 2 g, a jump of 1 g between two samples, or a seat tilted beyond 30 deg); the sentence as
+    it was otherwise (then the time step or the parameters are the suspects).  ``ran_s``: how far the run got
+    [s from the motion's first sample]; the divergence's own time (``exc.time_s``), where it has one, is nearer
+    (only the input before it is the suspect, not what follows)."""
+    until_s = float(motion.time_s[0]) + (ran_s if exc.time_s is None else min(ran_s, exc.time_s))
     n = int(np.searchsorted(motion.time_s, until_s, side="right"))
     acc = motion.acc_mps2[:n]
     if acc.shape[0] < 2:
@@ -435,9 +435,9 @@ def _with_input_cause(exc: DivergenceError, motion: SeatMotion, until_s: float) 
         k, what, angle = tilted
         return DivergenceError(
             f"{where}: the seat input is out of the ordinary before it (the seat is {what} beyond "
-            f"{UNUSUAL_TILT_DEG:g} deg from t = {motion.time_s[k]:.3f} s, up to {angle:.0f} deg, further than friction "
-            "and bolsters hold an unbelted person): check that the sensor was fixed to the seat and its mounting (--mounting), or cut "
-            "the log (--start, --end).")
+            f"{UNUSUAL_TILT_DEG:g} deg from t = {motion.time_s[k]:.3f} s, up to {angle:.0f} deg, further than "
+            "friction and bolsters hold an unbelted person): check that the sensor was fixed to the seat and its "
+            "mounting (--mounting), or cut the log (--start, --end).")
     if bad.size == 0:
         return exc
     i = int(bad[0])
