@@ -366,8 +366,8 @@ def test_a_gyro_that_misses_the_tilt_from_rest_to_rest_makes_the_filter_lean_on_
     bad = good + np.radians([0.3, 0.0, 0.0]) * driving[:, None]
     rest = ehm.attitude.find_rests(t, f, good, 2.0)
     assert rest is not None and len(rest.stretches) == 2
-    assert ehm.attitude.gyro_drift(t, f, good, rest) < 0.35
-    assert ehm.attitude.gyro_drift(t, f, bad, rest) == pytest.approx(9.0 / np.sqrt(30.0), rel=0.2)
+    assert ehm.imu.gyro_drift(t, f, good, rest) < 0.35
+    assert ehm.imu.gyro_drift(t, f, bad, rest) == pytest.approx(9.0 / np.sqrt(30.0), rel=0.2)
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no warning for the good gyro
         m = ehm.from_imu(t, f, good)

@@ -54,13 +54,13 @@ SUSTAINED_RATE_LIMIT_RADPS = 10.0
 MAX_TILT_DEG = 45.0
 #: A gyro whose rates, integrated from one rest to the next, miss the next rest's tilt by more than this
 #: [deg/sqrt(s)] (the median over rests :data:`DRIFT_GAP_S` or more apart) cannot carry the attitude through
-#: a vehicle's manoeuvres (:func:`gyro_drift`): a gyro logged slower than its mount vibrates, or a noisy one.
+#: a vehicle's manoeuvres (``ehm.imu.gyro_drift``): a gyro logged slower than its mount vibrates, or a noisy one.
 #: Measured: 0.02-0.25 on synthetic 50 Hz drives with bias and noise; 1.1 on a real iPhone drive logged
 #: at 10 Hz on a dash mount.
 GYRO_DRIFT_LIMIT = 0.4
-#: The shortest time between two rests that :func:`gyro_drift` counts [s].
+#: The shortest time between two rests that ``ehm.imu.gyro_drift`` counts [s].
 DRIFT_GAP_S = 10.0
-#: :func:`gyro_drift` compares the tilt of a rest's last and the next rest's first seconds, this long [s].
+#: ``ehm.imu.gyro_drift`` compares the tilt of a rest's last and the next rest's first seconds, this long [s].
 DRIFT_EDGE_S = 2.0
 #: For such a gyro the filter leans on gravity: a gain of 0.1 (time constant 10 s) and an acceleration rejection
 #: of 10 deg (1.7 m/s^2).  On the iPhone drive: horizontal acceleration 0.73 m/s^2 rms from the car's own
@@ -314,43 +314,6 @@ def filter_attitude(t: np.ndarray, f: np.ndarray, w: np.ndarray, anchor: Window,
     fwd += back
     fwd /= np.linalg.norm(fwd, axis=1)[:, None]
     return fwd
-
-
-def gyro_drift(t: np.ndarray, f: np.ndarray, w: np.ndarray, rest: Rest | None) -> float | None:
-    """How well the gyro carries the attitude [deg/sqrt(s)]: its rates (bias removed) integrated from the end
-    of each rest to the start of the next, from the tilt of the first rest's last :data:`DRIFT_EDGE_S`, against
-    the tilt of the second's first, over the square root of the time between them; the median over rests
-    :data:`DRIFT_GAP_S` or more apart (None with fewer than two such rests)."""
-    from scipy.spatial.transform import Rotation
-
-    if rest is None:
-        return None
-    stretches = sorted(rest.stretches, key=lambda s: s.t0)
-    out = []
-    for a, b in zip(stretches[:-1], stretches[1:]):
-        gap = float(t[b.start] - t[a.stop - 1])
-        if gap < DRIFT_GAP_S:
-            continue
-        k = slice(a.stop - 1, b.start + 1)
-        turned = _product(Rotation.from_rotvec(0.5 * (w[k][1:] + w[k][:-1]) * np.diff(t[k])[:, None]))
-        tail = f[max(a.start, int(np.searchsorted(t, t[a.stop - 1] - DRIFT_EDGE_S))):a.stop]
-        up = (Rotation.from_quat(tilt_quaternion(tail.mean(axis=0))) * turned).inv().apply([0.0, 0.0, 1.0])
-        head = f[b.start:max(b.start + 1, min(b.stop, int(np.searchsorted(t, t[b.start] + DRIFT_EDGE_S))))]
-        seen = head.mean(axis=0) / np.linalg.norm(head.mean(axis=0))
-        out.append(math.degrees(math.acos(max(-1.0, min(1.0, float(up @ seen))))) / math.sqrt(gap))
-    return float(np.median(out)) if out else None
-
-
-def _product(steps):
-    """The ordered product R1 R2 ... Rn of a scipy Rotation stack (body-frame steps applied in turn), formed
-    pairwise: about log2(n) vectorised products instead of n single ones."""
-    from scipy.spatial.transform import Rotation
-
-    while len(steps) > 1:
-        n = len(steps)
-        pairs = steps[0:n - 1:2] * steps[1:n - n % 2:2]
-        steps = Rotation.concatenate([pairs, steps[-1:]]) if n % 2 else pairs
-    return steps[0]
 
 
 def rates_of(t: np.ndarray, quat_xyzw: np.ndarray, w: np.ndarray) -> np.ndarray:

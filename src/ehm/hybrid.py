@@ -104,7 +104,8 @@ class RouteReport:
     discrepancy: dict = field(default_factory=dict)
     tolerance: float = TOLERANCE
     fallback: str = ""
-    left_out: dict = field(default_factory=dict)  #: drives that turn the seat: ehm.linear.left_out over the linear pieces
+    #: drives that turn the seat: ehm.linear.left_out over the linear pieces
+    left_out: dict = field(default_factory=dict)
 
     @property
     def linear_share(self) -> float:
@@ -152,7 +153,8 @@ class RouteReport:
     def as_dict(self) -> dict:
         """Plain data (what ``summary.json`` and ``assessment.json`` hold under ``route``)."""
         p, a, worst = self.largest()
-        return {"summary_line": self.line(), "method": self.method, "duration_s": self.duration_s, "linear_share": self.linear_share,
+        return {"summary_line": self.line(), "method": self.method, "duration_s": self.duration_s,
+                "linear_share": self.linear_share,
                 "nonlinear_s": self.nonlinear_s, "windows_s": [[float(t0), float(t1)] for t0, t1 in self.windows_s],
                 "discrepancy_share_of_rms": {k: [float(x) for x in v] for k, v in self.discrepancy.items()},
                 "largest_discrepancy": {"point": p, "axis": a, "share_of_rms": worst},

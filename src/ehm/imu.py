@@ -25,7 +25,7 @@ velocity, in seat axes:
    rest (or else the quietest 5 s of the log), with the tilt of its mean specific force, and runs forwards and
    backwards in time from there, so long drives do not drift.  A **weak gyro**, whose rates integrated from one
    rest to the next miss the next rest's tilt by more than 0.4 deg per square root of a second (a gyro logged
-   more slowly than its mount vibrates, or a noisy one: ``ehm.attitude.gyro_drift``), makes the filter lean on
+   more slowly than its mount vibrates, or a noisy one: ``ehm.imu.gyro_drift``), makes the filter lean on
    gravity instead: gain 0.1, rejection 10 deg, with a warning;
 5. the seat's **roll and pitch** must stay within ``max_tilt_deg`` (default 45 deg): an attitude beyond is
    refused with its time (an IMU not fixed to the seat, its mounting not given, or gyro rates off);
@@ -59,7 +59,7 @@ import numpy as np
 
 from . import attitude as _att
 from .errors import InputError
-from .motion import SeatMotion
+from .motion import SeatMotion, integrate_attitude
 
 __all__ = ["STANDARD_GRAVITY_MPS2", "from_imu"]
 
@@ -139,11 +139,38 @@ def _check_tilt(t: np.ndarray, roll: np.ndarray, pitch: np.ndarray, limit: float
 MIN_REST_S = 0.5
 
 
+def gyro_drift(t: np.ndarray, f: np.ndarray, w: np.ndarray, rest) -> float | None:
+    """How well the gyro carries the attitude [deg/sqrt(s)]: its rates ``w`` (bias removed) integrated as the
+    rotating seat integrates them (:func:`ehm.kinematics.integrate_attitude`) from the end of each rest to the
+    start of the next, from the tilt of the first rest's last ``ehm.attitude.DRIFT_EDGE_S``, against the tilt
+    of the second's first, over the square root of the time between them; the median over rests
+    ``ehm.attitude.DRIFT_GAP_S`` or more apart (None with fewer than two such rests; ``rest`` as
+    ``ehm.attitude.find_rests`` returns it)."""
+    from scipy.spatial.transform import Rotation
+
+    if rest is None:
+        return None
+    stretches = sorted(rest.stretches, key=lambda s: s.t0)
+    out = []
+    for a, b in zip(stretches[:-1], stretches[1:]):
+        gap = float(t[b.start] - t[a.stop - 1])
+        if gap < _att.DRIFT_GAP_S:
+            continue
+        tail = f[max(a.start, int(np.searchsorted(t, t[a.stop - 1] - _att.DRIFT_EDGE_S))):a.stop]
+        k = slice(a.stop - 1, b.start + 1)
+        end = integrate_attitude(t[k], w[k], _att.tilt_quaternion(tail.mean(axis=0)))[-1]
+        up = Rotation.from_quat(end).inv().apply([0.0, 0.0, 1.0])
+        head = f[b.start:max(b.start + 1, min(b.stop, int(np.searchsorted(t, t[b.start] + _att.DRIFT_EDGE_S))))]
+        seen = head.mean(axis=0) / np.linalg.norm(head.mean(axis=0))
+        out.append(math.degrees(math.acos(max(-1.0, min(1.0, float(up @ seen))))) / math.sqrt(gap))
+    return float(np.median(out)) if out else None
+
+
 def _filter_settings(t: np.ndarray, f: np.ndarray, w: np.ndarray, rest, label: str) -> tuple[float, float, str]:
     """The attitude filter's gain and acceleration rejection [deg] for this gyro, and a note for the description:
     the vehicle settings, or, for a gyro that misses the tilt from rest to rest by more than
     ``ehm.attitude.GYRO_DRIFT_LIMIT``, settings that lean on gravity (with a warning)."""
-    drift = _att.gyro_drift(t, f, w, rest)
+    drift = gyro_drift(t, f, w, rest)
     if drift is None or drift <= _att.GYRO_DRIFT_LIMIT:
         return _att.FILTER_GAIN, _att.ACCELERATION_REJECTION_DEG, ""
     rate = 1.0 / float(np.median(np.diff(t)))

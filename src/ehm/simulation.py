@@ -168,8 +168,8 @@ class SeatedHuman:
         faster than real time, and checks it by its effect (:mod:`ehm.hybrid`): wherever a contact reaches its
         friction limit or lifts off, the nonlinear model runs too and the two answers are compared; above
         ``tolerance`` (share of each point acceleration's rms, default 1 %) it warns
-        (:class:`ehm.hybrid.LinearRouteWarning`) with the figure.  ``method="auto"`` (the hybrid route) keeps the nonlinear answer
-        in those windows and the linear one elsewhere.  Both record what they checked in
+        (:class:`ehm.hybrid.LinearRouteWarning`) with the figure.  ``method="auto"`` (the hybrid route) keeps the
+        nonlinear answer in those windows and the linear one elsewhere.  Both record what they checked in
         ``result.extra["route"]`` (:class:`ehm.hybrid.RouteReport`) and record no poses.  A motion that rotates
         the seat runs on the linear model of the seat's rotation in the seat's own frame (whether or not the
         person was built with ``rotating_seat=True``): see :func:`ehm.linear.stream_linear` for what it assumes;

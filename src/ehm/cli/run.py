@@ -67,8 +67,8 @@ def _route_options(p) -> None:
     p.add_argument("--method", choices=("auto", "nonlinear", "linear"), default="auto",
                    help="simulation route: auto (default: the linearised person, with the nonlinear model where a "
                         "contact reaches its friction limit or lifts off, and for the rest of the drive once those "
-                        "windows cover more than half of it so far), nonlinear (MuJoCo throughout) or linear (the linearised person "
-                        "throughout, checked against the nonlinear model there; translation only)")
+                        "windows cover more than half of it so far), nonlinear (MuJoCo throughout) or linear (the "
+                        "linearised person throughout, checked against the nonlinear model there)")
     p.add_argument("--tolerance", type=float, default=None, metavar="PERCENT",
                    help="the linear route's tolerance: discrepancy from the nonlinear model in %% of each point "
                         "acceleration's rms (default 1)")
@@ -338,7 +338,6 @@ def add_animate(sub) -> None:
 
 
 def cmd_animate(args) -> int:
-
     from ..animation import animate
 
     check_output_file(args.out, "animation")

@@ -343,8 +343,8 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         description = f"{description}, {levelled}" if levelled else description
         if frame == "earth":
             description += ", earth axes (x east, y north, z up)"
-            _note(f"{src.label}: earth axes (x east, y north, z up) are not the vehicle's, and the log holds no heading "
-                  "to turn them: the seat's a_v, VDV and MSDV do not depend on it and are right, but its x and y "
+            _note(f"{src.label}: earth axes (x east, y north, z up) are not the vehicle's, and the log holds no "
+                  "heading to turn them: the seat's a_v, VDV and MSDV do not depend on it and are right, but its x and y "
                   "values and the body's response do, and are given for x east and y north (a log in the vehicle's "
                   "axes gives them).", 2)
         motion = SeatMotion(time_s, acc, description, rates)  # takes the read-only arrays as they are
