@@ -404,6 +404,7 @@ def _table(src: _Source, use: dict, units: dict, signs: dict, rate_hz, window, o
         t = _channel(src, "dt", use["dt"], units, signs, taken=taken)
         sizes["dt"] = t.size
         t = _from_steps(src, use["dt"], t)
+        _check_time_unit(src, use["dt"], t, _unit_of(src, "dt", use["dt"], units)[0], taken["dt"], "dt")
     else:
         t = np.arange(np.shape(src.values(use[held_keys[0]]))[0]) / rate_hz
     first = float(t[0]) if t.size else 0.0
