@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import InputError
 from ..resampling import Resampler
 from .base import _column_words, _Source
-from .channels import _ACC, _RATES, ASSUMED, FILE, GIVEN, INFERRED, NAME, SI_UNITS
+from .channels import _ACC, _KIND, _RATES, ASSUMED, FILE, GIVEN, INFERRED, NAME, SI_UNITS
 from .frames import _FrameSource, _ParquetSource
 from .text import _TextSource
 from .units import MAX_STEP_S as _MAX_STEP_S
@@ -47,6 +47,30 @@ def _check_finite(src: _Source, key: str, name: str, values: np.ndarray) -> None
         raise InputError(f"{src.label}, {src.where(i)}, {where}: value is missing (NaN), expected a number.")
     raise InputError(f"{src.label}, {src.where(i)}, {where}: {src.raw(name, i)} is not a finite number (NaN or "
                      "infinite).")
+
+
+#: A column whose filled cells hold only 0 and 1 while more than this share of its cells are empty is a flag
+#: (an event marker, a button, a GPS fix), not a measured quantity: a logger's channel fills every row.
+FLAG_EMPTY_SHARE = 0.5
+
+
+def _check_not_flag(src: _Source, key: str, name: str, raw, values: np.ndarray) -> None:
+    """Refuse, in one sentence naming the column, a boolean column (True/False) or a sparse 0/1 flag column
+    (see :data:`FLAG_EMPTY_SHARE`) mapped to a channel of measured values."""
+    import pandas as pd
+
+    arr = np.asarray(raw)
+    boolean = arr.dtype.kind == "b" or (arr.dtype.kind == "O" and arr.size and
+                                         pd.api.types.infer_dtype(arr, skipna=True) == "boolean")
+    if not boolean:
+        filled = np.isfinite(values)
+        if not values.size or filled.mean() >= 1.0 - FLAG_EMPTY_SHARE or not filled.any():
+            return
+        if not np.isin(values[filled], (0.0, 1.0)).all():
+            return
+    what = "True/False" if boolean else f"only 0 and 1 in {int(np.isfinite(values).sum())} of its {values.size} rows"
+    raise InputError(f"{src.label}, {_column_words(src, name, key)}: the column holds {what}, a flag, not "
+                     f"{_KIND[key][0]}: map the channel to the column of its measured values (--channel {key}=NAME).")
 
 
 def _check_times(src: _Source, name: str, t: np.ndarray) -> None:
@@ -233,9 +257,9 @@ def _check_time_unit(src: _Source, name: str, t: np.ndarray, unit: str, origin: 
     column = "dt column" if key == "dt" else "time column"
     what = "the time stamps" if unit == "date-time" else f"the {column} is {_assumed_words(origin, unit)}"
     finding = f"the median time step is {step:.3g} s" + (
-        f" and the log lasts {duration:.3g} s ({1 / step:.3g} Hz for {duration * 1e3:.3g} ms)" if too_fast else "")
+        f" and the log lasts {duration:.3g} s ({1 / step:.6g} Hz for {duration * 1e3:.3g} ms)" if too_fast else "")
     if fix and unit != "date-time":
-        hint = (f"give its unit, e.g. --unit {key}={fix} (units={{{key!r}: {fix!r}}}), which makes the step "
+        hint = (f"give its unit, e.g. --unit {key}={fix} (units={{{key!r}: {fix!r}}}), which makes it "
                 f"{fits[fix]:.3g} s")
         if step > MAX_STEP_S and not said and step <= TABLE_MAX_STEP_S and t.size < LOG_SAMPLES:
             hint += f", or --unit {key}=s for a table written by hand in seconds"

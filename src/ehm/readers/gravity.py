@@ -20,9 +20,9 @@ Modes (``read_motion(gravity=...)``, ``--gravity``):
     Level the log when gravity is found in that window's mean: its norm, or its vertical (z) component, is
     within :data:`G_TOLERANCE` (10 %) of standard gravity (a log that brakes or corners most of the time has a
     mean far from 1 g, but its vertical mean is still g), with a one-line warning naming the tilt, the g
-    removed and the window.  Take it as gravity-free when that mean is small (its norm under
-    :data:`UNSURE_SHARE` of g and its z under :data:`MAX_MEAN_VERTICAL_MPS2`).  Anything between is refused in
-    one sentence naming ``--gravity included`` and ``--gravity removed``: neither gravity nor a vehicle's.
+    removed and the window.  Otherwise take it as gravity-free, unless that mean's norm is within
+    :data:`UNSURE_BAND` (0.5-2 g) in a log of :data:`QUIET_WINDOW_S` or longer: neither gravity nor a vehicle's,
+    refused in one sentence naming ``--gravity included`` and ``--gravity removed``.
 ``"included"``
     Level the log whatever its mean; refused when the window's mean is under :data:`INCLUDED_MIN_SHARE` of g
     (there is no gravity to take out: levelling would remove a few hundredths of a m/s^2 as "g" and turn the
@@ -51,9 +51,10 @@ G_TOLERANCE = 0.10  #: a mean norm within this share of g is taken as gravity
 MAX_MEAN_VERTICAL_MPS2 = 2.0  #: a gravity-free log's mean z above this is refused
 QUIET_WINDOW_S = 5.0  #: length of the quiet window the tilt is taken from [s]
 #: ``auto``: a quiet window whose mean is not gravity (neither its norm nor its z within :data:`G_TOLERANCE` of g)
-#: is taken as gravity-free only below this share of g (and with z under :data:`MAX_MEAN_VERTICAL_MPS2`): a
-#: vehicle keeps half a g for 5 s seldom, a sensor with gravity in it reads more than half a g always.
-UNSURE_SHARE = 0.5
+#: but whose norm lies between these multiples of g is refused: a vehicle keeps half a g for 5 s seldom, and a
+#: sensor with gravity in it reads more than half a g always (1.12 g braking at half a g, a sensor tilted far).
+#: Below, the log is gravity-free; above, it is no vehicle's either way (its unit is checked on reading).
+UNSURE_BAND = (0.5, 2.0)
 #: ``included``: a window's mean under this share of g holds no gravity to take out.
 INCLUDED_MIN_SHARE = 0.5
 
@@ -114,11 +115,12 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
     i, j, quiet = gravity_window(time_s, acc)
     where = f"its quietest window ({float(time_s[i]):g}-{float(time_s[j - 1]):g} s)"
     norm, vertical = float(np.linalg.norm(quiet)), float(quiet[2])
-    found = min(abs(norm - STANDARD_GRAVITY), abs(abs(vertical) - STANDARD_GRAVITY)) <= G_TOLERANCE * STANDARD_GRAVITY
+    found = min(abs(norm - STANDARD_GRAVITY), abs(vertical - STANDARD_GRAVITY)) <= G_TOLERANCE * STANDARD_GRAVITY
     mean_words = (f"{where} has a mean acceleration of ({quiet[0]:.3g}, {quiet[1]:.3g}, {quiet[2]:.3g}) m/s^2 "
                   f"(norm {norm:.3g} m/s^2)")
     if gravity == "auto" and not found:
-        if norm < UNSURE_SHARE * STANDARD_GRAVITY and abs(vertical) <= MAX_MEAN_VERTICAL_MPS2:
+        short = float(time_s[-1] - time_s[0]) < QUIET_WINDOW_S  # (a table written by hand: a step, a ramp)
+        if short or not UNSURE_BAND[0] * STANDARD_GRAVITY <= norm <= UNSURE_BAND[1] * STANDARD_GRAVITY:
             return acc, rates, ""
         raise InputError(f"{label}: {mean_words}, neither gravity (within {G_TOLERANCE:.0%} of g) nor a vehicle's, "
                          "so ehm cannot tell whether the log holds gravity: give --gravity included (gravity="
