@@ -17,7 +17,8 @@ from ..motion import SeatMotion
 from ..resampling import PASS_FRACTION
 from .base import _as_floats, _Source
 from .channels import _ACC, _RATES, CHANNEL_KEYS, DEFAULT_CHANNELS, _listed, _mapping
-from .checks import _check_finite, _check_not_flag, _check_plausible, _check_sampling, _check_time_unit, _check_times, _common_time
+from .checks import (_check_finite, _check_not_flag, _check_plausible, _check_sampling, _check_time_unit, _check_times,
+                     _common_time)
 from .frames import _FrameSource, _ParquetSource
 from .gravity import check_mode, handle_gravity
 from .layout import (_core_motion, _cut_rows, _held, _held_note, _irregular, _join, _mounting_matrix, _note, _signed,
@@ -91,7 +92,8 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         angular velocities.  MDF channels carry their own time stamps: their ``time`` is not used.
         ``dt``: a channel of the time since the previous row, read instead of ``time`` (the time is its
         cumulative sum from 0 at the first row; give its unit, e.g. ``units={"dt": "ms"}``).  A name with a
-        leading ``-`` (``"ax": "-AccX"``) reads that channel with its sign flipped.
+        leading ``-`` (``"ax": "-AccX"``) reads that channel with its sign flipped.  A ``dt`` column's unit comes
+        from its name as a time's does (``delay_ms`` is in ms), and its median step is checked as a time's.
     units : dict, optional
         Key -> unit string (``"g"``, ``"deg/s"``, ``"ns"``; for ``time`` also a strftime format of
         date-time strings, ``"%d/%m/%Y %H:%M:%S"``).  It wins over a unit in the channel's name; a file's
@@ -99,9 +101,10 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         (g)``, ``time_ms``, ``uptimeNanos``; see :mod:`ehm.readers`), else SI: s, m/s^2, rad/s; a unit
         taken that does not fit the values is refused in one sentence naming the unit to give.
     rate_hz : float, optional
-        Samples per second of the returned motion: a source without a time channel is taken as sampled
-        at this rate from t = 0; one with a time channel is resampled onto it (anti-aliased, as
-        :meth:`ehm.SeatMotion.resample`).
+        Samples per second of the returned motion, a number from 2 Hz to 100 kHz (not a bool or a string): a
+        source without a time channel is taken as sampled at this rate from t = 0; one with a time channel is
+        resampled onto it (anti-aliased, as :meth:`ehm.SeatMotion.resample`), with a note when that cuts off
+        ``ehm.comfort.BAND_WARNING_SHARE`` (1 %) or more of the Wk or Wd band's power the log held.
     imu : bool
         The source is an IMU at the seat: ``ax, ay, az`` its specific force (gravity included) and
         ``wx, wy, wz`` its gyro rates, all required; see :func:`ehm.from_imu` (``mounting`` is passed on).
@@ -112,7 +115,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     label : str, optional
         How messages name the source (default: its path, or ``DataFrame``).
     fill_gaps : bool
-        Bridge gaps in the time stamps (steps longer than ``ehm.readers.GAP_STEPS`` median steps) with a straight line,
+        (True or False only, as ``imu`` and ``drop_held``.)  Bridge gaps in the time stamps (steps longer than ``ehm.readers.GAP_STEPS`` median steps) with a straight line,
         with a warning naming where; by default such a gap is refused.
     columns : list of str or str, optional
         Names of the columns of a text file without a header row, in order (``["x", "y", "z", "delay_ms"]`` or
@@ -134,9 +137,11 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         gyro rate is taken as bias) and ``max_tilt_deg`` (the largest seat roll or pitch accepted).
     gravity : {"auto", "included", "removed"}
         Gravity in the accelerations of a seat or floor log (not an IMU log, whose route handles it):
-        ``included`` levels the log (static tilt from its quietest 5 s, rotated so that gravity is along z,
-        g subtracted); ``removed`` takes it as it is but refuses a mean near 1 g; ``auto`` levels it, with a
-        warning, when the mean's norm is within 10 % of g.  See :mod:`ehm.readers.gravity`.
+        ``included`` levels the log (static tilt from its quietest 5 s near 1 g, rotated so that gravity is
+        along z, g subtracted; refused where that window's mean is under half a g: no gravity to take out);
+        ``removed`` takes it as it is but refuses a mean near 1 g; ``auto`` levels it, with a warning, when the
+        quietest window's mean (its norm, or its z) is within 10 % of g, and refuses a mean of 0.5-2 g that is
+        neither.  See :mod:`ehm.readers.gravity`.
     frame : {"seat", "earth"}
         The axes of the accelerations: ``seat`` (x forward, y left, z up) or ``earth`` (x east, y north, z up: a
         phone app's log turned into earth axes by the phone's own fusion).  Earth axes cannot be turned into the
@@ -144,6 +149,12 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         one note saying that the seat's a_v, VDV and MSDV (which do not depend on the heading) are right and its
         x and y values and the body's response are given for x east and y north.  Angular rates about earth axes
         (not the seat's own) and ``imu`` (the phone levelled the log already) are refused.
+    drop_held : bool
+        Find held samples and drop their repeats (below, default); False (``--no-drop-held``) keeps every row.
+    encoding : str, optional
+        Text encoding of a text file (``"cp1252"`` for a Windows export; any name Python's codecs know).
+        Default: from its byte-order mark (UTF-8, UTF-16, UTF-32), UTF-16 without one found by its zero bytes,
+        else UTF-8; a file that does not decode is refused naming the option.
 
     Returns
     -------
@@ -157,9 +168,11 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     Two layouts are mended, each with one note (:func:`warnings.warn`):
 
     * Held samples: when more than ``ehm.readers.HELD_SHARE`` of the rows repeat their predecessor exactly in every
-      acceleration channel (a gyro file: every angular velocity), in runs of 2 to ``ehm.readers.HELD_RUN_MAX`` rows
-      at the median, the sensor is slower than the log was written at (a 51 Hz sensor written at 200 Hz):
-      only the first row of each run is kept, with its time stamp, and the note gives the sensor's own rate.
+      acceleration channel (a gyro file: every angular velocity), in regular runs (``ehm.readers.layout.
+      HELD_RUN_SPREAD``) of 2 to ``ehm.readers.HELD_RUN_MAX`` rows at the median, and the rows between runs change
+      the moving channels together (``HELD_TOGETHER``; a quantised smooth log steps one channel at a time), the
+      sensor is slower than the log was written at (a 51 Hz sensor written at 200 Hz): only the first row of each
+      run is kept, with its time stamp, and the note gives the sensor's own rate (``drop_held=False``: kept).
     * Irregular time stamps: when they depart from the uniform grid through the first and the last sample by
       more than :data:`ehm.resampling.UNIFORM_TOLERANCE` of a step, with no gap (gaps and changes of rate are
       refused, or bridged when asked), the motion is resampled onto a uniform grid at the median step (linear
