@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
-from .comfort import WEIGHTING_BANDS_HZ, ComfortAccumulator, band_share_outside, comfort_reaction
+from .comfort import BAND_WARNING_SHARE, WEIGHTING_BANDS_HZ, ComfortAccumulator, band_share_outside, comfort_reaction
 from .errors import InputError
 from .motion import SeatMotion, seat_rotation_matrices
 from .resampling import PASS_FRACTION
@@ -61,10 +61,6 @@ def band_coverage(band_hz: tuple[float, float]) -> dict:
     """Weighting -> share of its power (|W(f)|^2 over its band on a log-frequency axis) outside ``band_hz``."""
     return {w: band_share_outside(w, *band_hz) for w in ("Wd", "Wk", "Wf")}
 
-
-#: A weighting with at least this share of its power outside the input's band gets a warning (the share is always
-#: in ``assessment.json``): 1 %, about what the weighting's own tolerance in ISO 8041 allows near its band edges.
-BAND_WARNING_SHARE = 0.01
 
 
 def band_warnings(band_hz: tuple[float, float], shares: dict) -> list[str]:

@@ -31,6 +31,8 @@ A study file (TOML) names what varies and what to compute::
     # start_s = 6.0             read the drive file from 6 s after its first sample (end_s: up to)
     # gravity = "auto"          gravity in the drive file's accelerations: auto, included (level it) or removed
     # frame = "seat"            the drive file's axes: seat, or earth (x east, y north, z up: read with a note)
+    # drop_held = false         keep held samples (default true: a slow sensor's repeated rows are dropped)
+    # encoding = "cp1252"       the drive file's text encoding (default: from its byte-order mark, else UTF-8)
     duration_s = 30.0
     route = "nonlinear"         # simulation route of runs: "nonlinear" (MuJoCo), "auto" (ehm.hybrid) or "linear"
 
@@ -135,7 +137,8 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
             raise InputError(f"{label}: [grid] {k!r} must be a non-empty list of values.")
     inp = dict(doc.get("input", {}))
     allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed", "channels", "units", "imu",
-                     "rate_hz", "fill_gaps", "columns", "gyro", "mounting", "start_s", "end_s", "gravity", "frame"}
+                     "rate_hz", "fill_gaps", "columns", "gyro", "mounting", "start_s", "end_s", "gravity", "frame",
+                     "drop_held", "encoding"}
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
@@ -308,7 +311,8 @@ def _drive(inp: dict, dt_s: float):
 
 def _read_drive(inp: dict):
     """The [input] drive file through ehm.readers.read_motion, with its channels, units, imu, rate_hz, fill_gaps,
-    columns, gyro, mounting (roll, pitch, yaw in degrees), start_s, end_s, gravity and frame keys."""
+    columns, gyro, mounting (roll, pitch, yaw in degrees), start_s, end_s, gravity, frame, drop_held and encoding
+    keys."""
     from .drives import drive_path
     from .readers import mounting_rotation, read_motion
 
@@ -325,7 +329,8 @@ def _read_drive(inp: dict):
                        rate_hz=inp.get("rate_hz"), imu=imu, fill_gaps=fill_gaps, columns=inp.get("columns"),
                        gyro=gyro, mounting=None if mounting is None else mounting_rotation(mounting),
                        start_s=inp.get("start_s"), end_s=inp.get("end_s"), gravity=inp.get("gravity", "auto"),
-                       frame=inp.get("frame", "seat"))
+                       frame=inp.get("frame", "seat"), drop_held=inp.get("drop_held", True),
+                       encoding=inp.get("encoding"))
 
 
 def cut_by_time(motion, duration_s: float):

@@ -56,4 +56,5 @@ def _read_motion_file(args):
                        mounting=mounting_rotation(args.mounting) if args.mounting is not None else None,
                        start_s=args.start, end_s=args.end, gravity=getattr(args, "gravity", "auto"),
                        imu_options={"rest_s": args.rest, "max_tilt_deg": args.max_tilt},
-                       frame=getattr(args, "frame", "seat"))
+                       frame=getattr(args, "frame", "seat"), drop_held=getattr(args, "drop_held", True),
+                       encoding=getattr(args, "encoding", None))

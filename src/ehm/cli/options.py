@@ -30,8 +30,8 @@ def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
 
 
 def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: str) -> None:
-    """--motion FILE and how to read it: --channel, --unit (both repeatable), --columns, --gyro, --mounting, --start,
-    --end, --imu, --fill-gaps, --rate."""
+    """--motion FILE and how to read it: --channel, --unit (both repeatable), --encoding, --columns, --gyro,
+    --mounting, --start, --end, --imu, --drop-held, --fill-gaps, --rate."""
     p.add_argument("--motion", required=required, metavar="FILE", help=help_text)
     p.add_argument("--channel", action="append", metavar="KEY=NAME",
                    help="the file's name for a channel (KEY: time, ax, ay, az, wx, wy, wz, dt; repeat; --channel time= "
@@ -42,7 +42,11 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
     p.add_argument("--unit", action="append", metavar="KEY=UNIT",
                    help="unit of a channel, e.g. ax=g, wx=deg/s, time=ns, dt=ms, or a date-time format such as "
                         "'time=%%d/%%m/%%Y %%H:%%M:%%S' (repeat; wins over a unit in the channel's name; default: the "
-                        "name's unit, as in 'Accelerometer X (g)' or time_ms, else SI)")
+                        "name's unit, as in 'Accelerometer X (g)', time_ms or delay_ms, else SI; a time step outside "
+                        "2 Hz-100 kHz in the unit taken, given or not, is refused)")
+    p.add_argument("--encoding", metavar="NAME",
+                   help="text encoding of a text file, e.g. cp1252 for a Windows export (default: from its byte-order "
+                        "mark, UTF-16 found without one, else UTF-8)")
     p.add_argument("--columns", metavar="NAME,NAME,...",
                    help="names of the columns of a text file without a header row, in order (e.g. x,y,z,delay_ms); "
                         "then name its channels with --channel (a file whose first row is numbers needs them)")
@@ -67,19 +71,25 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
                    help="--imu: the shortest rest whose gyro rate is taken as bias [s] (default 2)")
     p.add_argument("--max-tilt", type=float, metavar="DEG",
                    help="--imu: the largest seat roll or pitch accepted [deg] (default 45)")
+    p.add_argument("--drop-held", action=argparse.BooleanOptionalAction, default=True,
+                   help="drop held samples (a slow sensor written at a higher rate: all acceleration channels "
+                        "repeating together in regular runs), with a note (default); --no-drop-held keeps every row")
     p.add_argument("--fill-gaps", action="store_true",
                    help="bridge gaps in the file's time stamps (steps over 5 median steps: a logger's dropout) with a "
                         "straight line, with a warning naming where (default: refuse them)")
     p.add_argument("--gravity", choices=("auto", "included", "removed"), default="auto",
                    help="gravity in the file's accelerations (not --imu): included: level the log (tilt from its "
-                        "quietest 5 s, g removed); removed: take it as it is (a mean near 1 g is refused); auto "
-                        "(default): level it, with a warning, when its mean is within 10 %% of g")
+                        "quietest 5 s near 1 g, g removed; refused without gravity); removed: take it as it is (a "
+                        "mean near 1 g is refused); auto (default): level it, with a warning, when the quietest 5 s "
+                        "have a mean (its norm or its z) within 10 %% of g, take it as it is when that mean is under "
+                        "half a g with z under 2 m/s^2, refuse it between")
     p.add_argument("--frame", choices=("seat", "earth"), default="seat",
                    help="axes of the file's accelerations: seat (x forward, y left, z up; default) or earth (x east, "
                         "y north, z up, as a phone app turns them): read as they are, with a note on what the "
                         "missing heading leaves out")
     p.add_argument("--rate", type=float, metavar="HZ",
-                   help="sample rate of a file without time stamps (otherwise: resample the file to this rate)")
+                   help="sample rate of a file without time stamps (otherwise: resample the file to this rate, with "
+                        "a warning when that loses 1 %% or more of the Wk or Wd band's power); 2 Hz to 100 kHz")
 
 
 def _parallel_options(p: argparse.ArgumentParser) -> None:

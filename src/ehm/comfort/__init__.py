@@ -27,12 +27,12 @@ Modules: ``weighting`` (the weightings and their digital filters, with their def
 
 from .streaming import ComfortAccumulator
 from .values import ComfortMetrics, comfort_reaction, metrics, seat_value, total_value
-from .weighting import (ACCURATE_UP_TO_FS, WEIGHTING_BANDS_HZ, WEIGHTINGS, WeightingFilter, band_share_outside,
-                        frequency_weighting, weight, weighting_deviation_db, weighting_sos)
+from .weighting import (ACCURATE_UP_TO_FS, BAND_WARNING_SHARE, WEIGHTING_BANDS_HZ, WEIGHTINGS, WeightingFilter,
+                        band_share_outside, frequency_weighting, weight, weighting_deviation_db, weighting_sos)
 from .weighting import _WARNED  # noqa: F401  (the (weighting, rate) pairs already warned about)
 
 __all__ = [
     "WEIGHTINGS", "ACCURATE_UP_TO_FS", "frequency_weighting", "weighting_sos", "weighting_deviation_db", "weight",
     "WeightingFilter", "ComfortMetrics", "ComfortAccumulator", "metrics", "total_value", "comfort_reaction",
-    "seat_value", "WEIGHTING_BANDS_HZ", "band_share_outside",
+    "seat_value", "WEIGHTING_BANDS_HZ", "BAND_WARNING_SHARE", "band_share_outside",
 ]

@@ -374,6 +374,12 @@ WEIGHTING_BANDS_HZ: dict[str, tuple[float, float]] = {
     **{k: (0.5, 80.0) for k in ("Wk", "Wd", "Wc", "We", "Wj")}, "Wf": (0.08, 0.63)}
 
 
+#: A weighting with at least this share of its power outside an input's band gets a warning (the share is always
+#: in ``assessment.json``): 1 %, about what the weighting's own tolerance in ISO 8041 allows near its band edges.
+#: The readers warn alike when ``--rate`` resamples a log below its own rate and loses that much.
+BAND_WARNING_SHARE = 0.01
+
+
 def band_share_outside(name: str, low_hz: float, high_hz: float) -> float:
     """Share (0 to 1) of a weighting's power that lies outside the band [low_hz, high_hz] an input covers.
 

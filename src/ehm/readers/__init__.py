@@ -3,8 +3,8 @@
 The one door for outside data formats.  :func:`~ehm.read_motion` reads
 
 * ``.csv`` / ``.txt`` text tables (pandas; the dialect is sniffed: separator ``,`` ``;`` tab ``|`` or
-  blanks, decimal comma, byte-order mark, ``#`` comment lines; the first comment line before the header
-  describes the motion);
+  blanks, decimal comma, byte-order mark (UTF-8, UTF-16, UTF-32; ``encoding`` names another, e.g. cp1252),
+  ``#`` comment lines; the first comment line before the header describes the motion);
 * ``.parquet`` tables (pyarrow; extra ``parquet``);
 * MATLAB ``.mat`` files, v5 (``scipy.io``) and v7.3 (HDF5, ``pymatreader``; extra ``logs``): variables,
   struct fields as ``data.acc_x`` and matrix columns as ``name[2]`` (counting from 0);
@@ -26,10 +26,13 @@ origin (a logger's clock, Unix time, uptime since boot), date-time values, or da
 ``25/11/2026 14:03:07.123``, ``11/25/2026 ...``, ``25.11.2026 ...``; any other with its strftime format as
 the time's unit).  A count's unit nobody gives is inferred only where nothing else fits (whole numbers under
 a name counting ns, ms or µs inside a word, ``uptimeNanos``; Unix time in ns), else seconds are taken.
-After conversion the values must fit their units: a median time step outside 10 µs - 0.5 s (10 s for a table
-of fewer than 1000 rows), an acceleration whose norm is gravity in g, or over 5 g for half the log, and
-angular rates beyond a vehicle's in rad/s are refused in one sentence naming the ``--unit`` (``units``) that
-fixes it where the unit was taken for want of one, and warned about where the name or the file gave it.
+After conversion the values must fit their units: a median time step (of ``time`` or ``dt``) outside 10 µs -
+0.5 s whatever gave its unit (10 s for a table of fewer than 1000 rows said to be in seconds: ``time_s``, ``--unit
+time=s``), or of 10 kHz or faster in a log of under a second, is refused naming the ``--unit`` that fits; an
+acceleration whose norm is gravity in g, or over 5 g for half the log, and angular rates beyond a vehicle's in
+rad/s are refused in one sentence naming the ``--unit`` (``units``) that fixes it where the unit was taken for want
+of one, and warned about where the name or the file gave it.  A True/False column, or a mostly empty 0/1 one (a
+flag), is refused as a channel of measured values.
 
 With ``imu=True`` the accelerations are an IMU's specific force
 (gravity included, sensor axes) and the rates its gyro rates: :func:`ehm.from_imu` turns them into
@@ -39,7 +42,8 @@ Layouts that used to need a script read with options (``ehm.readers.layout``): `
 of a text file without a header row; ``channels={"dt": NAME}`` takes a column of the time since the previous row;
 ``"-NAME"`` flips a channel's sign; ``mounting`` turns the sensor's axes into the seat's; ``gyro`` joins a gyro
 logged in a file of its own; ``start_s``/``end_s`` cut the log before any check.  Held samples (a slow sensor
-written at a higher rate) are dropped, and irregular time stamps resampled, each with one note.
+written at a higher rate: every acceleration channel repeating in regular runs) are dropped (``drop_held=False``
+keeps them), and irregular time stamps resampled, each with one note.
 
 Time stamps must keep one sample rate (a log whose rate changes part way is refused, naming where and the
 two rates: resampled as one rate it would alias) and have no gaps longer than ``GAP_STEPS`` median steps

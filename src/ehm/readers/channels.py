@@ -90,7 +90,7 @@ _HINTS = (("ns", re.compile(r"nano", re.IGNORECASE)), ("us", re.compile(r"micro"
 
 
 def _kind(key: str) -> str:
-    return "time" if key == "time" else "acc" if key in _ACC else "rate"
+    return "time" if key in ("time", "dt") else "acc" if key in _ACC else "rate"
 
 
 def _folded(text: str) -> str:

@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import InputError
 from ..resampling import Resampler
 from .base import _column_words, _Source
-from .channels import _ACC, _RATES, ASSUMED, FILE, GIVEN, INFERRED, NAME, SI_UNITS
+from .channels import _ACC, _KIND, _RATES, ASSUMED, FILE, GIVEN, INFERRED, NAME, SI_UNITS
 from .frames import _FrameSource, _ParquetSource
 from .text import _TextSource
 from .units import MAX_STEP_S as _MAX_STEP_S
@@ -47,6 +47,30 @@ def _check_finite(src: _Source, key: str, name: str, values: np.ndarray) -> None
         raise InputError(f"{src.label}, {src.where(i)}, {where}: value is missing (NaN), expected a number.")
     raise InputError(f"{src.label}, {src.where(i)}, {where}: {src.raw(name, i)} is not a finite number (NaN or "
                      "infinite).")
+
+
+#: A column whose filled cells hold only 0 and 1 while more than this share of its cells are empty is a flag
+#: (an event marker, a button, a GPS fix), not a measured quantity: a logger's channel fills every row.
+FLAG_EMPTY_SHARE = 0.5
+
+
+def _check_not_flag(src: _Source, key: str, name: str, raw, values: np.ndarray) -> None:
+    """Refuse, in one sentence naming the column, a boolean column (True/False) or a sparse 0/1 flag column
+    (see :data:`FLAG_EMPTY_SHARE`) mapped to a channel of measured values."""
+    import pandas as pd
+
+    arr = np.asarray(raw)
+    boolean = arr.dtype.kind == "b" or (arr.dtype.kind == "O" and arr.size and
+                                         pd.api.types.infer_dtype(arr, skipna=True) == "boolean")
+    if not boolean:
+        filled = np.isfinite(values)
+        if not values.size or filled.mean() >= 1.0 - FLAG_EMPTY_SHARE or not filled.any():
+            return
+        if not np.isin(values[filled], (0.0, 1.0)).all():
+            return
+    what = "True/False" if boolean else f"only 0 and 1 in {int(np.isfinite(values).sum())} of its {values.size} rows"
+    raise InputError(f"{src.label}, {_column_words(src, name, key)}: the column holds {what}, a flag, not "
+                     f"{_KIND[key][0]}: map the channel to the column of its measured values (--channel {key}=NAME).")
 
 
 def _check_times(src: _Source, name: str, t: np.ndarray) -> None:
@@ -168,15 +192,22 @@ def _common_time(src: _Source, use: dict, data: dict, stamps: dict, fill_gaps: b
 
 #: The median time step [s] of a logger's recording lies between these: 100 kHz is above any logger of a
 #: seat's motion, and a recording sampled at 2 Hz or slower holds nothing of the comfort band (0.5-80 Hz).
-#: A log of :data:`LOG_SAMPLES` samples or more outside them is refused: the time's unit is wrong.  The upper
-#: bound catches a log stamped in ms read as seconds at every logger rate up to 2 kHz (steps of 0.5 ms and
-#: longer), and one stamped in µs or ns (uptime, Unix time) at any rate.
+#: A log outside them is refused at any length: the time's unit is wrong.  The upper bound catches a log
+#: stamped in ms read as seconds at every logger rate up to 2 kHz (steps of 0.5 ms and longer), and one
+#: stamped in µs or ns (uptime, Unix time) at any rate.
 MIN_STEP_S = _MIN_STEP_S
 MAX_STEP_S = _MAX_STEP_S
-#: A shorter table (a few rows written by hand: a step, a ramp) may step slowly: it is refused only outside
-#: :data:`MIN_STEP_S` .. :data:`TABLE_MAX_STEP_S`, which still catches stamps in µs and ns (and ms from 100 Hz).
+#: A table written by hand (a step, a ramp: fewer than :data:`LOG_SAMPLES` rows) may step slowly, up to
+#: :data:`TABLE_MAX_STEP_S`, but only where its time is said to be in seconds (``--unit time=s``, a name such
+#: as ``time_s``, the file's unit): a time whose unit nobody gives is refused outside :data:`MIN_STEP_S` ..
+#: :data:`MAX_STEP_S` at any length, as a short log stamped in ms (100 Hz: steps of "10 s") is no hand table.
 LOG_SAMPLES = 1000
 TABLE_MAX_STEP_S = 10.0
+#: A log sampled at :data:`FAST_STEP_S` or faster (10 kHz) that lasts less than :data:`MIN_FAST_DURATION_S` is
+#: no logger's recording but a log in seconds read with a smaller unit (a 100 Hz log of 30 s read as ms: 100
+#: kHz for 30 ms); a real 10 kHz or faster recording of a seat's motion lasts seconds at least.
+FAST_STEP_S = 1e-4
+MIN_FAST_DURATION_S = 1.0
 #: An acceleration in g read as m/s^2: the median of its norm within this fraction of 1 while its steady part
 #: (the norm of its mean) is at least :data:`G_STEADY_MIN` is gravity in g.  Consumer MEMS accelerometers read
 #: gravity within about 4 % (sensitivity and offset: 2.5 % low and 3.9 % high in the logs of two phones and a
@@ -205,25 +236,36 @@ def _assumed_words(origin: str, unit: str) -> str:
             GIVEN: f"in {unit}, as given"}[origin]
 
 
-def _check_time_unit(src: _Source, name: str, t: np.ndarray, unit: str, origin: str) -> None:
-    """Refuse a median time step outside :data:`MIN_STEP_S` .. :data:`MAX_STEP_S` (a short table:
-    :data:`TABLE_MAX_STEP_S`) in one sentence naming the unit taken and the ``--unit`` that would fix it."""
+def _check_time_unit(src: _Source, name: str, t: np.ndarray, unit: str, origin: str, key: str = "time") -> None:
+    """Refuse, in one sentence naming the unit taken and the ``--unit`` that would fix it, time stamps (``key``
+    ``"time"``) or steps (``"dt"``) whose median step is outside :data:`MIN_STEP_S` .. :data:`MAX_STEP_S`
+    (:data:`TABLE_MAX_STEP_S` for a short table said to be in seconds), or that step at 10 kHz or faster for
+    less than :data:`MIN_FAST_DURATION_S` in all; whatever gave the unit (the caller's too)."""
     if t.size < 2:
         return
     step = float(np.median(np.diff(t)))
-    if MIN_STEP_S <= step <= (MAX_STEP_S if t.size >= LOG_SAMPLES else TABLE_MAX_STEP_S):
+    duration = float(t[-1] - t[0])
+    said = origin in (GIVEN, NAME, FILE) and unit != "date-time"
+    longest = TABLE_MAX_STEP_S if said and t.size < LOG_SAMPLES else MAX_STEP_S
+    too_fast = step <= FAST_STEP_S and duration < MIN_FAST_DURATION_S
+    if MIN_STEP_S <= step <= longest and not too_fast:
         return
-    seconds = step / _factor(unit, "time", src.label, name) if unit != "date-time" else step
+    seconds = step / _factor(unit, key, src.label, name) if unit != "date-time" else step
     fits = {u: seconds * f for u, f in (("s", 1.0), ("ms", 1e-3), ("us", 1e-6), ("ns", 1e-9))
-            if MIN_STEP_S <= seconds * f <= MAX_STEP_S}
+            if MIN_STEP_S <= seconds * f <= MAX_STEP_S and u != unit}
     fix = min(fits, key=lambda u: abs(np.log(fits[u] / 0.01))) if fits else None  # nearest to a 100 Hz logger
-    what = "the time stamps" if unit == "date-time" else f"the time column is {_assumed_words(origin, unit)}"
+    column = "dt column" if key == "dt" else "time column"
+    what = "the time stamps" if unit == "date-time" else f"the {column} is {_assumed_words(origin, unit)}"
+    finding = f"the median time step is {step:.3g} s" + (
+        f" and the log lasts {duration:.3g} s ({1 / step:.6g} Hz for {duration * 1e3:.3g} ms)" if too_fast else "")
     if fix and unit != "date-time":
-        hint = f"give its unit, e.g. --unit time={fix} (units={{'time': {fix!r}}}), which makes it {fits[fix]:.3g} s"
+        hint = (f"give its unit, e.g. --unit {key}={fix} (units={{{key!r}: {fix!r}}}), which makes it "
+                f"{fits[fix]:.3g} s")
+        if step > MAX_STEP_S and not said and step <= TABLE_MAX_STEP_S and t.size < LOG_SAMPLES:
+            hint += f", or --unit {key}=s for a table written by hand in seconds"
     else:
         hint = "ehm reads logs sampled between 2 Hz and 100 kHz: resample it, or give the time's unit"
-    raise InputError(f"{src.label}, {_column_words(src, name, 'time')}: the median time step is {step:.3g} s if "
-                     f"{what}; {hint}.")
+    raise InputError(f"{src.label}, {_column_words(src, name, key)}: {finding} if {what}; {hint}.")
 
 
 def _check_plausible(src: _Source, use: dict, data: dict, origins: dict, acc: bool = True) -> None:

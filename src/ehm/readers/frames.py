@@ -32,7 +32,10 @@ class _FrameSource(_Source):
             if idx.dtype.kind == "M":
                 return (idx - idx[0]).to_numpy().astype("timedelta64[ns]").astype(np.int64) / 1e9
             return idx.to_numpy()
-        return self.frame[self.frame.columns[self.names.index(name)]].to_numpy()
+        if self.names.count(name) > 1:
+            raise InputError(f"{self.label}: column {name!r} appears {self.names.count(name)} times in the DataFrame; "
+                             "keep one of them (e.g. frame.loc[:, ~frame.columns.duplicated()]) or rename the others.")
+        return self.frame.iloc[:, self.names.index(name)].to_numpy()
 
     def where(self, row: int) -> str:
         row = self.file_row(row)

@@ -10,14 +10,23 @@ that points up.  The seat acceleration ehm wants holds no gravity, so such a log
    the axes become level, the heading is kept;
 3. the mean's norm (the sensor's own measure of g, so that its scale error goes too) is subtracted from z.
 
+The window the tilt is taken from is the quietest whose mean's norm is within :data:`G_TOLERANCE` of g
+(a stop, or cruising), when the log has one: a long braking or cornering, quiet too, holds a horizontal
+acceleration that would be taken for a tilt.  Else it is the quietest window.
+
 Modes (``read_motion(gravity=...)``, ``--gravity``):
 
 ``"auto"`` (default)
-    Level the log when the norm of its mean is within :data:`G_TOLERANCE` (10 %) of standard gravity, with
-    a one-line warning naming the tilt, the g removed and the window; otherwise take it as gravity-free.
-    A vehicle cannot keep a mean acceleration near 1 g over a log; a sensor with gravity cannot avoid it.
+    Level the log when gravity is found in that window's mean: its norm, or its vertical (z) component, is
+    within :data:`G_TOLERANCE` (10 %) of standard gravity (a log that brakes or corners most of the time has a
+    mean far from 1 g, but its vertical mean is still g), with a one-line warning naming the tilt, the g
+    removed and the window.  Otherwise take it as gravity-free, unless that mean's norm is within
+    :data:`UNSURE_BAND` (0.5-2 g) in a log of :data:`QUIET_WINDOW_S` or longer: neither gravity nor a vehicle's,
+    refused in one sentence naming ``--gravity included`` and ``--gravity removed``.
 ``"included"``
-    Level the log whatever its mean.
+    Level the log whatever its mean; refused when the window's mean is under :data:`INCLUDED_MIN_SHARE` of g
+    (there is no gravity to take out: levelling would remove a few hundredths of a m/s^2 as "g" and turn the
+    axes by the direction of the vehicle's own mean).
 ``"removed"``
     Take the log as it is, but refuse a mean that cannot be a vehicle's: a mean norm within 10 % of g, or a
     mean vertical (z) acceleration above :data:`MAX_MEAN_VERTICAL_MPS2` (a vehicle on the road cannot keep
@@ -41,6 +50,13 @@ STANDARD_GRAVITY = STANDARD_GRAVITY_MPS2  #: [m/s^2] (ehm.imu's)
 G_TOLERANCE = 0.10  #: a mean norm within this share of g is taken as gravity
 MAX_MEAN_VERTICAL_MPS2 = 2.0  #: a gravity-free log's mean z above this is refused
 QUIET_WINDOW_S = 5.0  #: length of the quiet window the tilt is taken from [s]
+#: ``auto``: a quiet window whose mean is not gravity (neither its norm nor its z within :data:`G_TOLERANCE` of g)
+#: but whose norm lies between these multiples of g is refused: a vehicle keeps half a g for 5 s seldom, and a
+#: sensor with gravity in it reads more than half a g always (1.12 g braking at half a g, a sensor tilted far).
+#: Below, the log is gravity-free; above, it is no vehicle's either way (its unit is checked on reading).
+UNSURE_BAND = (0.5, 2.0)
+#: ``included``: a window's mean under this share of g holds no gravity to take out.
+INCLUDED_MIN_SHARE = 0.5
 
 
 def check_mode(gravity) -> str:
@@ -49,22 +65,27 @@ def check_mode(gravity) -> str:
     return gravity
 
 
-def quiet_window(time_s: np.ndarray, acc: np.ndarray, window_s: float = QUIET_WINDOW_S) -> tuple[int, int]:
-    """Index range [i, j) of the window of ``window_s`` (the whole log if shorter) with the least summed
-    variance of the three axes; the search steps by a tenth of the window."""
+def _windows(time_s: np.ndarray, acc: np.ndarray, window_s: float) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
+    """(first rows, rows per window, summed variance of the three axes, mean (k, 3)) of the windows of
+    ``window_s`` (one window of the whole log if shorter), in steps of a tenth of the window."""
     n = acc.shape[0]
     dt = float(np.median(np.diff(time_s))) if n > 1 else 1.0
     m = int(min(n, max(2, round(window_s / dt))))
-    if m >= n:
-        return 0, n
+    starts = np.arange(0, n - m + 1, max(1, m // 10))
     c1 = np.concatenate((np.zeros((1, 3)), np.cumsum(acc, axis=0)))
     c2 = np.concatenate((np.zeros((1, 3)), np.cumsum(acc * acc, axis=0)))
-    starts = np.arange(0, n - m + 1, max(1, m // 10))
     s1 = c1[starts + m] - c1[starts]
     s2 = c2[starts + m] - c2[starts]
-    var = np.sum(s2 / m - (s1 / m) ** 2, axis=1)
-    i = int(starts[int(np.argmin(var))])
-    return i, i + m
+    return starts, m, np.sum(s2 / m - (s1 / m) ** 2, axis=1), s1 / m
+
+
+def gravity_window(time_s: np.ndarray, acc: np.ndarray, window_s: float = QUIET_WINDOW_S):
+    """(i, j, mean) of the window gravity is looked for in: the quietest whose mean's norm is within
+    :data:`G_TOLERANCE` of g (a stop, or cruising), else the quietest (see the module docstring)."""
+    starts, m, var, means = _windows(time_s, acc, window_s)
+    near = np.abs(np.linalg.norm(means, axis=1) - STANDARD_GRAVITY) <= G_TOLERANCE * STANDARD_GRAVITY
+    k = int(np.flatnonzero(near)[np.argmin(var[near])]) if near.any() else int(np.argmin(var))
+    return int(starts[k]), int(starts[k]) + m, means[k]
 
 
 def rotation_to_up(v: np.ndarray) -> np.ndarray:
@@ -88,29 +109,46 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
     when nothing was done, else what was done (for the motion's description).  ``earth``: the log is in earth
     axes, so gravity lies along z by construction; levelling then takes the log's mean z off z, without a
     tilt."""
-    mean = acc.mean(axis=0)
-    norm = float(np.linalg.norm(mean))
-    near_g = abs(norm - STANDARD_GRAVITY) <= G_TOLERANCE * STANDARD_GRAVITY
     if gravity == "removed":
-        if near_g or abs(mean[2]) > MAX_MEAN_VERTICAL_MPS2:
-            raise InputError(
-                f"{label}: taken as gravity removed (--gravity removed), but its mean acceleration "
-                f"({mean[0]:.3g}, {mean[1]:.3g}, {mean[2]:.3g}) m/s^2 cannot be a vehicle's (a mean norm within "
-                f"{G_TOLERANCE:.0%} of g, or a mean z above {MAX_MEAN_VERTICAL_MPS2:g} m/s^2, is gravity or an "
-                "offset); give --gravity included to level it.")
+        _check_removed(acc.mean(axis=0), label)
         return acc, rates, ""
-    if gravity == "auto" and not near_g:
-        return acc, rates, ""
+    i, j, quiet = gravity_window(time_s, acc)
+    where = f"its quietest window ({float(time_s[i]):g}-{float(time_s[j - 1]):g} s)"
+    norm, vertical = float(np.linalg.norm(quiet)), float(quiet[2])
+    found = min(abs(norm - STANDARD_GRAVITY), abs(vertical - STANDARD_GRAVITY)) <= G_TOLERANCE * STANDARD_GRAVITY
+    mean_words = (f"{where} has a mean acceleration of ({quiet[0]:.3g}, {quiet[1]:.3g}, {quiet[2]:.3g}) m/s^2 "
+                  f"(norm {norm:.3g} m/s^2)")
+    if gravity == "auto" and not found:
+        short = float(time_s[-1] - time_s[0]) < QUIET_WINDOW_S  # (a table written by hand: a step, a ramp)
+        if short or not UNSURE_BAND[0] * STANDARD_GRAVITY <= norm <= UNSURE_BAND[1] * STANDARD_GRAVITY:
+            return acc, rates, ""
+        raise InputError(f"{label}: {mean_words}, neither gravity (within {G_TOLERANCE:.0%} of g) nor a vehicle's, "
+                         "so ehm cannot tell whether the log holds gravity: give --gravity included (gravity="
+                         "'included') to level it, or --gravity removed (gravity='removed') to take it as it is.")
+    if gravity == "included" and norm < INCLUDED_MIN_SHARE * STANDARD_GRAVITY:
+        raise InputError(f"{label}: taken as gravity included (--gravity included), but {mean_words}, far from g "
+                         f"({STANDARD_GRAVITY:.4g} m/s^2): there is no gravity to take out; read it with --gravity "
+                         "removed (gravity='removed') or auto.")
     if earth:
-        levelled, note = _level_earth(acc, mean)
+        levelled, note = _level_earth(acc, acc.mean(axis=0))
     else:
-        levelled, rates, note = _level_by_tilt(time_s, acc, rates, label)
+        levelled, rates, note = _level_by_tilt(time_s, acc, rates, i, j)
     if gravity == "auto":
-        warnings.warn(f"{label}: the mean acceleration's norm is {norm:.4g} m/s^2, within {G_TOLERANCE:.0%} of g, so "
-                      f"the log is taken to include gravity and is {note} (--gravity included does the same "
-                      "without this note).",
-                      stacklevel=4)
+        warnings.warn(f"{label}: {where} has a mean acceleration of norm {norm:.4g} m/s^2 and z {vertical:.4g} "
+                      f"m/s^2, one of them within {G_TOLERANCE:.0%} of g, so the log is taken to include gravity and "
+                      f"is {note} (--gravity included does the same without this note).", stacklevel=4)
     return levelled, rates, note
+
+
+def _check_removed(mean: np.ndarray, label: str) -> None:
+    """``removed``: refuse a mean that cannot be a vehicle's (near 1 g, or a vertical offset)."""
+    norm = float(np.linalg.norm(mean))
+    if abs(norm - STANDARD_GRAVITY) <= G_TOLERANCE * STANDARD_GRAVITY or abs(mean[2]) > MAX_MEAN_VERTICAL_MPS2:
+        raise InputError(
+            f"{label}: taken as gravity removed (--gravity removed), but its mean acceleration "
+            f"({mean[0]:.3g}, {mean[1]:.3g}, {mean[2]:.3g}) m/s^2 cannot be a vehicle's (a mean norm within "
+            f"{G_TOLERANCE:.0%} of g, or a mean z above {MAX_MEAN_VERTICAL_MPS2:g} m/s^2, is gravity or an "
+            "offset); give --gravity included to level it.")
 
 
 def _level_earth(acc: np.ndarray, mean: np.ndarray):
@@ -121,14 +159,10 @@ def _level_earth(acc: np.ndarray, mean: np.ndarray):
     return levelled, f"levelled: its mean z ({mean[2]:.4g} m/s^2) taken as g and removed (earth axes: no tilt)"
 
 
-def _level_by_tilt(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None, label: str):
-    """A sensor's log levelled with the static tilt of its quietest window (the module docstring's steps 1-3)."""
-    i, j = quiet_window(time_s, acc)
+def _level_by_tilt(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None, i: int, j: int):
+    """A sensor's log levelled with the static tilt of its window [i, j) (the module docstring's steps 1-3)."""
     g_vec = acc[i:j].mean(axis=0)
     g_norm = float(np.linalg.norm(g_vec))
-    if g_norm == 0.0:
-        raise InputError(f"{label}: its quietest window has a mean acceleration of zero; gravity's direction cannot "
-                         "be found (give --gravity removed if the log holds no gravity).")
     rot = rotation_to_up(g_vec)
     levelled = acc @ rot.T
     levelled[:, 2] -= g_norm

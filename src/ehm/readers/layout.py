@@ -38,6 +38,15 @@ HELD_SHARE = 0.3
 #: coarse signal (a synthetic step, a file padded with zeros, a seat that only rotates) repeats rows in a few long
 #: runs, and its median run is one row or very long; a held sensor's runs are all about the ratio of the rates.
 HELD_RUN_MAX = 16
+#: ... whose runs are regular (their standard deviation at most this share of their mean: a sensor's samples come
+#: at its own period, so the runs are all the ratio of the rates rounded down or up, a phone's 51 Hz sensor
+#: written at 200 Hz: 0.09; 80 Hz at 200 Hz, runs of 2 and 3: 0.2) ...
+HELD_RUN_SPREAD = 0.35
+#: ... and whose new samples change the moving channels together (at least this share of the rows that are no
+#: repeat change every channel that changes at 10 % of them or more; a new reading of a noisy sensor changes
+#: every axis: 0.6 to 1 in held logs).  A smooth log quantised coarsely (2 decimals) repeats rows too, but each
+#: channel steps on its own, at irregular places: runs spread 0.6-0.7, channels together 0-0.02.
+HELD_TOGETHER = 0.25
 
 
 def _signed(channels: dict, has) -> tuple[dict, dict]:
@@ -134,19 +143,23 @@ def _cut_rows(label: str, t: np.ndarray, window, origin=None, strict: bool = Tru
 
 def _held(columns: list) -> tuple[np.ndarray, float, float] | None:
     """(first row of each run, share of rows repeating their predecessor, median run length) of a held sensor
-    (see :data:`HELD_SHARE`), or None."""
+    (see :data:`HELD_SHARE`, :data:`HELD_RUN_MAX`, :data:`HELD_RUN_SPREAD` and :data:`HELD_TOGETHER`), or None."""
     n = columns[0].size
     if n < 3:
         return None
-    same = np.ones(n - 1, dtype=bool)
-    for c in columns:
-        same &= c[1:] == c[:-1]
+    changed = np.column_stack([c[1:] != c[:-1] for c in columns])
+    same = ~changed.any(axis=1)
     share = float(same.mean())
     if share <= HELD_SHARE:
         return None
     starts = np.flatnonzero(np.concatenate([[True], ~same]))
-    run = float(np.median(np.diff(np.concatenate([starts, [n]]))))
-    if not 2 <= run <= HELD_RUN_MAX or starts.size < 2:
+    runs = np.diff(np.concatenate([starts, [n]]))
+    run = float(np.median(runs))
+    if not 2 <= run <= HELD_RUN_MAX or starts.size < 2 or float(np.std(runs)) > HELD_RUN_SPREAD * float(np.mean(runs)):
+        return None
+    new = changed[~same]  # the rows that bring a new sample
+    moving = new.mean(axis=0) >= 0.1
+    if float(new[:, moving].all(axis=1).mean()) < HELD_TOGETHER:
         return None
     return starts, share, run
 

@@ -4,17 +4,21 @@ result to :class:`ehm.motion.SeatMotion` (or, for an IMU log, to :func:`ehm.from
 from __future__ import annotations
 
 import math
+import numbers
 import os
 from pathlib import Path
 
 import numpy as np
 
+from ..comfort import BAND_WARNING_SHARE, band_share_outside
 from ..errors import InputError
 from ..imu import from_imu
 from ..motion import SeatMotion
+from ..resampling import PASS_FRACTION
 from .base import _as_floats, _Source
 from .channels import _ACC, _RATES, CHANNEL_KEYS, DEFAULT_CHANNELS, _listed, _mapping
-from .checks import _check_finite, _check_plausible, _check_sampling, _check_time_unit, _check_times, _common_time
+from .checks import (_check_finite, _check_not_flag, _check_plausible, _check_sampling, _check_time_unit, _check_times,
+                     _common_time)
 from .frames import _FrameSource, _ParquetSource
 from .gravity import check_mode, handle_gravity
 from .layout import (_core_motion, _cut_rows, _held, _held_note, _irregular, _join, _mounting_matrix, _note, _signed,
@@ -22,7 +26,7 @@ from .layout import (_core_motion, _cut_rows, _held, _held_note, _irregular, _jo
 from .matlab import _MatSource
 from .mdf import _MdfSource
 from .text import _TextSource
-from .units import _factor, _time_seconds, _unit_of
+from .units import MAX_STEP_S, MIN_STEP_S, _factor, _time_seconds, _unit_of
 
 _TEXT_SUFFIXES = (".csv", ".txt", ".tsv", ".dat")
 _MAT_SUFFIXES = (".mat",)
@@ -30,7 +34,7 @@ _MDF_SUFFIXES = (".mf4", ".mdf", ".dat4")
 _PARQUET_SUFFIXES = (".parquet", ".pq")
 
 
-def _open(source, label: str | None, columns=None) -> _Source:
+def _open(source, label: str | None, columns=None, encoding: str | None = None) -> _Source:
     try:
         import pandas as pd
     except ImportError:  # pragma: no cover - pandas is a dependency
@@ -39,6 +43,9 @@ def _open(source, label: str | None, columns=None) -> _Source:
         if columns is not None:
             raise InputError(f"{label or 'DataFrame'}: columns= names the columns of a text file without a header "
                              "row; a DataFrame has its own column names (name its channels with channels=).")
+        if encoding is not None:
+            raise InputError(f"{label or 'DataFrame'}: encoding= is the text encoding of a text file; a DataFrame "
+                             "holds text already: leave it out.")
         return _FrameSource(source, label or "DataFrame")
     if not isinstance(source, (str, os.PathLike)):
         raise InputError(f"read_motion: source must be a file path or a pandas DataFrame; got {type(source).__name__}.")
@@ -54,19 +61,23 @@ def _open(source, label: str | None, columns=None) -> _Source:
     if columns is not None and suffix in _PARQUET_SUFFIXES + _MAT_SUFFIXES + _MDF_SUFFIXES:
         raise InputError(f"{label}: --columns (columns=) names the columns of a text file without a header row; "
                          f"a {suffix} file names its own channels (name them with --channel KEY=NAME).")
+    if encoding is not None and suffix in _PARQUET_SUFFIXES + _MAT_SUFFIXES + _MDF_SUFFIXES:
+        raise InputError(f"{label}: --encoding (encoding=) is the text encoding of a text file; a {suffix} file is "
+                         "not text: leave it out.")
     if suffix in _PARQUET_SUFFIXES:
         return _ParquetSource(path, label)
     if suffix in _MAT_SUFFIXES:
         return _MatSource(path, label)
     if suffix in _MDF_SUFFIXES:
         return _MdfSource(path, label)
-    return _TextSource(path, label, columns)  # .csv, .txt and anything else: a text table
+    return _TextSource(path, label, columns, encoding)  # .csv, .txt and anything else: a text table
 
 
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
                 imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False, *,
                 columns=None, gyro=None, start_s: float | None = None, end_s: float | None = None,
-                gravity: str = "auto", imu_options: dict | None = None, frame: str = "seat") -> SeatMotion:
+                gravity: str = "auto", imu_options: dict | None = None, frame: str = "seat", drop_held: bool = True,
+                encoding: str | None = None) -> SeatMotion:
     """Read a seat motion (or an IMU log) from a file or a pandas DataFrame.
 
     Parameters
@@ -81,7 +92,8 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         angular velocities.  MDF channels carry their own time stamps: their ``time`` is not used.
         ``dt``: a channel of the time since the previous row, read instead of ``time`` (the time is its
         cumulative sum from 0 at the first row; give its unit, e.g. ``units={"dt": "ms"}``).  A name with a
-        leading ``-`` (``"ax": "-AccX"``) reads that channel with its sign flipped.
+        leading ``-`` (``"ax": "-AccX"``) reads that channel with its sign flipped.  A ``dt`` column's unit comes
+        from its name as a time's does (``delay_ms`` is in ms), and its median step is checked as a time's.
     units : dict, optional
         Key -> unit string (``"g"``, ``"deg/s"``, ``"ns"``; for ``time`` also a strftime format of
         date-time strings, ``"%d/%m/%Y %H:%M:%S"``).  It wins over a unit in the channel's name; a file's
@@ -89,9 +101,10 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         (g)``, ``time_ms``, ``uptimeNanos``; see :mod:`ehm.readers`), else SI: s, m/s^2, rad/s; a unit
         taken that does not fit the values is refused in one sentence naming the unit to give.
     rate_hz : float, optional
-        Samples per second of the returned motion: a source without a time channel is taken as sampled
-        at this rate from t = 0; one with a time channel is resampled onto it (anti-aliased, as
-        :meth:`ehm.SeatMotion.resample`).
+        Samples per second of the returned motion, a number from 2 Hz to 100 kHz (not a bool or a string): a
+        source without a time channel is taken as sampled at this rate from t = 0; one with a time channel is
+        resampled onto it (anti-aliased, as :meth:`ehm.SeatMotion.resample`), with a note when that cuts off
+        ``ehm.comfort.BAND_WARNING_SHARE`` (1 %) or more of the Wk or Wd band's power the log held.
     imu : bool
         The source is an IMU at the seat: ``ax, ay, az`` its specific force (gravity included) and
         ``wx, wy, wz`` its gyro rates, all required; see :func:`ehm.from_imu` (``mounting`` is passed on).
@@ -102,7 +115,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     label : str, optional
         How messages name the source (default: its path, or ``DataFrame``).
     fill_gaps : bool
-        Bridge gaps in the time stamps (steps longer than ``ehm.readers.GAP_STEPS`` median steps) with a straight line,
+        (True or False only, as ``imu`` and ``drop_held``.)  Bridge gaps in the time stamps (steps longer than ``ehm.readers.GAP_STEPS`` median steps) with a straight line,
         with a warning naming where; by default such a gap is refused.
     columns : list of str or str, optional
         Names of the columns of a text file without a header row, in order (``["x", "y", "z", "delay_ms"]`` or
@@ -124,9 +137,11 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         gyro rate is taken as bias) and ``max_tilt_deg`` (the largest seat roll or pitch accepted).
     gravity : {"auto", "included", "removed"}
         Gravity in the accelerations of a seat or floor log (not an IMU log, whose route handles it):
-        ``included`` levels the log (static tilt from its quietest 5 s, rotated so that gravity is along z,
-        g subtracted); ``removed`` takes it as it is but refuses a mean near 1 g; ``auto`` levels it, with a
-        warning, when the mean's norm is within 10 % of g.  See :mod:`ehm.readers.gravity`.
+        ``included`` levels the log (static tilt from its quietest 5 s near 1 g, rotated so that gravity is
+        along z, g subtracted; refused where that window's mean is under half a g: no gravity to take out);
+        ``removed`` takes it as it is but refuses a mean near 1 g; ``auto`` levels it, with a warning, when the
+        quietest window's mean (its norm, or its z) is within 10 % of g, and refuses a mean of 0.5-2 g that is
+        neither.  See :mod:`ehm.readers.gravity`.
     frame : {"seat", "earth"}
         The axes of the accelerations: ``seat`` (x forward, y left, z up) or ``earth`` (x east, y north, z up: a
         phone app's log turned into earth axes by the phone's own fusion).  Earth axes cannot be turned into the
@@ -134,6 +149,12 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         one note saying that the seat's a_v, VDV and MSDV (which do not depend on the heading) are right and its
         x and y values and the body's response are given for x east and y north.  Angular rates about earth axes
         (not the seat's own) and ``imu`` (the phone levelled the log already) are refused.
+    drop_held : bool
+        Find held samples and drop their repeats (below, default); False (``--no-drop-held``) keeps every row.
+    encoding : str, optional
+        Text encoding of a text file (``"cp1252"`` for a Windows export; any name Python's codecs know).
+        Default: from its byte-order mark (UTF-8, UTF-16, UTF-32), UTF-16 without one found by its zero bytes,
+        else UTF-8; a file that does not decode is refused naming the option.
 
     Returns
     -------
@@ -147,9 +168,11 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     Two layouts are mended, each with one note (:func:`warnings.warn`):
 
     * Held samples: when more than ``ehm.readers.HELD_SHARE`` of the rows repeat their predecessor exactly in every
-      acceleration channel (a gyro file: every angular velocity), in runs of 2 to ``ehm.readers.HELD_RUN_MAX`` rows
-      at the median, the sensor is slower than the log was written at (a 51 Hz sensor written at 200 Hz):
-      only the first row of each run is kept, with its time stamp, and the note gives the sensor's own rate.
+      acceleration channel (a gyro file: every angular velocity), in regular runs (``ehm.readers.layout.
+      HELD_RUN_SPREAD``) of 2 to ``ehm.readers.HELD_RUN_MAX`` rows at the median, and the rows between runs change
+      the moving channels together (``HELD_TOGETHER``; a quantised smooth log steps one channel at a time), the
+      sensor is slower than the log was written at (a 51 Hz sensor written at 200 Hz): only the first row of each
+      run is kept, with its time stamp, and the note gives the sensor's own rate (``drop_held=False``: kept).
     * Irregular time stamps: when they depart from the uniform grid through the first and the last sample by
       more than :data:`ehm.resampling.UNIFORM_TOLERANCE` of a step, with no gap (gaps and changes of rate are
       refused, or bridged when asked), the motion is resampled onto a uniform grid at the median step (linear
@@ -157,13 +180,9 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     """
     channels = _mapping(channels, "channels")
     units = _mapping(units, "units")
-    if rate_hz is not None:
-        try:
-            rate_hz = float(rate_hz)
-        except (TypeError, ValueError):
-            raise InputError(f"rate_hz must be a number of samples per second; got {rate_hz!r}.") from None
-        if not (math.isfinite(rate_hz) and rate_hz > 0):
-            raise InputError(f"rate_hz must be a positive number of samples per second; got {rate_hz!r}.")
+    rate_hz = _rate(rate_hz)
+    imu, fill_gaps, drop_held = (_flag(v, name, option) for v, name, option in (
+        (imu, "imu", "--imu"), (fill_gaps, "fill_gaps", "--fill-gaps"), (drop_held, "drop_held", "--no-drop-held")))
     gravity = check_mode(gravity)
     if frame not in FRAMES:
         raise InputError(f"frame must be one of {', '.join(FRAMES)}; got {frame!r}.")
@@ -173,17 +192,74 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     columns = parse_columns(columns)
     window = _window(start_s, end_s)
     m = _mounting_matrix(mounting, named)
-    src = _open(source, label, columns)
+    encoding = _encoding(encoding)
+    src = _open(source, label, columns, encoding)
     gsrc = None
     try:
         if gyro is not None:
-            gsrc = _open(gyro, None if isinstance(gyro, (str, os.PathLike)) else "gyro DataFrame", columns)
-        return _read(src, channels, units, rate_hz, bool(imu), m, source, bool(fill_gaps), gsrc, window, gravity,
-                     _imu_options(imu_options), frame)
+            gsrc = _open(gyro, None if isinstance(gyro, (str, os.PathLike)) else "gyro DataFrame", columns, encoding)
+        return _read(src, channels, units, rate_hz, imu, m, source, fill_gaps, gsrc, window, gravity,
+                     _imu_options(imu_options), frame, drop_held)
     finally:
         src.close()
         if gsrc is not None:
             gsrc.close()
+
+
+def _rate(rate_hz) -> float | None:
+    """``rate_hz`` checked: a number (not a bool or a string) of samples per second from 2 Hz to 100 kHz, the
+    rates :func:`ehm.readers.checks._check_time_unit` takes from a log's own time stamps (a rate of 2 Hz or below
+    holds nothing of the comfort band)."""
+    if rate_hz is None:
+        return None
+    if isinstance(rate_hz, (bool, np.bool_)) or not isinstance(rate_hz, numbers.Real):
+        raise InputError(f"rate_hz (--rate) must be a number of samples per second; got {rate_hz!r}.")
+    rate = float(rate_hz)
+    if not (math.isfinite(rate) and 1.0 / MAX_STEP_S <= rate <= 1.0 / MIN_STEP_S):
+        raise InputError(f"rate_hz must be a positive number of samples per second from {1 / MAX_STEP_S:g} Hz to "
+                         f"{1e-3 / MIN_STEP_S:g} kHz (--rate; a log at {1 / MAX_STEP_S:g} Hz or slower holds nothing "
+                         f"of the comfort band, 0.5-80 Hz); got {rate_hz!r}.")
+    return rate
+
+
+def _flag(value, name: str, option: str) -> bool:
+    """A yes/no argument: True or False only (a string such as "no" is true in Python, and refused here)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} ({option}) must be True or False; got {value!r}.")
+    return bool(value)
+
+
+def _encoding(encoding) -> str | None:
+    """The text encoding asked for, checked with Python's codecs; None: found from the file."""
+    if encoding is None:
+        return None
+    import codecs
+
+    try:
+        if not isinstance(encoding, str):
+            raise LookupError(encoding)
+        return codecs.lookup(encoding).name
+    except LookupError:
+        raise InputError(f"encoding (--encoding) {encoding!r} is not a text encoding Python knows (e.g. utf-8, "
+                         "cp1252, latin-1, utf-16).") from None
+
+
+def _rate_note(label: str, motion: SeatMotion, rate_hz: float) -> None:
+    """One note when resampling to ``rate_hz`` cuts off at least ``BAND_WARNING_SHARE`` of a weighting's power
+    that the log held (as an assessment warns about the band an input covers)."""
+    own_hz = 1.0 / float(np.median(np.diff(motion.time_s)))
+    held = motion.content_limit_hz if motion.content_limit_hz is not None else own_hz / 2.0
+    low = 1.0 / motion.duration_s
+    kept = min(held, PASS_FRACTION * min(own_hz, rate_hz))
+    if kept >= held:
+        return
+    lost = {w: band_share_outside(w, low, kept) - band_share_outside(w, low, held) for w in ("Wk", "Wd")}
+    if max(lost.values()) < BAND_WARNING_SHARE:
+        return
+    _note(f"{label}: resampled to {rate_hz:g} Hz (rate_hz, --rate), below the log's own {own_hz:.4g} Hz, it covers "
+          f"up to {kept:.3g} Hz instead of {held:.3g} Hz: {100 * lost['Wk']:.1f} % of Wk's power and "
+          f"{100 * lost['Wd']:.1f} % of Wd's (|W(f)|^2 on a log-frequency axis) are lost; leave --rate out to keep "
+          "the log's own rate.", 3)
 
 
 _IMU_OPTIONS = ("rest_s", "max_tilt_deg")
@@ -295,7 +371,8 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz, part: str = "all"
 
 def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
           fill_gaps: bool = False, gsrc: _Source | None = None, window=None,
-          gravity: str = "auto", imu_options: dict | None = None, frame: str = "seat") -> SeatMotion:
+          gravity: str = "auto", imu_options: dict | None = None, frame: str = "seat",
+          drop_held: bool = True) -> SeatMotion:
     def has(key, name):
         return (gsrc if gsrc is not None and key in _RATES else src).has(name)
 
@@ -303,13 +380,15 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
     signs = _core_motion(src.label, channels, signs)
     use = _resolve(src, channels, imu, rate_hz, "all" if gsrc is None else "acc")
     taken: dict = {}  # channel -> where its unit came from (given, the file, the name, assumed)
-    time_s, data, origin, clock = _table(src, use, units, signs, rate_hz, window, None, fill_gaps, _ACC, taken)
+    held_keys = _ACC if drop_held else None
+    time_s, data, origin, clock = _table(src, use, units, signs, rate_hz, window, None, fill_gaps, held_keys, taken)
     _check_plausible(src, use, data, taken, acc=not imu)  # (from_imu checks an IMU's gravity itself)
     if "time" not in use and "dt" not in use and not src.per_channel_time:
         rate_hz = None  # the source is at this rate already
     if gsrc is not None:
         guse = _resolve(gsrc, channels, imu, rate_hz, "rates")
-        tg, gdata, _, _ = _table(gsrc, guse, units, signs, rate_hz, window, origin, fill_gaps, _RATES, taken, clock)
+        tg, gdata, _, _ = _table(gsrc, guse, units, signs, rate_hz, window, origin, fill_gaps,
+                                 _RATES if drop_held else None, taken, clock)
         _check_plausible(gsrc, guse, gdata, taken, acc=False)
         if tg.size < 2 or time_s.size < 2:
             raise InputError(f"{gsrc.label}: the gyro file holds {tg.size} sample(s) within the accelerometer's "
@@ -356,6 +435,7 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         if rate_hz is None:
             motion = motion.resample(step)
     if rate_hz is not None:
+        _rate_note(src.label, motion, rate_hz)
         motion = motion.resample(1.0 / rate_hz)
     return motion
 
@@ -404,8 +484,9 @@ def _table(src: _Source, use: dict, units: dict, signs: dict, rate_hz, window, o
         t = _channel(src, "dt", use["dt"], units, signs, taken=taken)
         sizes["dt"] = t.size
         t = _from_steps(src, use["dt"], t)
+        _check_time_unit(src, use["dt"], t, _unit_of(src, "dt", use["dt"], units)[0], taken["dt"], "dt")
     else:
-        t = np.arange(np.shape(src.values(use[held_keys[0]]))[0]) / rate_hz
+        t = np.arange(np.shape(src.values(next(iter(use.values()))))[0]) / rate_hz
     first = float(t[0]) if t.size else 0.0
     i0, i1 = _cut_rows(src.label, t, window, origin, strict)
     if (i0, i1) != (0, t.size):
@@ -452,6 +533,7 @@ def _channel(src: _Source, key: str, name: str, units: dict, signs: dict, i0: in
     if i0 or i1 is not None:
         raw = raw[i0:i1]
     values = _as_floats(src, name, key, raw)
+    _check_not_flag(src, key, name, raw, values)
     _check_finite(src, key, name, values)
     unit, origin = _unit_of(src, key, name, units)
     if taken is not None:
@@ -479,8 +561,9 @@ def _from_steps(src: _Source, name: str, dt: np.ndarray) -> np.ndarray:
 
 
 def _drop_held(src: _Source, t: np.ndarray, data: dict, keys, i0: int):
-    """Drop held repeats (see ``ehm.readers.HELD_SHARE``), with a note; the source's rows kept for messages."""
-    if not all(k in data for k in keys):
+    """Drop held repeats (see ``ehm.readers.HELD_SHARE``), with a note; the source's rows kept for messages.
+    ``keys`` None: held samples are not looked for (``drop_held=False``)."""
+    if keys is None or not all(k in data for k in keys):
         return t, data
     held = _held([data[k] for k in keys])
     if held is None:

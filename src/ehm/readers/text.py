@@ -1,8 +1,13 @@
 """Delimited text tables (``.csv``, ``.txt``, ...): the dialect sniffed from the first lines, then read with pandas;
-the file is read again, line by line, only to name a bad line in a message."""
+the file is read again, line by line, only to name a bad line in a message.
+
+The text encoding is the caller's (``encoding=``, ``--encoding``), else found from the file: a byte-order mark
+(UTF-8, UTF-16, UTF-32), or UTF-16 without one (every other byte of ASCII text is 0), else UTF-8.  Text that
+does not decode is refused in one sentence naming the line and the option (a Windows export in cp1252)."""
 
 from __future__ import annotations
 
+import codecs
 import csv
 import re
 from pathlib import Path
@@ -18,10 +23,12 @@ _ALL_COLUMNS = 32  #: Text tables up to this wide are read whole (so that pandas
 class _TextSource(_Source):
     """A CSV or text table, read with pandas after sniffing its dialect."""
 
-    def __init__(self, path: Path, label: str, columns=None):
+    def __init__(self, path: Path, label: str, columns=None, encoding: str | None = None):
         super().__init__(label=label, names=[])
         self.path = path
-        layout = _sniff(path, label, columns)
+        self.given_encoding = encoding
+        self.encoding = ("utf-8-sig" if encoding == "utf-8" else encoding) or _found_encoding(path)
+        layout = _sniff(path, label, columns, self.encoding, encoding is not None)
         self.header_line, self.sep, self.decimal = layout["header_line"], layout["sep"], layout["decimal"]
         self.first_comment = layout["first_comment"]
         self.names = layout["header"]
@@ -51,10 +58,11 @@ class _TextSource(_Source):
         try:
             frame = pd.read_csv(self.path, sep=self.sep, decimal=self.decimal, comment="#", header=None,
                                 skiprows=[self.header_line - 1] if self.header_line else None, usecols=usecols, skip_blank_lines=True,
-                                encoding="utf-8-sig", skipinitialspace=True,
+                                encoding=self.encoding, skipinitialspace=True,
                                 engine="c" if self.sep != r"\s+" else "python", on_bad_lines="error")
-        except UnicodeDecodeError:
-            raise InputError(_not_utf8(self.path, self.label)) from None
+        except UnicodeError as exc:
+            raise InputError(_undecodable(self.path, self.label, self.encoding, self.given_encoding is not None, exc)
+                             ) from None
         except pd.errors.EmptyDataError:  # a header and no rows
             frame = pd.DataFrame({c: np.zeros(0) for c in range(len(self.names))})
         except (pd.errors.ParserError, ValueError) as exc:
@@ -73,7 +81,7 @@ class _TextSource(_Source):
         """(file line, fields) of every data row, read again for messages (the slow, careful path)."""
         if self._lines is None:
             rows, header_seen = [], not self.header_line  # a file read with columns= has no header row
-            with open(self.path, encoding="utf-8-sig", newline="") as fh:
+            with open(self.path, encoding=self.encoding, newline="") as fh:
                 for line_no, line in enumerate(fh, start=1):
                     text = line.rstrip("\r\n")
                     if not text.strip() or text.lstrip().startswith("#"):
@@ -108,16 +116,44 @@ class _TextSource(_Source):
         return None, None
 
 
-def _not_utf8(path: Path, label: str) -> str:
-    """The sentence for a text file that is not UTF-8, naming the first line that is not."""
+#: Byte-order marks and the encodings Python reads them with (the mark dropped), longest first.
+_BOMS = ((codecs.BOM_UTF32_LE, "utf-32"), (codecs.BOM_UTF32_BE, "utf-32"), (codecs.BOM_UTF8, "utf-8-sig"),
+         (codecs.BOM_UTF16_LE, "utf-16"), (codecs.BOM_UTF16_BE, "utf-16"))
+
+
+def _found_encoding(path: Path) -> str:
+    """The encoding of a text file nobody names: its byte-order mark's; UTF-16 without one when every other byte
+    of its start is 0 (ASCII text in UTF-16); else UTF-8 (``utf-8-sig``: a mark, if any, is dropped)."""
+    with open(path, "rb") as fh:
+        head = fh.read(4096)
+    for bom, name in _BOMS:
+        if head.startswith(bom):
+            return name
+    pairs = head[: len(head) // 2 * 2]
+    if len(pairs) >= 4:
+        even, odd = pairs[0::2], pairs[1::2]
+        if odd.count(0) > 0.9 * len(odd) and not even.count(0):
+            return "utf-16-le"
+        if even.count(0) > 0.9 * len(even) and not odd.count(0):
+            return "utf-16-be"
+    return "utf-8-sig"
+
+
+def _undecodable(path: Path, label: str, encoding: str, given: bool, exc: UnicodeError | None = None) -> str:
+    """The sentence for a text file that does not decode: where (UTF-8: the first line that does not), and the
+    option that names its encoding."""
+    if given or not encoding.startswith("utf-8"):
+        what = f"the file is not {encoding} text ({str(exc).splitlines()[0] if exc else 'it does not decode'})"
+        return f"{label}: {what}; give its encoding with --encoding NAME (encoding=NAME), e.g. cp1252 or utf-16."
+    hint = ("give its encoding, e.g. --encoding cp1252 (encoding='cp1252') for a Windows export, or latin-1")
     with open(path, "rb") as fh:
         for line_no, line in enumerate(fh, start=1):
             try:
                 line.decode("utf-8")
-            except UnicodeDecodeError as exc:
-                return (f"{label}, line {line_no}: the file is not UTF-8 text (byte {line[exc.start]:#04x} cannot be "
-                        "decoded).")
-    return f"{label}: the file is not UTF-8 text."
+            except UnicodeDecodeError as err:
+                return (f"{label}, line {line_no}: the file is not UTF-8 text (byte {line[err.start]:#04x} cannot be "
+                        f"decoded); {hint}.")
+    return f"{label}: the file is not UTF-8 text; {hint}."
 
 
 def _split(text: str, sep: str) -> list:
@@ -126,12 +162,12 @@ def _split(text: str, sep: str) -> list:
     return next(csv.reader([text], delimiter=sep))
 
 
-def _sniff(path: Path, label: str, columns=None) -> dict:
+def _sniff(path: Path, label: str, columns=None, encoding: str = "utf-8-sig", given: bool = False) -> dict:
     """Header, separator, decimal mark and first comment of a text table, from its first lines; with ``columns``
     (names for a file without a header row) the first row is data and the names are ``columns``."""
     first_comment, header, header_line, sample = "", None, 0, []
     try:
-        with open(path, encoding="utf-8-sig", newline="") as fh:
+        with open(path, encoding=encoding, newline="") as fh:
             line_no = 0
             for line_no, line in enumerate(fh, start=1):
                 text = line.rstrip("\r\n")
@@ -146,8 +182,8 @@ def _sniff(path: Path, label: str, columns=None) -> dict:
                     sample.append(text)
                     if len(sample) >= 50:
                         break
-    except UnicodeDecodeError:
-        raise InputError(_not_utf8(path, label)) from None
+    except UnicodeError as exc:
+        raise InputError(_undecodable(path, label, encoding, given, exc)) from None
     if header is None:
         if first_comment:
             raise InputError(f"{label}: motion file has only comments and no "

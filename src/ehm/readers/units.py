@@ -60,7 +60,7 @@ def _unit_text(unit: str, key: str) -> str:
             return "deg/s"
         if low in ("radps", "rad/sec", "rads"):
             return "rad/s"
-    if key == "time":
+    if key in ("time", "dt"):
         low = text.lower()
         return {"sec": "s", "secs": "s", "msec": "ms", "usec": "us", "nsec": "ns", "millis": "ms", "micros": "us",
                 "nanos": "ns"}.get(low, text)
@@ -70,7 +70,7 @@ def _unit_text(unit: str, key: str) -> str:
 def _factor(unit: str, key: str, label: str, name: str) -> float:
     """Multiplier from ``unit`` to ehm's SI unit of ``key`` (pint)."""
     text = _unit_text(unit, key)
-    if text == SI_UNITS[key] or (key == "time" and text in ("s", "sec")):
+    if text == SI_UNITS[key] or (key in ("time", "dt") and text in ("s", "sec")):
         return 1.0
     import pint
 
