@@ -312,3 +312,21 @@ def test_yes_no_arguments_take_bools_only():
             read_motion(frame, **{key: "no"})
         assert one_sentence(exc).startswith(f"{key} (--")
     assert read_motion(frame, fill_gaps=np.bool_(False)).n_samples == 300
+
+
+# --------------------------------------------------------------------------
+# Plausibility after a conversion the caller asked for
+# --------------------------------------------------------------------------
+
+
+def test_a_unit_given_for_data_already_in_si_is_refused():
+    # "Plausibility is checked after every conversion": --unit az=g on a log already in m/s^2 made gravity
+    # 96 m/s^2 (9.8 g) for the whole log, taken as it was.  No vehicle's median acceleration is over 5 g.
+    t = np.arange(3000) * 0.01
+    acc = noise(3000) + [0.0, 0.0, G]  # SYNTHETIC floor log with gravity, in m/s^2
+    with pytest.raises(InputError) as exc:
+        quiet(read_motion, seat_frame(t, acc), units={"az": "g"})
+    msg = one_sentence(exc)
+    assert "az_mps2" in msg and "9.81 g" in msg and "--unit az=m/s^2" in msg
+    m = quiet(read_motion, seat_frame(t, acc), units={"ax": "g"})  # a horizontal axis in g: 0.3 g rms is plausible
+    assert np.std(m.acc_mps2[:, 0]) == pytest.approx(0.3 * G, rel=0.1)

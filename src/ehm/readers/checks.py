@@ -270,11 +270,12 @@ def _check_time_unit(src: _Source, name: str, t: np.ndarray, unit: str, origin: 
 
 def _check_plausible(src: _Source, use: dict, data: dict, origins: dict, acc: bool = True) -> None:
     """Refuse (unit assumed) or warn (unit from the name or the file) about accelerations and angular rates that
-    are implausible in m/s^2 and rad/s; channels whose unit the caller gave are taken as they are and left out.
-    ``acc=False``: the accelerations are left to the caller (an IMU log's specific force is checked against
-    gravity by :func:`ehm.from_imu`)."""
+    are implausible in m/s^2 and rad/s; channels whose unit the caller gave are checked by
+    :func:`_check_given_units`. ``acc=False``: the accelerations are left to the caller (an IMU log's specific
+    force is checked against gravity by :func:`ehm.from_imu`)."""
     if min((v.size for k, v in data.items() if k != "time"), default=0) < 2:
         return  # too short to judge (and refused as such)
+    _check_given_units(src, use, data, origins)
     acc = [k for k in _ACC if acc and k in data and origins[k] != GIVEN]
     if acc:
         norm = np.linalg.norm(np.column_stack([data[k] for k in acc]), axis=1)
@@ -296,6 +297,24 @@ def _check_plausible(src: _Source, use: dict, data: dict, origins: dict, acc: bo
                          f"above {MAX_RATE_P99_RADPS:g} rad/s, 2000 deg/s, no common gyro measures)" if
                          p99 > MAX_RATE_P99_RADPS else f"the norm of the angular velocity has a median of "
                          f"{median:.3g} rad/s ({np.degrees(median):.0f} deg/s), beyond a vehicle's")
+
+
+def _check_given_units(src: _Source, use: dict, data: dict, origins: dict) -> None:
+    """Refuse a channel whose unit the caller gave when the converted values are beyond any vehicle's: a median
+    acceleration over 5 g for half the log, or an angular rate over 2000 deg/s (a unit given for data that is
+    already in SI, say ``--unit ax=g`` on m/s^2)."""
+    for key in [k for k in (*_ACC, *_RATES) if k in data and origins.get(k) == GIVEN]:
+        values = np.abs(data[key])
+        acc = key in _ACC
+        level = float(np.median(values)) if acc else float(np.percentile(values, 99))
+        if level <= (MAX_ACC_MEDIAN_MPS2 if acc else MAX_RATE_P99_RADPS):
+            continue
+        si = SI_UNITS[key]
+        what = (f"its median is {level:.4g} m/s^2 ({level / 9.80665:.3g} g), over 5 g for half the log" if acc else
+                f"its 99th percentile is {level:.4g} rad/s, beyond the 2000 deg/s of any common gyro")
+        raise InputError(f"{src.label}, column {use[key]!r} (channel {key}): read in the unit given for it, {what}; "
+                         f"check that unit (is the column already in {si}? then give --unit {key}={si} or leave "
+                         f"the unit out).")
 
 
 def _implausible(src: _Source, use: dict, origins: dict, keys: list, fix: str, finding: str) -> None:
