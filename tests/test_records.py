@@ -165,7 +165,7 @@ def test_stale_staging_of_a_dead_process_is_removed(tmp_path):
                            str(tmp_path)], capture_output=True, text=True, check=True)
     pid, stale = made.stdout.split()
     (Path(stale) / "timeseries.csv").write_text("half a file")
-    empty = tmp_path / f".run.old-{pid}-def"  # an empty folder of that kind of name: no mark, kept (names are no evidence)
+    empty = tmp_path / f".run.old-{pid}-def"  # an empty folder of that kind of name: no mark, kept (names prove nothing)
     empty.mkdir()
     lookalike = tmp_path / f".run.partial-{pid}-xyz"  # the same kind of name, but not ehm's: kept
     lookalike.mkdir()

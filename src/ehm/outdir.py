@@ -8,14 +8,24 @@ between.  The earlier folder is then removed.  So a folder always holds the file
 files never sit beside an earlier run's (an old figure, an old ``poses.npz``), and a failure or an interrupt
 at any moment leaves the earlier folder as it was (or no folder, and no parent folders the command made).
 
-A folder is replaced whole, so ehm replaces only a folder it wrote itself: every folder it puts in place carries
-a manifest, ``ehm.io.MANIFEST_NAME``, naming the command, the ehm version and every file it wrote with its size.
-An existing folder is replaced only when it is empty, or when it carries that manifest and holds nothing but
-the files listed there, each of its listed size (a file added or changed since is the user's).  Names and
-extensions are never taken as evidence.  Anything else is refused, before the run starts, with one sentence,
-and again just before the swap (a file added while the run was going keeps the folder; the new run is then
-left beside it).  Staging folders left by a process that no longer runs (killed with SIGKILL, a power cut)
-carry a staging manifest and are removed the next time the same target is written.
+A folder is replaced whole, so ehm replaces only a folder it wrote itself: every folder it writes carries a
+manifest, ``ehm.io.MANIFEST_NAME``, naming the command, the ehm version and every file it wrote with its size and
+modification time.  An existing folder is replaced only when it is empty, or when it carries that manifest and
+holds nothing but the files listed there, each of its listed size and time (a file added or changed since is the
+user's), and neither it nor anything in it is read-only.  Names and extensions are never taken as evidence.
+Anything else is refused, before the run starts, with one sentence, and again just before the swap (a file added
+while the run was going keeps the folder; the new run is then left beside it).  A batch study's folder is added
+to rather than replaced (:func:`added_folder`), under the same rule.
+
+No file joins a manifest silently: only a file that belongs to the folder is listed (:func:`record_in_manifest`:
+a batch study's records and tables, an animation drawn into its own run folder).  A single file of any other
+command is refused inside a folder of ehm's (:func:`check_output_file`), and one written there from Python is not
+listed, so the next run refuses the folder rather than deleting it; a run also refuses an output folder that holds
+one of its own input files.
+
+Staging folders left by a process that no longer runs (killed with SIGKILL, a power cut) are removed the next time
+the same target is written, recognised by the staging manifest ehm writes into them first (naming the folder, the
+process and the machine), never by their names.
 """
 
 from __future__ import annotations
@@ -524,7 +534,8 @@ def added_folder(path: Path | str, what: str = "results"):
 
 
 def _remove_if_nothing_written(path: Path, made: list[Path]) -> None:
-    if any(q.is_file() and q.name != MANIFEST_NAME for q in path.rglob("*")) or (read_manifest(path) or {}).get("files"):
+    written = any(q.is_file() and q.name != MANIFEST_NAME for q in path.rglob("*"))
+    if written or (read_manifest(path) or {}).get("files"):
         return
     with contextlib.suppress(OSError):
         (path / MANIFEST_NAME).unlink()
