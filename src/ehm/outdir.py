@@ -461,7 +461,8 @@ class RunFolder:
             if target.exists():
                 if _exchange(staging, target):
                     old = staging  # now holds the earlier folder: marked as staging, to be removed
-                    _write_manifest(old, self.what, "staging")
+                    with contextlib.suppress(OSError):  # (the mark only lets a later run finish the removal)
+                        _write_manifest(old, self.what, "staging")
                 else:
                     old = Path(tempfile.mkdtemp(prefix=_OLD.format(name=target.name, pid=os.getpid()),
                                                 dir=target.parent))
