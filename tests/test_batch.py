@@ -13,6 +13,7 @@ pq = pytest.importorskip("pyarrow.parquet")
 from ehm.batch import load_study, run_study  # noqa: E402
 from ehm.cli import main  # noqa: E402
 from ehm.errors import InputError  # noqa: E402
+from ehm.outdir import record_in_manifest  # noqa: E402
 
 STUDY = """
 [study]
@@ -56,6 +57,7 @@ def test_study_runs_records_failures_and_resumes(tmp_path, capsys):
     rec_path = out / "runs" / f"{failed.point_id}.json"
     rec = json.loads(rec_path.read_text())
     rec_path.write_text(json.dumps({**rec, "error": "worker failed: connection lost"}))
+    record_in_manifest(rec_path, out)  # as ehm records a lost worker (a file changed by hand would be refused)
     assert run_study(specs, out, workers=1)["ran"] == 1
     assert "must not be negative" in json.loads(rec_path.read_text())["error"]
 

@@ -158,20 +158,21 @@ def test_sigterm_during_a_file_write_leaves_no_temporary_file(tmp_path):
 
 
 def test_stale_staging_of_a_dead_process_is_removed(tmp_path):
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
-    pid = int(dead.stdout)
-    stale = tmp_path / f".run.partial-{pid}-abc"
-    stale.mkdir()
-    outdir._write_manifest(stale, "output", "staging")  # as RunFolder marks its staging folder on creation
-    (stale / "timeseries.csv").write_text("half a file")
-    empty = tmp_path / f".run.old-{pid}-def"
+    # the staging folder is made and marked by a process that then ends (as a killed run leaves it)
+    made = subprocess.run([sys.executable, "-c", "import os, sys, tempfile; from pathlib import Path; "
+                           "from ehm import outdir; p = Path(tempfile.mkdtemp(prefix=f'.run.partial-{os.getpid()}-', "
+                           "dir=sys.argv[1])); outdir._write_manifest(p, 'output', 'staging'); print(os.getpid(), p)",
+                           str(tmp_path)], capture_output=True, text=True, check=True)
+    pid, stale = made.stdout.split()
+    (Path(stale) / "timeseries.csv").write_text("half a file")
+    empty = tmp_path / f".run.old-{pid}-def"  # an empty folder of that kind of name: no mark, kept (names prove nothing)
     empty.mkdir()
     lookalike = tmp_path / f".run.partial-{pid}-xyz"  # the same kind of name, but not ehm's: kept
     lookalike.mkdir()
     (lookalike / "notes.txt").write_text("keep me")
     with RunFolder(tmp_path / "run") as tmp:
         (tmp / "summary.json").write_text("{}")
-    assert sorted(p.name for p in tmp_path.iterdir()) == [lookalike.name, "run"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [empty.name, lookalike.name, "run"]
     assert (lookalike / "notes.txt").read_text() == "keep me"
 
 

@@ -38,6 +38,7 @@ from scipy.spatial.transform import Rotation
 
 from .errors import InputError
 from .io import replace_atomically
+from .outdir import record_in_manifest
 
 __all__ = ["animate", "render_frames", "load_poses"]
 
@@ -498,7 +499,8 @@ def animate(run_dir, out, exaggerate: float = 1.0, fps: float = 25.0, start_s: f
 
     Frames are taken at ``fps`` over ``start_s`` to ``end_s`` (default: the whole run), each showing the
     nearest pose, at most ``max_frames`` of them (the first ones).  ``exaggerate`` scales the motion from
-    the first pose.  The file is written whole or not at all.
+    the first pose.  The file is written whole or not at all.  Drawn into ``run_dir`` itself (a run folder of
+    ehm's), it is listed in the folder's manifest, so that the next run may still replace the folder whole.
     """
     out = Path(out)
     suffix = _check_out(out)
@@ -513,4 +515,6 @@ def animate(run_dir, out, exaggerate: float = 1.0, fps: float = 25.0, start_s: f
                            else _write_mp4(frames, tmp, fps, iio), "the animation")
     finally:
         frames.close()
+    if out.parent.resolve() == Path(run_dir).resolve():
+        record_in_manifest(out, run_dir)
     return out

@@ -54,6 +54,7 @@ one interpolated at exactly ``duration_s`` when no sample falls there (sample in
 
 from __future__ import annotations
 
+import builtins
 import functools
 import hashlib
 import itertools
@@ -61,6 +62,7 @@ import json
 import math
 import time
 import tomllib
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -69,6 +71,7 @@ import numpy as np
 from .errors import EhmError, InputError
 from .cluster import _dask_client, check_scheduler  # noqa: F401  (check_scheduler: the CLI's)
 from .io import replace_atomically, write_json_atomic
+from .outdir import added_folder, write_owned
 
 COMPUTE = ("transmissibility", "comfort")
 
@@ -147,7 +150,7 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
         inp["drive"] = drive_beside(inp["drive"], Path(path))
     if isinstance(inp.get("gyro"), str) and not Path(inp["gyro"]).is_absolute():
         inp["gyro"] = str(Path(path).absolute().parent / inp["gyro"])
-    _check_input(label, inp, written.get("drive"))
+    _check_input(label, inp, written.get("drive"), written.get("gyro"))
     _check_before_running(label, rows, grid, locks)
     name = str(study.get("name", Path(path).stem))
     common = _common_fingerprint(inp, compute)
@@ -237,9 +240,9 @@ def _common_fingerprint(inp: dict, compute: tuple) -> dict:
     return out
 
 
-def _check_input(label: str, inp: dict, written_drive=None) -> None:
-    """The [input] values, checked before any cluster starts (every run would trip over them); ``written_drive``:
-    the drive as the file gives it, when ``inp`` holds it resolved."""
+def _check_input(label: str, inp: dict, written_drive=None, written_gyro=None) -> None:
+    """The [input] values, checked before any cluster starts (every run would trip over them); ``written_drive``
+    and ``written_gyro``: the drive and the gyro file as the file gives them, when ``inp`` holds them resolved."""
     if inp.get("method", "linear") not in ("linear", "time"):
         raise InputError(f"{label}: [input] method {inp['method']!r}: use \"linear\" or \"time\".")
     if inp.get("route", "nonlinear") not in ("nonlinear", "linear", "auto"):
@@ -263,6 +266,11 @@ def _check_input(label: str, inp: dict, written_drive=None) -> None:
             raise InputError(f"{label}: [input] drive {written_drive if written_drive is not None else drive!r}"
                              f"{looked}: use \"random\", \"city\", \"road\" or a motion file's path (relative "
                              "paths start from the study file's folder).")
+        gyro = inp.get("gyro")
+        if isinstance(gyro, str) and not Path(gyro).is_file():
+            looked = f" (no file {gyro})" if gyro != written_gyro else ""
+            raise InputError(f"{label}: [input] gyro {written_gyro if written_gyro is not None else gyro!r}{looked}: "
+                             "give the gyro file's path (relative paths start from the study file's folder).")
         try:  # channels, units, imu: read the drive once here, so that a bad mapping stops the study at once
             _read_drive(inp)
         except InputError as exc:
@@ -354,7 +362,19 @@ def cut_by_time(motion, duration_s: float):
 
 
 def run_one(spec: RunSpec) -> dict:
-    """Run one study point; returns its record (inputs, outputs as {name: value}, error, timings)."""
+    """Run one study point; returns its record (inputs, outputs as {name: value}, error, timings, warnings).
+
+    Its warnings are caught and returned in the record (``"warnings"``: [category name, sentence] pairs, each
+    once), so that they come back from a worker process to the command running the study, rather than being
+    printed by the worker as raw Python onto the command's progress line."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        record = _run_point(spec)
+    record["warnings"] = [list(w) for w in dict.fromkeys((c.category.__name__, str(c.message)) for c in caught)]
+    return record
+
+
+def _run_point(spec: RunSpec) -> dict:
     from .params import Parameters
     from .scaling import BodySize
     from .simulation import SeatedHuman
@@ -434,7 +454,7 @@ def write_table(records: list[dict], out: Path, csv: bool = False) -> Path:
     if csv:
         targets.append((out / "results.csv", lambda tmp: pacsv.write_csv(table, tmp)))
     for target, write in targets:
-        replace_atomically(target, write, "the results table")
+        write_owned(target, functools.partial(replace_atomically, target, write, "the results table"), out)
     return path
 
 
@@ -469,44 +489,64 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
 
     Runs already recorded in ``out/runs`` are skipped, except those whose worker was lost (always redone)
     and, with ``retry_failed``, those that failed (e.g. after the parameter or study file was fixed).
+    ``out`` is a folder of ehm's that is added to (:func:`ehm.outdir.added_folder`: refused when it holds files
+    ehm did not write); every record and table written there is listed in its manifest.  The runs' warnings come
+    back with their records and are warned here, each sentence once.
     """
-    from dask.distributed import as_completed
-
-    runs_dir = out / "runs"
-    runs_dir.mkdir(parents=True, exist_ok=True)
-    todo, changed, n_changed = [], set(), 0
-    for s in specs:
-        needed, what = _needs_run(runs_dir / f"{s.point_id}.json", s, retry_failed)
-        if needed:
-            todo.append(s)
-        changed.update(what)
-        n_changed += bool(what)
-    t0 = time.perf_counter()
-    simulated = 0.0
-    failed = 0
-    wall = 0.0
-    if todo:
-        with _dask_client(scheduler, workers) as client:
-            t0 = time.perf_counter()  # throughput excludes starting the cluster
-            futures = client.map(run_one, todo, pure=False)
-            by_future = dict(zip(futures, todo))
-            for done, fut in enumerate(as_completed(futures), start=1):
-                try:
-                    rec = fut.result()
-                except Exception as exc:  # noqa: BLE001 - a lost worker is recorded like a failed run
-                    rec = {"inputs": by_future[fut].inputs(), "outputs": {}, "error": f"{_LOST_WORKER}{exc}",
-                           "simulated_s": 0.0, "wall_s": 0.0}
-                spec = by_future[fut]
-                rec["fingerprint"] = spec.fingerprint
-                write_json_atomic(runs_dir / f"{spec.point_id}.json", rec)
-                simulated += rec["simulated_s"]
-                failed += rec["error"] is not None
-                if progress:
-                    progress(done, len(todo))
-            wall = time.perf_counter() - t0
-    records = [json.loads((runs_dir / f"{s.point_id}.json").read_text()) for s in specs]  # this study's only
-    write_table(records, out, csv=csv)
-    return {"runs": len(specs), "ran": len(todo), "skipped": len(specs) - len(todo), "failed": failed,
+    with added_folder(out, "study's results"):
+        runs_dir = out / "runs"
+        runs_dir.mkdir(parents=True, exist_ok=True)
+        todo, changed, n_changed = [], set(), 0
+        for s in specs:
+            needed, what = _needs_run(runs_dir / f"{s.point_id}.json", s, retry_failed)
+            if needed:
+                todo.append(s)
+            changed.update(what)
+            n_changed += bool(what)
+        ran = _run_on_dask(todo, out, scheduler, workers, progress) if todo else {"simulated_s": 0.0, "failed": 0,
+                                                                                  "wall_s": 0.0}
+        records = [json.loads((runs_dir / f"{s.point_id}.json").read_text()) for s in specs]  # this study's only
+        write_table(records, out, csv=csv)
+    wall, simulated = ran["wall_s"], ran["simulated_s"]
+    return {"runs": len(specs), "ran": len(todo), "skipped": len(specs) - len(todo), "failed": ran["failed"],
             "changed": {"count": n_changed, "inputs": sorted(changed)},
             "wall_s": wall, "simulated_s": simulated,
             "throughput_simulated_s_per_s": simulated / wall if wall > 0 and simulated > 0 else None}
+
+
+def _run_on_dask(todo: list[RunSpec], out: Path, scheduler, workers, progress) -> dict:
+    """Run ``todo`` on Dask, recording each run in ``out/runs`` as it ends; its time, simulated time, failures."""
+    from dask.distributed import as_completed
+
+    simulated, failed, shown = 0.0, 0, set()
+    with _dask_client(scheduler, workers) as client:
+        t0 = time.perf_counter()  # throughput excludes starting the cluster
+        futures = client.map(run_one, todo, pure=False)
+        by_future = dict(zip(futures, todo))
+        for done, fut in enumerate(as_completed(futures), start=1):
+            spec = by_future[fut]
+            try:
+                rec = fut.result()
+            except Exception as exc:  # noqa: BLE001 - a lost worker is recorded like a failed run
+                rec = {"inputs": spec.inputs(), "outputs": {}, "error": f"{_LOST_WORKER}{exc}",
+                       "simulated_s": 0.0, "wall_s": 0.0}
+            rec["fingerprint"] = spec.fingerprint
+            record = out / "runs" / f"{spec.point_id}.json"
+            write_owned(record, functools.partial(write_json_atomic, record, rec), out)
+            _warn_once(rec.get("warnings", []), shown)
+            simulated += rec["simulated_s"]
+            failed += rec["error"] is not None
+            if progress:
+                progress(done, len(todo))
+        wall = time.perf_counter() - t0
+    return {"simulated_s": simulated, "failed": failed, "wall_s": wall}
+
+
+def _warn_once(caught: list, shown: set) -> None:
+    """Warn here the warnings a run caught in its worker (``[category name, sentence]``), each sentence once."""
+    for name, text in caught:
+        if text not in shown:
+            shown.add(text)
+            category = getattr(builtins, name, UserWarning)
+            warnings.warn(text, category if isinstance(category, type) and issubclass(category, Warning)
+                          else UserWarning, stacklevel=2)

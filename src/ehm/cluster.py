@@ -9,6 +9,7 @@ import logging
 import multiprocessing
 import os
 import time
+import warnings
 
 from .errors import InputError
 from .processes import ONE_THREAD
@@ -54,8 +55,10 @@ def _local_cluster(workers: int | None):
     from dask.distributed import Client, LocalCluster
 
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=0, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.CRITICAL)
+    with warnings.catch_warnings():  # the scheduler's web server moves to a free port: nothing for the user to do
+        warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")
+        cluster = LocalCluster(n_workers=0, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.CRITICAL)
     client = None
     try:
         with _sigint_ignored():  # the client while there are no workers yet (it connects at once)

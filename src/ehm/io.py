@@ -72,8 +72,6 @@ def replace_atomically(target: Path | str, write, what: str = "file") -> Path:
         if tmp is not None and os.path.exists(tmp):
             os.unlink(tmp)
     _fsync_directory(target.parent)
-    if target.name != MANIFEST_NAME:
-        _record_in_manifest(target)
     return target
 
 
@@ -84,34 +82,26 @@ MANIFEST_NAME = ".ehm-manifest.json"
 
 def read_manifest(folder: Path | str) -> dict | None:
     """The ehm manifest of ``folder`` as a dict, or None when it carries none that ehm wrote."""
+    return manifest_or_why(folder)[0]
+
+
+def manifest_or_why(folder: Path | str) -> tuple[dict | None, str | None]:
+    """The ehm manifest of ``folder`` and None; or None and why a manifest file there is not one ehm can read
+    (words after "its manifest ... is"); or None, None when the folder has no manifest file."""
+    path = Path(folder) / MANIFEST_NAME
     try:
-        data = json.loads((Path(folder) / MANIFEST_NAME).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        return None, None
+    except (OSError, UnicodeDecodeError) as exc:
+        return None, f"unreadable ({getattr(exc, 'strerror', None) or exc})"
+    try:
+        data = json.loads(text)
+    except ValueError:
+        return None, "damaged (not valid JSON)"
     if not isinstance(data, dict) or data.get("written_by") != "ehm" or not isinstance(data.get("files"), dict):
-        return None
-    return data
-
-
-def _record_in_manifest(path: Path) -> None:
-    """A file just written into a finished folder of ehm's (an animation or a figure drawn into a run folder) joins
-    that folder's manifest, so that ehm may still replace the folder whole; so does the manifest it changed, in
-    the folder above when that is ehm's too (a demo's run folders), and so on up.  Other folders are left alone."""
-    changed, folder = [path], path.parent
-    while True:
-        data = read_manifest(folder)
-        if data is None or data.get("state") != "complete":
-            return
-        mtimes = data.setdefault("mtime_ns", {})
-        for c in changed:
-            rel = c.relative_to(folder).as_posix()
-            st = c.stat()
-            data["files"][rel], mtimes[rel] = st.st_size, st.st_mtime_ns
-        write_json_atomic(folder / MANIFEST_NAME, data)
-        changed.append(folder / MANIFEST_NAME)
-        if folder.parent == folder:
-            return
-        folder = folder.parent
+        return None, "not one that ehm wrote"
+    return data, None
 
 
 def _fsync_directory(directory: Path) -> None:

@@ -8,14 +8,24 @@ between.  The earlier folder is then removed.  So a folder always holds the file
 files never sit beside an earlier run's (an old figure, an old ``poses.npz``), and a failure or an interrupt
 at any moment leaves the earlier folder as it was (or no folder, and no parent folders the command made).
 
-A folder is replaced whole, so ehm replaces only a folder it wrote itself: every folder it puts in place carries
-a manifest, ``ehm.io.MANIFEST_NAME``, naming the command, the ehm version and every file it wrote with its size.
-An existing folder is replaced only when it is empty, or when it carries that manifest and holds nothing but
-the files listed there, each of its listed size (a file added or changed since is the user's).  Names and
-extensions are never taken as evidence.  Anything else is refused, before the run starts, with one sentence,
-and again just before the swap (a file added while the run was going keeps the folder; the new run is then
-left beside it).  Staging folders left by a process that no longer runs (killed with SIGKILL, a power cut)
-carry a staging manifest and are removed the next time the same target is written.
+A folder is replaced whole, so ehm replaces only a folder it wrote itself: every folder it writes carries a
+manifest, ``ehm.io.MANIFEST_NAME``, naming the command, the ehm version and every file it wrote with its size and
+modification time.  An existing folder is replaced only when it is empty, or when it carries that manifest and
+holds nothing but the files listed there, each of its listed size and time (a file added or changed since is the
+user's), and neither it nor anything in it is read-only.  Names and extensions are never taken as evidence.
+Anything else is refused, before the run starts, with one sentence, and again just before the swap (a file added
+while the run was going keeps the folder; the new run is then left beside it).  A batch study's folder is added
+to rather than replaced (:func:`added_folder`), under the same rule.
+
+No file joins a manifest silently: only a file that belongs to the folder is listed (:func:`record_in_manifest`:
+a batch study's records and tables, an animation drawn into its own run folder).  A single file of any other
+command is refused inside a folder of ehm's (:func:`check_output_file`), and one written there from Python is not
+listed, so the next run refuses the folder rather than deleting it; a run also refuses an output folder that holds
+one of its own input files.
+
+Staging folders left by a process that no longer runs (killed with SIGKILL, a power cut) are removed the next time
+the same target is written, recognised by the staging manifest ehm writes into them first (naming the folder, the
+process and the machine), never by their names.
 """
 
 from __future__ import annotations
@@ -27,16 +37,18 @@ import json
 import os
 import shutil
 import signal
+import socket
 import stat
 import sys
 import tempfile
 import threading
 import time
+import warnings
 from importlib import metadata
 from pathlib import Path
 
 from .errors import InputError
-from .io import MANIFEST_NAME, _fsync_directory, read_manifest
+from .io import MANIFEST_NAME, _fsync_directory, manifest_or_why, read_manifest, write_json_atomic
 
 #: Its format, written into it: a later ehm can tell what it reads.
 MANIFEST_FORMAT = 1
@@ -59,11 +71,18 @@ def _ehm_version() -> str:
         return "unknown"
 
 
-def _write_manifest(folder: Path, what: str, state: str) -> None:
-    """Write the manifest of ``folder``: every file under it (sub-folders included) with its size in bytes and its
-    modification time in ns (a file edited in place keeps its size, not its time)."""
+def _write_manifest(folder: Path, what: str, state: str, listed: dict | None = None) -> None:
+    """Write the manifest of ``folder``: the files ehm wrote there (sub-folders included) with their sizes in bytes
+    and modification times in ns (a file edited in place keeps its size, not its time).
+
+    ``state`` "complete": a finished folder, listing every file under it, or the entries of ``listed``
+    (``{"files": ..., "mtime_ns": ...}``: a folder that is added to, which never lists what it did not write).
+    ``state`` "staging": a staging folder, named in its manifest with the process and the machine writing it;
+    that is what :func:`remove_stale` goes by, never the folder's name."""
     files, mtimes = {}, {}
-    if state == "complete":
+    if listed is not None:
+        files, mtimes = dict(listed["files"]), dict(listed.get("mtime_ns", {}))
+    elif state == "complete":
         for p in sorted(folder.rglob("*")):
             rel = p.relative_to(folder).as_posix()
             if rel != MANIFEST_NAME and p.is_file() and not p.is_symlink():
@@ -72,11 +91,37 @@ def _write_manifest(folder: Path, what: str, state: str) -> None:
     data = {"written_by": "ehm", "format": MANIFEST_FORMAT, "state": state, "ehm_version": _ehm_version(),
             "command": _command or f"ehm (Python): {what}",
             "written_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "files": files, "mtime_ns": mtimes}
+    if state == "staging":
+        data["staging"] = {"folder": folder.name, "pid": os.getpid(), "host": socket.gethostname()}
     with open(folder / MANIFEST_NAME, "w", encoding="utf-8") as fh:
         json.dump(data, fh, indent=1)
         fh.write("\n")
         fh.flush()
         os.fsync(fh.fileno())
+
+
+def record_in_manifest(path: Path | str, folder: Path | str) -> None:
+    """List a file just written into ``folder``, a finished folder of ehm's, in its manifest (and the manifest it
+    changed in the folder above when that is ehm's too, a demo's run folders, and so on up).
+
+    Only for a file that belongs to the folder: a batch study's records and tables, an animation of a run drawn
+    into that run's folder.  A file written into a folder of ehm's by anything else is never listed (ehm refuses
+    to write one there, :func:`check_output_file`), so the next run refuses the folder instead of deleting it."""
+    changed, folder = [Path(path)], Path(folder)
+    while True:
+        data = read_manifest(folder)
+        if data is None or data.get("state") != "complete":
+            return
+        mtimes = data.setdefault("mtime_ns", {})
+        for c in changed:
+            rel = c.relative_to(folder).as_posix()
+            st = c.stat()
+            data["files"][rel], mtimes[rel] = st.st_size, st.st_mtime_ns
+        write_json_atomic(folder / MANIFEST_NAME, data)
+        changed.append(folder / MANIFEST_NAME)
+        if folder.parent == folder:
+            return
+        folder = folder.parent
 
 
 def foreign_entry(folder: Path) -> str | None:
@@ -87,9 +132,14 @@ def foreign_entry(folder: Path) -> str | None:
     entries = sorted(folder.iterdir())
     if not entries:
         return None
-    data = read_manifest(folder)
-    if data is None or data.get("state") != "complete":
+    data, why = manifest_or_why(folder)
+    if why is not None:
+        return (f"has a manifest, {MANIFEST_NAME}, that is {why}, so ehm cannot tell the files it wrote there from "
+                "any others")
+    if data is None:
         return f"holds {entries[0].name}, which ehm did not write (the folder has no ehm manifest, {MANIFEST_NAME})"
+    if data.get("state") != "complete":
+        return "is the staging folder of an unfinished ehm run"
     listed, mtimes = data["files"], data.get("mtime_ns", {})
     for p in sorted(folder.rglob("*")):
         rel = p.relative_to(folder).as_posix()
@@ -101,6 +151,39 @@ def foreign_entry(folder: Path) -> str | None:
         if st.st_size != listed[rel] or (rel in mtimes and st.st_mtime_ns != mtimes[rel]):
             return f"holds {rel}, which was changed after ehm wrote it"
     return None
+
+
+def _read_only_entry(folder: Path) -> Path | None:
+    """The folder itself, or the first thing in it, that is read-only (its owner may not write it), or None.
+
+    Judged by the mode bits as well as by the system's answer: a user who takes away the write permission means
+    "keep this", also where the permission would not stop the writer (root)."""
+    for p in [folder, *sorted(folder.rglob("*"))]:
+        if p.is_symlink():
+            continue
+        if not p.stat().st_mode & stat.S_IWUSR or not os.access(p, os.W_OK):
+            return p
+    return None
+
+
+def _managing_folder(path: Path) -> Path | None:
+    """The nearest folder above ``path`` that is a finished folder of ehm's (it carries a complete manifest)."""
+    for p in Path(os.path.abspath(path)).parents:
+        data = read_manifest(p)
+        if data is not None and data.get("state") == "complete":
+            return p
+    return None
+
+
+def _check_not_inside_ehms_folder(path: Path, what: str) -> None:
+    """Refuse to write ``path`` into a folder that ehm manages: the next run of that folder would replace it whole
+    (and a file of that folder's manifest may be replaced only by ehm's own run)."""
+    owner = _managing_folder(path)
+    if owner is None:
+        return
+    where = owner if path.is_absolute() else Path(os.path.relpath(owner))
+    raise InputError(f"{path}: {where} is an output folder of ehm's, which holds only the files ehm wrote for it "
+                     f"(its {MANIFEST_NAME} lists them); write the {what} outside it, e.g. {where.parent / path.name}.")
 
 
 def _nearest_existing(path: Path) -> Path:
@@ -119,12 +202,14 @@ def _check_creatable(path: Path, what: str) -> None:
         raise InputError(f"{path}: cannot write the {what} there: the folder {base} is not writable.")
 
 
-def check_output_folder(path: Path | str, what: str = "output") -> Path:
+def check_output_folder(path: Path | str, what: str = "output", inputs=(), added_to: bool = False) -> Path:
     """Make sure a run's output folder can be written and replaced whole; before any work starts.
 
     The folder may be absent, empty or an earlier folder of ehm's that holds nothing else (see the module
-    docstring).  Returns the path.  Raises InputError with one sentence otherwise (a file in the way, a folder
-    holding files ehm did not write, the current folder, no write permission).
+    docstring), not read-only and not inside another folder of ehm's.  None of the run's ``inputs`` (the files
+    it reads) may lie in it.  ``added_to``: the folder is added to rather than replaced (a batch study's).
+    Returns the path.  Raises InputError with one sentence otherwise (a file in the way, a folder holding files
+    ehm did not write, a read-only folder, an input in it, the current folder, no write permission).
     """
     path = Path(path)
     if path.exists() and not path.is_dir():
@@ -134,23 +219,42 @@ def check_output_folder(path: Path | str, what: str = "output") -> Path:
     if resolved == here or resolved in here.parents:
         raise InputError(f"{path}: the {what} folder would hold the current folder; give a new folder, "
                          "e.g. --out runs/first (ehm replaces its output folder whole).")
+    _check_not_inside_ehms_folder(path, what + " folder")
+    for given in inputs:
+        if resolved in Path(given).resolve().parents:
+            raise InputError(f"{path}: the {what} folder holds {given}, which this command reads; give another "
+                             f"folder for the {what}" + ("." if added_to else " (ehm replaces it whole)."))
     if path.is_dir():
-        try:
-            why = foreign_entry(path)
-        except OSError as exc:
-            raise InputError(f"{path}: cannot read the {what} folder ({exc.strerror or exc}).") from None
-        if why:
-            raise InputError(f"{path} {why}; give a new or empty folder for the {what}: ehm replaces only a folder "
-                             "that it wrote and that holds nothing else.")
+        _check_ehms_and_writable(path, what, "adds only to" if added_to else "replaces only")
     _check_creatable(path, what + " folder")
     return path
 
 
-def check_output_file(path: Path | str, what: str = "output file") -> Path:
-    """Make sure a single output file can be written (before any work starts); returns the path."""
+def _check_ehms_and_writable(path: Path, what: str, verb: str) -> None:
+    try:
+        why = foreign_entry(path)
+        locked = _read_only_entry(path)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the {what} folder ({exc.strerror or exc}).") from None
+    if why:
+        raise InputError(f"{path} {why}; give a new or empty folder for the {what}: ehm {verb} a folder "
+                         "that it wrote and that holds nothing else.")
+    if locked is not None:
+        which = "is read-only" if locked == path else f"holds {locked.relative_to(path).as_posix()}, which is read-only"
+        raise InputError(f"{path} {which}, so ehm leaves it as it is; give another folder for the {what}, or make "
+                         f"it writable first (chmod -R u+w {path}).")
+
+
+def check_output_file(path: Path | str, what: str = "output file", part_of: Path | str | None = None) -> Path:
+    """Make sure a single output file can be written (before any work starts); returns the path.
+
+    It may not go into a folder that ehm manages (its files listed in a manifest), unless it belongs to it:
+    ``part_of`` is the folder of ehm's it is written for (an animation of a run, drawn into that run's folder)."""
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{path} is a folder; give a file name for the {what}.")
+    if part_of is None or path.parent.resolve() != Path(part_of).resolve():
+        _check_not_inside_ehms_folder(path, what)
     if path.exists() and not os.access(path.parent, os.W_OK | os.X_OK):
         raise InputError(f"{path}: cannot write the {what}: the folder {path.parent} is not writable.")
     _check_creatable(path, what)
@@ -165,6 +269,7 @@ def check_file_destination(out: Path | str, suffix: str, kind: str) -> Path:
     out = Path(out)
     if out.suffix.lower() != suffix:
         raise InputError(f"{out}: {kind} file name must end in {suffix}.")
+    _check_not_inside_ehms_folder(out, "FMU")
     if out.is_dir():
         raise InputError(f"{out}: is a folder; give a file name ending in {suffix}.")
     try:
@@ -239,22 +344,42 @@ def _alive(pid: int) -> bool:
 def remove_stale(target: Path) -> None:
     """Remove staging folders of ``target`` left by processes that no longer run.
 
-    A folder is removed only when its name is one of ``target``'s staging names with the number of a process that
-    no longer runs, and it carries ehm's staging manifest (or is empty)."""
+    A folder is removed only by what ehm wrote into it first: its staging manifest, which names the folder itself,
+    the process that made it (one that no longer runs) and this machine (a process of another machine sharing the
+    folder is not judged by this one's process numbers).  A folder that merely has such a name is kept, whatever
+    it holds."""
     parent = target.parent
     if not parent.is_dir():
         return
     for pattern in (_STAGING, _OLD):
         prefix = pattern.format(name=target.name, pid="").removesuffix("-")
         for entry in parent.glob(glob_escape(prefix) + "*"):
-            pid = entry.name[len(prefix):].split("-", 1)[0]
-            if not (pid.isdigit() and int(pid) != os.getpid() and not _alive(int(pid))) or entry.is_symlink():
-                continue
-            if read_manifest(entry) is not None:
-                shutil.rmtree(entry, ignore_errors=True)
-            else:
-                with contextlib.suppress(OSError):
-                    entry.rmdir()  # only when empty
+            if not entry.is_symlink() and entry.is_dir() and _stale_staging(entry):
+                _remove_tree(entry)
+
+
+def _stale_staging(folder: Path) -> bool:
+    """Whether ``folder`` is ehm's staging folder of a process of this machine that no longer runs."""
+    data = read_manifest(folder)
+    mark = data.get("staging") if data is not None and data.get("state") == "staging" else None
+    if not isinstance(mark, dict) or mark.get("folder") != folder.name or mark.get("host") != socket.gethostname():
+        return False
+    pid = mark.get("pid")
+    return isinstance(pid, int) and pid != os.getpid() and not _alive(pid)
+
+
+def _remove_tree(folder: Path) -> None:
+    """Remove a folder of ehm's (an earlier run's, once replaced; a stale staging folder), also where a folder in
+    it is not writable; what cannot be removed is named in a warning, never left without a word."""
+    def writable_and_again(func, path, exc_info):
+        with contextlib.suppress(OSError):
+            os.chmod(os.path.dirname(path), stat.S_IRWXU)
+            func(path)
+
+    shutil.rmtree(folder, onerror=writable_and_again)
+    if os.path.lexists(folder):
+        warnings.warn(f"{folder}: could not remove this hidden folder of an earlier run; delete it yourself.",
+                      stacklevel=2)
 
 
 def glob_escape(text: str) -> str:
@@ -335,7 +460,9 @@ class RunFolder:
             old = None
             if target.exists():
                 if _exchange(staging, target):
-                    old = staging  # now holds the earlier folder
+                    old = staging  # now holds the earlier folder: marked as staging, to be removed
+                    with contextlib.suppress(OSError):  # (the mark only lets a later run finish the removal)
+                        _write_manifest(old, self.what, "staging")
                 else:
                     old = Path(tempfile.mkdtemp(prefix=_OLD.format(name=target.name, pid=os.getpid()),
                                                 dir=target.parent))
@@ -347,7 +474,7 @@ class RunFolder:
             _fsync_directory(target.parent)
             self.staging = None
             if old is not None:
-                shutil.rmtree(old, ignore_errors=True)
+                _remove_tree(old)
 
     def _keep_if_foreign(self) -> None:
         """Just before the swap: if someone put files into the target while the run went on, keep the target as
@@ -379,10 +506,14 @@ class RunFolder:
 
 
 @contextlib.contextmanager
-def folder_kept_tidy(path: Path | str):
-    """For a folder that is added to over several commands (a batch study's results): create it, and remove it
-    again if the command fails or is interrupted while it still holds nothing but empty folders."""
+def added_folder(path: Path | str, what: str = "results"):
+    """A folder that is added to over several commands (a batch study's results), under the same rule as a run's
+    folder: it must be absent, empty, or ehm's holding nothing but the files its manifest lists (checked here
+    too); it gets that manifest (the command and ehm version now adding to it), and every file ehm writes into it
+    is listed with :func:`write_owned`.  If the command fails or is interrupted while the folder it made holds
+    nothing but its manifest and empty folders, the folder (and the parent folders made for it) is removed."""
     path = Path(path)
+    check_output_folder(path, what, added_to=True)
     existed = path.exists()
     made = []
     p = path
@@ -391,19 +522,38 @@ def folder_kept_tidy(path: Path | str):
         p = p.parent
     try:
         path.mkdir(parents=True, exist_ok=True)
+        _write_manifest(path, what, "complete", listed=read_manifest(path) or {"files": {}})
     except OSError as exc:
-        raise InputError(f"{path}: cannot create the folder ({exc.strerror or exc}).") from None
+        raise InputError(f"{path}: cannot create the {what} folder ({exc.strerror or exc}).") from None
     try:
         yield path
     except BaseException:
         if not existed:
             with signals_held():
-                for d in sorted((q for q in path.rglob("*") if q.is_dir()), key=lambda q: -len(q.parts)):
-                    with contextlib.suppress(OSError):
-                        d.rmdir()
-                for d in made:
-                    try:
-                        d.rmdir()
-                    except OSError:
-                        break
+                _remove_if_nothing_written(path, made)
         raise
+
+
+def _remove_if_nothing_written(path: Path, made: list[Path]) -> None:
+    written = any(q.is_file() and q.name != MANIFEST_NAME for q in path.rglob("*"))
+    if written or (read_manifest(path) or {}).get("files"):
+        return
+    with contextlib.suppress(OSError):
+        (path / MANIFEST_NAME).unlink()
+    for d in sorted((q for q in path.rglob("*") if q.is_dir()), key=lambda q: -len(q.parts)):
+        with contextlib.suppress(OSError):
+            d.rmdir()
+    for d in made:
+        try:
+            d.rmdir()
+        except OSError:
+            break
+
+
+def write_owned(path: Path | str, write, folder: Path | str) -> None:
+    """Write a file of ``folder`` (a folder of ehm's that is added to, :func:`added_folder`) and list it in the
+    folder's manifest, with Ctrl-C and SIGTERM held back in between (so that the two happen together).
+    ``write()`` writes ``path`` (atomically, :mod:`ehm.io`)."""
+    with signals_held():
+        write()
+        record_in_manifest(path, folder)

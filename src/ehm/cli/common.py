@@ -58,3 +58,12 @@ def _read_motion_file(args):
                        imu_options={"rest_s": args.rest, "max_tilt_deg": args.max_tilt},
                        frame=getattr(args, "frame", "seat"), drop_held=getattr(args, "drop_held", True),
                        encoding=getattr(args, "encoding", None))
+
+
+def _input_files(args) -> list[str]:
+    """The files a command reads (--motion, --gyro, --params and the body tables), where given as files: an output
+    folder that holds one would delete it (ehm.outdir.check_output_folder refuses that)."""
+    from pathlib import Path
+
+    given = [getattr(args, k, None) for k in ("motion", "gyro", "params", "segments", "joints", "contacts")]
+    return [g for g in given if isinstance(g, str) and Path(g).is_file()]

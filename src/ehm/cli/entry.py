@@ -11,9 +11,18 @@ from .progress import _end_progress_line
 EXIT_ERROR = 2
 
 
+_SHOWN: set[str] = set()  #: The warnings this command has shown: each sentence once (a batch's runs repeat theirs).
+
+
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
-    """Warnings as one sentence on stderr, without the source line."""
-    print(f"ehm: warning: {message}", file=sys.stderr if file is None else file)
+    """Warnings as one sentence on a line of their own on stderr (an open progress line is ended first), without
+    the source line, each sentence once per command."""
+    text = str(message)
+    if text in _SHOWN:
+        return
+    _SHOWN.add(text)
+    _end_progress_line()
+    print(f"ehm: warning: {text}", file=sys.stderr if file is None else file, flush=True)
 
 
 class Terminated(KeyboardInterrupt):
@@ -31,6 +40,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     warnings.showwarning = _show_warning
+    _SHOWN.clear()
     import signal
     import threading
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import InputError
-from ..outdir import check_output_file, folder_kept_tidy
+from ..outdir import check_output_file, check_output_folder
 from ..params import Parameters
 from ..tables import load_body
 from .common import _human, _joint_list, _read_motion_file, _size
@@ -56,6 +56,8 @@ def add_params(sub) -> None:
 
 
 def cmd_params(args) -> int:
+    if args.export:
+        check_output_file(args.export, "parameter file")
     params = Parameters.load(args.params)
     if args.export:
         params.export(args.export)
@@ -163,22 +165,24 @@ def cmd_batch(args) -> int:
         raise InputError(f"--workers {args.workers}: use 1 or more worker processes.")
     scheduler = check_scheduler(args.scheduler) if args.scheduler else None
     name, specs = load_study(args.study)
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out} is a file; give a folder for the study's results.")
-    check_output_file(out / "results.parquet", "results table")
+    out = check_output_folder(args.out, "study's results", added_to=True, inputs=_study_inputs(args.study, specs))
     print(f"study '{name}': {len(specs)} runs" + (f" on {scheduler}" if scheduler else ""))
 
     def show(done, total):
         _progress_line(f"  {done} / {total} runs done", done == total)
 
-    with folder_kept_tidy(out):
-        res = run_study(specs, out, scheduler=scheduler, workers=args.workers, csv=args.csv, progress=show,
-                        retry_failed=args.retry_failed)
+    res = run_study(specs, out, scheduler=scheduler, workers=args.workers, csv=args.csv, progress=show,
+                    retry_failed=args.retry_failed)
     if res["ran"] and res["failed"] == res["ran"]:
         raise InputError(f"all {res['ran']} runs failed; their errors are in {out}/results.parquet (output 'error').")
     _print_batch(res, out, args.csv)
     return 0
+
+
+def _study_inputs(study: str, specs) -> list[str]:
+    """The study file and the drive and gyro files its runs read."""
+    inp = specs[0].input if specs else {}
+    return [study, *(f for f in (inp.get("drive"), inp.get("gyro")) if isinstance(f, str) and Path(f).is_file())]
 
 
 def _print_batch(res: dict, out: Path, csv: bool) -> None:

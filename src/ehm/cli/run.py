@@ -12,7 +12,7 @@ from ..io import write_json_atomic
 from ..motion import random_vibration, sine, sweep
 from ..outdir import RunFolder, check_output_file, check_output_folder
 from ..runfiles import DEFAULT_OUTPUT_RATE_HZ
-from .common import _band, _human, _read_motion_file
+from .common import _band, _human, _input_files, _read_motion_file
 from .options import _excitation_options, _model_options, _motion_file_options, _parallel_options
 from .progress import _progress_bar
 
@@ -88,7 +88,7 @@ def cmd_simulate(args) -> int:
     formats = ("csv", "parquet") if args.format == "both" else (args.format,)
     if "parquet" in formats:
         pyarrow_modules()
-    out = check_output_folder(args.out)
+    out = check_output_folder(args.out, inputs=_input_files(args))
     if args.motion:  # a drive file with angular velocities needs the rotating seat
         motion = _read_motion_file(args)
         from ..assessment import needs_rotating_seat
@@ -190,7 +190,7 @@ def _check_demo_duration(duration_s: float) -> None:
 
 def cmd_demo(args) -> int:
     _check_demo_duration(args.duration)
-    final = check_output_folder(args.out)
+    final = check_output_folder(args.out, inputs=_input_files(args))
     human = _human(args)
     dt = float(human.params.value("simulation.dt_s"))
     print(f"ehm demo: default person ({human.mass_kg:.3f} kg, {human.dof} dof) on the validation seat; "
@@ -261,7 +261,7 @@ def add_assess(sub) -> None:
 def cmd_assess(args) -> int:
     from ..assessment import assess, needs_rotating_seat
 
-    final = check_output_folder(args.out)
+    final = check_output_folder(args.out, inputs=_input_files(args))
     motion = _read_motion_file(args)
     human = _human(args, rotating_seat=needs_rotating_seat(motion, args.method))
     with _segments(args) as parallel:
@@ -340,7 +340,7 @@ def add_animate(sub) -> None:
 def cmd_animate(args) -> int:
     from ..animation import animate
 
-    check_output_file(args.out, "animation")
+    check_output_file(args.out, "animation", part_of=args.run_dir)  # drawn into its own run folder: listed
     t0 = time.perf_counter()
     path = animate(args.run_dir, args.out, exaggerate=args.exaggerate, fps=args.fps, start_s=args.start,
                    end_s=args.end, max_frames=args.max_frames)

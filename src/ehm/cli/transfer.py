@@ -13,7 +13,7 @@ from ..io import write_json_atomic
 from ..outdir import RunFolder, check_output_file, check_output_folder
 from ..params import Parameters, refuse_defaults
 from ..tables import load_body
-from .common import _band, _human, _joint_list, _read_motion_file, _size
+from .common import _band, _human, _input_files, _joint_list, _read_motion_file, _size
 from .options import _KEEP_SMALL_HELP, _excitation_options, _model_options, _motion_file_options
 from .progress import _end_progress_line
 
@@ -231,7 +231,7 @@ def cmd_study_locking(args) -> int:
         variants[name] = joints
     band = _band(args.band)
     params = Parameters.load(args.params)
-    final = check_output_folder(args.out)
+    final = check_output_folder(args.out, inputs=_input_files(args))
     study = locking_study(params=params, variants=variants, method=args.method, band_hz=band,
                           duration_s=args.duration, progress=print)
     with RunFolder(final) as out:

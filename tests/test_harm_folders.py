@@ -1,0 +1,263 @@
+"""Issue 31, part 2: batch folders as safe as run folders, and the output-folder cases a user reported.
+
+Every case is a user's report; each test fails on the ehm before this change and passes after.  Every file here is
+SYNTHETIC (short generated runs, a few bytes of text, a generated drive log).  No test has a numerical tolerance:
+each checks the exit code, the sentence and the files' bytes exactly; the time limits are generous bounds on
+"before any work" (a refusal takes well under a second, the runs it would have started take seconds).
+"""
+
+from __future__ import annotations
+
+import errno
+import hashlib
+import json
+import os
+import stat
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ehm.cli import main
+from ehm.io import MANIFEST_NAME, read_manifest
+
+dask_and_pyarrow = pytest.mark.skipif(
+    not all(__import__("importlib").util.find_spec(m) for m in ("dask", "distributed", "pyarrow")),
+    reason="batch studies need ehm[batch]")
+
+#: The smallest study: one linear-model transmissibility run (a fraction of a second in its worker).
+TINY_STUDY = '[study]\nname = "tiny"\ncompute = ["transmissibility"]\n[input]\naxes = ["z"]\n'
+
+
+def _tree(folder: Path) -> dict[str, str]:
+    """Every file under ``folder`` with the SHA-256 of its bytes."""
+    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def _one_error_line(err: str) -> str:
+    lines = [ln for ln in err.replace("\r", "\n").splitlines() if ln.strip()]
+    assert "Traceback" not in err
+    assert lines[-1].startswith("ehm: error: "), err
+    return lines[-1]
+
+
+def _dead_pid() -> int:
+    """The number of a process that has ended."""
+    done = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    return int(done.stdout)
+
+
+def _run(out: Path, *extra: str) -> int:
+    return main(["simulate", "--duration", "1", *extra, "--out", str(out)])
+
+
+# --- ehm batch --out replaces the user's own results.csv --------------------------------------------------------------
+
+@dask_and_pyarrow
+def test_batch_refuses_a_folder_holding_the_users_results_csv_before_any_work(tmp_path, capsys):
+    """User case: `ehm batch --out` replaced the user's own results.csv (rc 0, no word).  --out takes a folder only
+    (a file there is refused as before); a folder holding a results.csv ehm did not write, or one it wrote that was
+    edited since, is now refused before any run, the file byte-identical."""
+    study = tmp_path / "study.toml"
+    study.write_text(TINY_STUDY)
+    res = tmp_path / "res"
+    res.mkdir()
+    (res / "results.csv").write_text("my,own,table\n1,2,3\n")
+    before = _tree(res)
+    assert main(["batch", str(study), "--out", str(res), "--csv", "--workers", "1"]) == 2
+    err = _one_error_line(capsys.readouterr().err)
+    assert "results.csv, which ehm did not write" in err and "give a new or empty folder" in err
+    assert _tree(res) == before and sorted(p.name for p in res.iterdir()) == ["results.csv"]  # no runs/ started
+    # --out naming the user's file itself: refused too (a folder is asked for)
+    assert main(["batch", str(study), "--out", str(res / "results.csv"), "--csv", "--workers", "1"]) == 2
+    assert "is a file; give a folder" in _one_error_line(capsys.readouterr().err)
+    # ehm's own study folder: its files are listed, so it resumes; a table edited since is the user's
+    own = tmp_path / "own"
+    assert main(["batch", str(study), "--out", str(own), "--csv", "--workers", "1"]) == 0
+    assert set(read_manifest(own)["files"]) == {f"runs/{p.name}" for p in (own / "runs").iterdir()} | {
+        "results.parquet", "results.csv"}
+    assert main(["batch", str(study), "--out", str(own), "--csv", "--workers", "1"]) == 0  # resumes
+    (own / "results.csv").write_text((own / "results.csv").read_text() + "my,note\n")
+    before = _tree(own)
+    capsys.readouterr()
+    assert main(["batch", str(study), "--out", str(own), "--csv", "--workers", "1"]) == 2
+    assert "results.csv, which was changed after ehm wrote it" in _one_error_line(capsys.readouterr().err)
+    assert _tree(own) == before
+
+
+# --- a folder named like ehm's staging folders ----------------------------------------------------------------------
+
+def test_a_folder_named_like_a_staging_folder_is_kept_with_what_the_user_put_in_it(tmp_path, capsys):
+    """User case: a folder beside the output named like ehm's staging folders (`.NAME.partial-PID-...`) was deleted
+    whole with the user's files.  Here it is an ehm run folder the user made under that name (so it carries a
+    manifest, of a finished run) and added notes to; only ehm's own staging mark, naming the folder, counts."""
+    pid = _dead_pid()
+    lookalike = tmp_path / f".run.partial-{pid}-mine"
+    assert _run(lookalike) == 0
+    (lookalike / "notes.txt").write_text("keep me")
+    before = _tree(lookalike)
+    assert _run(tmp_path / "run") == 0
+    assert _run(tmp_path / "run") == 0  # the staging folders of ehm's own runs are looked for each time
+    assert _tree(lookalike) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == [lookalike.name, "run"]
+
+
+# --- a read-only folder, and the hidden copies of earlier runs --------------------------------------------------------
+
+@pytest.mark.parametrize("what", ["folder", "file"])
+def test_a_read_only_folder_is_refused_before_any_work(tmp_path, capsys, what):
+    """User case: a folder the user made read-only was replaced anyway.  Judged by the mode bits (these tests run
+    as root, whom the permission would not stop), the folder or anything in it."""
+    out = tmp_path / "run"
+    assert _run(out, "--method", "nonlinear") == 0
+    locked = out if what == "folder" else out / "summary.json"
+    mode = stat.S_IMODE(locked.stat().st_mode) & ~0o222
+    os.chmod(locked, mode)
+    try:
+        before = _tree(out)
+        capsys.readouterr()
+        assert _run(out, "--method", "nonlinear", "--duration", "600") == 2  # 600 s: refused before running it
+        err = _one_error_line(capsys.readouterr().err)
+        assert "read-only" in err and "chmod -R u+w" in err
+        assert _tree(out) == before and stat.S_IMODE(locked.stat().st_mode) == mode
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]
+    finally:
+        os.chmod(locked, mode | stat.S_IWUSR)
+
+
+def test_no_hidden_copy_of_an_earlier_run_is_left_beside_it(tmp_path, capsys, monkeypatch):
+    """User case: each run left a hidden read-only copy of the earlier run beside it (the earlier folder was
+    read-only, its new copy too, and the removal of the swapped-out folder failed without a word).  Root may remove
+    anything, so removal is made to fail as it does for a user: no entry may be removed from a folder whose owner
+    may not write it."""
+    def as_a_user(real):
+        def remove(path, *, dir_fd=None):
+            parent = os.fstat(dir_fd) if dir_fd is not None else os.stat(os.path.dirname(os.path.abspath(path)))
+            if not parent.st_mode & stat.S_IWUSR:
+                raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), path)
+            return real(path, dir_fd=dir_fd)
+        return remove
+
+    monkeypatch.setattr(os, "unlink", as_a_user(os.unlink))
+    monkeypatch.setattr(os, "rmdir", as_a_user(os.rmdir))
+    out = tmp_path / "run"
+    assert _run(out) == 0
+    os.chmod(out, 0o555)
+    try:
+        _run(out)
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]  # nothing hidden beside it
+    finally:
+        os.chmod(out, 0o755)
+    for _ in range(2):
+        assert _run(out) == 0
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]
+
+
+# --- single files written into a folder ehm manages -------------------------------------------------------------------
+
+@pytest.mark.parametrize("command", [["drive", "city", "--duration", "12", "--out"], ["params", "--export"]])
+def test_a_single_file_is_not_written_into_a_run_folder(tmp_path, capsys, command):
+    """User case: `ehm params --export FILE` or `ehm drive --out FILE` into a run folder joined the folder's manifest
+    and was deleted by the next run.  Now refused before any work, with another place named."""
+    out = tmp_path / "run"
+    assert _run(out) == 0
+    before = _tree(out)
+    name = "drive.csv" if command[0] == "drive" else "p.toml"
+    capsys.readouterr()
+    assert main([*command, str(out / name)]) == 2
+    err = _one_error_line(capsys.readouterr().err)
+    assert f"{out} is an output folder of ehm's" in err and f"e.g. {tmp_path / name}." in err
+    assert _tree(out) == before
+
+
+def test_the_next_run_never_deletes_a_file_it_reads_or_a_file_written_there_from_python(tmp_path, capsys):
+    """User case, continued: the drive the next run read was deleted with the folder.  A file written into a run
+    folder from Python (where no command line checks first) is not listed, so the next run refuses the folder; an
+    input listed there by an earlier ehm (which adopted every file written into a run folder) is refused as an
+    input of the run that would replace it."""
+    from ehm.drives import city_drive, write_drive_csv
+
+    out = tmp_path / "run"
+    assert _run(out) == 0
+    write_drive_csv(city_drive(12.0), out / "drive.csv")
+    assert "drive.csv" not in read_manifest(out)["files"]
+    before = _tree(out)
+    capsys.readouterr()
+    assert main(["simulate", "--motion", str(out / "drive.csv"), "--out", str(out)]) == 2
+    assert "drive.csv" in _one_error_line(capsys.readouterr().err)
+    assert _tree(out) == before
+    from ehm.outdir import record_in_manifest
+
+    record_in_manifest(out / "drive.csv", out)  # as the earlier ehm listed it
+    before = _tree(out)
+    assert main(["simulate", "--motion", str(out / "drive.csv"), "--out", str(out)]) == 2
+    err = _one_error_line(capsys.readouterr().err)
+    assert f"holds {out / 'drive.csv'}, which this command reads" in err
+    assert _tree(out) == before
+
+
+# --- the corrupt-manifest sentence ----------------------------------------------------------------------------------
+
+def test_a_damaged_manifest_is_named_as_such(tmp_path, capsys):
+    """User case: the corrupt-manifest sentence contradicted itself ("holds .ehm-manifest.json, which ehm did not
+    write (the folder has no ehm manifest, .ehm-manifest.json)").  Now it says the manifest is damaged and what to
+    do."""
+    out = tmp_path / "run"
+    assert _run(out) == 0
+    (out / MANIFEST_NAME).write_text('{"written_by": "ehm", "files": {')
+    before = _tree(out)
+    capsys.readouterr()
+    assert _run(out) == 2
+    err = _one_error_line(capsys.readouterr().err)
+    assert err == (f"ehm: error: {out} has a manifest, {MANIFEST_NAME}, that is damaged (not valid JSON), so ehm "
+                   "cannot tell the files it wrote there from any others; give a new or empty folder for the output: "
+                   "ehm replaces only a folder that it wrote and that holds nothing else.")
+    assert _tree(out) == before
+
+
+# --- batch warnings --------------------------------------------------------------------------------------------------
+
+def _drive_with_a_gap(path: Path) -> None:
+    """A SYNTHETIC 4 s seat log at 100 Hz with 0.1 s of rows missing."""
+    t = np.delete(np.arange(0, 4, 0.01), range(150, 160))
+    acc = np.random.default_rng(0).normal(0.0, [0.1, 0.1, 0.3], (t.size, 3))
+    path.write_text("time_s,ax_mps2,ay_mps2,az_mps2\n" + "".join(
+        f"{ti:.3f},{a:.4f},{b:.4f},{c:.4f}\n" for ti, (a, b, c) in zip(t, acc)))
+
+
+@dask_and_pyarrow
+def test_batch_warnings_are_ehm_warnings_on_their_own_lines(tmp_path, capfd):
+    """User case: batch warnings printed raw Python with file and line (the workers' default format), glued to the
+    progress line.  Two runs on one worker process, each warning that its drive's gap was bridged: the warnings
+    come back with the runs' records and are printed once, as `ehm: warning: ...` on a line of their own."""
+    _drive_with_a_gap(tmp_path / "drive.csv")
+    study = tmp_path / "study.toml"
+    study.write_text('[study]\ncompute = ["comfort"]\n[grid]\n"joints.t12.z.stiffness_N_per_m" = [14000.0, 16000.0]\n'
+                     '[input]\ndrive = "drive.csv"\nfill_gaps = true\nduration_s = 3.0\nroute = "linear"\n')
+    assert main(["batch", str(study), "--out", str(tmp_path / "res"), "--workers", "1"]) == 0
+    err = capfd.readouterr().err  # the file descriptor: what worker processes print is seen too
+    assert "Warning:" not in err and ".py:" not in err, err
+    lines = err.split("\n")
+    assert all(ln.startswith("ehm: warning: ") for ln in lines if "warning" in ln.lower()), err
+    assert sum("is bridged with a straight line (fill_gaps)" in ln for ln in lines) == 1, err
+    records = [json.loads(p.read_text()) for p in (tmp_path / "res" / "runs").iterdir()]
+    assert all(any("fill_gaps" in text for _, text in r["warnings"]) for r in records)
+
+
+# --- the gyro file of a batch study ----------------------------------------------------------------------------------
+
+@dask_and_pyarrow
+def test_a_missing_gyro_file_is_named_as_the_gyro(tmp_path, capsys):
+    """User case: a batch study's missing gyro file was reported as `[input] drive`."""
+    _drive_with_a_gap(tmp_path / "drive.csv")
+    study = tmp_path / "study.toml"
+    study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "drive.csv"\ngyro = "gyro.csv"\n'
+                     'fill_gaps = true\nduration_s = 3.0\n')
+    assert main(["batch", str(study), "--out", str(tmp_path / "res")]) == 2
+    err = _one_error_line(capsys.readouterr().err)
+    assert err == (f"ehm: error: {study}: [input] gyro 'gyro.csv' (no file {tmp_path / 'gyro.csv'}): give the gyro "
+                   "file's path (relative paths start from the study file's folder).")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["drive.csv", "study.toml"]
