@@ -31,7 +31,7 @@ from scipy import signal
 
 from .comfort import WEIGHTING_BANDS_HZ, ComfortAccumulator, band_share_outside, comfort_reaction
 from .errors import InputError
-from .motion import SeatMotion, seat_rotation_matrices
+from .motion import SeatMotion, require_motion, seat_rotation_matrices
 from .resampling import PASS_FRACTION
 from .sickness import SicknessAccumulator
 
@@ -308,7 +308,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     """
     from .simulation import SeatedHuman
 
-    rotating = needs_rotating_seat(motion, method)
+    rotating = needs_rotating_seat(require_motion("assess()", motion), method)
     if motion.duration_s < 2.0:
         raise InputError(f"the drive '{motion.description}' lasts {motion.duration_s:g} s; an assessment needs at "
                          "least 2 s (the running rms alone spans 1 s).")
