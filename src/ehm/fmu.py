@@ -54,6 +54,7 @@ import numpy as np
 
 from .errors import EhmError, InputError
 from .outdir import check_file_destination
+from .tables import joint_names
 
 #: Class name of the slave = the FMU's model identifier (names its binaries).
 MODEL_IDENTIFIER = "EhmSeatedHuman"
@@ -339,8 +340,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
         from .fmu_native import export_native_fmu
 
         check_file_destination(out_path, ".fmu", "an FMU")
-        human = SeatedHuman(params=params, lock=[str(j) for j in lock], unlock=[str(j) for j in unlock], size=size,
-                            dt_s=dt_s, rotating_seat=rotating_seat)
+        human = SeatedHuman(params=params, lock=lock, unlock=unlock, size=size, dt_s=dt_s, rotating_seat=rotating_seat)
         return export_native_fmu(out_path, human)
     if size is not None or dt_s is not None or rotating_seat:
         raise InputError("the pythonfmu unit (--python) takes no body size, time step or rotating seat; set the size "
@@ -349,8 +349,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     builder = _pythonfmu_builder()
     out = Path(out_path)
     check_file_destination(out, ".fmu", "an FMU")
-    lock = [str(j) for j in lock]
-    unlock = [str(j) for j in unlock]
+    lock, unlock = list(joint_names(lock, "lock")), list(joint_names(unlock, "unlock"))
     p = params if isinstance(params, Parameters) else Parameters.load(params)
     human = SeatedHuman(params=p, lock=lock, unlock=unlock)  # checks the joints and builds the model once
     setup = {"format": SETUP_FORMAT, "ehm_version": __version__, "params_origin": p.origin, "lock": lock,
