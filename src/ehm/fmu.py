@@ -87,31 +87,63 @@ SLAVE_TEMPLATE = '''"""FMI 2.0 co-simulation slave of ehm {version} (written by 
 
 All the work is done by ehm.fmu.SlaveCore, which needs the ehm package in the host's Python.
 """
+import functools
+
 from pythonfmu import Fmi2Slave
+from pythonfmu.enums import Fmi2Status
 
 try:
     from ehm.fmu import SlaveCore
-except ImportError as exc:
-    raise ImportError("this FMU runs the ehm package inside the host's Python interpreter, which cannot "
-                      f"import it ({{exc}}); install ehm (with mujoco, numpy, scipy) in that environment.") from exc
+    MISSING = None
+except ImportError as exc:  # said when the unit starts: a unit that fails to instantiate crashes hosts
+    SlaveCore = None
+    MISSING = ("this FMU runs the ehm package inside the host's Python interpreter, which cannot "
+               f"import it ({{exc}}); install ehm (with mujoco, numpy, scipy) in that environment.")
+
+#: Slaves whose call raised (fmi2Fatal), kept alive: pythonfmu 0.7 releases the slave, its class and its log
+#: queue once when a call raises and again when the host frees the instance, and without this reference that
+#: second release frees them twice and crashes the host.
+KEPT = []
+
+
+def _kept_on_failure(method):
+    @functools.wraps(method)
+    def call(self, *args):
+        try:
+            return method(self, *args)
+        except BaseException:
+            KEPT.append((self, type(self), self.log_queue))
+            raise
+    return call
 
 
 class {cls}(Fmi2Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.core = SlaveCore(self)
+        self.core = None if SlaveCore is None else SlaveCore(self)
 
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
-        self.core.setup_experiment(start_time)
+        if self.core is not None:
+            self.core.setup_experiment(start_time)
 
     def exit_initialization_mode(self):
+        if self.core is None:
+            self.log(MISSING, Fmi2Status.error)
+            raise ImportError(MISSING)
         self.core.start()
 
     def do_step(self, current_time, step_size):
-        return self.core.do_step(current_time, step_size)
+        return self.core is not None and self.core.do_step(current_time, step_size)
 
     def terminate(self):
-        self.core.stop()
+        if self.core is not None:
+            self.core.stop()
+
+
+for _name in ("setup_experiment", "enter_initialization_mode", "exit_initialization_mode", "do_step", "terminate",
+              "get_integer", "get_real", "get_boolean", "get_string", "set_integer", "set_real", "set_boolean",
+              "set_string", "_get_fmu_state", "_set_fmu_state"):
+    setattr({cls}, _name, _kept_on_failure(getattr({cls}, _name)))
 '''
 
 
@@ -129,18 +161,15 @@ class SlaveCore:
 
         self.slave = slave
         self.resources = Path(slave.resources)
-        try:
-            self.setup = json.loads((self.resources / SETUP_RESOURCE).read_text(encoding="utf-8"))
-        except (OSError, ValueError) as exc:
-            raise InputError(f"{self.resources / SETUP_RESOURCE}: cannot read the FMU set-up ({exc}).") from None
-        if self.setup.get("format") != SETUP_FORMAT:
-            raise InputError(f"this FMU was written by a different ehm (set-up format {self.setup.get('format')!r}, "
-                             f"this ehm reads {SETUP_FORMAT}); export it again with this ehm.")
+        # A set-up this ehm cannot use is said when the unit starts (fmi2ExitInitializationMode), not here: a unit
+        # that fails to instantiate gives the host a null instance, and pythonfmu crashes the host when it is then
+        # terminated.
+        self.setup, self.problem = _read_setup(self.resources / SETUP_RESOURCE)
         slave.description = ("Seated human (ehm, 12-segment efficient human model on MuJoCo): body motion "
                              "from seat acceleration. Needs the ehm package in the host's Python.")
         slave.version = self.setup.get("ehm_version", __version__)
         slave.license = "MIT"
-        slave.default_experiment = DefaultExperiment(start_time=0.0, step_size=self.setup["dt_s"])
+        slave.default_experiment = DefaultExperiment(start_time=0.0, step_size=self.setup.get("dt_s"))
         exported = self.setup.get("ehm_version")
         self._version_note = (None if exported == __version__ else
                               f"this FMU was exported by ehm {exported} and runs ehm {__version__}")
@@ -189,6 +218,8 @@ class SlaveCore:
         from .stepping import Simulator
 
         try:
+            if self.problem:
+                raise InputError(self.problem)
             path = self.params_file.strip()
             params = Parameters.load(path if path else self.resources / PARAMS_RESOURCE)
             if not path:
@@ -261,6 +292,19 @@ class SlaveCore:
         from pythonfmu.enums import Fmi2Status
 
         self.slave.log(msg, Fmi2Status.error if error else Fmi2Status.warning)
+
+
+def _read_setup(path: Path) -> tuple[dict, str | None]:
+    """The unit's set-up (``SETUP_RESOURCE``), and None; or an empty set-up and the sentence why it cannot be used."""
+    try:
+        setup = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        return {}, f"{path}: cannot read the FMU set-up ({exc})."
+    if not isinstance(setup, dict) or setup.get("format") != SETUP_FORMAT:
+        found = setup.get("format") if isinstance(setup, dict) else None
+        return {}, (f"this FMU was written by a different ehm (set-up format {found!r}, this ehm reads "
+                    f"{SETUP_FORMAT}); export it again with this ehm.")
+    return setup, None
 
 
 # ---------------------------------------------------------------------- export
