@@ -41,7 +41,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from . import engine
-from .errors import InputError
+from .errors import EhmWarning, InputError
 from .linear import (BLOCK, SeatRotation, _block_chunk, _block_form, _in_time_order, _initial_state, _layout, _modes,
                      _result, _settled_orientations, advance, carry_of, contact_rows, left_out, seat_body_rates,
                      state_of)
@@ -74,7 +74,7 @@ TOLERANCE = 0.01
 #: content all agreed within 1 % (measured with the default person).
 CONTENT_FLOOR = 1e-4
 
-class LinearRouteWarning(UserWarning):
+class LinearRouteWarning(EhmWarning):
     """The linear route's answer is further from the nonlinear model's than its tolerance (``method="linear"``)."""
 
 

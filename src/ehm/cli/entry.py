@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from ..errors import EhmError
+from ..errors import EhmError, EhmWarning
 from .parser import build_parser
 from .progress import _end_progress_line
 
@@ -12,8 +12,22 @@ EXIT_ERROR = 2
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
-    """Warnings as one sentence on stderr, without the source line."""
-    print(f"ehm: warning: {message}", file=sys.stderr if file is None else file)
+    """ehm's own warnings (:class:`ehm.errors.EhmWarning`) as one sentence on stderr, without the source line; any
+    other (numpy's, matplotlib's, Python's) as a note that keeps its origin: its category and where it was raised."""
+    out = sys.stderr if file is None else file
+    if issubclass(category, EhmWarning):
+        print(f"ehm: warning: {message}", file=out)
+    else:
+        print(f"ehm: note: {category.__name__} from {_short_path(filename)}:{lineno}: {message}", file=out)
+
+
+def _short_path(filename: str) -> str:
+    """A source file's path from its package on (``numpy/lib/_function_base_impl.py``, ``ehm/transfer.py``)."""
+    parts = filename.replace("\\", "/").split("/")
+    for marker in ("site-packages", "dist-packages", "src"):
+        if marker in parts:
+            return "/".join(parts[len(parts) - parts[::-1].index(marker):])
+    return "/".join(parts[-2:])
 
 
 class Terminated(KeyboardInterrupt):

@@ -33,7 +33,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import EhmWarning, InputError
 from ..imu import STANDARD_GRAVITY_MPS2
 
 GRAVITY_MODES = ("auto", "included", "removed")
@@ -109,7 +109,7 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
         warnings.warn(f"{label}: the mean acceleration's norm is {norm:.4g} m/s^2, within {G_TOLERANCE:.0%} of g, so "
                       f"the log is taken to include gravity and is {note} (--gravity included does the same "
                       "without this note).",
-                      stacklevel=4)
+                      EhmWarning, stacklevel=4)
     return levelled, rates, note
 
 
