@@ -54,8 +54,10 @@ def _local_cluster(workers: int | None):
     from dask.distributed import Client, LocalCluster
 
     n = workers or os.cpu_count() or 1
+    # no dashboard, and the scheduler's HTTP server (it runs one even so) on any free port: on its default, 8787,
+    # a second cluster on the machine made distributed warn that the port is in use
     cluster = LocalCluster(n_workers=0, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.CRITICAL)
+                           scheduler_kwargs={"dashboard_address": ":0"}, silence_logs=logging.CRITICAL)
     client = None
     try:
         with _sigint_ignored():  # the client while there are no workers yet (it connects at once)
