@@ -40,7 +40,10 @@ unit refuses every step).  A parameter file that cannot be read or used makes
 because pythonfmu's wrapper turns every Python exception into fmi2Fatal and gives Python code no way to return
 fmi2Error (the native unit, the default of ``ehm export-fmu``, fixes its parameters at export and reports its
 errors as fmi2Error).  pythonfmu passes the unit's messages to the host only with debug
-logging on (``loggingOn``; fmpy ``debug_logging=True``).
+logging on (``loggingOn``; fmpy ``debug_logging=True``).  A set-up this ehm cannot use, or a host that cannot
+import ehm, is said at ``fmi2ExitInitializationMode`` too, never at instantiation (a null instance crashed hosts
+that terminate it); and a slave whose call raised is kept alive, because pythonfmu 0.7 releases it once at the
+error and again at ``fmi2FreeInstance`` (a host that went on after the error and then freed the unit crashed).
 """
 
 from __future__ import annotations

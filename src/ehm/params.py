@@ -28,8 +28,9 @@ _META = ("grade", "source", "bounds", "grades", "sources")
 _SECTIONS = ("simulation", "posture", "seat", "joints", "contacts")  #: the sections every parameter file has
 
 #: Numeric keys allowed in each section, with the check they must pass.
-_SIMULATION = {"dt_s": "time_step", "settle_s": "nonnegative", "back_slide_s": "nonnegative", "noslip_iterations": "count",
-               "solver_iterations": "count", "contact_impedance": "fraction", "pad_armature_kg": "nonnegative"}
+_SIMULATION = {"dt_s": "time_step", "settle_s": "nonnegative", "back_slide_s": "nonnegative",
+               "noslip_iterations": "count", "solver_iterations": "count", "contact_impedance": "fraction",
+               "pad_armature_kg": "nonnegative"}
 #: Keys a file may leave out (added after files were first exported), with the value they then take; load()
 #: fills them in (grade assumed, source "ehm").
 OPTIONAL = {"simulation.back_slide_s": 0.0, "simulation.pad_armature_kg": 0.0}
