@@ -117,11 +117,15 @@ def test_bad_segment_table_via_params_file(tmp_path, capsys):
 
 
 def test_divergence_is_reported_with_time_and_no_output(tmp_path, capsys):
+    # contacts 10x as stiff at the longest step taken (10 ms): diverges while settling (measured at t = 1.82 s)
+    p = Parameters.load()
+    p.with_values({x: 10 * p.value(x) for x in p.numeric_paths()
+                   if x.startswith("contacts.") and x.endswith(".stiffness_N_per_m")}).export(tmp_path / "stiff.toml")
     out = tmp_path / "run"
-    assert main(["simulate", "--axis", "z", "--duration", "2", "--dt", "0.02", "--band", "0.1", "4",
-                 "--out", str(out)]) == 2
+    assert main(["simulate", "--params", str(tmp_path / "stiff.toml"), "--axis", "z", "--duration", "2", "--dt", "0.01",
+                 "--band", "0.1", "4", "--out", str(out)]) == 2
     err = _error_line(capsys)
-    assert "diverged at t =" in err and "0.02" in err
+    assert "diverged at t =" in err and "dt = 0.01 s" in err
     assert not (out / "timeseries.csv").exists() and not (out / "summary.json").exists()
 
 

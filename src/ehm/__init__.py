@@ -27,6 +27,7 @@ BodySize           individual body sizes (stature, mass, sitting height)
 load_body          the body tables (segments, joints, contacts)
 Curve, h1_estimate seat-to-body transfer function from time histories
 EhmError, InputError, DivergenceError    what goes wrong, in one sentence
+EhmWarning         the category of ehm's warnings (StepWarning, LinearRouteWarning, the readers' notes)
 
 Modules
 -------
@@ -49,7 +50,7 @@ gravity of the reference posture.
 
 __version__ = "0.1.0"
 
-from .errors import DivergenceError, EhmError, InputError
+from .errors import DivergenceError, EhmError, EhmWarning, InputError
 from .motion import SeatMotion, random_vibration, sine, sweep
 from .params import Parameters
 from .simulation import PointMotion, RunResult, SeatedHuman
@@ -68,7 +69,7 @@ from .convergence import StepWarning, check_step
 from .linear import LinearRouteError
 
 __all__ = [
-    "DivergenceError", "EhmError", "InputError",
+    "DivergenceError", "EhmError", "EhmWarning", "InputError",
     "SeatedHuman", "RunResult", "PointMotion", "simulate_parallel", "Simulator", "StepState",
     "SeatMotion", "random_vibration", "sine", "sweep", "read_motion", "load_motion_csv", "from_imu",
     "city_drive", "rough_road", "assess", "Assessment",

@@ -30,8 +30,8 @@ import numpy as np
 from scipy import signal
 
 from .comfort import BAND_WARNING_SHARE, WEIGHTING_BANDS_HZ, ComfortAccumulator, band_share_outside, comfort_reaction
-from .errors import InputError
-from .motion import SeatMotion, seat_rotation_matrices
+from .errors import EhmWarning, InputError
+from .motion import SeatMotion, require_motion, seat_rotation_matrices
 from .resampling import PASS_FRACTION
 from .sickness import SicknessAccumulator
 
@@ -304,7 +304,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     """
     from .simulation import SeatedHuman
 
-    rotating = needs_rotating_seat(motion, method)
+    rotating = needs_rotating_seat(require_motion("assess()", motion), method)
     if motion.duration_s < 2.0:
         raise InputError(f"the drive '{motion.description}' lasts {motion.duration_s:g} s; an assessment needs at "
                          "least 2 s (the running rms alone spans 1 s).")
@@ -322,7 +322,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     band = input_band(motion, fs)
     shares = band_coverage(band)
     for sentence in band_warnings(band, shares):
-        warnings.warn(f"{motion.description}: {sentence}", stacklevel=2)
+        warnings.warn(f"{motion.description}: {sentence}", EhmWarning, stacklevel=2)
     description, duration = motion.description, motion.duration_s
     t0 = time.perf_counter()
     if method != "nonlinear" and (workers != 1 or client is not None):

@@ -68,7 +68,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import EhmError, InputError
+from .errors import EhmError, EhmWarning, InputError
 from .cluster import _dask_client, check_scheduler  # noqa: F401  (check_scheduler: the CLI's)
 from .io import replace_atomically, write_json_atomic
 from .outdir import added_folder, write_owned
@@ -370,7 +370,8 @@ def run_one(spec: RunSpec) -> dict:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         record = _run_point(spec)
-    record["warnings"] = [list(w) for w in dict.fromkeys((c.category.__name__, str(c.message)) for c in caught)]
+    caught = dict.fromkeys((_category_name(c.category), str(c.message)) for c in caught)
+    record["warnings"] = [list(w) for w in caught]
     return record
 
 
@@ -542,11 +543,17 @@ def _run_on_dask(todo: list[RunSpec], out: Path, scheduler, workers, progress) -
     return {"simulated_s": simulated, "failed": failed, "wall_s": wall}
 
 
+def _category_name(category: type) -> str:
+    """A warning's category as a record keeps it: ``EhmWarning`` for ehm's own (and its kinds), else the name of
+    Python's built-in category (``RuntimeWarning``, ...)."""
+    return EhmWarning.__name__ if issubclass(category, EhmWarning) else category.__name__
+
+
 def _warn_once(caught: list, shown: set) -> None:
     """Warn here the warnings a run caught in its worker (``[category name, sentence]``), each sentence once."""
     for name, text in caught:
         if text not in shown:
             shown.add(text)
-            category = getattr(builtins, name, UserWarning)
+            category = EhmWarning if name == EhmWarning.__name__ else getattr(builtins, name, UserWarning)
             warnings.warn(text, category if isinstance(category, type) and issubclass(category, Warning)
                           else UserWarning, stacklevel=2)

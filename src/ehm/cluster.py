@@ -9,7 +9,6 @@ import logging
 import multiprocessing
 import os
 import time
-import warnings
 
 from .errors import InputError
 from .processes import ONE_THREAD
@@ -55,10 +54,10 @@ def _local_cluster(workers: int | None):
     from dask.distributed import Client, LocalCluster
 
     n = workers or os.cpu_count() or 1
-    with warnings.catch_warnings():  # the scheduler's web server moves to a free port: nothing for the user to do
-        warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")
-        cluster = LocalCluster(n_workers=0, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.CRITICAL)
+    # no dashboard, and the scheduler's HTTP server (it runs one even so) on any free port: on its default, 8787,
+    # a second cluster on the machine made distributed warn that the port is in use
+    cluster = LocalCluster(n_workers=0, threads_per_worker=1, processes=True, dashboard_address=None,
+                           scheduler_kwargs={"dashboard_address": ":0"}, silence_logs=logging.CRITICAL)
     client = None
     try:
         with _sigint_ignored():  # the client while there are no workers yet (it connects at once)

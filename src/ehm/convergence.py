@@ -30,7 +30,9 @@ from .params import Parameters
 from .timestep import (  # noqa: F401 - re-exported: ehm.convergence.StepWarning etc.
     CONVERGED_STEP_S,
     DEFAULT_STEP_ERRORS,
+    MIN_STEP_S,
     StepWarning,
+    check_time_step,
     expected_error,
     warn_if_coarse,
 )
@@ -133,12 +135,14 @@ def check_step(params: Parameters | str | None = None, dt_s: float | None = None
     from .simulation import SeatedHuman
 
     params = params if isinstance(params, Parameters) else Parameters.load(params)
-    dt = float(params.value("simulation.dt_s")) if dt_s is None else float(dt_s)
-    if not dt > 0:
-        raise InputError(f"the step to check must be positive, not {dt_s!r} s.")
+    dt = float(params.value("simulation.dt_s")) if dt_s is None else check_time_step(dt_s, "dt_s")
     ratios = tuple(int(r) for r in ratios)
     if not ratios or min(ratios) < 2:
         raise InputError(f"the finer steps are given as divisors of the step, each 2 or more; got {ratios}.")
+    if dt / max(ratios) < MIN_STEP_S:
+        raise InputError(f"the step to check, {dt:g} s, is too short to compare with a step {max(ratios)} times "
+                         f"finer: steps below {MIN_STEP_S * 1e6:g} us are not run (check {MIN_STEP_S * max(ratios):g} "
+                         "s or longer).")
     f = _FREQ_HZ if freq_hz is None else np.asarray(freq_hz, dtype=float)
 
     def table(step_s: float):

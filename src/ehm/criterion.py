@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
+from .errors import EhmWarning, InputError
 from .frf import MASS_POINTS, FrfTable
 from .transfer import band_select
 
@@ -121,7 +121,7 @@ def curves_to_compare(measured: FrfTable, band_hz: tuple[float, float] = DEFAULT
         warnings.warn(f"left out of the criterion: {len(small)} measured curve{'s' * (len(small) > 1)} whose peak is "
                       f"below {100 * SMALL_CURVE_FRACTION:.0f} % of the largest curve of the same kind for the same "
                       f"seat axis (noise, or paths near zero by symmetry): {listed}; keep them with keep_small=True "
-                      "(--keep-small-curves).", UserWarning, stacklevel=3)
+                      "(--keep-small-curves).", EhmWarning, stacklevel=3)
     return [k for k in measured.keys() if k not in small], tuple(small)
 
 

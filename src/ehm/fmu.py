@@ -40,7 +40,10 @@ unit refuses every step).  A parameter file that cannot be read or used makes
 because pythonfmu's wrapper turns every Python exception into fmi2Fatal and gives Python code no way to return
 fmi2Error (the native unit, the default of ``ehm export-fmu``, fixes its parameters at export and reports its
 errors as fmi2Error).  pythonfmu passes the unit's messages to the host only with debug
-logging on (``loggingOn``; fmpy ``debug_logging=True``).
+logging on (``loggingOn``; fmpy ``debug_logging=True``).  A set-up this ehm cannot use, or a host that cannot
+import ehm, is said at ``fmi2ExitInitializationMode`` too, never at instantiation (a null instance crashed hosts
+that terminate it); and a slave whose call raised is kept alive, because pythonfmu 0.7 releases it once at the
+error and again at ``fmi2FreeInstance`` (a host that went on after the error and then freed the unit crashed).
 """
 
 from __future__ import annotations
@@ -54,6 +57,7 @@ import numpy as np
 
 from .errors import EhmError, InputError
 from .outdir import check_file_destination
+from .tables import joint_names
 
 #: Class name of the slave = the FMU's model identifier (names its binaries).
 MODEL_IDENTIFIER = "EhmSeatedHuman"
@@ -86,31 +90,63 @@ SLAVE_TEMPLATE = '''"""FMI 2.0 co-simulation slave of ehm {version} (written by 
 
 All the work is done by ehm.fmu.SlaveCore, which needs the ehm package in the host's Python.
 """
+import functools
+
 from pythonfmu import Fmi2Slave
+from pythonfmu.enums import Fmi2Status
 
 try:
     from ehm.fmu import SlaveCore
-except ImportError as exc:
-    raise ImportError("this FMU runs the ehm package inside the host's Python interpreter, which cannot "
-                      f"import it ({{exc}}); install ehm (with mujoco, numpy, scipy) in that environment.") from exc
+    MISSING = None
+except ImportError as exc:  # said when the unit starts: a unit that fails to instantiate crashes hosts
+    SlaveCore = None
+    MISSING = ("this FMU runs the ehm package inside the host's Python interpreter, which cannot "
+               f"import it ({{exc}}); install ehm (with mujoco, numpy, scipy) in that environment.")
+
+#: Slaves whose call raised (fmi2Fatal), kept alive: pythonfmu 0.7 releases the slave, its class and its log
+#: queue once when a call raises and again when the host frees the instance, and without this reference that
+#: second release frees them twice and crashes the host.
+KEPT = []
+
+
+def _kept_on_failure(method):
+    @functools.wraps(method)
+    def call(self, *args):
+        try:
+            return method(self, *args)
+        except BaseException:
+            KEPT.append((self, type(self), self.log_queue))
+            raise
+    return call
 
 
 class {cls}(Fmi2Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.core = SlaveCore(self)
+        self.core = None if SlaveCore is None else SlaveCore(self)
 
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
-        self.core.setup_experiment(start_time)
+        if self.core is not None:
+            self.core.setup_experiment(start_time)
 
     def exit_initialization_mode(self):
+        if self.core is None:
+            self.log(MISSING, Fmi2Status.error)
+            raise ImportError(MISSING)
         self.core.start()
 
     def do_step(self, current_time, step_size):
-        return self.core.do_step(current_time, step_size)
+        return self.core is not None and self.core.do_step(current_time, step_size)
 
     def terminate(self):
-        self.core.stop()
+        if self.core is not None:
+            self.core.stop()
+
+
+for _name in ("setup_experiment", "enter_initialization_mode", "exit_initialization_mode", "do_step", "terminate",
+              "get_integer", "get_real", "get_boolean", "get_string", "set_integer", "set_real", "set_boolean",
+              "set_string", "_get_fmu_state", "_set_fmu_state"):
+    setattr({cls}, _name, _kept_on_failure(getattr({cls}, _name)))
 '''
 
 
@@ -128,18 +164,15 @@ class SlaveCore:
 
         self.slave = slave
         self.resources = Path(slave.resources)
-        try:
-            self.setup = json.loads((self.resources / SETUP_RESOURCE).read_text(encoding="utf-8"))
-        except (OSError, ValueError) as exc:
-            raise InputError(f"{self.resources / SETUP_RESOURCE}: cannot read the FMU set-up ({exc}).") from None
-        if self.setup.get("format") != SETUP_FORMAT:
-            raise InputError(f"this FMU was written by a different ehm (set-up format {self.setup.get('format')!r}, "
-                             f"this ehm reads {SETUP_FORMAT}); export it again with this ehm.")
+        # A set-up this ehm cannot use is said when the unit starts (fmi2ExitInitializationMode), not here: a unit
+        # that fails to instantiate gives the host a null instance, and pythonfmu crashes the host when it is then
+        # terminated.
+        self.setup, self.problem = _read_setup(self.resources / SETUP_RESOURCE)
         slave.description = ("Seated human (ehm, 12-segment efficient human model on MuJoCo): body motion "
                              "from seat acceleration. Needs the ehm package in the host's Python.")
         slave.version = self.setup.get("ehm_version", __version__)
         slave.license = "MIT"
-        slave.default_experiment = DefaultExperiment(start_time=0.0, step_size=self.setup["dt_s"])
+        slave.default_experiment = DefaultExperiment(start_time=0.0, step_size=self.setup.get("dt_s"))
         exported = self.setup.get("ehm_version")
         self._version_note = (None if exported == __version__ else
                               f"this FMU was exported by ehm {exported} and runs ehm {__version__}")
@@ -188,6 +221,8 @@ class SlaveCore:
         from .stepping import Simulator
 
         try:
+            if self.problem:
+                raise InputError(self.problem)
             path = self.params_file.strip()
             params = Parameters.load(path if path else self.resources / PARAMS_RESOURCE)
             if not path:
@@ -260,6 +295,19 @@ class SlaveCore:
         from pythonfmu.enums import Fmi2Status
 
         self.slave.log(msg, Fmi2Status.error if error else Fmi2Status.warning)
+
+
+def _read_setup(path: Path) -> tuple[dict, str | None]:
+    """The unit's set-up (``SETUP_RESOURCE``), and None; or an empty set-up and the sentence why it cannot be used."""
+    try:
+        setup = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        return {}, f"{path}: cannot read the FMU set-up ({exc})."
+    if not isinstance(setup, dict) or setup.get("format") != SETUP_FORMAT:
+        found = setup.get("format") if isinstance(setup, dict) else None
+        return {}, (f"this FMU was written by a different ehm (set-up format {found!r}, this ehm reads "
+                    f"{SETUP_FORMAT}); export it again with this ehm.")
+    return setup, None
 
 
 # ---------------------------------------------------------------------- export
@@ -339,8 +387,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
         from .fmu_native import export_native_fmu
 
         check_file_destination(out_path, ".fmu", "an FMU")
-        human = SeatedHuman(params=params, lock=[str(j) for j in lock], unlock=[str(j) for j in unlock], size=size,
-                            dt_s=dt_s, rotating_seat=rotating_seat)
+        human = SeatedHuman(params=params, lock=lock, unlock=unlock, size=size, dt_s=dt_s, rotating_seat=rotating_seat)
         return export_native_fmu(out_path, human)
     if size is not None or dt_s is not None or rotating_seat:
         raise InputError("the pythonfmu unit (--python) takes no body size, time step or rotating seat; set the size "
@@ -349,8 +396,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     builder = _pythonfmu_builder()
     out = Path(out_path)
     check_file_destination(out, ".fmu", "an FMU")
-    lock = [str(j) for j in lock]
-    unlock = [str(j) for j in unlock]
+    lock, unlock = list(joint_names(lock, "lock")), list(joint_names(unlock, "unlock"))
     p = params if isinstance(params, Parameters) else Parameters.load(params)
     human = SeatedHuman(params=p, lock=lock, unlock=unlock)  # checks the joints and builds the model once
     setup = {"format": SETUP_FORMAT, "ehm_version": __version__, "params_origin": p.origin, "lock": lock,

@@ -26,12 +26,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from numbers import Integral, Real
+from numbers import Integral
 
 import numpy as np
 from scipy import signal
 
-from ehm.errors import InputError
+from ehm.errors import InputError, finite_number, positive_number
 
 from .kinematics import (  # noqa: F401 - re-exported: ehm.motion.seat_kinematics etc.
     SeatKinematics,
@@ -281,21 +281,17 @@ def _owned_copy(values) -> np.ndarray:
 # --------------------------------------------------------------------------
 
 
-def _number(func: str, name: str, value: object) -> float:
-    """Return `value` as a finite float or raise InputError naming `name`."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, Real):
-        raise InputError(f"{func}: {name} must be a number, got {value!r}.")
-    result = float(value)
-    if not math.isfinite(result):
-        raise InputError(f"{func}: {name} must be finite, got {result!r}.")
-    return result
+#: a finite number, and one above 0, or one sentence naming the function and the argument
+_number, _positive = finite_number, positive_number
 
 
-def _positive(func: str, name: str, value: object) -> float:
-    result = _number(func, name, value)
-    if result <= 0.0:
-        raise InputError(f"{func}: {name} must be > 0, got {result!r}.")
-    return result
+def require_motion(func: str, motion: object) -> SeatMotion:
+    """``motion`` if it is a :class:`SeatMotion`, else one sentence saying what ``func`` needs and where to get it."""
+    if not isinstance(motion, SeatMotion):
+        raise InputError(f"{func} needs a SeatMotion, not {motion!r:.60}: read a file with ehm.read_motion, take a "
+                         "shipped drive with ehm.city_drive or ehm.rough_road, or generate one with "
+                         "ehm.random_vibration.")
+    return motion
 
 
 def _non_negative(func: str, name: str, value: object) -> float:

@@ -47,7 +47,7 @@ import warnings
 from importlib import metadata
 from pathlib import Path
 
-from .errors import InputError
+from .errors import EhmWarning, InputError
 from .io import MANIFEST_NAME, _fsync_directory, manifest_or_why, read_manifest, write_json_atomic
 
 #: Its format, written into it: a later ehm can tell what it reads.
@@ -379,7 +379,7 @@ def _remove_tree(folder: Path) -> None:
     shutil.rmtree(folder, onerror=writable_and_again)
     if os.path.lexists(folder):
         warnings.warn(f"{folder}: could not remove this hidden folder of an earlier run; delete it yourself.",
-                      stacklevel=2)
+                      EhmWarning, stacklevel=2)
 
 
 def glob_escape(text: str) -> str:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import math
+import os
 import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
@@ -20,14 +21,16 @@ from typing import Any, Iterator, Mapping
 
 from .errors import InputError
 from .tables import JOINT_NAMES, Body
+from .timestep import check_time_step
 
 GRADES = ("literature", "assumed", "identified", "at bound")
 _META = ("grade", "source", "bounds", "grades", "sources")
 _SECTIONS = ("simulation", "posture", "seat", "joints", "contacts")  #: the sections every parameter file has
 
 #: Numeric keys allowed in each section, with the check they must pass.
-_SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "back_slide_s": "nonnegative", "noslip_iterations": "count",
-               "solver_iterations": "count", "contact_impedance": "fraction", "pad_armature_kg": "nonnegative"}
+_SIMULATION = {"dt_s": "time_step", "settle_s": "nonnegative", "back_slide_s": "nonnegative",
+               "noslip_iterations": "count", "solver_iterations": "count", "contact_impedance": "fraction",
+               "pad_armature_kg": "nonnegative"}
 #: Keys a file may leave out (added after files were first exported), with the value they then take; load()
 #: fills them in (grade assumed, source "ehm").
 OPTIONAL = {"simulation.back_slide_s": 0.0, "simulation.pad_armature_kg": 0.0}
@@ -75,6 +78,9 @@ class Parameters:
     @classmethod
     def load(cls, path: Path | str | None = None) -> "Parameters":
         """Read and check a parameter file (default: the shipped one)."""
+        if path is not None and not isinstance(path, (str, os.PathLike)):
+            raise InputError(f"params must be a parameter file's path, an ehm.Parameters or None (the shipped "
+                             f"defaults), not {path!r:.60}.")
         p = Path(path) if path is not None else default_params_path()
         label = p.name if path is None else str(path)
         try:
@@ -371,6 +377,9 @@ def _check_value(label: str, where: str, value: Any, rule: str) -> None:
     if rule == "joints":
         if not isinstance(value, list) or any(v not in JOINT_NAMES for v in value):
             raise InputError(f"{label}: {where} must be a list of joint names from {', '.join(JOINT_NAMES)}.")
+        return
+    if rule == "time_step":
+        check_time_step(value, f"{label}: {where}")
         return
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise InputError(f"{label}: {where} = {value!r} is not a number.")

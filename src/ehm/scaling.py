@@ -25,6 +25,15 @@ Rules (each documented with its source; the reference person is its own fixed po
   same dimensionless dynamics (grade: literature for the rule, assumed for its use in seated vibration).
 * The seat is adjusted to the person: its geometry, given in body coordinates, scales like the body,
   so the seat pan, backrest pads and floor meet the scaled body as they meet the reference person.
+
+Range: stature 1.2 to 2.2 m, mass 30 to 200 kg, sitting height 0.4 to 0.6 of stature, and a body mass index
+(mass / stature^2) of 16 to 40 kg/m^2.  The rules carry one person's build (the reference's body mass index is
+22.9, his segment mass fractions and density) to other sizes; the World Health Organization's classes of body mass
+index bound the builds they can stand for: below 16 is severe thinness and from 40 obesity class III (WHO Technical
+Report Series 854, 1995, and 894, 2000), where the mass is distributed over the segments too differently for
+constant mass fractions and one width factor (a 2.2 m, 30 kg person, index 6.2, would be 58 % of the reference's
+width).  Tested: a 5th-percentile woman (1.52 m, 50 kg, index 21.6) and a 95th-percentile man (1.87 m, 98 kg,
+index 28.0) carry their weight within 1 % and move their vertical trunk mode as the rules predict.
 """
 
 from __future__ import annotations
@@ -43,6 +52,18 @@ REFERENCE_SITTING_HEIGHT_M = 0.92  #: Paper section 1: the AHM's sitting height.
 REFERENCE_MASS_KG = 70.882  #: Paper Table 2: the EHM's total mass.
 LEG_SEGMENTS = ("thigh", "leg", "foot")  #: Segment name prefixes scaled with leg length.
 LEG_JOINTS = ("hip", "knee", "ankle")
+STATURE_RANGE_M = (1.2, 2.2)  #: Standing heights the person can be scaled to [m].
+MASS_RANGE_KG = (30.0, 200.0)  #: Body masses the person can be scaled to [kg].
+#: Body mass indices (mass / stature^2) the scaling stands for [kg/m^2]: WHO, from the limit of severe thinness
+#: (16) to that of obesity class III (40); see the module docstring.
+BMI_RANGE_KG_M2 = (16.0, 40.0)
+
+
+def mass_range_kg(stature_m: float) -> tuple[float, float]:
+    """The body masses [kg] a person of ``stature_m`` can be scaled to (mass range and body mass index range)."""
+    lo = max(MASS_RANGE_KG[0], BMI_RANGE_KG_M2[0] * stature_m ** 2)
+    hi = min(MASS_RANGE_KG[1], BMI_RANGE_KG_M2[1] * stature_m ** 2)
+    return lo, hi
 
 
 def _check(name: str, value, low: float, high: float) -> float:
@@ -55,6 +76,18 @@ def _check(name: str, value, low: float, high: float) -> float:
     return v
 
 
+def _check_build(stature_m: float, mass_kg: float) -> None:
+    """One sentence when mass and stature make a body mass index outside :data:`BMI_RANGE_KG_M2`."""
+    bmi = mass_kg / stature_m ** 2
+    lo, hi = BMI_RANGE_KG_M2
+    if not lo <= bmi <= hi:
+        m_lo, m_hi = mass_range_kg(stature_m)  # never empty within the stature range
+        raise InputError(f"a person of {stature_m:g} m and {mass_kg:g} kg has a body mass index of {bmi:.1f} kg/m^2, "
+                         f"outside the {lo:g}-{hi:g} kg/m^2 the scaling stands for (WHO: from the limit of severe "
+                         f"thinness to that of obesity class III; the rules keep the reference person's segment mass "
+                         f"fractions and density): at {stature_m:g} m choose a mass from {m_lo:.1f} to {m_hi:.1f} kg.")
+
+
 class BodySize:
     """Scale factors from the reference person to a person of the given size.
 
@@ -63,14 +96,16 @@ class BodySize:
     stature_m : float
         Standing height [m] (1.2 to 2.2).
     mass_kg : float
-        Body mass [kg] (30 to 200).
+        Body mass [kg] (30 to 200, and a body mass index mass / stature^2 of 16 to 40 kg/m^2: see the module
+        docstring).
     sitting_height_m : float, optional
         Sitting height [m]; default: the reference proportion (0.92 / 1.76 of stature).
     """
 
     def __init__(self, stature_m: float, mass_kg: float, sitting_height_m: float | None = None):
-        self.stature_m = _check("stature_m", stature_m, 1.2, 2.2)
-        self.mass_kg = _check("mass_kg", mass_kg, 30.0, 200.0)
+        self.stature_m = _check("stature_m", stature_m, *STATURE_RANGE_M)
+        self.mass_kg = _check("mass_kg", mass_kg, *MASS_RANGE_KG)
+        _check_build(self.stature_m, self.mass_kg)
         if sitting_height_m is None:
             sitting_height_m = self.stature_m * REFERENCE_SITTING_HEIGHT_M / REFERENCE_STATURE_M
         self.sitting_height_m = _check("sitting_height_m", sitting_height_m, 0.4 * self.stature_m, 0.6 * self.stature_m)
@@ -191,7 +226,8 @@ def check_buildable(size: BodySize, body: Body, params: Parameters, scaled_body:
     if problem is None:
         return
     ok = []
-    for m in np.arange(30.0, 200.0 + 1e-9, 1.0):
+    m_lo, m_hi = mass_range_kg(size.stature_m)
+    for m in np.arange(math.ceil(m_lo), m_hi + 1e-9, 1.0):
         s = BodySize(size.stature_m, m, size.sitting_height_m)
         if inertia_problem(scale_body(body, s), scale_params(params, s, body)) is None:
             ok.append(m)
@@ -203,7 +239,8 @@ def check_buildable(size: BodySize, body: Body, params: Parameters, scaled_body:
             start = None
     where = f"at stature {size.stature_m:g} m and sitting height {size.sitting_height_m:.3g} m"
     hint = (f"{where} it can be built with a mass of {', '.join(spans)}: choose one there or another stature"
-            if spans else f"no mass from 30 to 200 kg can be built {where}: choose another stature or sitting height")
+            if spans else f"no mass from {m_lo:.0f} to {m_hi:.0f} kg can be built {where}: choose another stature or "
+            "sitting height")
     a, b, c = problem.moments
     raise InputError(f"a person of {size.stature_m:g} m and {size.mass_kg:g} kg cannot be built: scaled to that size, "
                      f"segment {problem.segment!r} would have principal moments of inertia {a:.4g}, {b:.4g}, "

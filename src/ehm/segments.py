@@ -87,7 +87,7 @@ from numbers import Integral, Real
 import numpy as np
 
 from .errors import InputError
-from .motion import SeatMotion
+from .motion import SeatMotion, require_motion
 from .processes import ONE_THREAD, environ_default, ignore_sigint, sigint_ignored
 from .resampling import Resampler
 from .results import RunResult, concatenate_runs
@@ -263,8 +263,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
         Poses for pictures, as for :meth:`~ehm.SeatedHuman.simulate`.
     """
     _check(workers, segment_s, lead_in_s, chunk_s)
-    if not isinstance(motion, SeatMotion):
-        raise InputError("simulate_parallel() needs a SeatMotion (see ehm.random_vibration, ehm.read_motion).")
+    require_motion("simulate_parallel()", motion)
     dt = human.check_nonlinear_motion(motion)
     lead_s = DEFAULT_LEAD_IN_S if lead_in_s is None else float(lead_in_s)
     n_steps = Resampler.of_motion(motion, dt).n_samples

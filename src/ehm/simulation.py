@@ -19,7 +19,7 @@ from scipy.spatial.transform import Rotation
 from . import engine
 from .errors import DivergenceError, InputError
 from .imu import STANDARD_GRAVITY_MPS2
-from .motion import Resampler, SeatMotion, seat_kinematics, seat_rotation_matrices
+from .motion import Resampler, SeatMotion, require_motion, seat_kinematics, seat_rotation_matrices
 from .params import Parameters
 from .results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_runs: also importable from here
     POINT_NAMES,
@@ -28,7 +28,7 @@ from .results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_run
     concatenate_runs,
 )
 from .tables import Body, load_body, resolve_locks
-from .timestep import warn_if_coarse
+from .timestep import check_time_step, warn_if_coarse
 
 
 class SeatedHuman:
@@ -57,9 +57,7 @@ class SeatedHuman:
         self.body = body if body is not None else load_body()
         self.params = params if isinstance(params, Parameters) else Parameters.load(params)
         if dt_s is not None:
-            if not (isinstance(dt_s, (int, float)) and np.isfinite(dt_s) and dt_s > 0):
-                raise InputError(f"dt_s must be a positive time step in seconds, not {dt_s!r}.")
-            self.params = self.params.with_values({"simulation.dt_s": float(dt_s)})
+            self.params = self.params.with_values({"simulation.dt_s": check_time_step(dt_s, "dt_s")})
         warn_if_coarse(float(self.params.value("simulation.dt_s")))
         if size is not None:  # an individual body size (ehm.scaling.BodySize)
             from .scaling import check_buildable, scale_body, scale_params
@@ -236,8 +234,7 @@ class SeatedHuman:
         for :meth:`simulate` (both routes take the motion resampled to the model's step; the linear route records
         no poses).
         """
-        if not isinstance(motion, SeatMotion):
-            raise InputError("simulate() needs a SeatMotion (see ehm.random_vibration, ehm.load_motion_csv).")
+        require_motion("simulate()", motion)
         if method in ("linear", "auto"):
             from .hybrid import TOLERANCE, stream_checked
 

@@ -158,8 +158,8 @@ class Simulator:
             raise InputError("step-by-step runs support seat translation only; for seat rotation run the whole "
                              "drive with 'ehm assess' or SeatedHuman(rotating_seat=True).simulate().")
         a = _three_finite(seat_acc_mps2, "seat_acc_mps2", "m/s^2")
-        data, end = engine.step(self.model, self._d, a, check=self._step % engine.CHECK_EVERY == 0)
         t = self._step * self.dt_s
+        data, end = engine.step(self.model, self._d, a, check=self._step % engine.CHECK_EVERY == 0, start_s=t)
         self._step += 1
         points = {}
         for p in POINT_NAMES:

@@ -14,6 +14,7 @@ import numpy as np
 
 from .errors import InputError
 from .frf import FrfTable, linear_frf, time_domain_frf
+from .tables import joint_names
 
 #: The paper's variants: name -> joints locked on top of the default (waist) lock.
 PAPER_VARIANTS = {"baseline": (), "SL": ("t12",), "NL": ("lower_neck",)}
@@ -114,7 +115,7 @@ def locking_study(params=None, variants: dict | None = None, method: str = "line
     variants = dict(variants or PAPER_VARIANTS)
     if variants.get("baseline", ()) != ():
         raise InputError("'baseline' is the unlocked reference of the study; give the variant another name.")
-    variants = {"baseline": (), **{k: v for k, v in variants.items() if k != "baseline"}}
+    variants = {"baseline": (), **{k: joint_names(v, f"variant {k!r}") for k, v in variants.items() if k != "baseline"}}
     humans = {name: SeatedHuman(params=params, lock=locks) for name, locks in variants.items()}  # checks names first
     tables: dict[str, FrfTable] = {}
     for name, human in humans.items():

@@ -385,8 +385,27 @@ def load_body(segments: Path | str | None = None, joints: Path | str | None = No
     return Body(segs, jnts, cons)
 
 
+def joint_names(value, what: str = "lock") -> tuple[str, ...]:
+    """Joints given as one name (``"t12"``), a list of names or None, as a tuple of names (a single name is never
+    split into letters); anything else is refused in one sentence naming the argument ``what``."""
+    if value is None:
+        return ()
+    if isinstance(value, str):
+        return (value,)
+    try:
+        names = tuple(value)
+    except TypeError:
+        names = None
+    if names is None or not all(isinstance(n, str) for n in names):
+        raise InputError(f"{what} must be a joint name or a list of joint names, e.g. ['t12', 'lower_neck'], "
+                         f"not {value!r:.60}.")
+    return names
+
+
 def resolve_locks(body: Body, lock=(), unlock=()) -> frozenset:
-    """The complete set of locked joints: the table's defaults (the waist), plus ``lock``, minus ``unlock``."""
+    """The complete set of locked joints: the table's defaults (the waist), plus ``lock``, minus ``unlock`` (each
+    a joint name or a list of names: :func:`joint_names`)."""
+    lock, unlock = joint_names(lock, "lock"), joint_names(unlock, "unlock")
     names = [j.name for j in body.joints]
     for name in list(lock) + list(unlock):
         if name not in names:

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from .errors import InputError
+from .errors import InputError, positive_number
 
 
 def band_select(freq_hz: np.ndarray, band_hz: tuple[float, float]) -> np.ndarray:
@@ -85,10 +85,13 @@ def h1_estimate(x: np.ndarray, y: np.ndarray, fs_hz: float, segment_s: float = 1
         Cut-off of the paper's Butterworth filter (4th order, zero phase) applied to input and output alike
         before estimation; None skips it.
     """
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
-    if x.shape != y.shape or x.ndim != 1:
-        raise InputError("input and output must be 1-D arrays of the same length.")
+    fs_hz = positive_number("h1_estimate", "fs_hz", fs_hz)
+    segment_s = positive_number("h1_estimate", "segment_s", segment_s)
+    if lowpass_hz is not None:
+        lowpass_hz = positive_number("h1_estimate", "lowpass_hz", lowpass_hz)
+    x, y = _samples("x (the input)", x), _samples("y (the output)", y)
+    if x.shape != y.shape:
+        raise InputError(f"h1_estimate: x and y must be of the same length, not {x.size} and {y.size} samples.")
     nper = int(round(segment_s * fs_hz))
     if nper < 8 or nper > x.size:
         raise InputError(
@@ -108,6 +111,23 @@ def h1_estimate(x: np.ndarray, y: np.ndarray, fs_hz: float, segment_s: float = 1
     ok = pxx > 0
     return Curve(freq_hz=f[ok], gain=np.abs(h[ok]), phase_deg=np.degrees(np.angle(h[ok])),
                             coherence=np.nan_to_num(coh[ok]))
+
+
+def _samples(name: str, values) -> np.ndarray:
+    """A time history as a 1-D float array of finite samples, or one sentence naming the first bad sample."""
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"h1_estimate: {name} must be a 1-D array of numbers, not {values!r:.60}.") from None
+    if arr.ndim != 1:
+        raise InputError(f"h1_estimate: {name} must be a 1-D array of samples, not of shape {arr.shape}.")
+    bad = np.flatnonzero(~np.isfinite(arr))
+    if bad.size:
+        raise InputError(f"h1_estimate: {name} has a non-finite value ({arr[bad[0]]}) at sample {bad[0]}"
+                         + (f" and {bad.size - 1} more" if bad.size > 1 else "")
+                         + "; fill or cut the gap before estimating (Welch averages would spread it over every "
+                         "frequency).")
+    return arr
 
 
 def discrete_frequency_response(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, dt_s: float,

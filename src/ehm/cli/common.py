@@ -9,6 +9,7 @@ from ..errors import InputError
 from ..params import Parameters
 from ..simulation import SeatedHuman
 from ..tables import load_body
+from ..timestep import check_time_step
 
 
 def _joint_list(values: list[str] | None) -> list[str]:
@@ -21,9 +22,7 @@ def _joint_list(values: list[str] | None) -> list[str]:
 def _human(args, rotating_seat: bool = False) -> SeatedHuman:
     params = Parameters.load(args.params)
     if getattr(args, "dt", None) is not None:
-        if not args.dt > 0:
-            raise InputError(f"--dt must be a positive time step in seconds, not {args.dt}.")
-        params = params.with_values({"simulation.dt_s": args.dt})
+        params = params.with_values({"simulation.dt_s": check_time_step(args.dt, "--dt")})
     body = load_body(args.segments, args.joints, args.contacts)
     return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body,
                        rotating_seat=rotating_seat, size=_size(args))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from ..errors import EhmError
+from ..errors import EhmError, EhmWarning
 from .parser import build_parser
 from .progress import _end_progress_line
 
@@ -15,14 +15,29 @@ _SHOWN: set[str] = set()  #: The warnings this command has shown: each sentence 
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
-    """Warnings as one sentence on a line of their own on stderr (an open progress line is ended first), without
-    the source line, each sentence once per command."""
+    """ehm's own warnings (:class:`ehm.errors.EhmWarning`) as one sentence on a line of their own on stderr (an open
+    progress line is ended first), without the source line, each sentence once per command (a batch's runs repeat
+    theirs); any other (numpy's, matplotlib's, Python's) as a note that keeps its origin: its category and where it
+    was raised."""
     text = str(message)
     if text in _SHOWN:
         return
     _SHOWN.add(text)
     _end_progress_line()
-    print(f"ehm: warning: {text}", file=sys.stderr if file is None else file, flush=True)
+    out = sys.stderr if file is None else file
+    if issubclass(category, EhmWarning):
+        print(f"ehm: warning: {text}", file=out, flush=True)
+    else:
+        print(f"ehm: note: {category.__name__} from {_short_path(filename)}:{lineno}: {text}", file=out, flush=True)
+
+
+def _short_path(filename: str) -> str:
+    """A source file's path from its package on (``numpy/lib/_function_base_impl.py``, ``ehm/transfer.py``)."""
+    parts = filename.replace("\\", "/").split("/")
+    for marker in ("site-packages", "dist-packages", "src"):
+        if marker in parts:
+            return "/".join(parts[len(parts) - parts[::-1].index(marker):])
+    return "/".join(parts[-2:])
 
 
 class Terminated(KeyboardInterrupt):

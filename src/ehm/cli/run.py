@@ -71,7 +71,7 @@ def _route_options(p) -> None:
                         "linearised person throughout, checked against the nonlinear model there)")
     p.add_argument("--tolerance", type=float, default=None, metavar="PERCENT",
                    help="the linear route's tolerance: discrepancy from the nonlinear model in %% of each point "
-                        "acceleration's rms (default 1)")
+                        "acceleration's rms, of the largest one's where a point's own is round-off (default 1)")
 
 
 def _tolerance(args) -> float | None:

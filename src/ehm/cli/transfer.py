@@ -13,6 +13,7 @@ from ..io import write_json_atomic
 from ..outdir import RunFolder, check_output_file, check_output_folder
 from ..params import Parameters, refuse_defaults
 from ..tables import load_body
+from ..timestep import check_time_step
 from .common import _band, _human, _input_files, _joint_list, _read_motion_file, _size
 from .options import _KEEP_SMALL_HELP, _excitation_options, _model_options, _motion_file_options
 from .progress import _end_progress_line
@@ -284,8 +285,8 @@ def add_check_step(sub) -> None:
 def cmd_check_step(args) -> int:
     from ..convergence import check_step
 
-    if args.dt is not None and not args.dt > 0:
-        raise InputError(f"--dt must be a positive time step in seconds, not {args.dt}.")
+    if args.dt is not None:
+        check_time_step(args.dt, "--dt")
     body_args = (args.segments, args.joints, args.contacts)
     if any(body_args):
         raise InputError("check-step uses the shipped body tables; --segments, --joints and --contacts are not "

@@ -29,7 +29,7 @@ import numpy as np
 from scipy import optimize as _opt
 from scipy import signal as _sig
 
-from ..errors import InputError
+from ..errors import EhmWarning, InputError
 from .checks import _positive_float, _signal_1d
 
 _Q_BAND = 1.0 / math.sqrt(2.0)
@@ -150,7 +150,7 @@ def _warn_band_beyond_nyquist(name: str, fs: float) -> None:
         _WARNED.add((name, fs))
         warnings.warn(f"{name} reaches up to {f2:g} Hz but data sampled at {fs:g} Hz hold nothing above "
                       f"{fs / 2:g} Hz, so weighted values cover only the content below {fs / 2:g} Hz.",
-                      UserWarning, stacklevel=3)
+                      EhmWarning, stacklevel=3)
 
 
 def _section_kinds(name: str) -> list[str]:

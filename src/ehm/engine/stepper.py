@@ -46,13 +46,20 @@ def point_accelerations(v_lin: np.ndarray, v_ang: np.ndarray, seat_acc_mps2: np.
     return np.diff(v_lin, axis=0) / dt_s + seat_acc_mps2, np.diff(v_ang, axis=0) / dt_s
 
 
-def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool = False) -> tuple[np.ndarray, np.ndarray]:
+_BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
+
+
+def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool = False,
+         start_s: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Advance one time step with a seat acceleration (static seat).
 
     Returns the sensor data of the step's start state and the sensor data after :func:`evaluate_velocities`
     of its end state (velocity sensors valid), from which :func:`point_accelerations` gives the step's
     accelerations.  The same operations as one iteration of :func:`run`, so stepping reproduces whole runs
-    exactly.  ``check`` tests for divergence after the step.
+    exactly.  ``check`` tests for divergence after the step; a step after which MuJoCo found a bad acceleration
+    (and reset the state) is refused whatever ``check`` says, since its outputs are those of the reset state
+    (a read of one counter, about 1 % of a step).  ``start_s``: the caller's time at the step's start, for the
+    divergence sentence (MuJoCo's own clock restarts when it resets the state).
     """
     g = model.mj.opt.gravity
     g[:] = G0 - seat_acc_mps2
@@ -61,10 +68,10 @@ def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool 
     finally:
         g[:] = G0
     start = d.sensordata.copy()
-    if check:
+    if check or d.warning[_BADQACC].number:
         why = _instability(model, d)
         if why:
-            raise _diverged(model, d.time, why)
+            raise _diverged(model, d.time if start_s is None else start_s, why)
     return start, evaluate_velocities(model, d)
 
 

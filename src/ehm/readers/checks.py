@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import EhmWarning, InputError
 from ..resampling import Resampler
 from .base import _column_words, _Source
 from .channels import _ACC, _KIND, _RATES, ASSUMED, FILE, GIVEN, INFERRED, NAME, SI_UNITS
@@ -135,7 +135,7 @@ def _gaps(src: _Source, name: str, t: np.ndarray, gaps: np.ndarray, median: floa
 
     more = "" if gaps.size == 1 else f" (and {gaps.size - 1} more gaps, {float(np.sum(np.diff(t)[gaps])):.6g} s " \
         "in all)"
-    warnings.warn(f"{where}{more} is bridged with a straight line (fill_gaps).", stacklevel=4)
+    warnings.warn(f"{where}{more} is bridged with a straight line (fill_gaps).", EhmWarning, stacklevel=4)
 
 
 #: MDF channels are read over their common time span; it must cover at least this share of the span they
@@ -334,4 +334,4 @@ def _implausible(src: _Source, use: dict, origins: dict, keys: list, fix: str, f
         raise InputError(sentence + ".")
     import warnings
 
-    warnings.warn(sentence + " (read as it is).", stacklevel=5)
+    warnings.warn(sentence + " (read as it is).", EhmWarning, stacklevel=5)

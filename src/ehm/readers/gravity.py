@@ -42,7 +42,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import EhmWarning, InputError
 from ..imu import STANDARD_GRAVITY_MPS2
 
 GRAVITY_MODES = ("auto", "included", "removed")
@@ -136,7 +136,7 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
     if gravity == "auto":
         warnings.warn(f"{label}: {where} has a mean acceleration of norm {norm:.4g} m/s^2 and z {vertical:.4g} "
                       f"m/s^2, one of them within {G_TOLERANCE:.0%} of g, so the log is taken to include gravity and "
-                      f"is {note} (--gravity included does the same without this note).", stacklevel=4)
+                      f"is {note} (--gravity included does the same without this note).", EhmWarning, stacklevel=4)
     return levelled, rates, note
 
 

@@ -22,7 +22,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import EhmWarning, InputError
 from ..imu import mounting_matrix
 from ..resampling import UNIFORM_TOLERANCE
 from .checks import GAP_STEPS, MIN_OVERLAP
@@ -282,4 +282,4 @@ def _join(label: str, glabel: str, t: np.ndarray, data: dict, tg: np.ndarray, gd
 
 def _note(text: str, depth: int) -> None:
     """One note (a warning) pointing at the caller of read_motion, ``depth`` calls above the caller of _note."""
-    warnings.warn(text, stacklevel=depth + 2)
+    warnings.warn(text, EhmWarning, stacklevel=depth + 2)
