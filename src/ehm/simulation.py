@@ -50,12 +50,19 @@ class SeatedHuman:
         Time step [s] (default: the parameter file's, 1 ms for the shipped defaults).  A step coarser
         than the one at which the model is converged gives a :class:`ehm.timestep.StepWarning` with the
         error to expect; ``ehm check-step`` measures it.
+    posture, back_support : str, optional
+        The reference posture (``"erect"``, the default, ``"slouched"``, or one the parameter file defines;
+        :mod:`ehm.posture`) and the seat's back support (``"none"``, ``"low"``, ``"high"``, the default, or
+        ``"full"``; :mod:`ehm.seat`).  None: the parameter file's (``posture.name``, ``seat.back_support``); the
+        person's ``params`` record them.
     """
 
     def __init__(self, params: Parameters | str | Path | None = None, lock=(), unlock=(),
-                 body: Body | None = None, rotating_seat: bool = False, size=None, dt_s: float | None = None):
+                 body: Body | None = None, rotating_seat: bool = False, size=None, dt_s: float | None = None,
+                 posture: str | None = None, back_support: str | None = None):
         self.body = body if body is not None else load_body()
         self.params = params if isinstance(params, Parameters) else Parameters.load(params)
+        self.params = self.params.seated(posture, back_support)
         if dt_s is not None:
             if not (isinstance(dt_s, (int, float)) and np.isfinite(dt_s) and dt_s > 0):
                 raise InputError(f"dt_s must be a positive time step in seconds, not {dt_s!r}.")
@@ -115,6 +122,8 @@ class SeatedHuman:
             "locked": sorted(self.locked),
             "dt_s": float(self.params.value("simulation.dt_s")),
             "params": self.params.origin,
+            "posture": self.params.posture,
+            "back_support": self.params.back_support,
             "segments": [{"name": s.name, "mass_kg": s.mass_kg, "com_m": s.com_m.tolist(),
                           "inertia_kgm2": s.inertia_kgm2.tolist()} for s in self.body.segments],
             "joints": [{"name": j.name, "parent": j.parent, "child": j.child, "type": j.type,
@@ -349,6 +358,7 @@ class SeatedHuman:
                 gia_mps2=world.inv().apply(acc_world - engine.G0[None, :]),
             )
         support = {group: to_seat(sum(raw.support_N[s] for s in surfaces if s in raw.support_N))
+                   if any(s in raw.support_N for s in surfaces) else np.zeros((t.size, 3))  # no backrest
                    for group, surfaces in engine.SUPPORT_GROUPS.items()}
         return RunResult(time_s=t, seat_acc_mps2=acc_seat, points=points, support_N=support, mass_kg=self.mass_kg,
                          dof=self.dof, dt_s=float(self.model.mj.opt.timestep), wall_s=wall, description=description,

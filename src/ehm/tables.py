@@ -63,6 +63,9 @@ class Segment:
         Semi-axes of the drawn ellipsoid [m].
     shape_pitch_rad : float
         Rotation of the drawn ellipsoid about y [rad].
+    inertia_pitch_rad : float
+        Rotation of the principal axes of inertia about y [rad] (0 in the tables; a posture,
+        :mod:`ehm.posture`, pitches a segment's axes with the segment).
     """
 
     name: str
@@ -71,6 +74,7 @@ class Segment:
     com_m: np.ndarray
     shape_m: np.ndarray
     shape_pitch_rad: float
+    inertia_pitch_rad: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -136,6 +140,12 @@ class ContactEllipsoid:
     pitch_rad: float
     tissue_pad: bool
     where: str = field(default="", compare=False)  #: File and line it was read from.
+
+    def reach_m(self, normal: np.ndarray) -> float:
+        """How far the ellipsoid reaches from its centre along the unit vector ``normal`` [m]."""
+        c, s = math.cos(self.pitch_rad), math.sin(self.pitch_rad)
+        local = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]).T @ normal
+        return float(np.linalg.norm(self.semi_axes_m * local))
 
 
 @dataclass(frozen=True)

@@ -50,6 +50,10 @@ def segment_mass_properties(seg, pads: list, pad_mass: dict) -> tuple[float, np.
         raise InputError(f"the tissue pads on segment {seg.name!r} weigh more than the segment ({seg.mass_kg} kg).")
     c_body = (seg.mass_kg * seg.com_m - sum(pad_mass[c.name] * c.center_m for c in pads)) / m_body
     inertia = np.diag(seg.inertia_kgm2).astype(float)
+    if seg.inertia_pitch_rad:  # principal axes pitched with the segment (a posture, ehm.posture)
+        c, s = np.cos(seg.inertia_pitch_rad), np.sin(seg.inertia_pitch_rad)
+        rot = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+        inertia = rot @ inertia @ rot.T
 
     def shift(mass, r):
         return mass * (np.dot(r, r) * np.eye(3) - np.outer(r, r))
