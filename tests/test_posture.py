@@ -121,8 +121,9 @@ def test_full_backrest_touches_both_back_contacts():
 @pytest.mark.parametrize("updates, words", [
     # "the body inside the backrest": a posture leaning the upper back 30 deg backwards at T12
     ({"postures.slouched.t12_deg": -30.0}, ("inside the backrest", "seat.backrest_x_m", "slouched")),
-    # "a pad that touches nothing": the backrest 5 cm further back than the erect back reaches
-    ({"seat.backrest_x_m": -0.27}, ("touches nothing", "seat.backrest_x_m", "'none'")),
+    # "a pad that touches nothing": the backrest 13 cm further back, where the lower pad would have to stand out
+    # 0.2 m to reach the slouched lower back
+    ({"seat.backrest_x_m": -0.35}, ("touches nothing", "seat.backrest_x_m", "'none'", "lower back pad")),
 ])
 def test_a_posture_that_cannot_sit_on_the_seat_is_refused_in_one_sentence(updates, words):
     # "A posture that cannot sit on a seat (the body inside the backrest, a pad that touches nothing) is refused in
@@ -140,3 +141,87 @@ def test_unknown_posture_and_back_support_are_refused():
         ehm.SeatedHuman(posture="slumped")
     with pytest.raises(InputError, match=r"unknown back support 'medium'; use one of none, low, high, full"):
         ehm.SeatedHuman(back_support="medium")
+
+
+def test_cli_posture_and_back_support_reach_the_native_fmu(tmp_path, capsys):
+    # "--posture and --back-support on every command that builds a person ... and in the FMU": the native unit of a
+    # slouched person on a low back support runs as that person does in Python.  One second of SYNTHETIC random
+    # vibration through fmpy against SeatedHuman.simulate: the same engine, so within 1e-9 in SI units (the
+    # tolerance of test_fmu_native's fmpy comparison for the default person).
+    fmpy = pytest.importorskip("fmpy", reason="the native FMU's test host comes from fmpy")
+    from ehm import fmu_native
+    from ehm.cli import main
+
+    if not fmu_native.native_platform_supported():
+        pytest.skip("the native FMU is built for 64-bit Linux on x86")
+    try:
+        fmu_native.find_compiler()
+    except InputError as exc:
+        pytest.skip(str(exc))
+    import json
+    import zipfile
+
+    out = tmp_path / "slouched.fmu"
+    assert main(["export-fmu", "--out", str(out), "--posture", "slouched", "--back-support", "low"]) == 0
+    capsys.readouterr()
+    with zipfile.ZipFile(out) as z:
+        setup = json.loads(z.read("resources/ehm_fmu.json"))
+    assert (setup["posture"], setup["back_support"]) == ("slouched", "low")
+    human = _person("slouched", "low")
+    whole = human.simulate(ehm.random_vibration("xyz", 1.0, 0.5, seed=4))
+    names = list(fmu_native.INPUTS)
+    sig = np.zeros(whole.time_s.size, dtype=[("time", float)] + [(n, float) for n in names])
+    sig["time"] = whole.time_s
+    for j, a in enumerate("xyz"):
+        sig[f"seat_a{a}_mps2"] = whole.seat_acc_mps2[:, j]
+    res = fmpy.simulate_fmu(str(out), start_time=0.0, stop_time=whole.time_s[-1], step_size=whole.dt_s,
+                            output_interval=whole.dt_s, input=sig, output=["head_az_mps2", "backrest_fx_N"])
+    rows = np.concatenate([[0], np.arange(whole.time_s.size - 1)])
+    np.testing.assert_allclose(res["head_az_mps2"], whole.point("head").acc_mps2[rows, 2], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(res["backrest_fx_N"], whole.support_N["backrest"][rows, 0], rtol=0, atol=1e-9)
+
+
+def test_parameter_file_names_posture_and_back_support(tmp_path, capsys):
+    # "The parameter file names them, so that a fitted parameter set says which posture and seat it was fitted on":
+    # `ehm params --posture slouched --back-support low --export` writes a file that builds that person; a file
+    # written before postures existed (no posture.name, seat.back_support, [postures]) still loads, as erect on the
+    # high back support, and can still be asked for the shipped slouched posture.
+    from ehm.cli import main
+
+    out = tmp_path / "slouched.toml"
+    assert main(["params", "--posture", "slouched", "--back-support", "low", "--export", str(out)]) == 0
+    p = Parameters.load(out)
+    assert (p.posture, p.back_support) == ("slouched", "low")
+    assert p.posture_angles()["pelvis_tilt_deg"] == -15.0
+    assert p.provenance("postures.slouched.pelvis_tilt_deg") == ("assumed", "slouch")
+    old = Parameters.load().data
+    del old["posture"]["name"], old["seat"]["back_support"], old["postures"]
+    import tomli_w
+
+    legacy = tmp_path / "legacy.toml"
+    legacy.write_text(tomli_w.dumps(old), encoding="utf-8")
+    q = Parameters.load(legacy)
+    assert (q.posture, q.back_support, q.postures()) == ("erect", "high", ("erect", "slouched"))
+    assert q.seated(posture="slouched").posture_angles() == p.posture_angles()
+    assert main(["info", "--params", str(out)]) == 0
+    assert "posture: slouched; back support: low (backrest contacts: lower_back)" in capsys.readouterr().out
+
+
+def test_batch_study_has_posture_and_back_support_axes(tmp_path):
+    # "posture and back_support as axes of a batch study": the grid crosses them like any parameter, each run is
+    # built in its posture on its seat (the head's fore-aft peak differs between the runs), and a name that is
+    # neither is refused before any run starts.
+    from ehm.batch import load_study, run_one
+
+    study = tmp_path / "study.toml"
+    study.write_text('[grid]\nposture = ["erect", "slouched"]\nback_support = ["none", "high"]\n'
+                     '[input]\naxes = ["x"]\n', encoding="utf-8")
+    _, specs = load_study(study)
+    assert [(s.params["posture.name"], s.params["seat.back_support"]) for s in specs] == [
+        ("erect", "none"), ("erect", "high"), ("slouched", "none"), ("slouched", "high")]
+    assert len({s.run_id for s in specs}) == 4
+    peaks = {run_one(s)["outputs"]["seat_x->head_x.peak_gain"] for s in specs[:2]}
+    assert len(peaks) == 2
+    study.write_text('[grid]\nback_support = ["medium"]\n', encoding="utf-8")
+    with pytest.raises(InputError, match=r"\[grid\] back_support: unknown back support 'medium'"):
+        load_study(study)

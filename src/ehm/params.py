@@ -211,7 +211,7 @@ class Parameters:
         updates = {}
         if posture is not None:
             if posture not in self.postures():
-                raise InputError(f"unknown posture {posture!r}; the postures of {self.origin} are "
+                raise InputError(f"unknown posture {posture!r}; the parameter file ({self.origin}) defines "
                                  f"{', '.join(self.postures())} (define more in a [postures.NAME] table of a parameter "
                                  "file: ehm params --export FILE.toml).")
             updates["posture.name"] = posture

@@ -9,7 +9,7 @@ The parameter file's ``[seat]`` places the pads for the tables' reference postur
 (``backrest_x_m``, recline ``backrest_angle_deg``), pad heights and thicknesses.  In another posture each pad
 follows its landmark on the body, as the experiment's configurable supports were set to each sitter: it sits
 at the landmark's height, and stands out of the backrest so that the contact presses into it as deep as in the
-reference posture.  A full backrest is the plane that both back contacts press into that deep; its recline
+reference posture (or just touches it, where the reference posture's pad leaves a gap).  A full backrest is the plane that both back contacts press into that deep; its recline
 follows the back.  A posture whose back would have to be inside the backrest, or that a pad cannot reach, is
 refused in one sentence.  No MuJoCo here: the engine's builder reads the planes.
 """
@@ -34,6 +34,7 @@ _SURFACES = {"none": (), "low": ("backrest_lower",),
 _BACK = ("backrest_lower", "backrest_upper", "back_bolster_r", "back_bolster_l")
 PAD_REACH_M = 0.15  #: A back pad stands at most this far out of the backrest (grade assumed).
 FULL_RECLINE_DEG = (-15.0, 40.0)  #: Recline a full backrest may take to meet the back [deg from vertical].
+_PAD = {"backrest_lower": "lower back pad", "backrest_upper": "upper back pad"}
 _LANDMARK = {"backrest_lower": "lower back (posterior superior iliac spine)",
              "backrest_upper": "upper back (lower tip of the scapula)"}
 
@@ -82,18 +83,10 @@ def backrest_planes(seat: dict, reference: Body, posed: Body, back_support: str,
         pad = surface.split("_")[1]
         point, normal = _pad_plane(seat, pad)
         c = contact.get(surface)
-        if c is None:
+        if c is None or c is ref[c.name]:  # the reference posture: the pads as [seat] places them
             planes[surface] = (point, normal)
             continue
-        depth = _depth(ref[c.name], point, normal)
-        if depth <= 0:
-            raise InputError(f"the {surface.replace('_', ' ')} pad stands {-depth:.3g} m behind the "
-                             f"{_LANDMARK[surface]} of the reference posture, so it touches nothing; move the backrest "
-                             f"forward (a larger seat.backrest_x_m) or make the pad thicker "
-                             f"(seat.{pad}_pad_thickness_m), or choose back support 'none'.")
-        if c is ref[c.name]:  # the reference posture: the pads as [seat] places them
-            planes[surface] = (point, normal)
-            continue
+        depth = max(_depth(ref[c.name], point, normal), 0.0)  # the pad set to the sitter: at least touching
         new_point = c.center_m - (c.reach_m(normal) - depth) * normal
         thickness = seat[f"{pad}_pad_thickness_m"] + float(np.dot(new_point - point, normal))
         _check_reach(thickness, surface, posture, back_support)
@@ -107,7 +100,7 @@ def _check_reach(thickness: float, surface: str, posture: str, back_support: str
                          f"of the '{back_support}' back support; move the backrest back (a smaller seat.backrest_x_m "
                          "or seat.backrest_angle_deg) or choose another posture.")
     if thickness > PAD_REACH_M:
-        raise InputError(f"the {surface.replace('_', ' ')} pad of the '{back_support}' back support would have to "
+        raise InputError(f"the {_PAD[surface]} of the '{back_support}' back support would have to "
                          f"stand {thickness:.3g} m out of the backrest to touch the {posture} posture's "
                          f"{_LANDMARK[surface]} (at most {PAD_REACH_M:g} m), so it touches nothing; move the backrest "
                          "forward (a larger seat.backrest_x_m) or choose back support 'none'.")

@@ -115,7 +115,8 @@ class SeatedHuman:
         return self.model.mass_kg
 
     def info(self) -> dict:
-        """Segments, joints and totals as plain data (what ``ehm info --json`` prints)."""
+        """Segments, joints and totals as plain data (what ``ehm info --json`` prints), in the person's posture."""
+        body = self.model.body  # the tables in the posture, with the back support's contacts
         return {
             "mass_kg": self.mass_kg,
             "dof": self.dof,
@@ -125,12 +126,12 @@ class SeatedHuman:
             "posture": self.params.posture,
             "back_support": self.params.back_support,
             "segments": [{"name": s.name, "mass_kg": s.mass_kg, "com_m": s.com_m.tolist(),
-                          "inertia_kgm2": s.inertia_kgm2.tolist()} for s in self.body.segments],
+                          "inertia_kgm2": s.inertia_kgm2.tolist()} for s in body.segments],
             "joints": [{"name": j.name, "parent": j.parent, "child": j.child, "type": j.type,
                         "dof": 0 if j.name in self.locked else len(j.dofs), "dofs": list(j.dofs),
                         "locked": j.name in self.locked, "pos_m": j.pos_m.tolist(),
-                        "axes_pitch_rad": j.axes_pitch_rad} for j in self.body.joints],
-            "contacts": [{"name": c.name, "segment": c.segment, "surface": c.surface} for c in self.body.contacts],
+                        "axes_pitch_rad": j.axes_pitch_rad} for j in body.joints],
+            "contacts": [{"name": c.name, "segment": c.segment, "surface": c.surface} for c in body.contacts],
             "points": {p: engine.POINTS[p] for p in POINT_NAMES},
         }
 

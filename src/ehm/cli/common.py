@@ -18,8 +18,13 @@ def _joint_list(values: list[str] | None) -> list[str]:
     return out
 
 
+def _params(args) -> Parameters:
+    """The parameter file of --params, in the posture of --posture and with the back support of --back-support."""
+    return Parameters.load(args.params).seated(args.posture, args.back_support)
+
+
 def _human(args, rotating_seat: bool = False) -> SeatedHuman:
-    params = Parameters.load(args.params)
+    params = _params(args)
     if getattr(args, "dt", None) is not None:
         if not args.dt > 0:
             raise InputError(f"--dt must be a positive time step in seconds, not {args.dt}.")
