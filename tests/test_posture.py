@@ -58,7 +58,18 @@ def test_slouched_posture_turns_the_body_about_its_joints():
     assert math.degrees(seg["pelvis"].inertia_pitch_rad) == pytest.approx(-15.0)  # posterior tilt
     assert math.degrees(seg["upper_torso"].inertia_pitch_rad) == pytest.approx(8.0)  # the trunk rounds forward
     assert seg["head"].inertia_pitch_rad == pytest.approx(0.0, abs=1e-12)  # gaze level
-    assert seg["thigh_r"].inertia_pitch_rad == 0.0  # the thighs stay on the pan
+    # the thighs stay on the pan: pitched (a few degrees) so that their contacts are as deep in it as in the tables
+    assert 0 < math.degrees(seg["thigh_r"].inertia_pitch_rad) < 5.0
+    a = math.radians(12.0)
+    pan_point, pan_normal = np.array([0.0, 0.0, -0.1]), np.array([-math.sin(a), 0.0, math.cos(a)])
+
+    def depth(c):
+        return c.reach_m(pan_normal) - np.dot(c.center_m - pan_point, pan_normal)
+
+    for name in ("thigh_r", "buttock_r"):
+        before = next(c for c in ref.contacts if c.name == name)
+        after = next(c for c in posed.contacts if c.name == name)
+        assert depth(after) == pytest.approx(depth(before), abs=1e-6), name
     contact = {c.name: c for c in posed.contacts}
     # further forward on the pan: the ischial tuberosities (buttock contacts) slide 4 cm along it
     assert contact["buttock_r"].center_m[0] - ref.contacts[0].center_m[0] == pytest.approx(0.04 * math.cos(
@@ -98,7 +109,7 @@ def test_every_combination_settles_without_drift_and_has_transfer_functions(post
 
 def test_slouched_and_erect_differ_in_a_low_frequency_rotation_gain():
     # "slouched and erect differ in at least one low-frequency rotation gain by 10 % or more": fore-aft input,
-    # pelvis pitch, mean gain over 0.5-2 Hz on the high back support (measured: 0.128 erect, 0.184 slouched, +44 %).
+    # pelvis pitch, mean gain over 0.5-2 Hz on the high back support (measured: 0.128 erect, 0.153 slouched, +19 %).
     f = np.arange(0.5, 2.0 + 1e-9, 0.05)
     gains = [linear_frf(_person(p, "high"), axis="x", freq_hz=f).curve("x", "pelvis", "pitch").gain.mean()
              for p in POSTURES]

@@ -69,9 +69,10 @@ def is_reference(angles: dict) -> bool:
     return all(float(v) == 0.0 for v in angles.values())
 
 
-def joint_angles(angles: dict, body: Body) -> dict:
+def joint_angles(angles: dict, body: Body, thigh_rad: float = 0.0) -> dict:
     """Each joint's sagittal angle [rad] in the posture, and the pelvis's tilt under key ``"pelvis"``: the
-    posture's own joints, the hips taking the pelvis's tilt back (the thighs stay on the pan), the rest zero."""
+    posture's own joints, the hips taking the pelvis's tilt back (the thighs keep their orientation but for
+    ``thigh_rad``, which the knees take back: the lower legs keep theirs), the rest zero."""
     tilt = math.radians(angles["pelvis_tilt_deg"])
     out = {"pelvis": tilt}
     for j in body.joints:
@@ -79,7 +80,9 @@ def joint_angles(angles: dict, body: Body) -> dict:
         if key in angles:
             out[j.name] = math.radians(angles[key])
         elif j.parent == "pelvis" and j.child.startswith("thigh"):
-            out[j.name] = -tilt
+            out[j.name] = thigh_rad - tilt
+        elif j.parent.startswith("thigh"):
+            out[j.name] = -thigh_rad
         else:
             out[j.name] = 0.0
     return out
@@ -87,11 +90,25 @@ def joint_angles(angles: dict, body: Body) -> dict:
 
 def pose_body(body: Body, angles: dict, pan_height_m: float, pan_angle_deg: float) -> Body:
     """The body tables turned into the posture ``angles`` (a ``[postures.NAME]`` table's values), sitting on the
-    seat pan (height and angle in body axes of the reference posture, ``[seat]``).  The tables unchanged for
-    the reference posture (:func:`is_reference`)."""
+    seat pan (height and angle in body axes of the reference posture, ``[seat]``): the pelvis's seat-pan contacts
+    as deep in the pan as in the tables, and the thighs pitched so that theirs are too (the pelvis's roll lifts
+    or lowers the hips).  The tables unchanged for the reference posture (:func:`is_reference`)."""
     if is_reference(angles):
         return body
-    q = joint_angles(angles, body)
+    pan = (pan_height_m, pan_angle_deg)
+    thigh, step = 0.0, 1.0
+    for _ in range(40):  # the thighs' pitch that keeps their contacts' depth (each pass shrinks the step ~5 times)
+        posed = _posed_at(body, angles, thigh, pan)
+        if abs(step) < 1e-9:
+            break
+        step = _thigh_correction(body, posed, pan)
+        thigh += step
+    return posed
+
+
+def _posed_at(body: Body, angles: dict, thigh_rad: float, pan: tuple) -> Body:
+    """The posture with the thighs pitched by ``thigh_rad``, put onto the pan."""
+    q = joint_angles(angles, body, thigh_rad)
     pitch = {"pelvis": q["pelvis"]}
     move = {}  # segment -> (rotation, point in reference, point posed): x -> R (x - p) + p'
     pivot = _ischia(body)
@@ -104,8 +121,34 @@ def pose_body(body: Body, angles: dict, pan_height_m: float, pan_angle_deg: floa
                 move[j.child] = (_rot_y(pitch[j.child]), j.pos_m, _apply(move[seg], j.pos_m))
                 order.append(j.child)
     posed = _posed_tables(body, move, pitch)
-    shift = _onto_pan(body, posed, angles["seat_slide_m"], pan_height_m, pan_angle_deg)
-    return _shifted(posed, shift)
+    return _shifted(posed, _onto_pan(body, posed, angles["seat_slide_m"], *pan))
+
+
+def _pan(pan_height_m: float, pan_angle_deg: float):
+    """The seat pan's point, unit normal and forward tangent."""
+    a = math.radians(pan_angle_deg)
+    return (np.array([0.0, 0.0, pan_height_m]), np.array([-math.sin(a), 0.0, math.cos(a)]),
+            np.array([math.cos(a), 0.0, math.sin(a)]))
+
+
+def _depth(contacts, point: np.ndarray, normal: np.ndarray) -> float:
+    """Mean depth [m] of ``contacts`` in the plane (point, normal)."""
+    return float(np.mean([c.reach_m(normal) - np.dot(c.center_m - point, normal) for c in contacts])) if contacts else 0.0
+
+
+def _thigh_correction(body: Body, posed: Body, pan: tuple) -> float:
+    """The further thigh pitch [rad] (front down positive) that brings the posed thighs' seat-pan contacts as deep
+    into the pan as the tables' ones: their lost depth over their lever from the hips along the pan."""
+    point, normal, forward = _pan(*pan)
+
+    def thighs(b: Body):
+        return [c for c in b.contacts if c.segment.startswith("thigh") and c.surface == "seat_pan"]
+
+    if not thighs(body):
+        return 0.0
+    hips = [j.pos_m for j in posed.joints if j.parent == "pelvis" and j.child.startswith("thigh")]
+    lever = float(np.dot(np.mean([c.center_m for c in thighs(posed)], axis=0) - np.mean(hips, axis=0), forward))
+    return math.atan2(_depth(thighs(body), point, normal) - _depth(thighs(posed), point, normal), lever)
 
 
 def _apply(move, x: np.ndarray) -> np.ndarray:
@@ -135,16 +178,10 @@ def _posed_tables(body: Body, move: dict, pitch: dict) -> Body:
 def _onto_pan(body: Body, posed: Body, slide_m: float, pan_height_m: float, pan_angle_deg: float) -> np.ndarray:
     """The shift that puts the posed pelvis's seat-pan contacts as deep into the pan as the reference ones (on
     average along the pan's normal), plus the slide forward along the pan."""
-    a = math.radians(pan_angle_deg)
-    normal, forward = np.array([-math.sin(a), 0.0, math.cos(a)]), np.array([math.cos(a), 0.0, math.sin(a)])
-    point = np.array([0.0, 0.0, pan_height_m])
+    point, normal, forward = _pan(pan_height_m, pan_angle_deg)
 
     def depth(b: Body) -> float:
-        on_pan = [c for c in b.contacts if c.segment == "pelvis" and c.surface == "seat_pan"]
-        if not on_pan:
-            return 0.0
-        return float(np.mean([c.reach_m(normal)
-                              - np.dot(c.center_m - point, normal) for c in on_pan]))
+        return _depth([c for c in b.contacts if c.segment == "pelvis" and c.surface == "seat_pan"], point, normal)
 
     return (depth(posed) - depth(body)) * normal + slide_m * forward
 
