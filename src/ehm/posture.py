@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from .errors import InputError
-from .tables import Body
+from .tables import Body, rot_y
 
 #: Keys of a posture in the parameter file ([postures.NAME]), with what each one turns.
 POSTURE_KEYS = {
@@ -41,11 +41,6 @@ DEFAULT_POSTURE = "erect"  #: The tables' own posture (the paper's).
 MAX_ANGLE_DEG = 45.0
 #: Largest slide along the pan [m].
 MAX_SLIDE_M = 0.15
-
-
-def _rot_y(angle_rad: float) -> np.ndarray:
-    c, s = math.cos(angle_rad), math.sin(angle_rad)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def check_posture(name: str, values: dict, where: str) -> None:
@@ -112,13 +107,13 @@ def _posed_at(body: Body, angles: dict, thigh_rad: float, pan: tuple) -> Body:
     pitch = {"pelvis": q["pelvis"]}
     move = {}  # segment -> (rotation, point in reference, point posed): x -> R (x - p) + p'
     pivot = _ischia(body)
-    move["pelvis"] = (_rot_y(q["pelvis"]), pivot, pivot)
+    move["pelvis"] = (rot_y(q["pelvis"]), pivot, pivot)
     order = ["pelvis"]
     for seg in order:  # breadth first from the pelvis: every parent posed before its children
         for j in body.joints:
             if j.parent == seg:
                 pitch[j.child] = pitch[seg] + q[j.name]
-                move[j.child] = (_rot_y(pitch[j.child]), j.pos_m, _apply(move[seg], j.pos_m))
+                move[j.child] = (rot_y(pitch[j.child]), j.pos_m, _apply(move[seg], j.pos_m))
                 order.append(j.child)
     posed = _posed_tables(body, move, pitch)
     return _shifted(posed, _onto_pan(body, posed, angles["seat_slide_m"], *pan))
@@ -133,7 +128,9 @@ def _pan(pan_height_m: float, pan_angle_deg: float):
 
 def _depth(contacts, point: np.ndarray, normal: np.ndarray) -> float:
     """Mean depth [m] of ``contacts`` in the plane (point, normal)."""
-    return float(np.mean([c.reach_m(normal) - np.dot(c.center_m - point, normal) for c in contacts])) if contacts else 0.0
+    if not contacts:
+        return 0.0
+    return float(np.mean([c.reach_m(normal) - np.dot(c.center_m - point, normal) for c in contacts]))
 
 
 def _thigh_correction(body: Body, posed: Body, pan: tuple) -> float:

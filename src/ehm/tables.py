@@ -41,6 +41,12 @@ JOINT_TYPE_DOFS: dict[str, tuple[str, ...]] = {
     "revolute": ("pitch",),
 }
 
+def rot_y(angle_rad: float) -> np.ndarray:
+    """Rotation matrix about y (positive: the front end of x down)."""
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
 CONTACT_SURFACES = ("seat_pan", "backrest_lower", "backrest_upper", "floor",
                     "bolster_r", "bolster_l", "back_bolster_r", "back_bolster_l")
 
@@ -143,8 +149,7 @@ class ContactEllipsoid:
 
     def reach_m(self, normal: np.ndarray) -> float:
         """How far the ellipsoid reaches from its centre along the unit vector ``normal`` [m]."""
-        c, s = math.cos(self.pitch_rad), math.sin(self.pitch_rad)
-        local = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]).T @ normal
+        local = rot_y(self.pitch_rad).T @ normal
         return float(np.linalg.norm(self.semi_axes_m * local))
 
 

@@ -13,7 +13,7 @@ from ..errors import InputError
 from ..params import Parameters
 from ..posture import pose_body
 from ..seat import backrest_planes, supported
-from ..tables import Body
+from ..tables import Body, rot_y
 
 SEAT_DOFS = ("yaw", "pitch", "roll")  #: Hinges of a rotating seat, outermost first (intrinsic z-y-x).
 SEAT_INERTIA_KGM2 = 1e5  #: Moment of inertia of a rotating seat about its pivot [kg m^2]: the person barely moves it.
@@ -23,12 +23,6 @@ SEAT_BANDWIDTH_HZ = 20.0  #: Bandwidth of the seat's tracking controller (on top
 def quat_pitch(angle_rad: float) -> np.ndarray:
     """Quaternion (w, x, y, z) of a rotation about y."""
     return np.array([math.cos(angle_rad / 2), 0.0, math.sin(angle_rad / 2), 0.0])
-
-
-def rot_y(angle_rad: float) -> np.ndarray:
-    """Rotation matrix about y."""
-    c, s = math.cos(angle_rad), math.sin(angle_rad)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def quat_z_to(normal: np.ndarray) -> np.ndarray:
