@@ -84,7 +84,7 @@ __all__ = [
     "build", "c_library", "captured_warnings", "check_seat", "contact_forces", "contact_solver_params",
     "data_at_deviation", "deviation_of", "dof_name", "drawing_geometry", "evaluate_velocities", "get_state",
     "inertia_problem", "linearize", "new_data", "point_accelerations", "rotating_data_at", "rotation_loads", "run",
-    "save_binary", "seat_pivot", "seated_body", "segment_mass_properties", "sensor_slices", "set_seat", "set_state", "settle",
-    "settled_data", "settled_point_poses", "sliding_contacts", "static_deviation_of", "step", "support_forces",
-    "support_slices", "take_warnings", "touching_contacts",
+    "save_binary", "seat_pivot", "seated_body", "segment_mass_properties", "sensor_slices", "set_seat", "set_state",
+    "settle", "settled_data", "settled_point_poses", "sliding_contacts", "static_deviation_of", "step",
+    "support_forces", "support_slices", "take_warnings", "touching_contacts",
 ]
