@@ -89,12 +89,13 @@ def test_slouched_posture_turns_the_body_about_its_joints():
 def test_every_combination_settles_without_drift_and_has_transfer_functions(posture, support):
     # "For erect and slouched on none, low and high back support, SeatedHuman(posture=..., back_support=...) settles
     # without drift and gives linear transfer functions."  Rest test as for the default person (test_model: after
-    # settling, no input: rotations < 0.1 deg, pelvis < 1 mm), here 6 s, and the last 3 s still: < 2e-5 rad and
-    # 2e-5 m (measured at most 3e-6 rad and 1e-6 m; the default person's bound in test_convergence is 3e-6 rad over
-    # 10 s of 20).
+    # settling, no input: rotations < 0.1 deg, pelvis < 1 mm), here 12 s, and the last 4 s still: < 2e-5 rad and
+    # 2e-5 m (measured at most 4e-6 rad and 2e-6 m: without back support the hips' integral action is still
+    # finishing the settling, 3e-4 rad in all, with a time constant of about 3 s; the default person's bound in
+    # test_convergence is 3e-6 rad over 10 s of 20).
     human = _person(posture, support)
-    run = human.simulate(ehm.random_vibration("z", 6.0, 0.0))
-    half = run.time_s.size // 2
+    run = human.simulate(ehm.random_vibration("z", 12.0, 0.0))
+    half = run.time_s.size * 2 // 3
     for p in ("pelvis", "trunk", "head"):
         rot, disp = run.point(p).rot_rad, run.point(p).disp_m
         assert np.degrees(np.abs(rot).max()) < 0.1, p

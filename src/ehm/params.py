@@ -33,8 +33,10 @@ _SIMULATION = {"dt_s": "positive", "settle_s": "nonnegative", "back_slide_s": "n
 #: Keys a file may leave out (added after files were first exported), with the value they then take; load()
 #: fills them in (grade assumed, source "ehm").
 OPTIONAL = {"simulation.back_slide_s": 0.0, "simulation.pad_armature_kg": 0.0,
-            "posture.name": DEFAULT_POSTURE, "seat.back_support": DEFAULT_BACK_SUPPORT}
-_POSTURE = {"name": "posture", "integral_time_s": "positive", "integral_joints": "joints"}
+            "posture.name": DEFAULT_POSTURE, "seat.back_support": DEFAULT_BACK_SUPPORT,
+            "posture.unsupported_integral_joints": ["hip_r", "hip_l"]}
+_POSTURE = {"name": "posture", "integral_time_s": "positive", "integral_joints": "joints",
+            "unsupported_integral_joints": "joints"}
 _SEAT = {"back_support": "back_support",
          "pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
          "backrest_x_m": "finite", "lower_pad_height_m": "finite", "lower_pad_thickness_m": "nonnegative",
@@ -195,6 +197,14 @@ class Parameters:
     def posture(self) -> str:
         """Name of the posture the person sits in (``posture.name``; see :mod:`ehm.posture`)."""
         return str(self.value("posture.name"))
+
+    def integral_joints(self) -> set[str]:
+        """Joints with integral action in the posture control: ``posture.integral_joints``, and on a seat without
+        back support also ``posture.unsupported_integral_joints`` (the hips, which then hold the trunk upright)."""
+        joints = set(self.value("posture.integral_joints"))
+        if self.back_support == "none":
+            joints |= set(self.value("posture.unsupported_integral_joints"))
+        return joints
 
     @property
     def back_support(self) -> str:

@@ -138,7 +138,7 @@ class _SegmentTree:
         for j in body.joints:
             self.children.setdefault(j.parent, []).append(j)
         posture = params.section("posture")
-        self.integral_joints = set(posture["integral_joints"])
+        self.integral_joints = params.integral_joints()
         self.ti = float(posture["integral_time_s"])
         self.dof_names: list[str] = ["pelvis.x", "pelvis.y", "pelvis.z", "pelvis.roll", "pelvis.pitch", "pelvis.yaw"]
         self.segment_bodies: dict[str, list] = {}  #: segment -> names of its body and its pad bodies
