@@ -250,3 +250,17 @@ def test_hybrid_route_runs_on_another_posture_and_seat():
     assert report["method"] == "auto" and 0.0 <= report["linear_share"] <= 1.0
     head = run.point("head").acc_mps2
     assert np.isfinite(head).all() and head[:, 0].std() > 0.1 * run.seat_acc_mps2[:, 0].std()
+
+
+def test_check_step_holds_for_the_erect_person_without_back_support(capsys):
+    # "each combination's check-step holds (worst path within 2 % of its peak at 1 ms)", here through the command
+    # line with --posture and --back-support: the erect person on a seat without back support, whose hips hold
+    # pelvis and trunk upright with integral action (measured 0.84 %; without the hips' integral action the person
+    # settled rocked back 9 deg and this was 3.5 %).  The slouched person misses it at 1 ms (2.7-3.6 %, docs/model.md).
+    import json
+
+    from ehm.cli import main
+
+    assert main(["check-step", "--posture", "erect", "--back-support", "none", "--ratio", "8", "--json"]) == 0
+    worst = json.loads(capsys.readouterr().out)["worst"]["step_over_8"]
+    assert worst["error_pct"] < 2.0, worst
