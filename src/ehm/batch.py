@@ -14,6 +14,8 @@ A study file (TOML) names what varies and what to compute::
     [grid]                      # crossed with each other and with the people
     "joints.t12.z.stiffness_N_per_m" = [10000.0, 15000.0, 20000.0]
     lock = [[], ["t12"]]
+    # posture = ["erect", "slouched"]          postures (the parameter file's [postures.NAME])
+    # back_support = ["none", "low", "high"]   back supports (none, low, high, full)
 
     [input]
     axes = ["x", "y", "z"]      # transmissibility: seat axes (linear model; method = "time" for runs)
@@ -74,6 +76,8 @@ from .io import replace_atomically, write_json_atomic
 from .outdir import added_folder, write_owned
 
 COMPUTE = ("transmissibility", "comfort")
+#: [grid] axes of how the person sits: the short name -> the parameter it sets (a name, not a number).
+SEATING = {"posture": "posture.name", "back_support": "seat.back_support"}
 
 
 @dataclass(frozen=True)
@@ -138,6 +142,7 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
     for k, v in grid.items():
         if not isinstance(v, list) or not v:
             raise InputError(f"{label}: [grid] {k!r} must be a non-empty list of values.")
+    grid = {SEATING.get(k, k): v for k, v in grid.items()}  # posture, back_support: their parameters
     inp = dict(doc.get("input", {}))
     allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed", "channels", "units", "imu",
                      "rate_hz", "fill_gaps", "columns", "gyro", "mounting", "start_s", "end_s", "gravity", "frame",
@@ -289,6 +294,14 @@ def _check_before_running(label: str, people: list, grid: dict, locks: list) -> 
             params.value(key)
         except InputError:
             raise InputError(f"{label}: [grid] names {key!r}, which is not a parameter (see 'ehm params').") from None
+        seating = [name for name, path in SEATING.items() if path == key]
+        if seating:  # names: a posture of the parameter file, a back support
+            for v in values:
+                try:
+                    params.seated(**{seating[0]: v})
+                except InputError as exc:
+                    raise InputError(f"{label}: [grid] {seating[0]}: {exc}") from None
+            continue
         for v in values:
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise InputError(f"{label}: [grid] {key!r} holds {v!r}, not a number.")

@@ -353,7 +353,8 @@ def _install_atomic(built: Path, out: Path) -> None:
 
 
 def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, size=None,
-               dt_s: float | None = None, rotating_seat: bool = False) -> Path:
+               dt_s: float | None = None, rotating_seat: bool = False, posture: str | None = None,
+               back_support: str | None = None) -> Path:
     """Write an FMI 2.0 co-simulation FMU of the seated person to ``out_path`` (a ``.fmu`` file).
 
     Parameters
@@ -374,6 +375,9 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     rotating_seat : bool
         The seat turns with the unit's angular velocity inputs (native unit only; each model step costs
         about half as much again, see the README).
+    posture, back_support : str, optional
+        How the person sits, as for :class:`ehm.SeatedHuman` (default: the parameter file's); embedded in
+        the unit (the native unit's ``resources/ehm_fmu.json`` names them).
 
     Returns the path written.  The native unit needs a C compiler and fmpy at export time
     (:func:`ehm.fmu_native.export_native_fmu`); the pythonfmu unit needs the ``pythonfmu`` package
@@ -387,7 +391,8 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
         from .fmu_native import export_native_fmu
 
         check_file_destination(out_path, ".fmu", "an FMU")
-        human = SeatedHuman(params=params, lock=lock, unlock=unlock, size=size, dt_s=dt_s, rotating_seat=rotating_seat)
+        human = SeatedHuman(params=params, lock=lock, unlock=unlock, size=size, dt_s=dt_s, rotating_seat=rotating_seat,
+                            posture=posture, back_support=back_support)
         return export_native_fmu(out_path, human)
     if size is not None or dt_s is not None or rotating_seat:
         raise InputError("the pythonfmu unit (--python) takes no body size, time step or rotating seat; set the size "
@@ -397,7 +402,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     out = Path(out_path)
     check_file_destination(out, ".fmu", "an FMU")
     lock, unlock = list(joint_names(lock, "lock")), list(joint_names(unlock, "unlock"))
-    p = params if isinstance(params, Parameters) else Parameters.load(params)
+    p = (params if isinstance(params, Parameters) else Parameters.load(params)).seated(posture, back_support)
     human = SeatedHuman(params=p, lock=lock, unlock=unlock)  # checks the joints and builds the model once
     setup = {"format": SETUP_FORMAT, "ehm_version": __version__, "params_origin": p.origin, "lock": lock,
              "unlock": unlock, "locked": sorted(human.locked), "dt_s": float(human.model.mj.opt.timestep),

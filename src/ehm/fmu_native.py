@@ -276,7 +276,8 @@ def export_native_fmu(out_path, human=None) -> Path:
     c_source = _native_file(C_SOURCE)
     dt = float(model.mj.opt.timestep)
     setup = {"format": 1, "ehm_version": __version__, "mujoco_version": lib["version"], "platform": PLATFORM,
-             "params_origin": human.params.origin, "locked": sorted(human.locked), "dt_s": dt,
+             "params_origin": human.params.origin, "posture": human.params.posture,
+             "back_support": human.params.back_support, "locked": sorted(human.locked), "dt_s": dt,
              "mass_kg": human.mass_kg, "dof": human.dof,
              "size": None if human.size is None else {k: float(v) for k, v in vars(human.size).items()
                                                       if isinstance(v, (int, float))},

@@ -20,6 +20,8 @@ from pathlib import Path
 from typing import Any, Iterator, Mapping
 
 from .errors import InputError
+from .posture import DEFAULT_POSTURE, check_posture
+from .seat import BACK_SUPPORTS, DEFAULT_BACK_SUPPORT
 from .tables import JOINT_NAMES, Body
 from .timestep import check_time_step
 
@@ -33,9 +35,13 @@ _SIMULATION = {"dt_s": "time_step", "settle_s": "nonnegative", "back_slide_s": "
                "pad_armature_kg": "nonnegative"}
 #: Keys a file may leave out (added after files were first exported), with the value they then take; load()
 #: fills them in (grade assumed, source "ehm").
-OPTIONAL = {"simulation.back_slide_s": 0.0, "simulation.pad_armature_kg": 0.0}
-_POSTURE = {"integral_time_s": "positive", "integral_joints": "joints"}
-_SEAT = {"pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
+OPTIONAL = {"simulation.back_slide_s": 0.0, "simulation.pad_armature_kg": 0.0,
+            "posture.name": DEFAULT_POSTURE, "seat.back_support": DEFAULT_BACK_SUPPORT,
+            "posture.unsupported_integral_joints": ["hip_r", "hip_l"]}
+_POSTURE = {"name": "posture", "integral_time_s": "positive", "integral_joints": "joints",
+            "unsupported_integral_joints": "joints"}
+_SEAT = {"back_support": "back_support",
+         "pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
          "backrest_x_m": "finite", "lower_pad_height_m": "finite", "lower_pad_thickness_m": "nonnegative",
          "upper_pad_height_m": "finite", "upper_pad_thickness_m": "nonnegative", "floor_height_m": "finite",
          "bolster_angle_deg": "finite", "back_bolster_angle_deg": "finite", "bolster_gap_m": "nonnegative"}
@@ -97,6 +103,8 @@ class Parameters:
                 data.setdefault("sources", {}).setdefault(
                     "ehm", "ehm: the value a key takes when a parameter file leaves it out")
                 data[section][name] = {"value": default, "grade": "assumed", "source": "ehm"}
+        if path is not None:
+            _fill_postures(data)
         params = cls(data, "default" if path is None else str(path))
         params._check(label)
         return params
@@ -191,6 +199,50 @@ class Parameters:
         k, c = (float(entry[key]) for key in keys)
         return k, c
 
+    @property
+    def posture(self) -> str:
+        """Name of the posture the person sits in (``posture.name``; see :mod:`ehm.posture`)."""
+        return str(self.value("posture.name"))
+
+    def integral_joints(self) -> set[str]:
+        """Joints with integral action in the posture control: ``posture.integral_joints``, and on a seat without
+        back support also ``posture.unsupported_integral_joints`` (the hips, which then hold the trunk upright)."""
+        joints = set(self.value("posture.integral_joints"))
+        if self.back_support == "none":
+            joints |= set(self.value("posture.unsupported_integral_joints"))
+        return joints
+
+    @property
+    def back_support(self) -> str:
+        """The seat's back support (``seat.back_support``; see :mod:`ehm.seat`)."""
+        return str(self.value("seat.back_support"))
+
+    def posture_angles(self, name: str | None = None) -> dict[str, float]:
+        """The angles [deg] and slide [m] of a posture (default: the one in use), from ``[postures.NAME]``."""
+        return {k: float(v) for k, v in self.section(f"postures.{name or self.posture}").items()}
+
+    def seated(self, posture: str | None = None, back_support: str | None = None) -> "Parameters":
+        """A copy with another posture (a name of :meth:`postures`) and/or back support
+        (:data:`ehm.seat.BACK_SUPPORTS`); None keeps the file's.  Either one not known is refused in one sentence naming the known ones."""
+        updates = {}
+        if posture is not None:
+            if posture not in self.postures():
+                raise InputError(f"unknown posture {posture!r}; the parameter file ({self.origin}) defines "
+                                 f"{', '.join(self.postures())} (define more in a [postures.NAME] table of a parameter "
+                                 "file: ehm params --export FILE.toml).")
+            updates["posture.name"] = posture
+        if back_support is not None:
+            if back_support not in BACK_SUPPORTS:
+                raise InputError(f"unknown back support {back_support!r}; use one of {', '.join(BACK_SUPPORTS)}.")
+            updates["seat.back_support"] = back_support
+        if all(self.value(k) == v for k, v in updates.items()):
+            return self
+        return self.with_values(updates)
+
+    def postures(self) -> tuple[str, ...]:
+        """Names of the postures the file defines."""
+        return tuple(self.data.get("postures", {}))
+
     def section(self, name: str) -> dict[str, Any]:
         """The plain values of a section (``simulation``, ``posture``, ``seat``, ``contacts.<name>``)."""
         node = self.data
@@ -260,6 +312,7 @@ class Parameters:
                              f"({settle_s:g} s): the back needs the rest of the settling time with friction on.")
         _check_joints(label, d, sources)
         _check_contacts(label, d, sources)
+        _check_postures(label, d, sources)
 
 
 def _check_sections(label: str, d: dict) -> dict:
@@ -274,7 +327,7 @@ def _check_sections(label: str, d: dict) -> dict:
     for section in required:
         if not isinstance(d.get(section), dict):
             raise InputError(f"{label}: missing section [{section}].")
-    unknown = set(d) - {"about", "sources", *required}
+    unknown = set(d) - {"about", "sources", "postures", *required}
     if unknown:
         raise InputError(f"{label}: unknown section [{sorted(unknown)[0]}].")
     return sources
@@ -318,6 +371,38 @@ def _check_contacts(label: str, d: dict, sources: dict) -> None:
             if key not in _CONTACT:
                 raise InputError(f"{label}: unknown key {key!r} in [contacts.{cname}].")
             _check_entry(label, sources, f"contacts.{cname}.{key}", entry, _CONTACT[key], True)
+
+
+def _fill_postures(data: dict) -> None:
+    """Give a file the shipped postures it does not define itself (files exported before postures existed), with
+    their sources."""
+    shipped = tomllib.loads(default_params_path().read_text(encoding="utf-8"))
+    own = data.setdefault("postures", {})
+    if not isinstance(own, dict):
+        return  # refused by the checks
+    for name, entries in shipped.get("postures", {}).items():
+        if name not in own:
+            own[name] = copy.deepcopy(entries)
+            for entry in entries.values():
+                src = entry.get("source")
+                if isinstance(data.get("sources"), dict) and src not in data["sources"]:
+                    data["sources"][src] = shipped["sources"][src]
+
+
+def _check_postures(label: str, d: dict, sources: dict) -> None:
+    """[postures.NAME]: each a table of the posture's angles (:data:`ehm.posture.POSTURE_KEYS`), and posture.name
+    one of them."""
+    postures = d.get("postures", {})
+    if not isinstance(postures, dict) or any(not isinstance(v, dict) for v in postures.values()):
+        raise InputError(f"{label}: [postures] must hold one table per posture, [postures.NAME].")
+    for name, entries in postures.items():
+        for key, entry in entries.items():
+            _check_entry(label, sources, f"postures.{name}.{key}", entry, "finite", True)
+        check_posture(name, {k: e["value"] for k, e in entries.items()}, label)
+    name = d["posture"]["name"]["value"]
+    if name not in postures:
+        raise InputError(f"{label}: posture.name = {name!r} is not a posture of the file; postures are "
+                         f"{', '.join(postures) or 'none'} (define it in a [postures.{name}] table).")
 
 
 def _check_entry(label: str, sources: dict, where: str, entry: Any, allowed: Any, inline_value: bool) -> None:
@@ -374,6 +459,15 @@ def _check_bounds(label: str, where: str, b: Any, keys: Any) -> None:
 
 
 def _check_value(label: str, where: str, value: Any, rule: str) -> None:
+    if rule == "posture":
+        if not isinstance(value, str) or not value:
+            raise InputError(f"{label}: {where} = {value!r} must be the name of a posture, e.g. {DEFAULT_POSTURE!r}.")
+        return
+    if rule == "back_support":
+        if value not in BACK_SUPPORTS:
+            raise InputError(f"{label}: {where} = {value!r} is not a back support; use one of "
+                             f"{', '.join(BACK_SUPPORTS)}.")
+        return
     if rule == "joints":
         if not isinstance(value, list) or any(v not in JOINT_NAMES for v in value):
             raise InputError(f"{label}: {where} must be a list of joint names from {', '.join(JOINT_NAMES)}.")

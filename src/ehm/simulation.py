@@ -50,12 +50,19 @@ class SeatedHuman:
         Time step [s] (default: the parameter file's, 1 ms for the shipped defaults).  A step coarser
         than the one at which the model is converged gives a :class:`ehm.timestep.StepWarning` with the
         error to expect; ``ehm check-step`` measures it.
+    posture, back_support : str, optional
+        The reference posture (``"erect"``, the default, ``"slouched"``, or one the parameter file defines;
+        :mod:`ehm.posture`) and the seat's back support (``"none"``, ``"low"``, ``"high"``, the default, or
+        ``"full"``; :mod:`ehm.seat`).  None: the parameter file's (``posture.name``, ``seat.back_support``); the
+        person's ``params`` record them.
     """
 
     def __init__(self, params: Parameters | str | Path | None = None, lock=(), unlock=(),
-                 body: Body | None = None, rotating_seat: bool = False, size=None, dt_s: float | None = None):
+                 body: Body | None = None, rotating_seat: bool = False, size=None, dt_s: float | None = None,
+                 posture: str | None = None, back_support: str | None = None):
         self.body = body if body is not None else load_body()
         self.params = params if isinstance(params, Parameters) else Parameters.load(params)
+        self.params = self.params.seated(posture, back_support)
         if dt_s is not None:
             self.params = self.params.with_values({"simulation.dt_s": check_time_step(dt_s, "dt_s")})
         warn_if_coarse(float(self.params.value("simulation.dt_s")))
@@ -106,20 +113,23 @@ class SeatedHuman:
         return self.model.mass_kg
 
     def info(self) -> dict:
-        """Segments, joints and totals as plain data (what ``ehm info --json`` prints)."""
+        """Segments, joints and totals as plain data (what ``ehm info --json`` prints), in the person's posture."""
+        body = self.model.body  # the tables in the posture, with the back support's contacts
         return {
             "mass_kg": self.mass_kg,
             "dof": self.dof,
             "locked": sorted(self.locked),
             "dt_s": float(self.params.value("simulation.dt_s")),
             "params": self.params.origin,
+            "posture": self.params.posture,
+            "back_support": self.params.back_support,
             "segments": [{"name": s.name, "mass_kg": s.mass_kg, "com_m": s.com_m.tolist(),
-                          "inertia_kgm2": s.inertia_kgm2.tolist()} for s in self.body.segments],
+                          "inertia_kgm2": s.inertia_kgm2.tolist()} for s in body.segments],
             "joints": [{"name": j.name, "parent": j.parent, "child": j.child, "type": j.type,
                         "dof": 0 if j.name in self.locked else len(j.dofs), "dofs": list(j.dofs),
                         "locked": j.name in self.locked, "pos_m": j.pos_m.tolist(),
-                        "axes_pitch_rad": j.axes_pitch_rad} for j in self.body.joints],
-            "contacts": [{"name": c.name, "segment": c.segment, "surface": c.surface} for c in self.body.contacts],
+                        "axes_pitch_rad": j.axes_pitch_rad} for j in body.joints],
+            "contacts": [{"name": c.name, "segment": c.segment, "surface": c.surface} for c in body.contacts],
             "points": {p: engine.POINTS[p] for p in POINT_NAMES},
         }
 
@@ -346,6 +356,7 @@ class SeatedHuman:
                 gia_mps2=world.inv().apply(acc_world - engine.G0[None, :]),
             )
         support = {group: to_seat(sum(raw.support_N[s] for s in surfaces if s in raw.support_N))
+                   if any(s in raw.support_N for s in surfaces) else np.zeros((t.size, 3))  # no backrest
                    for group, surfaces in engine.SUPPORT_GROUPS.items()}
         return RunResult(time_s=t, seat_acc_mps2=acc_seat, points=points, support_N=support, mass_kg=self.mass_kg,
                          dof=self.dof, dt_s=float(self.model.mj.opt.timestep), wall_s=wall, description=description,

@@ -41,6 +41,12 @@ JOINT_TYPE_DOFS: dict[str, tuple[str, ...]] = {
     "revolute": ("pitch",),
 }
 
+def rot_y(angle_rad: float) -> np.ndarray:
+    """Rotation matrix about y (positive: the front end of x down)."""
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
 CONTACT_SURFACES = ("seat_pan", "backrest_lower", "backrest_upper", "floor",
                     "bolster_r", "bolster_l", "back_bolster_r", "back_bolster_l")
 
@@ -63,6 +69,9 @@ class Segment:
         Semi-axes of the drawn ellipsoid [m].
     shape_pitch_rad : float
         Rotation of the drawn ellipsoid about y [rad].
+    inertia_pitch_rad : float
+        Rotation of the principal axes of inertia about y [rad] (0 in the tables; a posture,
+        :mod:`ehm.posture`, pitches a segment's axes with the segment).
     """
 
     name: str
@@ -71,6 +80,7 @@ class Segment:
     com_m: np.ndarray
     shape_m: np.ndarray
     shape_pitch_rad: float
+    inertia_pitch_rad: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -136,6 +146,11 @@ class ContactEllipsoid:
     pitch_rad: float
     tissue_pad: bool
     where: str = field(default="", compare=False)  #: File and line it was read from.
+
+    def reach_m(self, normal: np.ndarray) -> float:
+        """How far the ellipsoid reaches from its centre along the unit vector ``normal`` [m]."""
+        local = rot_y(self.pitch_rad).T @ normal
+        return float(np.linalg.norm(self.semi_axes_m * local))
 
 
 @dataclass(frozen=True)

@@ -19,8 +19,13 @@ def _joint_list(values: list[str] | None) -> list[str]:
     return out
 
 
+def _params(args) -> Parameters:
+    """The parameter file of --params, in the posture of --posture and with the back support of --back-support."""
+    return Parameters.load(args.params).seated(args.posture, args.back_support)
+
+
 def _human(args, rotating_seat: bool = False) -> SeatedHuman:
-    params = Parameters.load(args.params)
+    params = _params(args)
     if getattr(args, "dt", None) is not None:
         params = params.with_values({"simulation.dt_s": check_time_step(args.dt, "--dt")})
     body = load_body(args.segments, args.joints, args.contacts)

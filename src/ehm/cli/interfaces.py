@@ -11,10 +11,9 @@ import numpy as np
 from .. import __version__
 from ..errors import InputError
 from ..outdir import check_output_file, check_output_folder
-from ..params import Parameters
 from ..tables import load_body
-from .common import _human, _joint_list, _read_motion_file, _size
-from .options import _model_options, _motion_file_options
+from .common import _human, _joint_list, _params, _read_motion_file, _size
+from .options import _model_options, _motion_file_options, _seating_options
 from .progress import _progress_line
 
 
@@ -35,6 +34,8 @@ def cmd_info(args) -> int:
         return 0
     print(f"ehm {__version__}: seated human, {info['mass_kg']:.3f} kg, {info['dof']} degrees of freedom, "
           f"time step {info['dt_s'] * 1000:g} ms, parameters: {info['params']}")
+    print(f"posture: {info['posture']}; back support: {info['back_support']} (backrest contacts: "
+          f"{', '.join(c['name'] for c in info['contacts'] if c['surface'].startswith('backrest')) or 'none'})")
     print("segments (centre of gravity in m, x forward, y left, z up):")
     for s in info["segments"]:
         x, y, z = s["com_m"]
@@ -52,13 +53,14 @@ def add_params(sub) -> None:
     p = sub.add_parser("params", help="print or export the parameter file")
     p.add_argument("--params", metavar="FILE.toml", help="parameter file to read (default: the shipped defaults)")
     p.add_argument("--export", metavar="FILE.toml", help="write it to a file")
+    _seating_options(p)
     p.set_defaults(func=cmd_params)
 
 
 def cmd_params(args) -> int:
     if args.export:
         check_output_file(args.export, "parameter file")
-    params = Parameters.load(args.params)
+    params = _params(args)
     if args.export:
         params.export(args.export)
         print(f"wrote {args.export}")
@@ -119,7 +121,7 @@ def cmd_realtime(args) -> int:
 
     motion = _read_motion_file(args)
     _check_realtime_motion(args, motion)
-    params = Parameters.load(args.params)
+    params = _params(args)
     sim = Simulator(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
                     comfort=not args.no_comfort, body=load_body(args.segments, args.joints, args.contacts),
                     size=_size(args))
@@ -239,9 +241,10 @@ def _export_python_fmu(args, t0: float) -> int:
                             ("--sitting-height", args.sitting_height), ("--dt", args.dt),
                             ("--rotating-seat", args.rotating_seat or None)) if v is not None]
     if extra:
-        raise InputError(f"export-fmu --python takes only --params, --lock and --unlock, not {', '.join(extra)}; "
+        raise InputError(f"export-fmu --python takes only --params, --posture, --back-support, --lock and --unlock, "
+                         f"not {', '.join(extra)}; "
                          "export the native unit (without --python) for these.")
-    path = export_fmu(args.out, params=args.params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+    path = export_fmu(args.out, params=_params(args), lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
                       python=True)
     print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
           f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "

@@ -8,8 +8,20 @@ _KEEP_SMALL_HELP = ("keep measured curves whose peak is below 10 %% of the large
                     "axis (left out of the criterion, with a warning listing them, by default)")
 
 
+def _seating_options(p: argparse.ArgumentParser) -> None:
+    """--posture and --back-support: how the person sits (ehm.posture, ehm.seat)."""
+    p.add_argument("--posture", metavar="NAME",
+                   help="reference posture: erect, slouched, or one the parameter file defines in [postures.NAME] "
+                        "(default: the parameter file's posture.name, erect)")
+    p.add_argument("--back-support", metavar="KIND",
+                   help="the seat's back support: none, low (one pad at the posterior superior iliac spine), high "
+                        "(also one at the scapula: the paper's seat) or full (a car backrest) (default: the parameter "
+                        "file's seat.back_support, high)")
+
+
 def _model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
+    _seating_options(p)
     p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
     p.add_argument("--unlock", action="append", metavar="JOINT", help="unlock a joint, e.g. waist")
     p.add_argument("--segments", metavar="FILE.csv", help="segment table (default: the paper's Table 2)")

@@ -11,11 +11,12 @@ import numpy as np
 from ..errors import InputError
 from ..io import write_json_atomic
 from ..outdir import RunFolder, check_output_file, check_output_folder
-from ..params import Parameters, refuse_defaults
+from ..params import refuse_defaults
 from ..tables import load_body
 from ..timestep import check_time_step
-from .common import _band, _human, _input_files, _joint_list, _read_motion_file, _size
-from .options import _KEEP_SMALL_HELP, _excitation_options, _model_options, _motion_file_options
+from .common import _band, _human, _input_files, _joint_list, _params, _read_motion_file, _size
+from .options import (_KEEP_SMALL_HELP, _excitation_options, _model_options, _motion_file_options,
+                      _seating_options)
 from .progress import _end_progress_line
 
 #: ehm fit: stopped on its budget, did not lower the criterion, its check disagreed, or a value ended on its
@@ -126,7 +127,7 @@ def _fit_inputs(args):
     refuse_defaults(args.out)
     band = _band(args.band)
     data = read_frf(args.data)
-    params = Parameters.load(args.params)
+    params = _params(args)
     body = load_body(args.segments, args.joints, args.contacts)
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: use 1 or more processes.")
@@ -212,6 +213,7 @@ def add_study(sub) -> None:
     ssub = p.add_subparsers(dest="study", required=True)
     q = ssub.add_parser("locking", help="baseline, spine locked (SL), neck locked (NL) and named variants")
     q.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
+    _seating_options(q)
     q.add_argument("--variant", action="append", metavar="NAME=J1,J2", help="another variant to run")
     q.add_argument("--method", default="linear", choices=("linear", "time"),
                    help="transfer functions of the linearised person (default) or of random-vibration runs")
@@ -231,7 +233,7 @@ def cmd_study_locking(args) -> int:
         name, joints = parse_variant(v)
         variants[name] = joints
     band = _band(args.band)
-    params = Parameters.load(args.params)
+    params = _params(args)
     final = check_output_folder(args.out, inputs=_input_files(args))
     study = locking_study(params=params, variants=variants, method=args.method, band_hz=band,
                           duration_s=args.duration, progress=print)
@@ -291,7 +293,7 @@ def cmd_check_step(args) -> int:
     if any(body_args):
         raise InputError("check-step uses the shipped body tables; --segments, --joints and --contacts are not "
                          "supported here.")
-    check = check_step(args.params, dt_s=args.dt, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+    check = check_step(_params(args), dt_s=args.dt, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
                        size=_size(args), ratios=args.ratio)
     if args.json:
         _print_step_check_json(check)

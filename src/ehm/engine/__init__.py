@@ -70,7 +70,7 @@ from .laws import FRICTION_SOFTNESS, TRAPEZOIDAL_JOINTS, _split_damping, contact
 from .linearisation import (FIELD_INPUTS, OUTPUT_DOFS, ROTATION_INPUTS, S_ENTRIES, LinearModel, linearize,
                              rotation_loads, seat_pivot)
 from .model import G0, POINTS, SUPPORT_GROUPS, Model
-from .seat import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat
+from .seat import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, seated_body
 from .sensors import (SENSOR_KINDS, _contact_name, contact_forces, sensor_slices, sliding_contacts,
                       support_forces, support_slices, touching_contacts)
 from .state import (data_at_deviation, deviation_of, get_state, new_data, rotating_data_at, set_seat, set_state,
@@ -84,7 +84,7 @@ __all__ = [
     "build", "c_library", "captured_warnings", "check_seat", "contact_forces", "contact_solver_params",
     "data_at_deviation", "deviation_of", "dof_name", "drawing_geometry", "evaluate_velocities", "get_state",
     "inertia_problem", "linearize", "new_data", "point_accelerations", "rotating_data_at", "rotation_loads", "run",
-    "save_binary", "seat_pivot", "segment_mass_properties", "sensor_slices", "set_seat", "set_state", "settle",
-    "settled_data", "settled_point_poses", "sliding_contacts", "static_deviation_of", "step", "support_forces",
-    "support_slices", "take_warnings", "touching_contacts",
+    "save_binary", "seat_pivot", "seated_body", "segment_mass_properties", "sensor_slices", "set_seat", "set_state",
+    "settle", "settled_data", "settled_point_poses", "sliding_contacts", "static_deviation_of", "step",
+    "support_forces", "support_slices", "take_warnings", "touching_contacts",
 ]

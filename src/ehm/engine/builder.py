@@ -17,7 +17,7 @@ from .inertia import PAD_INERTIA_KGM2, pad_masses, segment_mass_properties
 from .laws import _split_damping, contact_solver_params
 from .model import G0, POINTS, Model
 from .seat import (SEAT_BANDWIDTH_HZ, SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, quat_pitch,
-                   quat_z_to)
+                   quat_z_to, seated_body)
 from .sensors import _REDUCE_NETFORCE, SENSOR_KINDS
 
 #: Half sizes [m] of the static seat surfaces as drawn (planes: the contact is with the infinite plane).
@@ -33,7 +33,9 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     Parameters
     ----------
     body : Body
-        Segments, joints and contact ellipsoids.
+        Segments, joints and contact ellipsoids in the tables' reference posture; the model is built in the
+        parameters' posture and with their back support (:func:`~ehm.engine.seat.seated_body`), and its
+        ``body`` is that one.
     params : Parameters
         Joint, contact, posture, seat and solver parameters.
     locked : set of str
@@ -46,7 +48,8 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     """
     params.check_against(body)
     locked = _checked_locked(body, locked)
-    seat = SeatGeometry.from_params(params, body)
+    reference, body = body, seated_body(body, params)  # the parameters' posture and back support
+    seat = SeatGeometry.from_params(params, body, reference)
     check_seat(seat, params, body)
 
     spec = _new_spec(params.section("simulation"))
@@ -135,7 +138,7 @@ class _SegmentTree:
         for j in body.joints:
             self.children.setdefault(j.parent, []).append(j)
         posture = params.section("posture")
-        self.integral_joints = set(posture["integral_joints"])
+        self.integral_joints = params.integral_joints()
         self.ti = float(posture["integral_time_s"])
         self.dof_names: list[str] = ["pelvis.x", "pelvis.y", "pelvis.z", "pelvis.roll", "pelvis.pitch", "pelvis.yaw"]
         self.segment_bodies: dict[str, list] = {}  #: segment -> names of its body and its pad bodies

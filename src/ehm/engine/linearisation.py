@@ -70,7 +70,9 @@ def _state_outputs(model: Model, d: mujoco.MjData, ref: dict, slices: dict, cont
         mujoco.mju_quat2Vel(rotvec, qrel, 1.0)
         out += [vals["framepos"] - ref[p][0], rotvec, vals["framelinvel"], vals["frameangvel"]]
     forces = support_forces(model, d)
-    out += [sum(forces[s] for s in surfaces if s in forces) for surfaces in SUPPORT_GROUPS.values()]
+    for surfaces in SUPPORT_GROUPS.values():  # a group without surfaces (no backrest): zero
+        present = [forces[s] for s in surfaces if s in forces]
+        out.append(sum(present) if present else np.zeros(3))
     out.append(contact_forces(model, d, contacts))
     return np.concatenate(out)
 

@@ -11,7 +11,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..params import Parameters
-from ..tables import Body
+from ..posture import pose_body
+from ..seat import backrest_planes, supported
+from ..tables import Body, rot_y
 
 SEAT_DOFS = ("yaw", "pitch", "roll")  #: Hinges of a rotating seat, outermost first (intrinsic z-y-x).
 SEAT_INERTIA_KGM2 = 1e5  #: Moment of inertia of a rotating seat about its pivot [kg m^2]: the person barely moves it.
@@ -21,12 +23,6 @@ SEAT_BANDWIDTH_HZ = 20.0  #: Bandwidth of the seat's tracking controller (on top
 def quat_pitch(angle_rad: float) -> np.ndarray:
     """Quaternion (w, x, y, z) of a rotation about y."""
     return np.array([math.cos(angle_rad / 2), 0.0, math.sin(angle_rad / 2), 0.0])
-
-
-def rot_y(angle_rad: float) -> np.ndarray:
-    """Rotation matrix about y."""
-    c, s = math.cos(angle_rad), math.sin(angle_rad)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def quat_z_to(normal: np.ndarray) -> np.ndarray:
@@ -41,6 +37,14 @@ def quat_z_to(normal: np.ndarray) -> np.ndarray:
     return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis])
 
 
+def seated_body(body: Body, params: Parameters) -> Body:
+    """The body tables (reference posture) in the parameters' posture (:func:`ehm.posture.pose_body`), with the
+    contacts of the back support (:func:`ehm.seat.supported`)."""
+    s = params.section("seat")
+    posed = pose_body(body, params.posture_angles(), s["pan_height_m"], s["pan_angle_deg"])
+    return supported(posed, params.back_support)
+
+
 @dataclass(frozen=True)
 class SeatGeometry:
     """Seat surfaces as planes in body axes of the reference posture: name -> (point [m], unit normal)."""
@@ -48,20 +52,19 @@ class SeatGeometry:
     planes: dict
 
     @classmethod
-    def from_params(cls, params: Parameters, body: Body) -> "SeatGeometry":
+    def from_params(cls, params: Parameters, body: Body, reference: Body | None = None) -> "SeatGeometry":
+        """The seat of ``params`` for the person ``body`` (:func:`seated_body`; ``reference``: the same tables in the
+        reference posture, default ``body``): pan and floor as the parameters place them, the back support's
+        surfaces from :func:`ehm.seat.backrest_planes`, the bolsters a gap beside the body's side contacts."""
         s = params.section("seat")
         a = math.radians(s["pan_angle_deg"])
-        b = math.radians(s["backrest_angle_deg"])
         pan_n = np.array([-math.sin(a), 0.0, math.cos(a)])
-        back_n = np.array([math.cos(b), 0.0, math.sin(b)])
         planes = {
             "seat_pan": (np.array([0.0, 0.0, s["pan_height_m"]]), pan_n),
             "floor": (np.array([0.0, 0.0, s["floor_height_m"]]), np.array([0.0, 0.0, 1.0])),
         }
-        for pad in ("lower", "upper"):
-            h = s[f"{pad}_pad_height_m"]
-            point = np.array([s["backrest_x_m"] - math.tan(b) * h, 0.0, h]) + s[f"{pad}_pad_thickness_m"] * back_n
-            planes[f"backrest_{pad}"] = (point, back_n)
+        planes.update(backrest_planes(s, body if reference is None else reference, body, params.back_support,
+                                      params.posture))
         # Bolsters: planes facing the body's side ellipsoids, a gap beyond the ellipsoid's extreme point.
         c_ang, b_ang = math.radians(s["bolster_angle_deg"]), math.radians(s["back_bolster_angle_deg"])
         for c in body.contacts:
@@ -108,6 +111,8 @@ def check_seat(seat: SeatGeometry, params: Parameters, body: Body) -> None:
                          f"{s['lower_pad_height_m']:g} m, seat.upper_pad_height_m = {s['upper_pad_height_m']:g} m.")
     pelvis = body.segment("pelvis").com_m
     for surface in ("backrest_lower", "backrest_upper"):
+        if surface not in seat.planes:  # a back support without it
+            continue
         point, normal = seat.planes[surface]
         gap = float(np.dot(pelvis - point, normal))
         if gap <= 0:
