@@ -129,7 +129,7 @@ RATES_HZ = (50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 10000.0)
 def test_digital_response_follows_analog_up_to_0_4_fs(name, fs):
     """Within 1 dB of the analog magnitude from f1/10 to 0.4 fs wherever |W| > -100 dB (the issue's target).
 
-    Measured (ehm.comfort.weighting_sos docstring): at most 0.42 dB over 24 rates from 50 Hz to 20 kHz.
+    Measured (ehm.comfort.weighting_sos docstring): at most 0.40 dB over 24 log-spaced rates from 50 Hz to 20 kHz.
     """
     f1 = {"Wf": 0.08}.get(name, 0.4)
     f = np.union1d(np.geomspace(0.1 * f1, 0.4 * fs, 1500), np.linspace(0.1 * f1, 0.4 * fs, 1500))
@@ -152,6 +152,18 @@ def test_digital_response_in_the_iso_range_at_1khz(name):
     _, hd = signal.sosfreqz(weighting_sos(name, FS), worN=f[sel], fs=FS)
     assert np.max(np.abs(db(hd) - db(ha[sel]))) < 0.1
     assert np.max(np.abs(np.degrees(np.angle(hd / ha[sel])))) < 2.0
+
+
+def test_every_tabulated_design_is_a_converged_fit():
+    """Green on every Python (issue 31): each weighting's fit at the tabulated rates stops because it met its
+    tolerances, not because it ran out of evaluations.  A fit cut short stops where its path happens to be, and
+    the path moves with rounding: cut at 100 evaluations, 9 of these 42 designs stopped short, and Wf at 10 Hz
+    differed by 0.2 % at 0.2 Hz between scipy 1.17 and 1.18.  No tolerance: a yes/no per design."""
+    from ehm.comfort import weighting
+
+    short = [(name, fs) for name in WEIGHTINGS for fs in RATES_HZ + (10.0,)
+             if (name == "Wf" or fs > 10.0) and not weighting._design(name, fs).converged]
+    assert short == []
 
 
 def test_weighting_deviation_db_reports_the_measured_deviation():
@@ -277,12 +289,36 @@ def test_weighted_rms_and_vdv_of_a_sinusoid(name, freq_hz, amp):
 
 
 def test_msdv_of_a_sinusoid():
-    fs, f, amp, t = 10.0, 0.2, 1.0, 2000.0
-    x = sine(f, amp, t, fs)
-    m = metrics(x, fs, "Wf")
-    closed = abs(frequency_weighting("Wf", f)) * amp * np.sqrt(t / 2.0)
-    assert m.msdv == pytest.approx(closed, rel=1e-3)  # measured: 3e-5, start-up transient included
-    assert m.msdv == pytest.approx(m.a_w * np.sqrt(t), rel=1e-12)
+    """MSDV of a sinusoid: |W(f)| A sqrt(T/2) (ISO 2631-1 clause 9.2.2), Wf at a 10 Hz log rate.
+
+    Two parts with their own errors.  Once the filter's start-up transient has died away, MSDV^2 grows by
+    exactly |H(f)|^2 A^2 dT / 2 (H: the digital filter actually used; whole periods, so the sum of sin^2 is
+    exact): rel 1e-9 is rounding of 10^5-term sums (measured 5e-14; the impulse response's tail after 1000 s is
+    below 1e-200).  The whole record differs from the analog closed form by the filter's own error at f
+    (|H(f) / W(f)| - 1, measured -6.5e-4) plus the start-up transient e, bounded through the impulse response
+    h: |e(t)| <= A sum(|h_j|, j > t fs), so e changes MSDV^2 by at most 2 |H| A^2 sum(j |h_j|) / fs (cross term)
+    + A^2 sum((sum(|h_j|, j > n))^2) / fs (its own energy); over 20000 s that is 7.8e-4 of MSDV (measured
+    -6.6e-5).
+
+    Issue 31: this once asserted 1e-3 over 2000 s ("measured: 3e-5") and failed at 1.7e-3 on scipy 1.18: the
+    filter's fit stopped at 100 evaluations before converging, and where it stopped moved with rounding (scipy
+    1.18's MINPACK takes a first step 3e-9 away from 1.17's from identical residuals and Jacobian; numpy 2.5
+    changes a residual in its last bit), so MSDV over 2000 s was 31.343 / 31.357 / 31.422 on numpy 2.4 + scipy
+    1.17 / numpy 2.5 + scipy 1.17 / numpy 2.5 + scipy 1.18.  The fit now runs to convergence: 31.32900 on all
+    three (transient -6.6e-4 and filter -6.5e-4 of it; the old 3e-5 was the two cancelling by chance).
+    """
+    fs, f, amp, t = 10.0, 0.2, 1.0, 20000.0
+    sos = weighting_sos("Wf", fs)
+    h_f = abs(signal.sosfreqz(sos, worN=[f], fs=fs)[1][0])
+    w_f = abs(frequency_weighting("Wf", f))
+    half, whole = metrics(sine(f, amp, t / 2, fs), fs, "Wf"), metrics(sine(f, amp, t, fs), fs, "Wf")
+    assert whole.msdv ** 2 - half.msdv ** 2 == pytest.approx(h_f ** 2 * amp ** 2 * t / 4.0, rel=1e-9)
+    impulse = signal.sosfilt(sos, np.r_[1.0, np.zeros(int(200 * fs))])      # below 1e-22 by 200 s
+    tail = np.cumsum(np.abs(impulse)[::-1])[::-1][1:]                       # sum(|h_j|, j > n)
+    transient = (2.0 * h_f * np.sum(np.arange(impulse.size) * np.abs(impulse)) + np.sum(tail ** 2)) * amp ** 2 / fs
+    closed = w_f * amp * np.sqrt(t / 2.0)
+    assert whole.msdv == pytest.approx(closed, rel=abs(h_f / w_f - 1.0) + transient / (2.0 * closed ** 2))
+    assert whole.msdv == pytest.approx(whole.a_w * np.sqrt(t), rel=1e-12)
     # Wf is used for MSDV whatever the main weighting
     m_wk = metrics(sine(f, amp, 300.0, 250.0), 250.0, "Wk")
     wf = weight("Wf", sine(f, amp, 300.0, 250.0), 250.0)
