@@ -134,9 +134,10 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
     else:
         levelled, rates, note = _level_by_tilt(time_s, acc, rates, i, j)
     if gravity == "auto":
-        warnings.warn(f"{label}: {where} has a mean acceleration of norm {norm:.4g} m/s^2 and z {vertical:.4g} "
-                      f"m/s^2, one of them within {G_TOLERANCE:.0%} of g, so the log is taken to include gravity and "
-                      f"is {note} (--gravity included does the same without this note).", EhmWarning, stacklevel=4)
+        which = "norm" if abs(norm - STANDARD_GRAVITY) <= G_TOLERANCE * STANDARD_GRAVITY else "vertical part"
+        warnings.warn(f"{label}: the mean acceleration of its quietest window has a {which} within {G_TOLERANCE:.0%} "
+                      f"of g (norm {norm:.4g}, z {vertical:.4g} m/s^2), so the log is taken to include gravity and is "
+                      f"{note} (--gravity included does the same without this note).", EhmWarning, stacklevel=4)
     return levelled, rates, note
 
 
