@@ -503,7 +503,7 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
 
     Runs already recorded in ``out/runs`` are skipped, except those whose worker was lost (always redone)
     and, with ``retry_failed``, those that failed (e.g. after the parameter or study file was fixed).
-    ``out`` is a folder of ehm's that is added to (:func:`ehm.outdir.added_folder`: refused when it holds files
+    ``out`` is a folder of ehm's that is added to (``ehm.outdir.added_folder``: refused when it holds files
     ehm did not write); every record and table written there is listed in its manifest.  The runs' warnings come
     back with their records and are warned here, each sentence once.
     """

@@ -18,7 +18,7 @@ route by its effect:
 3. Over every window the linear and the nonlinear answers are compared: the *discrepancy* of a point's
    acceleration is the rms of their difference over the windows, counted over the whole drive, as a share
    of that acceleration's rms over the drive (what the linear answer alone would be off by); a channel with no
-   content of its own (rms below :data:`CONTENT_FLOOR` of the largest point acceleration's rms, such as the
+   content of its own (rms below ``CONTENT_FLOOR`` of the largest point acceleration's rms, such as the
    sideways accelerations under vertical input) is measured against that largest rms instead.
 4. ``method="auto"`` (the hybrid route) keeps the nonlinear answer in the windows and hands the nonlinear
    state back to the linear model at each window's end (``ehm.engine.deviation_of``,
@@ -95,7 +95,7 @@ class RouteReport:
     discrepancy : dict
         Point -> [x, y, z]: rms of the linear answer's difference from the nonlinear one over the windows, as a
         share of the point acceleration's rms over the drive (0 where no window was needed); of the largest point
-        acceleration's rms where the point's own is below :data:`CONTENT_FLOOR` of it.
+        acceleration's rms where the point's own is below ``CONTENT_FLOOR`` of it.
     tolerance : float
         The tolerance the discrepancy is held to (share of rms).
     fallback : str

@@ -15,11 +15,11 @@ holds nothing but the files listed there, each of its listed size and time (a fi
 user's), and neither it nor anything in it is read-only.  Names and extensions are never taken as evidence.
 Anything else is refused, before the run starts, with one sentence, and again just before the swap (a file added
 while the run was going keeps the folder; the new run is then left beside it).  A batch study's folder is added
-to rather than replaced (:func:`added_folder`), under the same rule.
+to rather than replaced (``added_folder``), under the same rule.
 
-No file joins a manifest silently: only a file that belongs to the folder is listed (:func:`record_in_manifest`:
+No file joins a manifest silently: only a file that belongs to the folder is listed (``record_in_manifest``:
 a batch study's records and tables, an animation drawn into its own run folder).  A single file of any other
-command is refused inside a folder of ehm's (:func:`check_output_file`), and one written there from Python is not
+command is refused inside a folder of ehm's (``check_output_file``), and one written there from Python is not
 listed, so the next run refuses the folder rather than deleting it; a run also refuses an output folder that holds
 one of its own input files.
 
@@ -106,7 +106,7 @@ def record_in_manifest(path: Path | str, folder: Path | str) -> None:
 
     Only for a file that belongs to the folder: a batch study's records and tables, an animation of a run drawn
     into that run's folder.  A file written into a folder of ehm's by anything else is never listed (ehm refuses
-    to write one there, :func:`check_output_file`), so the next run refuses the folder instead of deleting it."""
+    to write one there, ``check_output_file``), so the next run refuses the folder instead of deleting it."""
     changed, folder = [Path(path)], Path(folder)
     while True:
         data = read_manifest(folder)
@@ -551,7 +551,7 @@ def _remove_if_nothing_written(path: Path, made: list[Path]) -> None:
 
 
 def write_owned(path: Path | str, write, folder: Path | str) -> None:
-    """Write a file of ``folder`` (a folder of ehm's that is added to, :func:`added_folder`) and list it in the
+    """Write a file of ``folder`` (a folder of ehm's that is added to, ``added_folder``) and list it in the
     folder's manifest, with Ctrl-C and SIGTERM held back in between (so that the two happen together).
     ``write()`` writes ``path`` (atomically, :mod:`ehm.io`)."""
     with signals_held():

@@ -87,7 +87,7 @@ def pose_body(body: Body, angles: dict, pan_height_m: float, pan_angle_deg: floa
     """The body tables turned into the posture ``angles`` (a ``[postures.NAME]`` table's values), sitting on the
     seat pan (height and angle in body axes of the reference posture, ``[seat]``): the pelvis's seat-pan contacts
     as deep in the pan as in the tables, and the thighs pitched so that theirs are too (the pelvis's roll lifts
-    or lowers the hips).  The tables unchanged for the reference posture (:func:`is_reference`)."""
+    or lowers the hips).  The tables unchanged for the reference posture (``is_reference``)."""
     if is_reference(angles):
         return body
     pan = (pan_height_m, pan_angle_deg)

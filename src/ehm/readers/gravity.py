@@ -21,10 +21,10 @@ Modes (``read_motion(gravity=...)``, ``--gravity``):
     within :data:`G_TOLERANCE` (10 %) of standard gravity (a log that brakes or corners most of the time has a
     mean far from 1 g, but its vertical mean is still g), with a one-line warning naming the tilt, the g
     removed and the window.  Otherwise take it as gravity-free, unless that mean's norm is within
-    :data:`UNSURE_BAND` (0.5-2 g) in a log of :data:`QUIET_WINDOW_S` or longer: neither gravity nor a vehicle's,
+    ``UNSURE_BAND`` (0.5-2 g) in a log of :data:`QUIET_WINDOW_S` or longer: neither gravity nor a vehicle's,
     refused in one sentence naming ``--gravity included`` and ``--gravity removed``.
 ``"included"``
-    Level the log whatever its mean; refused when the window's mean is under :data:`INCLUDED_MIN_SHARE` of g
+    Level the log whatever its mean; refused when the window's mean is under ``INCLUDED_MIN_SHARE`` of g
     (there is no gravity to take out: levelling would remove a few hundredths of a m/s^2 as "g" and turn the
     axes by the direction of the vehicle's own mean).
 ``"removed"``
