@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from numbers import Real
 
+import numpy as np
+
 
 class EhmError(Exception):
     """A user-facing error: its message is one sentence naming what and where."""
@@ -48,3 +50,21 @@ def positive_number(func: str, name: str, value: object) -> float:
     if result <= 0.0:
         raise InputError(f"{func}: {name} must be > 0, got {result!r}.")
     return result
+
+
+def finite_samples(name: str, values: object, advice: str = "fill or cut the gap first") -> np.ndarray:
+    """``values`` as a 1-D float array of at least one finite sample, or an :class:`InputError` naming ``name`` and
+    the first bad sample (and ``advice``: what to do about it)."""
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a 1-D array of numbers, not {values!r:.60}.") from None
+    if arr.ndim != 1:
+        raise InputError(f"{name} must be a 1-D array of samples, not of shape {arr.shape}.")
+    if arr.size == 0:
+        raise InputError(f"{name} must hold at least one sample; got an empty array.")
+    bad = np.flatnonzero(~np.isfinite(arr))
+    if bad.size:
+        more = f" and {bad.size - 1} more" if bad.size > 1 else ""
+        raise InputError(f"{name} has a non-finite value ({arr[bad[0]]}) at sample {bad[0]}{more}; {advice}.")
+    return arr

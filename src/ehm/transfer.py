@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from .errors import InputError, positive_number
+from .errors import InputError, finite_samples, positive_number
 
 
 def band_select(freq_hz: np.ndarray, band_hz: tuple[float, float]) -> np.ndarray:
@@ -115,19 +115,8 @@ def h1_estimate(x: np.ndarray, y: np.ndarray, fs_hz: float, segment_s: float = 1
 
 def _samples(name: str, values) -> np.ndarray:
     """A time history as a 1-D float array of finite samples, or one sentence naming the first bad sample."""
-    try:
-        arr = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"h1_estimate: {name} must be a 1-D array of numbers, not {values!r:.60}.") from None
-    if arr.ndim != 1:
-        raise InputError(f"h1_estimate: {name} must be a 1-D array of samples, not of shape {arr.shape}.")
-    bad = np.flatnonzero(~np.isfinite(arr))
-    if bad.size:
-        raise InputError(f"h1_estimate: {name} has a non-finite value ({arr[bad[0]]}) at sample {bad[0]}"
-                         + (f" and {bad.size - 1} more" if bad.size > 1 else "")
-                         + "; fill or cut the gap before estimating (Welch averages would spread it over every "
-                         "frequency).")
-    return arr
+    return finite_samples(f"h1_estimate: {name}", values, "fill or cut the gap before estimating (Welch averages "
+                          "would spread it over every frequency)")
 
 
 def discrete_frequency_response(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, dt_s: float,

@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
-from ..errors import InputError
+from ..errors import InputError, finite_samples
 
 
 def _positive_float(value, arg: str) -> float:
@@ -29,16 +27,5 @@ def _non_negative_float(value, arg: str, what: str = "number") -> float:
     return out
 
 
-def _signal_1d(values, arg: str) -> np.ndarray:
-    try:
-        out = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{arg} must be a 1-D array of numbers; got {type(values).__name__}.") from None
-    if out.ndim != 1:
-        raise InputError(f"{arg} must be a 1-D array; got an array of shape {out.shape}.")
-    if out.size == 0:
-        raise InputError(f"{arg} must hold at least one sample; got an empty array.")
-    if not np.all(np.isfinite(out)):
-        bad = int(np.argmin(np.isfinite(out)))
-        raise InputError(f"{arg} must be finite; got a non-finite value at sample {bad}.")
-    return out
+def _signal_1d(values, arg: str):
+    return finite_samples(arg, values)
