@@ -200,7 +200,7 @@ class Assessment:
         sick = s["sickness"]
         facts = {"input": self.description, "route": self._attrs()["route"],
                  "duration": f"{self.duration_s:g} s, assessed in {self.wall_s:.3g} s",
-                 "motion sickness (MSI at the end)": ", ".join(f"{k} {v['final_msi_percent']:.3g} %"
+                 "motion sickness (MSI at the end)": ", ".join(f"{k} {v['final_msi_percent']:.4g} %"
                                                                for k, v in sick.items())}
         return html_table("ehm Assessment (ISO 2631-1)", facts,
                           ["location", "a_w,x [m/s²]", "a_w,y [m/s²]", "a_w,z [m/s²]", "a_v [m/s²]",
