@@ -173,7 +173,7 @@ class Assessment:
                 "duration_s": self.duration_s, "weightings": "Wd (x, y), Wk (z), Wf (MSDV)"}
 
     def to_dataframe(self):
-        """The figures of :meth:`summary` (what ``assessment.json`` holds) as a long pandas DataFrame: one row per
+        """The figures of ``summary()`` (what ``assessment.json`` holds) as a long pandas DataFrame: one row per
         figure with the columns ``location`` (``seat``, ``pelvis``, ``trunk``, ``head``), ``axis`` (``x``, ``y``,
         ``z``, or ``xyz`` for the total value and the sickness model), ``metric`` (``a_w``, ``mtvv``, ``vdv``,
         ``crest_factor``, ``mtvv_ratio``, ``vdv_ratio``, ``seat_value``; ``total_value``, ``msdv``,

@@ -5,7 +5,7 @@ The result classes (:class:`ehm.RunResult`, :class:`ehm.FrfTable`, :class:`ehm.A
 this module only turns those columns into a DataFrame (with the run's description and route in
 ``DataFrame.attrs``), labelled arrays into an xarray Dataset, and a few figures into the HTML table of their
 ``_repr_html_``.  It is the one door for pandas and xarray going out, as :mod:`ehm.readers` is for data coming
-in; it stands on the bottom floors (it imports only :mod:`ehm.errors`), so every result module can reach it.
+in; it stands on the bottom floors (it imports only ``ehm.errors``), so every result module can reach it.
 Conventions of every frame: long (tidy) where the values share a unit, one column per quantity otherwise; units
 in the column names (``acc_mps2``, ``freq_hz``), or in a ``unit`` column beside a ``value`` column that mixes
 them; labels (location, axis, ...) as pandas categoricals in the order ehm uses.

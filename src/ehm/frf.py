@@ -97,7 +97,7 @@ class FrfTable:
         """The long table as a pandas DataFrame, one row per curve and frequency: the CSV's columns
         (``input_axis, point, dof, freq_hz, gain, phase_deg, coherence``, plus ``gain_sd`` and ``weight`` when
         they carry data) and ``gain_unit`` (``(m/s^2)/(m/s^2)``, ``(rad/s^2)/(m/s^2)`` or ``kg``, see
-        :func:`gain_unit`); what produced it (description, route, method, settings) in ``DataFrame.attrs``."""
+        :func:`ehm.frf.gain_unit`); what produced it (description, route, method, settings) in ``DataFrame.attrs``."""
         from .dataframes import frame
 
         with_sd, with_w = self._optional_columns()
