@@ -206,3 +206,16 @@ def test_batch_table_has_the_same_shape(tmp_path):
 def test_read_results_without_a_table_is_one_sentence(tmp_path):
     with pytest.raises(ehm.InputError, match="no results.parquet there; run the study first"):
         read_results(tmp_path)
+
+
+def test_read_results_names_the_outputs_of_an_earlier_table(tmp_path):
+    """A results.parquet written before issue 32 (run_id, output, value, error only) reads in the same shape."""
+    pa = pytest.importorskip("pyarrow")
+    import pyarrow.parquet as pq
+
+    pq.write_table(pa.table({"run_id": ["a1", "a1"], "output": ["seat.a_v_mps2", "seat_x->trunk_x.peak_gain"],
+                             "value": [0.3, 1.2], "error": ["", ""], "lock": ["none", "none"]}),
+                   tmp_path / "results.parquet")
+    df = read_results(tmp_path)
+    assert list(df.columns) == ["run_id", "output", "location", "axis", "metric", "value", "unit", "error", "lock"]
+    assert list(df.unit) == ["m/s^2", "(m/s^2)/(m/s^2)"] and list(df.location) == ["seat", "trunk"]
