@@ -96,7 +96,8 @@ def test_cli_batch(tmp_path, capsys, monkeypatch):
     # the workers ran single-threaded; the calling process keeps its own thread settings
     assert "OMP_NUM_THREADS" not in os.environ and "OPENBLAS_NUM_THREADS" not in os.environ
     lines = (tmp_path / "r" / "results.csv").read_text().splitlines()
-    assert lines[0].startswith("\"run_id\",\"output\",\"value\",\"error\"")
+    # the shape of Assessment.to_dataframe (issue 32): each output's location, axis, metric and unit beside it
+    assert lines[0].startswith("\"run_id\",\"output\",\"location\",\"axis\",\"metric\",\"value\",\"unit\",\"error\"")
     # 2 people x 1 parameter value x 6 outputs (peak frequency and gain of pelvis, trunk, head on seat z)
     assert len(lines) == 1 + 2 * 6 and not any("error" in ln.split(",")[1] for ln in lines[1:])
 

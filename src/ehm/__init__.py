@@ -43,6 +43,7 @@ ehm.sickness       subjective vertical conflict motion sickness model (whole rec
 ehm.linear         the linearised person as a state-space model (the linear route)
 ehm.convergence    is the time step small enough? (``ehm check-step``)
 ehm.batch          batch studies on Dask; ehm.fmu FMI export; ehm.animation pictures; ehm.plotting figures
+ehm.dataframes     results out: ``to_dataframe()`` (pandas), ``to_xarray()``, the tables a notebook shows
 
 Conventions: SI units, radians inside; axes x forward, y left, z up; origin at the pelvis centre of
 gravity of the reference posture.

@@ -168,6 +168,69 @@ class Assessment:
         return out
 
 
+    def _attrs(self) -> dict:
+        return {"description": self.description, "route": (self.route or {}).get("method", "nonlinear"),
+                "duration_s": self.duration_s, "weightings": "Wd (x, y), Wk (z), Wf (MSDV)"}
+
+    def to_dataframe(self):
+        """The figures of ``summary()`` (what ``assessment.json`` holds) as a long pandas DataFrame: one row per
+        figure with the columns ``location`` (``seat``, ``pelvis``, ``trunk``, ``head``), ``axis`` (``x``, ``y``,
+        ``z``, or ``xyz`` for the total value and the sickness model), ``metric`` (``a_w``, ``mtvv``, ``vdv``,
+        ``crest_factor``, ``mtvv_ratio``, ``vdv_ratio``, ``seat_value``; ``total_value``, ``msdv``,
+        ``displacement_max``; and the sickness model driven by the head and by the seat: ``msi_final``,
+        ``conflict_max``), ``value`` and ``unit`` (``m/s^2``, ``m/s^1.75``, ``m/s^1.5``, ``m``, ``%``, ``1``);
+        an undefined figure (the crest factor of an axis without motion) is NaN.  The drive's description, route
+        and duration are in ``DataFrame.attrs``."""
+        from .dataframes import frame
+
+        rows = _summary_rows(self.summary())
+        columns = {c: [r[i] for r in rows] for i, c in enumerate(("location", "axis", "metric", "value", "unit"))}
+        columns["value"] = np.array([np.nan if v is None else v for v in columns["value"]], dtype=float)
+        return frame(columns, self._attrs(), labels={"location": LOCATIONS, "axis": ("x", "y", "z", "xyz")})
+
+    def _repr_html_(self) -> str:
+        from .dataframes import html_table
+
+        s = self.summary()
+        rows = []
+        for loc, v in s["locations"].items():
+            ax = v["axes"]
+            rows.append([loc, *(ax[a]["a_w_mps2"] for a in "xyz"), v["total_value_mps2"], v["comfort_reaction"],
+                         ax["z"]["vdv_mps175"], v["msdv_z_mps15"]])
+        sick = s["sickness"]
+        facts = {"input": self.description, "route": self._attrs()["route"],
+                 "duration": f"{self.duration_s:g} s, assessed in {self.wall_s:.3g} s",
+                 "motion sickness (MSI at the end)": ", ".join(f"{k} {v['final_msi_percent']:.4g} %"
+                                                               for k, v in sick.items())}
+        return html_table("ehm Assessment (ISO 2631-1)", facts,
+                          ["location", "a_w,x [m/s²]", "a_w,y [m/s²]", "a_w,z [m/s²]", "a_v [m/s²]",
+                           "comfort reaction", "VDV_z [m/s^1.75]", "MSDV_z [m/s^1.5]"], rows)
+
+
+#: summary key of a figure per axis -> (metric, unit)
+_AXIS_FIGURES = {"a_w_mps2": ("a_w", "m/s^2"), "mtvv_mps2": ("mtvv", "m/s^2"), "vdv_mps175": ("vdv", "m/s^1.75"),
+                 "crest_factor": ("crest_factor", "1"), "mtvv_ratio": ("mtvv_ratio", "1"),
+                 "vdv_ratio": ("vdv_ratio", "1"), "seat_value_pct": ("seat_value", "%")}
+
+
+def _summary_rows(summary: dict) -> list:
+    """(location, axis, metric, value, unit) of every figure of an assessment's summary."""
+    rows = []
+    for loc, v in summary["locations"].items():
+        for a, figures in v["axes"].items():
+            rows += [(loc, a, _AXIS_FIGURES[k][0], x, _AXIS_FIGURES[k][1]) for k, x in figures.items()]
+        rows.append((loc, "xyz", "total_value", v["total_value_mps2"], "m/s^2"))
+        if "seat_value_total_pct" in v:
+            rows.append((loc, "xyz", "seat_value", v["seat_value_total_pct"], "%"))
+        rows.append((loc, "z", "msdv", v["msdv_z_mps15"], "m/s^1.5"))
+    for point, d in summary["body_displacement_max_m"].items():
+        rows += [(point, a, "displacement_max", x, "m") for a, x in zip("xyz", d)]
+    for by, v in summary["sickness"].items():
+        rows += [(by, "xyz", "msi_final", v["final_msi_percent"], "%"),
+                 (by, "xyz", "conflict_max", v["max_conflict_mps2"], "m/s^2")]
+    return rows
+
+
 def _finite(x: float) -> float | None:
     """A number for JSON: None where it is undefined (e.g. the crest factor of an axis without motion)."""
     return float(x) if x is not None and np.isfinite(x) else None

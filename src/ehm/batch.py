@@ -62,6 +62,7 @@ import hashlib
 import itertools
 import json
 import math
+import re
 import time
 import tomllib
 import warnings
@@ -441,15 +442,64 @@ def _run_point(spec: RunSpec) -> dict:
     return record
 
 
+#: An output's name -> its location, axis, metric and unit (as :meth:`ehm.Assessment.to_dataframe` names them).
+_OUTPUT_NAMES = (
+    (re.compile(r"seat_(?P<axis>[xyz])->(?P<location>\w+)_(?P=axis)\.peak_hz"), "peak_frequency", "Hz"),
+    (re.compile(r"seat_(?P<axis>[xyz])->(?P<location>\w+)_(?P=axis)\.peak_gain"), "peak_gain", "(m/s^2)/(m/s^2)"),
+    (re.compile(r"(?P<location>\w+)\.a_w_(?P<axis>[xyz])_mps2"), "a_w", "m/s^2"),
+    (re.compile(r"(?P<location>\w+)\.a_v_mps2"), "total_value", "m/s^2"),
+    (re.compile(r"(?P<location>\w+)\.msi_percent"), "msi_final", "%"),
+    (re.compile(r"route\.linear_share"), "linear_share", "1"),
+)
+
+
+def output_fields(name: str) -> dict:
+    """The ``location``, ``axis``, ``metric`` and ``unit`` of an output of the results table (``axis`` ``xyz``
+    for the total value and the sickness model; the transmissibility's axis is the seat's and the point's);
+    an output of another name is its own metric, without a unit."""
+    for pattern, metric, unit in _OUTPUT_NAMES:
+        m = pattern.fullmatch(name)
+        if m:
+            found = m.groupdict()
+            return {"location": found.get("location", ""),
+                    "axis": found.get("axis", "xyz" if "location" in found else ""), "metric": metric, "unit": unit}
+    return {"location": "", "axis": "", "metric": name, "unit": ""}
+
+
 def _table_rows(records: list[dict]) -> list[dict]:
     rows = []
     for rec in records:
         base = dict(rec["inputs"])
         if rec["error"]:
-            rows.append({**base, "output": "error", "value": math.nan, "error": rec["error"]})
+            rows.append({**base, "output": "error", **output_fields("error"), "value": math.nan, "error": rec["error"]})
         for name, value in rec["outputs"].items():
-            rows.append({**base, "output": name, "value": float(value), "error": ""})
+            rows.append({**base, "output": name, **output_fields(name), "value": float(value), "error": ""})
     return rows
+
+
+def read_results(out: Path | str):
+    """A study's results table (``OUT/results.parquet``) as a pandas DataFrame, in the shape of
+    :meth:`ehm.Assessment.to_dataframe`: one row per run and output, the columns ``run_id``, ``output``,
+    ``location``, ``axis``, ``metric``, ``value``, ``unit``, ``error`` (empty, or the failed run's sentence on
+    an ``error`` row) and the run's inputs (person, grid values, ``lock``); the folder in ``DataFrame.attrs``.
+    A table written by an earlier ehm without ``location`` ... ``unit`` gets them from the output names."""
+    from .dataframes import frame
+    from .runfiles import pyarrow_modules
+
+    path = Path(out) / "results.parquet"
+    if not path.is_file():
+        raise InputError(f"{out}: no results.parquet there; run the study first (ehm batch STUDY --out {out}).")
+    _, pq = pyarrow_modules()
+    cols = pq.read_table(path).to_pydict()
+    if "unit" not in cols:
+        fields_ = [output_fields(name) for name in cols["output"]]
+        cols.update({k: [f[k] for f in fields_] for k in ("location", "axis", "metric", "unit")})
+    first = [c for c in _FIRST_COLUMNS if c in cols]
+    ordered = {c: cols[c] for c in first + [c for c in cols if c not in first]}
+    return frame(ordered, {"description": f"batch study results in {out}", "source": str(path)})
+
+
+_FIRST_COLUMNS = ("run_id", "output", "location", "axis", "metric", "value", "unit", "error")
 
 
 def write_table(records: list[dict], out: Path, csv: bool = False) -> Path:
@@ -459,8 +509,7 @@ def write_table(records: list[dict], out: Path, csv: bool = False) -> Path:
     import pyarrow.parquet as pq
 
     rows = _table_rows(records)
-    first = ["run_id", "output", "value", "error"]
-    columns = first + sorted({k for r in rows for k in r} - set(first))
+    columns = list(_FIRST_COLUMNS) + sorted({k for r in rows for k in r} - set(_FIRST_COLUMNS))
     table = pa.table({c: [r.get(c) if not isinstance(r.get(c), (list, tuple)) else str(r.get(c)) for r in rows]
                       for c in columns})
     path = out / "results.parquet"

@@ -68,11 +68,64 @@ class FrfTable:
         """Curve keys in the canonical order (axis, point, dof)."""
         return sorted(self.curves, key=lambda k: (AXES.index(k[0]), ALL_POINTS.index(k[1]), DOFS.index(k[2])))
 
+    def _optional_columns(self) -> tuple[bool, bool]:
+        """Whether ``gain_sd`` and ``weight`` carry data (measured tables), so the long forms hold them."""
+        curves = self.curves.values()
+        return any(np.isfinite(c.gain_sd).any() for c in curves), any(c.weight != 1.0 for c in curves)
+
+    def _long_columns(self) -> dict:
+        """The long table as columns (the CSV's and Parquet's, every one), the rows in :meth:`keys` order."""
+        keys = self.keys()
+        curves = [self.curves[k] for k in keys]
+        cat = lambda get: np.concatenate([get(c) for c in curves]) if curves else np.zeros(0)  # noqa: E731
+        labels = {col: [k[i] for k, c in zip(keys, curves) for _ in c.freq_hz]
+                  for i, col in enumerate(("input_axis", "point", "dof"))}
+        return {**labels, "freq_hz": cat(lambda c: c.freq_hz), "gain": cat(lambda c: c.gain),
+                "phase_deg": cat(lambda c: c.phase_deg), "coherence": cat(lambda c: c.coherence),
+                "gain_sd": cat(lambda c: c.gain_sd), "weight": cat(lambda c: np.full(c.freq_hz.size, c.weight)),
+                "gain_unit": [gain_unit(p, d) for p, d in zip(labels["point"], labels["dof"])]}
+
+    def _attrs(self) -> dict:
+        meta = {k: v for k, v in self.meta.items() if isinstance(v, (str, int, float, tuple, list))}
+        description = self.meta.get("input") or self.meta.get("file") or {
+            "linear": "the person linearised at rest (exact response)",
+            "time": "random seat vibration"}.get(self.method, self.method)
+        route = self.meta.get("route", "linear" if self.method == "linear" else None)
+        return {**meta, "description": description, "route": route, "method": self.method}
+
+    def to_dataframe(self):
+        """The long table as a pandas DataFrame, one row per curve and frequency: the CSV's columns
+        (``input_axis, point, dof, freq_hz, gain, phase_deg, coherence``, plus ``gain_sd`` and ``weight`` when
+        they carry data) and ``gain_unit`` (``(m/s^2)/(m/s^2)``, ``(rad/s^2)/(m/s^2)`` or ``kg``, see
+        :func:`ehm.frf.gain_unit`); what produced it (description, route, method, settings) in ``DataFrame.attrs``."""
+        from .dataframes import frame
+
+        with_sd, with_w = self._optional_columns()
+        cols = self._long_columns()
+        keep = COLUMNS + ("gain_sd",) * with_sd + ("weight",) * with_w + ("gain_unit",)
+        return frame({c: cols[c] for c in keep}, self._attrs(),
+                     labels={"input_axis": AXES, "point": ALL_POINTS, "dof": DOFS})
+
+    def _repr_html_(self) -> str:
+        from .dataframes import html_table
+
+        rows = []
+        for key in self.keys():
+            c = self.curves[key]
+            if key[2] in AXES and (key[0] == key[2]) and c.freq_hz.size:
+                f, g = c.peak((float(c.freq_hz[0]), float(c.freq_hz[-1])))
+                rows.append([f"seat {key[0]} -> {key[1]} {key[2]}", f, g, gain_unit(key[1], key[2])])
+        attrs = self._attrs()
+        f = np.concatenate([c.freq_hz for c in self.curves.values()]) if self.curves else np.zeros(0)
+        facts = {"input": attrs["description"], "route": attrs.get("route") or "", "method": self.method,
+                 "curves": f"{len(self.curves)}" + (f", {f.min():.3g}-{f.max():.3g} Hz" if f.size else "")}
+        return html_table("ehm FrfTable", facts, ["path (along the input axis)", "peak [Hz]", "peak gain", "unit"],
+                          rows)
+
     def to_csv(self, path: Path | str) -> None:
         """Write the long-format CSV (whole or not at all); ``gain_sd`` and ``weight`` only when they carry data."""
         curves = [self.curves[k] for k in self.keys()]
-        with_sd = any(np.isfinite(c.gain_sd).any() for c in curves)
-        with_w = any(c.weight != 1.0 for c in curves)
+        with_sd, with_w = self._optional_columns()
         lines = [",".join(COLUMNS + ("gain_sd",) * with_sd + ("weight",) * with_w)]
         for key, c in zip(self.keys(), curves):
             for f, g, ph, coh, sd in zip(c.freq_hz, c.gain, c.phase_deg, c.coherence, c.gain_sd):
@@ -87,21 +140,21 @@ class FrfTable:
         from .runfiles import pyarrow_modules
 
         pa, pq = pyarrow_modules()
-        keys = self.keys()
-        curves = [self.curves[k] for k in keys]
-        cat = lambda get: np.concatenate([get(c) for c in curves]) if curves else np.zeros(0)  # noqa: E731
-        table = pa.table({
-            **{col: [k[i] for k, c in zip(keys, curves) for _ in c.freq_hz]
-               for i, col in enumerate(("input_axis", "point", "dof"))},
-            "freq_hz": cat(lambda c: c.freq_hz), "gain": cat(lambda c: c.gain),
-            "phase_deg": cat(lambda c: c.phase_deg), "coherence": cat(lambda c: c.coherence),
-            "gain_sd": cat(lambda c: c.gain_sd), "weight": cat(lambda c: np.full(c.freq_hz.size, c.weight)),
-        })
+        cols = self._long_columns()
+        table = pa.table({c: cols[c] for c in COLUMNS + ("gain_sd", "weight")})
         replace_atomically(path, lambda tmp: pq.write_table(table, tmp), "the FRF table")
 
     def write(self, path: Path | str) -> None:
         """Write as Parquet when ``path`` ends in ``.parquet``, else as CSV."""
         (self.to_parquet if str(path).lower().endswith(".parquet") else self.to_csv)(path)
+
+
+def gain_unit(point: str, dof: str) -> str:
+    """The unit of a curve's gain: ``kg`` for apparent mass (points ``support``, ``seat_pan``),
+    ``(rad/s^2)/(m/s^2)`` for a rotation (roll, pitch, yaw), ``(m/s^2)/(m/s^2)`` for a translation."""
+    if point in MASS_POINTS:
+        return "kg"
+    return "(rad/s^2)/(m/s^2)" if dof in ("roll", "pitch", "yaw") else "(m/s^2)/(m/s^2)"
 
 
 def _fmt(v: float) -> str:

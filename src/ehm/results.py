@@ -145,6 +145,84 @@ class RunResult:
             cols.append(f)
         return header, np.hstack(cols)
 
+    @property
+    def route(self) -> str:
+        """The route that made the run: ``auto`` (the hybrid route) or ``linear`` as its report says
+        (``extra["route"]``), ``linear`` for :mod:`ehm.linear`'s own runs, else ``nonlinear``."""
+        if "route" in self.extra:
+            return str(self.extra["route"]["method"])
+        return "linear" if self.description.endswith(", linear route") else "nonlinear"
+
+    def _attrs(self) -> dict:
+        return {"description": self.description, "route": self.route, "duration_s": self.duration_s,
+                "dt_s": self.dt_s, "mass_kg": self.mass_kg, "dof": self.dof, "locked": self.locked,
+                "params": self.params_origin}
+
+    def to_dataframe(self, wide: bool = False):
+        """The time series as a pandas DataFrame, the run's description, route, time step and person in
+        ``DataFrame.attrs``.
+
+        Long (default, tidy): one row per sample, location and axis, with the columns ``time_s``, ``location``
+        (``seat``, the points ``pelvis``, ``trunk``, ``head``, then the support surfaces), ``axis`` (``x``,
+        ``y``, ``z``; rotations about that axis: roll, pitch, yaw) and one column per quantity:
+        ``acc_mps2`` (the seat's input, the points' absolute acceleration), ``disp_m``, ``rot_rad``,
+        ``angacc_radps2`` (the points) and ``force_N`` (the supports' force on the body); a quantity a
+        location does not have is NaN.  ``wide=True``: one row per sample, one column per signal, the columns
+        of ``timeseries.csv`` (:meth:`columns`).  Both hold every sample: thin a long run first with
+        :meth:`take` (e.g. ``run.take(slice(None, None, 5))``)."""
+        from .dataframes import frame
+
+        if wide:
+            header, data = self.columns()
+            return frame(dict(zip(header, data.T)), self._attrs())
+        quantities = ("acc_mps2", "disp_m", "rot_rad", "angacc_radps2", "force_N")
+        blocks = [("seat", {"acc_mps2": self.seat_acc_mps2})]
+        blocks += [(p, {q: getattr(m, q) for q in quantities[:4]}) for p, m in self.points.items()]
+        blocks += [(s, {"force_N": f}) for s, f in self.support_N.items()]
+        n, k = len(self.time_s), 3 * len(blocks)
+        columns = {"time_s": np.tile(self.time_s, k),
+                   "location": np.repeat([loc for loc, _ in blocks], 3 * n),
+                   "axis": np.tile(np.repeat(list("xyz"), n), len(blocks))}
+        for q in quantities:
+            values = np.full((len(blocks), 3, n), np.nan)
+            for i, (_, held) in enumerate(blocks):
+                if q in held:
+                    values[i] = held[q].T
+            columns[q] = values.reshape(-1)
+        locations = ("seat", *POINT_NAMES, *self.support_N)
+        return frame(columns, self._attrs(), labels={"location": locations, "axis": ("x", "y", "z")})
+
+    def to_xarray(self):
+        """The run as an xarray Dataset of labelled arrays: the points' ``acc_mps2``, ``disp_m``, ``rot_rad``,
+        ``angacc_radps2``, ``angvel_radps`` and ``gia_mps2`` (point x axis x time_s, the frames of
+        :class:`PointMotion`), ``seat_acc_mps2`` (axis x time_s) and ``force_N`` (support x axis x time_s);
+        each variable's unit in its ``units`` attribute, the run's description and route in the Dataset's
+        ``attrs``.  Needs xarray (``pip install 'ehm[xarray]'``)."""
+        from .dataframes import dataset
+
+        stack = lambda arrays: np.stack([a.T for a in arrays])  # noqa: E731  (n, 3) each -> (k, 3, n)
+        units = {"acc_mps2": "m/s^2", "disp_m": "m", "rot_rad": "rad", "angacc_radps2": "rad/s^2",
+                 "angvel_radps": "rad/s", "gia_mps2": "m/s^2"}
+        variables = {q: (("point", "axis", "time_s"), stack([getattr(m, q) for m in self.points.values()]), u)
+                     for q, u in units.items()}
+        variables["seat_acc_mps2"] = (("axis", "time_s"), self.seat_acc_mps2.T, "m/s^2")
+        variables["force_N"] = (("support", "axis", "time_s"), stack(list(self.support_N.values())), "N")
+        coords = {"time_s": self.time_s, "point": list(self.points), "axis": ["x", "y", "z"],
+                  "support": list(self.support_N)}
+        return dataset(variables, coords, self._attrs(), "RunResult.to_xarray()")
+
+    def _repr_html_(self) -> str:
+        from .dataframes import html_table
+
+        rms = lambda a: np.sqrt(np.mean(np.square(a), axis=0))  # noqa: E731
+        rows = [["seat", *rms(self.seat_acc_mps2)]] + [[p, *rms(m.acc_mps2)] for p, m in self.points.items()]
+        facts = {"input": self.description, "route": self.route,
+                 "duration": f"{self.duration_s:g} s at a {1e3 * self.dt_s:g} ms step, run in {self.wall_s:.3g} s",
+                 "person": f"{self.mass_kg:.1f} kg, {self.dof} dof, locked: {', '.join(self.locked) or 'none'}, "
+                           f"parameters: {self.params_origin}"}
+        return html_table("ehm RunResult", facts, ["location", "rms a_x [m/s²]", "rms a_y [m/s²]", "rms a_z [m/s²]"],
+                          rows)
+
     def write(self, out_dir: Path | str, output_rate_hz: float | None = None, formats=("csv",)) -> dict:
         """Write the run folder ``out_dir`` (``timeseries.csv`` and/or ``.parquet``, ``summary.json``, ``poses.npz``
         when the run has poses) as one unit (:mod:`ehm.outdir`: an earlier run's folder there is replaced whole);

@@ -8,12 +8,12 @@ peak gain and the mean gain over a band, with their change from the baseline.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass, fields
 
 import numpy as np
 
 from .errors import InputError
-from .frf import FrfTable, linear_frf, time_domain_frf
+from .frf import AXES, DOFS, POINTS, FrfTable, gain_unit, linear_frf, time_domain_frf
 from .tables import joint_names
 
 #: The paper's variants: name -> joints locked on top of the default (waist) lock.
@@ -57,6 +57,38 @@ class LockingStudy:
             if (r.variant, r.input_axis, r.point, r.dof) == (variant, input_axis, point, dof):
                 return r
         raise InputError(f"no study row for {variant} seat {input_axis} -> {point} {dof}.")
+
+    def _attrs(self) -> dict:
+        return {"description": f"joint-locking study of {', '.join(self.tables)}", "method": self.method,
+                "route": "linear" if self.method == "linear" else "nonlinear", "band_hz": self.band_hz}
+
+    def to_dataframe(self):
+        """The rows as a pandas DataFrame, one per variant and path: the columns of :class:`StudyRow`
+        (``variant``, ``locked`` (joints joined by ``+``), ``input_axis``, ``point``, ``dof``, ``peak_hz``,
+        ``peak_gain``, ``band_mean_gain``, ``peak_hz_change_pct``, ``peak_gain_change_pct``,
+        ``band_mean_change_pct``) and ``gain_unit`` (as :meth:`ehm.FrfTable.to_dataframe`); the method and the
+        band of the band-mean gain in ``DataFrame.attrs``."""
+        from .dataframes import frame
+
+        names = [f.name for f in fields(StudyRow)]
+        columns = {n: list(col) for n, col in zip(names, zip(*(astuple(r) for r in self.rows)))}
+        columns["locked"] = ["+".join(v) or "none" for v in columns["locked"]]
+        columns["gain_unit"] = [gain_unit(p, d) for p, d in zip(columns["point"], columns["dof"])]
+        return frame(columns, self._attrs(), labels={"variant": tuple(self.tables), "input_axis": AXES,
+                                                     "point": POINTS, "dof": DOFS})
+
+    def _repr_html_(self) -> str:
+        from .dataframes import html_table
+
+        headline = [(("z", "trunk", "z"), "peak_hz"), (("z", "head", "z"), "peak_hz"),
+                    (("y", "head", "roll"), "peak_gain_change_pct"), (("x", "head", "pitch"), "peak_gain_change_pct")]
+        rows = [[name, ", ".join(self.row(name, *headline[0][0]).locked) or "none",
+                 *(getattr(self.row(name, *key), what) for key, what in headline)] for name in self.tables]
+        facts = {"method": self.method, "band of the band-mean gain": f"{self.band_hz[0]:g}-{self.band_hz[1]:g} Hz",
+                 "paths": f"{len(STUDY_PATHS)} per variant (to_dataframe() holds them all)"}
+        return html_table("ehm joint-locking study", facts,
+                          ["variant", "locked", "z -> trunk z peak [Hz]", "z -> head z peak [Hz]",
+                           "y -> head roll peak gain change [%]", "x -> head pitch peak gain change [%]"], rows)
 
     def findings(self) -> dict:
         """The paper's findings (section 4), each as measured on this model."""
