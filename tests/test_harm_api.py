@@ -79,18 +79,31 @@ def test_h1_estimate_names_the_non_finite_sample():
 
 # ------------------------------------------------------------------ 3. bodies outside the scaling's range
 def test_body_outside_the_body_mass_index_range_is_refused(capsys):
-    """'A 30 kg, 2.2 m body is accepted': its body mass index is 6.2 kg/m^2; the scaling stands for 16-40 (WHO
-    classes, ehm.scaling).  The sentence names the masses that fit the stature (16 and 40 times 2.2^2)."""
+    """'A 30 kg, 2.2 m body is accepted': its body mass index is 6.2 kg/m^2; the scaling builds 13-50 (ehm.scaling).
+    The sentence names the masses that fit the stature (13 times 2.2^2, and the 200 kg mass limit)."""
     from ehm.scaling import BodySize
 
     with pytest.raises(InputError) as info:
         BodySize(stature_m=2.2, mass_kg=30.0)
-    assert "body mass index of 6.2 kg/m^2" in str(info.value) and "16-40 kg/m^2" in str(info.value)
-    assert "choose a mass from 77.4 to 193.6 kg" in str(info.value)
+    assert "body mass index of 6.2 kg/m^2" in str(info.value) and "13-50 kg/m^2" in str(info.value)
+    assert "choose a mass from 62.9 to 200.0 kg" in str(info.value)
     assert main(["info", "--stature", "2.2", "--mass", "30"]) == 2
     assert "body mass index of 6.2" in _one_line(capsys.readouterr().err)
     BodySize(1.52, 50.0)  # a 5th-percentile woman (index 21.6) and the reference stay accepted
     BodySize(1.76, 70.882)
+
+
+def test_body_outside_the_who_classes_is_built_with_a_warning():
+    """A real user of 1.75 m and 130 kg (index 42.4, WHO obesity class III) is built, with one warning that the
+    scaling keeps the reference's mass fractions (it was refused when the range ended at 40)."""
+    from ehm.errors import EhmWarning
+    from ehm.scaling import BodySize
+
+    with pytest.warns(EhmWarning, match=r"body mass index of 42\.4 kg/m\^2, above the 16-40 kg/m\^2 .*obesity class III"):
+        BodySize(1.75, 130.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        BodySize(1.87, 98.0)  # index 28.0: no warning
 
 
 # ------------------------------------------------------------------ 4. lock="t12"

@@ -60,8 +60,8 @@ def test_impossible_body_size_names_segment_and_masses_that_build(tmp_path, caps
     assert "cannot be built" in line and "which no rigid body has" in line
     seg = re.search(r"segment '(\w+)'", line).group(1)
     assert seg == "pelvis"
-    assert "no mass from 41 to 102 kg can be built" in line  # the masses of body mass index 16-40 at 1.6 m
-    # the defaults build at any size (the corners of the body mass index range, 16-40 kg/m^2)
+    assert "no mass from 33 to 128 kg can be built" in line  # the masses of body mass index 13-50 at 1.6 m
+    # the defaults build at any size (the corners of the WHO body mass index classes, 16-40 kg/m^2)
     for stature, mass in [(1.5, 90.0), (2.1, 70.6), (1.76, 50.0), (1.2, 57.6)]:
         ehm.SeatedHuman(size=BodySize(stature, mass))
 

@@ -27,23 +27,26 @@ Rules (each documented with its source; the reference person is its own fixed po
   so the seat pan, backrest pads and floor meet the scaled body as they meet the reference person.
 
 Range: stature 1.2 to 2.2 m, mass 30 to 200 kg, sitting height 0.4 to 0.6 of stature, and a body mass index
-(mass / stature^2) of 16 to 40 kg/m^2.  The rules carry one person's build (the reference's body mass index is
-22.9, his segment mass fractions and density) to other sizes; the World Health Organization's classes of body mass
-index bound the builds they can stand for: below 16 is severe thinness and from 40 obesity class III (WHO Technical
-Report Series 854, 1995, and 894, 2000), where the mass is distributed over the segments too differently for
-constant mass fractions and one width factor (a 2.2 m, 30 kg person, index 6.2, would be 58 % of the reference's
-width).  Tested: a 5th-percentile woman (1.52 m, 50 kg, index 21.6) and a 95th-percentile man (1.87 m, 98 kg,
-index 28.0) carry their weight within 1 % and move their vertical trunk mode as the rules predict.
+(mass / stature^2) of 13 to 50 kg/m^2, with a warning outside 16 to 40.  The rules carry one person's build (the
+reference's body mass index is 22.9, his segment mass fractions and density) to other sizes.  The World Health
+Organization's classes of body mass index (WHO Technical Report Series 854, 1995, and 894, 2000) mark where that
+becomes doubtful: below 16 is severe thinness and from 40 obesity class III, where the mass is distributed over
+the segments differently from constant mass fractions and one width factor; such a person is built, with a
+warning that says so.  Beyond 13 and 50 (grade: assumed, the ehm authors' limit) the build stands for no person
+(a 2.2 m, 30 kg person, index 6.2, would be 58 % of the reference's width) and is refused.  Tested: a
+5th-percentile woman (1.52 m, 50 kg, index 21.6) and a 95th-percentile man (1.87 m, 98 kg, index 28.0) carry
+their weight within 1 % and move their vertical trunk mode as the rules predict.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import replace
 
 import numpy as np
 
-from .errors import InputError
+from .errors import EhmWarning, InputError
 from .params import Parameters
 from .tables import Body
 
@@ -54,9 +57,11 @@ LEG_SEGMENTS = ("thigh", "leg", "foot")  #: Segment name prefixes scaled with le
 LEG_JOINTS = ("hip", "knee", "ankle")
 STATURE_RANGE_M = (1.2, 2.2)  #: Standing heights the person can be scaled to [m].
 MASS_RANGE_KG = (30.0, 200.0)  #: Body masses the person can be scaled to [kg].
-#: Body mass indices (mass / stature^2) the scaling stands for [kg/m^2]: WHO, from the limit of severe thinness
-#: (16) to that of obesity class III (40); see the module docstring.
-BMI_RANGE_KG_M2 = (16.0, 40.0)
+#: Body mass indices (mass / stature^2) a person can be scaled to [kg/m^2] (grade: assumed; the module docstring).
+BMI_RANGE_KG_M2 = (13.0, 50.0)
+#: Body mass indices the scaling stands for without a warning [kg/m^2]: WHO, from the limit of severe thinness (16)
+#: to that of obesity class III (40); see the module docstring.
+BMI_WHO_RANGE_KG_M2 = (16.0, 40.0)
 
 
 def mass_range_kg(stature_m: float) -> tuple[float, float]:
@@ -77,15 +82,23 @@ def _check(name: str, value, low: float, high: float) -> float:
 
 
 def _check_build(stature_m: float, mass_kg: float) -> None:
-    """One sentence when mass and stature make a body mass index outside :data:`BMI_RANGE_KG_M2`."""
+    """One sentence when mass and stature make a body mass index outside :data:`BMI_RANGE_KG_M2`, a warning when
+    it lies outside :data:`BMI_WHO_RANGE_KG_M2`."""
     bmi = mass_kg / stature_m ** 2
     lo, hi = BMI_RANGE_KG_M2
     if not lo <= bmi <= hi:
         m_lo, m_hi = mass_range_kg(stature_m)  # never empty within the stature range
         raise InputError(f"a person of {stature_m:g} m and {mass_kg:g} kg has a body mass index of {bmi:.1f} kg/m^2, "
-                         f"outside the {lo:g}-{hi:g} kg/m^2 the scaling stands for (WHO: from the limit of severe "
-                         f"thinness to that of obesity class III; the rules keep the reference person's segment mass "
-                         f"fractions and density): at {stature_m:g} m choose a mass from {m_lo:.1f} to {m_hi:.1f} kg.")
+                         f"outside the {lo:g}-{hi:g} kg/m^2 the scaling can build (it keeps the reference person's "
+                         f"segment mass fractions and density): at {stature_m:g} m choose a mass from {m_lo:.1f} to "
+                         f"{m_hi:.1f} kg.")
+    lo, hi = BMI_WHO_RANGE_KG_M2
+    if not lo <= bmi <= hi:
+        warnings.warn(f"a person of {stature_m:g} m and {mass_kg:g} kg has a body mass index of {bmi:.1f} kg/m^2, "
+                      f"{'below' if bmi < lo else 'above'} the {lo:g}-{hi:g} kg/m^2 the scaling stands for (WHO: "
+                      f"{'severe thinness' if bmi < lo else 'obesity class III'}): the person is built with the "
+                      "reference's segment mass fractions and density, which such a body does not have.",
+                      EhmWarning, stacklevel=3)
 
 
 class BodySize:
@@ -96,8 +109,8 @@ class BodySize:
     stature_m : float
         Standing height [m] (1.2 to 2.2).
     mass_kg : float
-        Body mass [kg] (30 to 200, and a body mass index mass / stature^2 of 16 to 40 kg/m^2: see the module
-        docstring).
+        Body mass [kg] (30 to 200, and a body mass index mass / stature^2 of 13 to 50 kg/m^2, with a warning
+        outside 16 to 40: see the module docstring).
     sitting_height_m : float, optional
         Sitting height [m]; default: the reference proportion (0.92 / 1.76 of stature).
     """
