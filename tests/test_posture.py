@@ -178,7 +178,10 @@ def test_cli_posture_and_back_support_reach_the_native_fmu(tmp_path, capsys):
     capsys.readouterr()
     with zipfile.ZipFile(out) as z:
         setup = json.loads(z.read("resources/ehm_fmu.json"))
+        description = z.read("modelDescription.xml").decode()
     assert (setup["posture"], setup["back_support"]) == ("slouched", "low")
+    # "The FMU export takes the person's step": the slouched person's own converged 0.5 ms (exactly the number)
+    assert setup["dt_s"] == 0.0005 and 'stepSize="0.0005"' in description
     human = _person("slouched", "low")
     whole = human.simulate(ehm.random_vibration("xyz", 1.0, 0.5, seed=4))
     names = list(fmu_native.INPUTS)
@@ -256,7 +259,8 @@ def test_check_step_holds_for_the_erect_person_without_back_support(capsys):
     # "each combination's check-step holds (worst path within 2 % of its peak at 1 ms)", here through the command
     # line with --posture and --back-support: the erect person on a seat without back support, whose hips hold
     # pelvis and trunk upright with integral action (measured 0.84 %; without the hips' integral action the person
-    # settled rocked back 9 deg and this was 3.5 %).  The slouched person misses it at 1 ms (2.7-3.6 %, docs/model.md).
+    # settled rocked back 9 deg and this was 3.5 %).  The slouched person misses it at 1 ms (2.7-3.6 %, docs/model.md)
+    # and runs at its own 0.5 ms (test_slouched_person_runs_at_its_own_converged_step).
     import json
 
     from ehm.cli import main
@@ -264,3 +268,90 @@ def test_check_step_holds_for_the_erect_person_without_back_support(capsys):
     assert main(["check-step", "--posture", "erect", "--back-support", "none", "--ratio", "8", "--json"]) == 0
     worst = json.loads(capsys.readouterr().out)["worst"]["step_over_8"]
     assert worst["error_pct"] < 2.0, worst
+
+
+# --- A posture's own converged time step (postures.NAME.dt_s) ---------------------------------------------------------
+
+def test_slouched_person_runs_at_its_own_converged_step(capsys):
+    # "the slouched person runs converged by default": with no step given it runs at its posture's 0.5 ms (where
+    # check-step holds: 0.78/1.03/1.06 % on none/low/high, docs/model.md), records it in its parameters and says so in
+    # `ehm info`, without a StepWarning; the erect person keeps the shipped 1 ms.  Exact numbers: steps are set, not
+    # computed.
+    import warnings
+
+    from ehm.cli import main
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ehm.timestep.StepWarning)
+        slouched, erect = ehm.SeatedHuman(posture="slouched"), ehm.SeatedHuman()
+    assert slouched.model.mj.opt.timestep == 0.0005 and slouched.info()["dt_s"] == 0.0005
+    assert slouched.params.provenance("simulation.dt_s") == ("assumed", "convergence")
+    assert erect.model.mj.opt.timestep == 0.001 and erect.params is not slouched.params
+    assert ehm.SeatedHuman(params=slouched.params).model.mj.opt.timestep == 0.0005  # the recorded step rebuilds it
+    assert main(["info", "--posture", "slouched"]) == 0
+    assert "time step 0.5 ms" in capsys.readouterr().out
+
+
+def test_a_step_given_or_set_by_the_file_wins_over_the_posture_step(tmp_path):
+    # "the posture's step applies unless a step is given explicitly by the caller; a user parameter file that sets
+    # its own simulation.dt_s explicitly should win": dt_s= (and --dt, the same Parameters.at_step) wins and stays
+    # with the parameters it records (source "caller"); a file whose simulation.dt_s entry is not the shipped one
+    # (here the same 1 ms with its own source) wins; an exported file that leaves the entry as shipped gets the
+    # posture's step.  Parameters only, no person built (SeatedHuman(dt_s=) is in the warning test below).
+    import tomli_w
+
+    p = Parameters.load().seated("slouched")
+    assert (p.time_step(), p.converged_step()) == (0.0005, 0.0005)
+    stepped = p.at_step(0.001, "--dt")
+    assert stepped.time_step() == 0.001 and stepped.provenance("simulation.dt_s") == ("assumed", "caller")
+    assert stepped.seated("slouched").time_step() == 0.001
+    with pytest.raises(InputError, match=r"--dt = 0.5 is not a plausible time step"):
+        p.at_step(0.5, "--dt")
+    data = Parameters.load().data
+    data["posture"]["name"]["value"] = "slouched"
+    exported = tmp_path / "exported.toml"
+    exported.write_text(tomli_w.dumps(data), encoding="utf-8")
+    assert Parameters.load(exported).time_step() == 0.0005
+    data["simulation"]["dt_s"] = {"value": 0.001, "grade": "assumed", "source": "assumed"}
+    own = tmp_path / "own_step.toml"
+    own.write_text(tomli_w.dumps(data), encoding="utf-8")
+    assert Parameters.load(own).time_step() == 0.001
+    assert Parameters.load(own).converged_step() == 0.0005  # still warned about (the posture's converged step)
+    assert Parameters.load().with_values({"simulation.dt_s": 0.0008}).seated("slouched").time_step() == 0.0008
+
+
+def test_slouched_person_at_one_ms_warns_with_its_own_converged_step(tmp_path, capsys):
+    # "a slouched person at an explicit --dt 0.001 warns that it is coarser than its converged 0.5 ms, with the
+    # expected error; erect at 1 ms does not warn (today's behaviour unchanged)".  The expected error is the measured
+    # worst path at 1 ms (3.61 %, printed rounded: 4 %), in Python and on the command line (a 0.2 s run).
+    import warnings
+
+    from ehm.cli import main
+    from ehm.timestep import StepWarning
+
+    with pytest.warns(StepWarning, match=r"dt = 1 ms is coarser than the 0\.5 ms at which the model in the slouched "
+                                         r"posture is converged: .* about 4 % .*--dt 0\.001 --posture slouched"):
+        human = ehm.SeatedHuman(posture="slouched", dt_s=0.001)
+    assert human.model.mj.opt.timestep == 0.001
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", StepWarning)
+        ehm.SeatedHuman(posture="erect", dt_s=0.001)
+    out = tmp_path / "run"
+    assert main(["simulate", "--posture", "slouched", "--dt", "0.001", "--duration", "0.2", "--method", "nonlinear",
+                 "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "ehm: warning: the time step dt = 1 ms is coarser than the 0.5 ms" in err
+
+
+def test_a_posture_step_is_checked_like_any_time_step(tmp_path):
+    # A [postures.NAME] table's dt_s is a time step like simulation.dt_s: out of range gets the one sentence naming
+    # the file and the key; a posture without one is converged at the shipped 1 ms.
+    import tomli_w
+
+    data = Parameters.load().data
+    data["postures"]["slouched"]["dt_s"]["value"] = 0.0
+    bad = tmp_path / "bad.toml"
+    bad.write_text(tomli_w.dumps(data), encoding="utf-8")
+    with pytest.raises(InputError, match=r"bad.toml: postures.slouched.dt_s = 0.0 is not a plausible time step"):
+        Parameters.load(bad)
+    assert Parameters.load().converged_step() == 0.001

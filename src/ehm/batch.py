@@ -420,7 +420,7 @@ def _run_point(spec: RunSpec) -> dict:
         if "comfort" in spec.compute:
             from .assessment import assess, needs_rotating_seat
 
-            motion = _drive(inp, float(params.value("simulation.dt_s")))
+            motion = _drive(inp, params.time_step())
             route = inp.get("route", "nonlinear")
             human = SeatedHuman(params=params, lock=spec.lock, size=size,
                                 rotating_seat=needs_rotating_seat(motion, route))

@@ -122,7 +122,8 @@ def check_step(params: Parameters | str | None = None, dt_s: float | None = None
     params : Parameters, path or None
         The person's parameters (default: the shipped defaults).
     dt_s : float, optional
-        Step to check [s] (default: the parameter file's).
+        Step to check [s] (default: the step the person runs at, :meth:`ehm.Parameters.time_step`: for the
+        shipped slouched posture its own 0.5 ms).
     lock, unlock, size
         As for :class:`ehm.SeatedHuman`.
     ratios : sequence of int
@@ -135,7 +136,7 @@ def check_step(params: Parameters | str | None = None, dt_s: float | None = None
     from .simulation import SeatedHuman
 
     params = params if isinstance(params, Parameters) else Parameters.load(params)
-    dt = float(params.value("simulation.dt_s")) if dt_s is None else check_time_step(dt_s, "dt_s")
+    dt = params.time_step() if dt_s is None else check_time_step(dt_s, "dt_s")
     ratios = tuple(int(r) for r in ratios)
     if not ratios or min(ratios) < 2:
         raise InputError(f"the finer steps are given as divisors of the step, each 2 or more; got {ratios}.")

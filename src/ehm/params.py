@@ -11,6 +11,7 @@ fitted value that ended on its search bound) and
 from __future__ import annotations
 
 import copy
+import functools
 import math
 import os
 import tomllib
@@ -20,10 +21,10 @@ from pathlib import Path
 from typing import Any, Iterator, Mapping
 
 from .errors import InputError
-from .posture import DEFAULT_POSTURE, check_posture
+from .posture import DEFAULT_POSTURE, STEP_KEY, check_posture
 from .seat import BACK_SUPPORTS, DEFAULT_BACK_SUPPORT
 from .tables import JOINT_NAMES, Body
-from .timestep import check_time_step
+from .timestep import CONVERGED_STEP_S, check_time_step
 
 GRADES = ("literature", "assumed", "identified", "at bound")
 _META = ("grade", "source", "bounds", "grades", "sources")
@@ -50,6 +51,9 @@ _CONTACT = {"stiffness_N_per_m": "positive", "damping_Ns_per_m": "nonnegative", 
             "pad_mass_kg": "positive"}
 _ROT = {"stiffness_Nm_per_rad": "nonnegative", "damping_Nms_per_rad": "nonnegative"}
 _TRANS = {"stiffness_N_per_m": "nonnegative", "damping_Ns_per_m": "nonnegative"}
+#: The source recorded on a time step given by the caller (SeatedHuman(dt_s=...), --dt): it then wins over a
+#: posture's own step (Parameters.time_step).
+CALLER_SOURCE = ("caller", "the caller: a time step given explicitly (SeatedHuman(dt_s=...), --dt)")
 
 
 def default_params_path() -> Path:
@@ -219,7 +223,40 @@ class Parameters:
 
     def posture_angles(self, name: str | None = None) -> dict[str, float]:
         """The angles [deg] and slide [m] of a posture (default: the one in use), from ``[postures.NAME]``."""
-        return {k: float(v) for k, v in self.section(f"postures.{name or self.posture}").items()}
+        return {k: float(v) for k, v in self.section(f"postures.{name or self.posture}").items() if k != STEP_KEY}
+
+    def converged_step(self) -> float:
+        """The largest time step [s] at which the person in its posture is converged (``ehm check-step`` within 2 %):
+        the posture's own (``postures.NAME.dt_s``) when it has one, else :data:`ehm.timestep.CONVERGED_STEP_S`."""
+        own = self.section(f"postures.{self.posture}").get(STEP_KEY)
+        return CONVERGED_STEP_S if own is None else float(own)
+
+    def time_step(self) -> float:
+        """The time step [s] a person with these parameters runs at when no step is given (``dt_s=``, ``--dt``).
+
+        In order: ``simulation.dt_s`` when it is not the shipped entry (a file or :meth:`with_values` that sets its
+        own value, grade or source, and a step given to :meth:`at_step`); else the posture's own converged step
+        (``postures.NAME.dt_s``) when it has one; else ``simulation.dt_s`` (the shipped 1 ms).
+        """
+        own_posture_step = STEP_KEY in self.section(f"postures.{self.posture}")
+        if own_posture_step and self.data["simulation"]["dt_s"] == _shipped()["simulation"]["dt_s"]:
+            return self.converged_step()
+        return float(self.value("simulation.dt_s"))
+
+    def at_step(self, dt_s=None, name: str = "dt_s") -> "Parameters":
+        """A copy whose ``simulation.dt_s`` is the step a person runs at: ``dt_s`` [s] when the caller gives one
+        (checked, ``name`` in the sentence if it is refused; recorded with the source ``caller``, so that it also
+        wins over a posture's own step when the copy builds another person), else :meth:`time_step` (a posture's
+        own step recorded with its grade and source; the parameters themselves when that is ``simulation.dt_s``)."""
+        if dt_s is not None:
+            key, text = CALLER_SOURCE
+            return self.with_source(key, text).with_values({"simulation.dt_s": check_time_step(dt_s, name)},
+                                                           grade="assumed", source=key)
+        dt = self.time_step()
+        if dt == self.value("simulation.dt_s"):
+            return self
+        grade, source = self.provenance(f"postures.{self.posture}.{STEP_KEY}")
+        return self.with_values({"simulation.dt_s": dt}, grade=grade, source=source)
 
     def seated(self, posture: str | None = None, back_support: str | None = None) -> "Parameters":
         """A copy with another posture (a name of :meth:`postures`) and/or back support
@@ -373,10 +410,16 @@ def _check_contacts(label: str, d: dict, sources: dict) -> None:
             _check_entry(label, sources, f"contacts.{cname}.{key}", entry, _CONTACT[key], True)
 
 
+@functools.lru_cache(maxsize=1)
+def _shipped() -> dict:
+    """The shipped parameter file as read (not to be changed: copy what you take)."""
+    return tomllib.loads(default_params_path().read_text(encoding="utf-8"))
+
+
 def _fill_postures(data: dict) -> None:
     """Give a file the shipped postures it does not define itself (files exported before postures existed), with
     their sources."""
-    shipped = tomllib.loads(default_params_path().read_text(encoding="utf-8"))
+    shipped = _shipped()
     own = data.setdefault("postures", {})
     if not isinstance(own, dict):
         return  # refused by the checks
@@ -397,7 +440,8 @@ def _check_postures(label: str, d: dict, sources: dict) -> None:
         raise InputError(f"{label}: [postures] must hold one table per posture, [postures.NAME].")
     for name, entries in postures.items():
         for key, entry in entries.items():
-            _check_entry(label, sources, f"postures.{name}.{key}", entry, "finite", True)
+            _check_entry(label, sources, f"postures.{name}.{key}", entry, "time_step" if key == STEP_KEY else "finite",
+                         True)
         check_posture(name, {k: e["value"] for k, e in entries.items()}, label)
     name = d["posture"]["name"]["value"]
     if name not in postures:

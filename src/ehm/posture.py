@@ -13,7 +13,8 @@ their segment), with the pelvis rolling on its ischial tuberosities (the buttock
 onto the seat pan as deep as before.  No MuJoCo here: the engine's builder reads the posed tables.
 
 The postures themselves are entries of the parameter file (``[postures.NAME]``, :data:`POSTURE_KEYS`), the one
-in use is ``posture.name``.
+in use is ``posture.name``.  A posture may also carry its own converged time step (:data:`STEP_KEY`; the shipped
+``slouched`` one does), which the person then runs at unless a step is given (:meth:`ehm.Parameters.time_step`).
 """
 
 from __future__ import annotations
@@ -36,6 +37,9 @@ POSTURE_KEYS = {
     "upper_neck_deg": "upper_neck",  # flexion of the upper neck (head on neck)
     "seat_slide_m": "seat",  # how far the pelvis sits further forward along the seat pan [m]
 }
+#: The optional key of a posture's own converged time step [s] (the largest step at which ``ehm check-step`` holds
+#: its 2 % for that posture), when it is finer than ``simulation.dt_s``.
+STEP_KEY = "dt_s"
 DEFAULT_POSTURE = "erect"  #: The tables' own posture (the paper's).
 #: Largest angle [deg] a posture may turn one joint (or the pelvis) from the tables' reference posture.
 MAX_ANGLE_DEG = 45.0
@@ -44,14 +48,17 @@ MAX_SLIDE_M = 0.15
 
 
 def check_posture(name: str, values: dict, where: str) -> None:
-    """One sentence if a posture's entries are not :data:`POSTURE_KEYS` with plausible values (``where``: the file)."""
+    """One sentence if a posture's entries are not :data:`POSTURE_KEYS` with plausible values (``where``: the file);
+    the optional :data:`STEP_KEY` is checked as a time step by the parameter file's checks."""
     for key in POSTURE_KEYS:
         if key not in values:
             raise InputError(f"{where}: posture {name!r} needs {key!r} in [postures.{name}].")
     for key, value in values.items():
+        if key == STEP_KEY:
+            continue
         if key not in POSTURE_KEYS:
             raise InputError(f"{where}: unknown key {key!r} in [postures.{name}]; a posture has "
-                             f"{', '.join(POSTURE_KEYS)}.")
+                             f"{', '.join(POSTURE_KEYS)} and optionally {STEP_KEY!r} (its converged time step).")
         limit = MAX_SLIDE_M if key.endswith("_m") else MAX_ANGLE_DEG
         if not abs(value) <= limit:
             unit = "m" if key.endswith("_m") else "deg"

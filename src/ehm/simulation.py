@@ -28,7 +28,7 @@ from .results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_run
     concatenate_runs,
 )
 from .tables import Body, load_body, resolve_locks
-from .timestep import check_time_step, warn_if_coarse
+from .timestep import warn_if_coarse
 
 
 class SeatedHuman:
@@ -47,9 +47,11 @@ class SeatedHuman:
     size : ehm.scaling.BodySize, optional
         Scale the person (and the seat's fit) to a stature, mass and sitting height.
     dt_s : float, optional
-        Time step [s] (default: the parameter file's, 1 ms for the shipped defaults).  A step coarser
-        than the one at which the model is converged gives a :class:`ehm.timestep.StepWarning` with the
-        error to expect; ``ehm check-step`` measures it.
+        Time step [s].  Default: the parameter file's ``simulation.dt_s`` when the file sets its own, else the
+        posture's own converged step when it has one (the shipped ``slouched``: 0.5 ms), else the shipped 1 ms
+        (:meth:`ehm.Parameters.time_step`); the person's ``params`` record the step it runs at.  A step coarser
+        than the one at which the person in its posture is converged gives a :class:`ehm.timestep.StepWarning`
+        with the error to expect; ``ehm check-step`` measures it.
     posture, back_support : str, optional
         The reference posture (``"erect"``, the default, ``"slouched"``, or one the parameter file defines;
         :mod:`ehm.posture`) and the seat's back support (``"none"``, ``"low"``, ``"high"``, the default, or
@@ -63,9 +65,9 @@ class SeatedHuman:
         self.body = body if body is not None else load_body()
         self.params = params if isinstance(params, Parameters) else Parameters.load(params)
         self.params = self.params.seated(posture, back_support)
-        if dt_s is not None:
-            self.params = self.params.with_values({"simulation.dt_s": check_time_step(dt_s, "dt_s")})
-        warn_if_coarse(float(self.params.value("simulation.dt_s")))
+        self.params = self.params.at_step(dt_s)
+        warn_if_coarse(float(self.params.value("simulation.dt_s")), converged_s=self.params.converged_step(),
+                       posture=self.params.posture)
         if size is not None:  # an individual body size (ehm.scaling.BodySize)
             from .scaling import check_buildable, scale_body, scale_params
 

@@ -14,16 +14,19 @@ import numpy as np
 
 from .errors import EhmWarning, InputError
 
-__all__ = ["CONVERGED_STEP_S", "DEFAULT_STEP_ERRORS", "MAX_STEP_S", "MIN_STEP_S", "StepWarning", "check_time_step",
-           "expected_error", "warn_if_coarse"]
+__all__ = ["CONVERGED_STEP_S", "DEFAULT_STEP_ERRORS", "MAX_STEP_S", "MIN_STEP_S", "POSTURE_STEP_ERRORS", "StepWarning",
+           "check_time_step", "expected_error", "warn_if_coarse"]
 
 #: ``ehm check-step`` on the default person, worst path against step / 8, by step [s] (measured with
 #: ehm 0.1 on this formulation: trapezoidal contacts and trunk/neck damping, Euler; README "Time step and
 #: accuracy").  Between the steps listed the error is interpolated, beyond them extrapolated in proportion
 #: to the step.
 DEFAULT_STEP_ERRORS = {0.0005: 0.0066, 0.001: 0.0166, 0.0015: 0.045, 0.002: 0.091, 0.004: 0.43}
-#: The largest step at which the default person is converged [s].
+#: The largest step at which the default person is converged [s] (a posture may have its own: postures.NAME.dt_s).
 CONVERGED_STEP_S = 0.001
+#: The same for the shipped postures with a converged step of their own (postures.NAME.dt_s): worst path over the
+#: back supports none, low and high (docs/model.md, postures).
+POSTURE_STEP_ERRORS = {"slouched": {0.0005: 0.0106, 0.001: 0.0361, 0.002: 0.148}}
 
 
 #: The shortest time step taken [s]: a step costs about 30 us of wall time (measured, default person), so the
@@ -52,10 +55,15 @@ class StepWarning(EhmWarning):
     """A time step coarser than the one at which the model is converged."""
 
 
-def expected_error(dt_s: float) -> float:
-    """The default person's worst transfer-function error at step ``dt_s`` against step / 8 (fraction)."""
-    steps = np.array(sorted(DEFAULT_STEP_ERRORS))
-    errors = np.array([DEFAULT_STEP_ERRORS[s] for s in steps])
+def expected_error(dt_s: float, converged_s: float = CONVERGED_STEP_S, posture: str | None = None) -> float:
+    """The worst transfer-function error at step ``dt_s`` against step / 8 (fraction) of the default person, or of a
+    person in ``posture`` converged at ``converged_s``: measured for the postures of :data:`POSTURE_STEP_ERRORS`;
+    for another one, the default person's error at the step scaled by the ratio of the converged steps."""
+    table = POSTURE_STEP_ERRORS.get(posture) if converged_s != CONVERGED_STEP_S else None
+    if table is None:
+        table, dt_s = DEFAULT_STEP_ERRORS, dt_s * CONVERGED_STEP_S / converged_s
+    steps = np.array(sorted(table))
+    errors = np.array([table[s] for s in steps])
     if dt_s >= steps[-1]:
         return float(errors[-1] * dt_s / steps[-1])
     if dt_s <= steps[0]:
@@ -63,11 +71,16 @@ def expected_error(dt_s: float) -> float:
     return float(np.interp(dt_s, steps, errors))
 
 
-def warn_if_coarse(dt_s: float, where: str = "the time step") -> None:
-    """Warn (:class:`StepWarning`, one sentence) when ``dt_s`` is coarser than the converged step."""
-    if dt_s > CONVERGED_STEP_S * (1 + 1e-9):
+def warn_if_coarse(dt_s: float, where: str = "the time step", converged_s: float = CONVERGED_STEP_S,
+                   posture: str | None = None) -> None:
+    """Warn (:class:`StepWarning`, one sentence) when ``dt_s`` is coarser than the converged step ``converged_s`` (a
+    posture's own, :meth:`ehm.Parameters.converged_step`, named by ``posture``)."""
+    if dt_s > converged_s * (1 + 1e-9):
+        own = converged_s != CONVERGED_STEP_S and posture is not None
+        model, option = (f"the model in the {posture} posture", f" --posture {posture}") if own else ("the model", "")
+        error = expected_error(dt_s, converged_s, posture)
         warnings.warn(
-            f"{where} dt = {dt_s * 1e3:g} ms is coarser than the {CONVERGED_STEP_S * 1e3:g} ms at which the model "
-            f"is converged: expect transfer functions to be off by up to about {100 * expected_error(dt_s):.0f} % "
-            f"of their peak (run 'ehm check-step --dt {dt_s:g}' to measure it for this person).",
+            f"{where} dt = {dt_s * 1e3:g} ms is coarser than the {converged_s * 1e3:g} ms at which {model} "
+            f"is converged: expect transfer functions to be off by up to about {100 * error:.0f} % "
+            f"of their peak (run 'ehm check-step --dt {dt_s:g}{option}' to measure it for this person).",
             StepWarning, stacklevel=3)

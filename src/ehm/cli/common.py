@@ -9,7 +9,6 @@ from ..errors import InputError
 from ..params import Parameters
 from ..simulation import SeatedHuman
 from ..tables import load_body
-from ..timestep import check_time_step
 
 
 def _joint_list(values: list[str] | None) -> list[str]:
@@ -27,7 +26,7 @@ def _params(args) -> Parameters:
 def _human(args, rotating_seat: bool = False) -> SeatedHuman:
     params = _params(args)
     if getattr(args, "dt", None) is not None:
-        params = params.with_values({"simulation.dt_s": check_time_step(args.dt, "--dt")})
+        params = params.at_step(args.dt, "--dt")
     body = load_body(args.segments, args.joints, args.contacts)
     return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body,
                        rotating_seat=rotating_seat, size=_size(args))

@@ -204,7 +204,8 @@ def add_export_fmu(sub) -> None:
     p = sub.add_parser("export-fmu", help="write an FMI 2.0 co-simulation unit (FMU) of the person for vehicle tools")
     p.add_argument("--out", required=True, metavar="FILE.fmu", help="FMU file to write")
     _model_options(p)
-    p.add_argument("--dt", type=float, help="model step [s] (default from the parameter file)")
+    p.add_argument("--dt", type=float,
+                   help="model step [s] (default: the parameter file's, or the posture's own converged step)")
     p.add_argument("--python", action="store_true",
                    help="build the pythonfmu unit (its host must run ehm in Python) instead of the native one")
     p.add_argument("--rotating-seat", action="store_true",

@@ -38,7 +38,8 @@ def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"),
                    help="band of the random input [Hz] (default 0.1 12)")
-    p.add_argument("--dt", type=float, help="time step [s] (default from the parameter file: 0.001)")
+    p.add_argument("--dt", type=float, help="time step [s] (default: the parameter file's 0.001, or the posture's "
+                                            "own converged step: slouched 0.0005)")
 
 
 def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: str) -> None:

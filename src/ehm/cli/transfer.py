@@ -278,7 +278,8 @@ def _write_locking_study(study, variants: dict, out: Path) -> dict:
 def add_check_step(sub) -> None:
     p = sub.add_parser("check-step", help="transfer functions at a time step against the same model at finer steps")
     _model_options(p)
-    p.add_argument("--dt", type=float, help="time step to check [s] (default from the parameter file: 0.001)")
+    p.add_argument("--dt", type=float, help="time step to check [s] (default: the person's: the parameter file's "
+                                            "0.001, or the posture's own converged step: slouched 0.0005)")
     p.add_argument("--ratio", type=int, nargs="+", default=[8, 4], help="finer steps as divisors (default: 8 4)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_check_step)
