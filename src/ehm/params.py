@@ -227,7 +227,7 @@ class Parameters:
 
     def converged_step(self) -> float:
         """The largest time step [s] at which the person in its posture is converged (``ehm check-step`` within 2 %):
-        the posture's own (``postures.NAME.dt_s``) when it has one, else :data:`ehm.timestep.CONVERGED_STEP_S`."""
+        the posture's own (``postures.NAME.dt_s``) when it has one, else ``ehm.timestep.CONVERGED_STEP_S``."""
         own = self.section(f"postures.{self.posture}").get(STEP_KEY)
         return CONVERGED_STEP_S if own is None else float(own)
 

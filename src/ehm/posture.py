@@ -13,7 +13,7 @@ their segment), with the pelvis rolling on its ischial tuberosities (the buttock
 onto the seat pan as deep as before.  No MuJoCo here: the engine's builder reads the posed tables.
 
 The postures themselves are entries of the parameter file (``[postures.NAME]``, :data:`POSTURE_KEYS`), the one
-in use is ``posture.name``.  A posture may also carry its own converged time step (:data:`STEP_KEY`; the shipped
+in use is ``posture.name``.  A posture may also carry its own converged time step (``STEP_KEY``; the shipped
 ``slouched`` one does), which the person then runs at unless a step is given (:meth:`ehm.Parameters.time_step`).
 """
 
@@ -49,7 +49,7 @@ MAX_SLIDE_M = 0.15
 
 def check_posture(name: str, values: dict, where: str) -> None:
     """One sentence if a posture's entries are not :data:`POSTURE_KEYS` with plausible values (``where``: the file);
-    the optional :data:`STEP_KEY` is checked as a time step by the parameter file's checks."""
+    the optional ``STEP_KEY`` is checked as a time step by the parameter file's checks."""
     for key in POSTURE_KEYS:
         if key not in values:
             raise InputError(f"{where}: posture {name!r} needs {key!r} in [postures.{name}].")
