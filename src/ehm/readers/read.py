@@ -208,8 +208,8 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
 
 def _rate(rate_hz) -> float | None:
     """``rate_hz`` checked: a number (not a bool or a string) of samples per second from 2 Hz to 100 kHz, the
-    rates :func:`ehm.readers.checks._check_time_unit` takes from a log's own time stamps (a rate of 2 Hz or below
-    holds nothing of the comfort band)."""
+    rates :func:`ehm.readers.checks._check_time_unit` takes from a log's own time stamps (a rate below 2 Hz holds
+    nothing of the comfort band; resampling to a few Hz is warned about by :func:`_rate_note`)."""
     if rate_hz is None:
         return None
     if isinstance(rate_hz, (bool, np.bool_)) or not isinstance(rate_hz, numbers.Real):
@@ -217,8 +217,9 @@ def _rate(rate_hz) -> float | None:
     rate = float(rate_hz)
     if not (math.isfinite(rate) and 1.0 / MAX_STEP_S <= rate <= 1.0 / MIN_STEP_S):
         raise InputError(f"rate_hz must be a positive number of samples per second from {1 / MAX_STEP_S:g} Hz to "
-                         f"{1e-3 / MIN_STEP_S:g} kHz (--rate; a log at {1 / MAX_STEP_S:g} Hz or slower holds nothing "
-                         f"of the comfort band, 0.5-80 Hz); got {rate_hz!r}.")
+                         f"{1e-3 / MIN_STEP_S:g} kHz (--rate; a log keeps the comfort band, 0.5-80 Hz, up to "
+                         f"{PASS_FRACTION:g} times its rate: at {1 / MAX_STEP_S:g} Hz 0.5-{PASS_FRACTION / MAX_STEP_S:g} "
+                         f"Hz of it, with a warning saying how much is lost); got {rate_hz!r}.")
     return rate
 
 
@@ -248,9 +249,12 @@ def _rate_note(label: str, motion: SeatMotion, rate_hz: float) -> None:
     """One note when resampling to ``rate_hz`` cuts off at least ``BAND_WARNING_SHARE`` of a weighting's power
     that the log held (as an assessment warns about the band an input covers)."""
     own_hz = 1.0 / float(np.median(np.diff(motion.time_s)))
-    held = motion.content_limit_hz if motion.content_limit_hz is not None else own_hz / 2.0
+    if rate_hz >= own_hz:  # nothing downsampled: the log keeps what it held
+        return
+    held = min(motion.content_limit_hz if motion.content_limit_hz is not None else own_hz / 2.0,
+               PASS_FRACTION * own_hz)  # (the log's own pass band, as the resampler keeps it)
     low = 1.0 / motion.duration_s
-    kept = min(held, PASS_FRACTION * min(own_hz, rate_hz))
+    kept = min(held, PASS_FRACTION * rate_hz)
     if kept >= held:
         return
     lost = {w: band_share_outside(w, low, kept) - band_share_outside(w, low, held) for w in ("Wk", "Wd")}
