@@ -348,7 +348,8 @@ def _read_drive(inp: dict):
     mounting = inp.get("mounting")
     return read_motion(drive_path(inp["drive"]), channels=inp.get("channels"), units=inp.get("units"),
                        rate_hz=inp.get("rate_hz"), imu=inp.get("imu", False), fill_gaps=inp.get("fill_gaps", False),
-                       columns=inp.get("columns"), gyro=gyro, mounting=None if mounting is None else mounting_rotation(mounting),
+                       columns=inp.get("columns"), gyro=gyro,
+                       mounting=None if mounting is None else mounting_rotation(mounting),
                        start_s=inp.get("start_s"), end_s=inp.get("end_s"), gravity=inp.get("gravity", "auto"),
                        frame=inp.get("frame", "seat"), drop_held=inp.get("drop_held", True),
                        encoding=inp.get("encoding"))
