@@ -45,8 +45,8 @@ def describe(value: object) -> str:
     kind = "array" if isinstance(value, np.ndarray) else type(value).__name__
     shape = getattr(value, "shape", None)
     if isinstance(shape, tuple) and shape:  # numpy arrays, pandas frames and series, xarray
-        dtype = f"{value.dtype} " if isinstance(value, np.ndarray) else ""
-        return f"a {dtype}{kind} of shape {shape}"
+        words = f"{value.dtype} {kind}" if isinstance(value, np.ndarray) else kind
+        return f"{'an' if words[0] in 'aeio' else 'a'} {words} of shape {shape}"
     text = repr(value)
     short = len(text) <= _SHORT_REPR and "\n" not in text
     if isinstance(value, (list, tuple, set, frozenset, dict)):
@@ -55,7 +55,7 @@ def describe(value: object) -> str:
         return text
     if isinstance(value, str):
         return f"a str of {len(value)} characters"
-    return f"a {kind}"
+    return f"{'an' if kind[0] in 'aeioAEIO' else 'a'} {kind}"
 
 
 def finite_number(func: str, name: str, value: object) -> float:
