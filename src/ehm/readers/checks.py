@@ -191,7 +191,7 @@ def _common_time(src: _Source, use: dict, data: dict, stamps: dict, fill_gaps: b
 # --------------------------------------------------------------------------
 
 #: The median time step [s] of a logger's recording lies between these: 100 kHz is above any logger of a
-#: seat's motion, and a recording sampled at 2 Hz or slower holds nothing of the comfort band (0.5-80 Hz).
+#: seat's motion, and a recording sampled below 2 Hz keeps under 0.8 Hz of the comfort band (0.5-80 Hz).
 #: A log outside them is refused at any length: the time's unit is wrong.  The upper bound catches a log
 #: stamped in ms read as seconds at every logger rate up to 2 kHz (steps of 0.5 ms and longer), and one
 #: stamped in µs or ns (uptime, Unix time) at any rate.

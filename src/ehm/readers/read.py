@@ -139,9 +139,10 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         Gravity in the accelerations of a seat or floor log (not an IMU log, whose route handles it):
         ``included`` levels the log (static tilt from its quietest 5 s near 1 g, rotated so that gravity is
         along z, g subtracted; refused where that window's mean is under half a g: no gravity to take out);
-        ``removed`` takes it as it is but refuses a mean near 1 g; ``auto`` levels it, with a warning, when the
-        quietest window's mean (its norm, or its z) is within 10 % of g, and refuses a mean of 0.5-2 g that is
-        neither.  See :mod:`ehm.readers.gravity`.
+        ``removed`` takes it as it is but refuses a mean near 1 g or a mean z above 2 m/s^2; ``auto`` levels it,
+        with a warning, when the quietest window's mean (its norm, or its z) is within 10 % of g, else takes it
+        as it is but refuses what ``removed`` refuses, and a window mean of half a g or more in a log of 5 s or
+        longer.  See :mod:`ehm.readers.gravity`.
     frame : {"seat", "earth"}
         The axes of the accelerations: ``seat`` (x forward, y left, z up) or ``earth`` (x east, y north, z up: a
         phone app's log turned into earth axes by the phone's own fusion).  Earth axes cannot be turned into the
