@@ -219,8 +219,8 @@ def _rate(rate_hz) -> float | None:
     if not (math.isfinite(rate) and 1.0 / MAX_STEP_S <= rate <= 1.0 / MIN_STEP_S):
         raise InputError(f"rate_hz must be a positive number of samples per second from {1 / MAX_STEP_S:g} Hz to "
                          f"{1e-3 / MIN_STEP_S:g} kHz (--rate; a log keeps the comfort band, 0.5-80 Hz, up to "
-                         f"{PASS_FRACTION:g} times its rate: at {1 / MAX_STEP_S:g} Hz 0.5-{PASS_FRACTION / MAX_STEP_S:g} "
-                         f"Hz of it, with a warning saying how much is lost); got {rate_hz!r}.")
+                         f"{PASS_FRACTION:g} times its rate: at {1 / MAX_STEP_S:g} Hz "
+                         f"0.5-{PASS_FRACTION / MAX_STEP_S:g} Hz of it, with a warning saying how much is lost); got {rate_hz!r}.")
     return rate
 
 
