@@ -15,11 +15,13 @@ import warnings
 import zipfile
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import ehm
 from ehm.cli import main
 from ehm.errors import DivergenceError, EhmWarning, InputError
+from ehm.tables import joint_names
 
 
 def _one_line(text: str) -> str:
@@ -225,3 +227,43 @@ def test_only_ehm_warnings_are_printed_as_ehm_warnings(capsys):
     assert "ehm: warning: the drive is short." in err
     assert any(ln.startswith("ehm: warning: the time step dt = 2 ms is coarser") for ln in err)
     assert not any(ln.startswith("ehm: warning:") and "empty slice" in ln for ln in err)
+
+
+# ------------------------------------------------------------------ review: values named in messages, TOML words
+@pytest.mark.parametrize("call, words", [
+    (lambda: ehm.SeatedHuman().simulate(np.zeros((100, 3))), "simulate() needs a SeatMotion, not a float64 array of "
+     "shape (100, 3):"),
+    (lambda: ehm.assess(pd.DataFrame(np.zeros((10, 3)))), "not a DataFrame of shape (10, 3):"),
+    (lambda: ehm.h1_estimate(pd.DataFrame({"a": ["x", "y"] * 600}), np.zeros(1200), fs_hz=100.0),
+     "must be a 1-D array of numbers, not a DataFrame of shape (1200, 1)."),
+    (lambda: joint_names(np.arange(3)), "list of joint names, e.g. ['t12', 'lower_neck'], not an int64 "
+     "array of shape (3,)."),
+])
+def test_messages_name_a_values_type_not_a_cut_off_repr(call, words):
+    """Review 4: "h.simulate(np.zeros((100,3))) gives 'simulate() needs a SeatMotion, not array([[0., 0., 0.],\\n
+    [0., ...'" (the repr cut at 60 characters, over two lines): the type and shape are named, on one line."""
+    with pytest.raises(InputError) as info:
+        call()
+    assert words in str(info.value) and "\n" not in str(info.value)
+
+
+def test_a_batch_flag_that_is_no_boolean_is_refused_in_toml_words(tmp_path):
+    """Review 5: 'a batch study's drop_held = "no" gets a command-line sentence: "[input] drive: drop_held
+    (--no-drop-held) must be True or False"': the study's words instead (true or false, no quotes)."""
+    from ehm.batch import load_study
+
+    for key in ("drop_held", "fill_gaps", "imu"):
+        study = tmp_path / "study.toml"
+        study.write_text(f'[study]\nname = "s"\ncompute = ["transmissibility"]\n[input]\n{key} = "no"\n')
+        with pytest.raises(InputError) as info:
+            load_study(study)
+        msg = str(info.value)
+        assert f"[input] {key} must be true or false (a TOML boolean, no quotes); got 'no'." in msg, msg
+        assert "--" not in msg and "True" not in msg and "\n" not in msg
+
+
+def test_a_size_that_is_no_body_size_is_one_sentence():
+    """The reviewer's case: SeatedHuman(size=(1.7, 70)) ended in AttributeError ('tuple' object has no attribute
+    'is_reference'), as params=42 did before."""
+    with pytest.raises(InputError, match=r"size must be an ehm\.scaling\.BodySize.*not a tuple"):
+        ehm.SeatedHuman(size=(1.7, 70))

@@ -330,3 +330,101 @@ def test_a_unit_given_for_data_already_in_si_is_refused():
     assert "az_mps2" in msg and "9.81 g" in msg and "--unit az=m/s^2" in msg
     m = quiet(read_motion, seat_frame(t, acc), units={"ax": "g"})  # a horizontal axis in g: 0.3 g rms is plausible
     assert np.std(m.acc_mps2[:, 0]) == pytest.approx(0.3 * G, rel=0.1)
+
+
+# --------------------------------------------------------------------------
+# Review of the cases above (issue 31, the reviewer's second pass)
+# --------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("z_mps2", [3.0, 4.0, 25.0])
+def test_auto_refuses_a_constant_vertical_offset(z_mps2):
+    # Review 1: "60 s DataFrames at 100 Hz with a mean z of 3, 4 and 25 m/s^2 all read OK, with no warning"
+    # under --gravity auto: a mean z above 2 m/s^2 is gravity or an offset (the rule of --gravity removed), refused
+    # in one sentence saying what was found and naming the options.  (No tolerance: a refusal or not.)
+    t = np.arange(6000) * 0.01
+    with pytest.raises(InputError) as exc:
+        read_motion(seat_frame(t, noise(t.size) + [0.0, 0.0, z_mps2]))
+    msg = one_sentence(exc)
+    assert f"a mean z of {z_mps2:.3g} m/s^2 over the whole log" in msg and "--gravity removed" in msg
+    assert ("--gravity included" in msg) == (z_mps2 > 0.5 * G)  # (included refuses a mean under half a g)
+
+
+def test_auto_refuses_a_short_log_with_an_offset_but_takes_a_hand_table():
+    # Review 1: "a 4 s log with a mean of 1.15 g in z also reads OK silently" (logs under 5 s were all taken as
+    # gravity-free): refused, naming --gravity included.  A table written by hand, 2 s with a 0.6 g step in x
+    # and no vertical mean, is still taken as it is (its values unchanged to the last bit).
+    t = np.arange(400) * 0.01
+    with pytest.raises(InputError) as exc:
+        read_motion(seat_frame(t, noise(t.size, 0.05) + [0.0, 0.0, 1.15 * G]))
+    msg = one_sentence(exc)
+    assert "mean z of 11.3 m/s^2" in msg and "--gravity included" in msg and "--gravity removed" in msg
+    t = np.arange(200) * 0.01
+    step = np.zeros((t.size, 3))
+    step[50:, 0] = 0.6 * G
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        np.testing.assert_array_equal(read_motion(seat_frame(t, step)).acc_mps2, step)
+
+
+def test_gravity_help_states_the_rule_the_code_has(capsys):
+    # Review 1: --help said "take it as it is when that mean is under half a g with z under 2 m/s^2, refuse it
+    # between" (no z test in the code, anything above 2 g taken).  The help now names the offset rule.
+    with pytest.raises(SystemExit):
+        main(["assess", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "refuse it between" not in text and "mean z is above 2 m/s^2 (an offset)" in text
+
+
+@pytest.mark.parametrize("own_hz, rate_hz", [(20.0, 20.0), (20.0, 40.0), (50.0, 50.0)])
+def test_a_rate_at_or_above_the_logs_own_says_nothing(own_hz, rate_hz):
+    # Review 2: "a 20 Hz log read with rate_hz=20 says '... 9.8 % of Wk's power lost'; rate_hz=40 the same;
+    # 50->50 Hz says 3.1 % lost": nothing is downsampled, so no note (any warning fails the test).
+    t = np.arange(int(60 * own_hz)) / own_hz
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m = read_motion(seat_frame(t, noise(t.size)), rate_hz=rate_hz)
+    assert abs(1.0 / float(np.median(np.diff(m.time_s))) - rate_hz) < 1e-6 * rate_hz
+
+
+def test_a_rate_below_a_slow_logs_own_counts_from_its_own_band():
+    # Review 2: a 50 Hz log resampled to 10 Hz keeps up to 4 Hz of the 20 Hz the log itself keeps (0.4 x its
+    # rate, not half of it): the note names both figures.
+    t = np.arange(3000) / 50.0
+    with pytest.warns(UserWarning, match=r"covers up to 4 Hz instead of 20 Hz"):
+        read_motion(seat_frame(t, noise(t.size)), rate_hz=10.0)
+
+
+def test_a_short_fast_log_is_refused_with_the_rule_it_breaks():
+    # Review 3: "0.8 s at 20 kHz with a time_s column: '... ehm reads logs sampled between 2 Hz and 100 kHz'"
+    # (20 kHz is inside that range): the sentence states the rule the log breaks.
+    t = np.arange(16000) / 20000.0
+    with pytest.raises(InputError) as exc:
+        read_motion(seat_frame(t, noise(t.size)))
+    msg = one_sentence(exc)
+    assert "between 2 Hz and 100 kHz" not in msg and "10 kHz or faster must last at least 1 s" in msg
+
+
+def test_the_rate_refusal_and_its_bound_agree():
+    # Review 6: "from 2 Hz ... a log at 2 Hz or slower holds nothing", yet --rate 2 was accepted (and warned
+    # 95 % of Wk's power lost).  Below 2 Hz: refused, the sentence saying what 2 Hz keeps; 2 Hz: read, with the
+    # note on what is lost.
+    t = np.arange(3000) * 0.01
+    frame = seat_frame(t, noise(t.size))
+    with pytest.raises(InputError) as exc:
+        read_motion(frame, rate_hz=1.9)
+    msg = one_sentence(exc)
+    assert "from 2 Hz" in msg and "or slower holds nothing" not in msg and "at 2 Hz 0.5-0.8 Hz" in msg
+    with pytest.warns(UserWarning, match="resampled to 2 Hz"):
+        assert read_motion(frame, rate_hz=2.0).n_samples == 60
+
+
+@pytest.mark.parametrize("key", ["ax", "ay", "az"])
+def test_an_acceleration_channel_set_to_none_is_refused_as_such(key):
+    # Review 7: "channels=dict(ay=None) is refused as 'channel ay (None) is not in the DataFrame'": the sentence
+    # says the three axes cannot be left out and how to give one the log lacks.
+    t = np.arange(300) * 0.01
+    with pytest.raises(InputError) as exc:
+        read_motion(seat_frame(t, noise(t.size)), channels={key: None})
+    msg = one_sentence(exc)
+    assert "not in the DataFrame" not in msg and "ax, ay and az cannot be left out" in msg and "zeros" in msg

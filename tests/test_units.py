@@ -104,8 +104,13 @@ def test_the_units_argument_wins_over_the_name(tmp_path):
     with pytest.warns(UserWarning, match="taken to include gravity"):  # (1 g on z: levelled, as any such log)
         m = read_motion(path, names, units={"ax": "m/s^2", "ay": "m/s^2", "az": "m/s^2"})
     np.testing.assert_allclose(m.acc_mps2, as_read(t, acc), rtol=1e-12, atol=1e-12)
+    # the name's g: a warning on the unit, then (gravity auto) a mean z of 96 m/s^2 is refused as an offset
     with pytest.warns(UserWarning, match=r"are in m/s\^2, as their names say, .* a median of 96\.24 m/s\^2, over 5 g"):
-        np.testing.assert_allclose(read_motion(path, names).acc_mps2, acc * G, rtol=1e-12)  # the name's g
+        with pytest.raises(InputError, match=r"mean z of 96\.2 m/s\^2 .* check the acceleration's unit, --unit"):
+            read_motion(path, names)
+    with pytest.warns(UserWarning, match=r"over 5 g"):  # taken as it is where the caller says there is no gravity
+        with pytest.raises(InputError, match="gravity removed"):
+            read_motion(path, names, gravity="removed")
 
 
 def test_words_in_parentheses_that_are_no_unit_are_passed_over(tmp_path):

@@ -260,6 +260,10 @@ def _check_input(label: str, inp: dict, written_drive=None, written_gyro=None) -
         v = inp.get(key, 1.0)
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not v > 0:
             raise InputError(f"{label}: [input] {key} {v!r}: use a positive number.")
+    for key, default in (("imu", False), ("fill_gaps", False), ("drop_held", True)):
+        if not isinstance(inp.get(key, default), bool):  # (read_motion's sentence names the Python values)
+            raise InputError(f"{label}: [input] {key} must be true or false (a TOML boolean, no quotes); got "
+                             f"{inp[key]!r}.")
     seed = inp.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise InputError(f"{label}: [input] seed {seed!r}: use a whole number >= 0.")
@@ -338,18 +342,14 @@ def _read_drive(inp: dict):
     from .drives import drive_path
     from .readers import mounting_rotation, read_motion
 
-    imu = inp.get("imu", False)
-    fill_gaps = inp.get("fill_gaps", False)
-    for key, value in (("imu", imu), ("fill_gaps", fill_gaps)):
-        if not isinstance(value, bool):
-            raise InputError(f"{key} {value!r}: use true or false.")
     gyro = inp.get("gyro")
     if gyro is not None and not isinstance(gyro, str):
         raise InputError(f"gyro {gyro!r}: use the gyro file's path.")
     mounting = inp.get("mounting")
     return read_motion(drive_path(inp["drive"]), channels=inp.get("channels"), units=inp.get("units"),
-                       rate_hz=inp.get("rate_hz"), imu=imu, fill_gaps=fill_gaps, columns=inp.get("columns"),
-                       gyro=gyro, mounting=None if mounting is None else mounting_rotation(mounting),
+                       rate_hz=inp.get("rate_hz"), imu=inp.get("imu", False), fill_gaps=inp.get("fill_gaps", False),
+                       columns=inp.get("columns"), gyro=gyro,
+                       mounting=None if mounting is None else mounting_rotation(mounting),
                        start_s=inp.get("start_s"), end_s=inp.get("end_s"), gravity=inp.get("gravity", "auto"),
                        frame=inp.get("frame", "seat"), drop_held=inp.get("drop_held", True),
                        encoding=inp.get("encoding"))

@@ -33,6 +33,31 @@ class EhmWarning(UserWarning):
     """A warning of ehm's own, one sentence (the command line prints these, and only these, as ``ehm: warning:``)."""
 
 
+#: The longest repr :func:`describe` shows as it is; a longer value is named by its type (and size).
+_SHORT_REPR = 60
+
+
+def describe(value: object) -> str:
+    """``value`` in a few words for a message: the repr of a short scalar or string (``'abc'``, ``42``, ``None``);
+    the type and size of an array, a table or a sequence (``a float64 array of shape (100, 3)``, ``a DataFrame of
+    shape (10, 4)``, ``a list of 2 items ([1, 2])``, the items only when short); else the repr when short, or the
+    type (never a multi-line repr cut off mid-way)."""
+    kind = "array" if isinstance(value, np.ndarray) else type(value).__name__
+    shape = getattr(value, "shape", None)
+    if isinstance(shape, tuple) and shape:  # numpy arrays, pandas frames and series, xarray
+        words = f"{value.dtype} {kind}" if isinstance(value, np.ndarray) else kind
+        return f"{'an' if words[0] in 'aeio' else 'a'} {words} of shape {shape}"
+    text = repr(value)
+    short = len(text) <= _SHORT_REPR and "\n" not in text
+    if isinstance(value, (list, tuple, set, frozenset, dict)):
+        return f"a {kind} of {len(value)} item{'s' if len(value) != 1 else ''}" + (f" ({text})" if short else "")
+    if short:
+        return text
+    if isinstance(value, str):
+        return f"a str of {len(value)} characters"
+    return f"{'an' if kind[0] in 'aeioAEIO' else 'a'} {kind}"
+
+
 def finite_number(func: str, name: str, value: object) -> float:
     """``value`` as a finite float, or an :class:`InputError` naming ``func`` and the argument ``name`` (a bool is
     no number here)."""
@@ -58,7 +83,7 @@ def finite_samples(name: str, values: object, advice: str = "fill or cut the gap
     try:
         arr = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(f"{name} must be a 1-D array of numbers, not {values!r:.60}.") from None
+        raise InputError(f"{name} must be a 1-D array of numbers, not {describe(values)}.") from None
     if arr.ndim != 1:
         raise InputError(f"{name} must be a 1-D array of samples, not of shape {arr.shape}.")
     if arr.size == 0:

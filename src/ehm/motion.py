@@ -31,7 +31,7 @@ from numbers import Integral
 import numpy as np
 from scipy import signal
 
-from ehm.errors import InputError, finite_number, positive_number
+from ehm.errors import InputError, describe, finite_number, positive_number
 
 from .kinematics import (  # noqa: F401 - re-exported: ehm.motion.seat_kinematics etc.
     SeatKinematics,
@@ -288,7 +288,7 @@ _number, _positive = finite_number, positive_number
 def require_motion(func: str, motion: object) -> SeatMotion:
     """``motion`` if it is a :class:`SeatMotion`, else one sentence saying what ``func`` needs and where to get it."""
     if not isinstance(motion, SeatMotion):
-        raise InputError(f"{func} needs a SeatMotion, not {motion!r:.60}: read a file with ehm.read_motion, take a "
+        raise InputError(f"{func} needs a SeatMotion, not {describe(motion)}: read a file with ehm.read_motion, take a "
                          "shipped drive with ehm.city_drive or ehm.rough_road, or generate one with "
                          "ehm.random_vibration.")
     return motion

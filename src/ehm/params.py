@@ -20,7 +20,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Iterator, Mapping
 
-from .errors import InputError
+from .errors import InputError, describe
 from .posture import DEFAULT_POSTURE, STEP_KEY, check_posture
 from .seat import BACK_SUPPORTS, DEFAULT_BACK_SUPPORT
 from .tables import JOINT_NAMES, Body
@@ -90,7 +90,7 @@ class Parameters:
         """Read and check a parameter file (default: the shipped one)."""
         if path is not None and not isinstance(path, (str, os.PathLike)):
             raise InputError(f"params must be a parameter file's path, an ehm.Parameters or None (the shipped "
-                             f"defaults), not {path!r:.60}.")
+                             f"defaults), not {describe(path)}.")
         p = Path(path) if path is not None else default_params_path()
         label = p.name if path is None else str(path)
         try:

@@ -46,7 +46,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .errors import EhmWarning, InputError
+from .errors import EhmWarning, InputError, describe
 from .params import Parameters
 from .tables import Body
 
@@ -165,6 +165,9 @@ def stretched_inertia(moments_kgm2: np.ndarray, mass_ratio: float, factors: np.n
 
 def scale_body(body: Body, size: BodySize) -> Body:
     """The body tables of a person of ``size`` (the reference size returns the tables unchanged)."""
+    if not isinstance(size, BodySize):
+        raise InputError(f"size must be an ehm.scaling.BodySize, e.g. BodySize(stature_m=1.7, mass_kg=70), not "
+                         f"{describe(size)}.")
     if size.is_reference():
         return body
     segments = []

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, describe
 
 #: Factors from a column's unit suffix to SI, grouped by quantity.
 _UNITS: dict[str, dict[str, float]] = {
@@ -413,7 +413,7 @@ def joint_names(value, what: str = "lock") -> tuple[str, ...]:
         names = None
     if names is None or not all(isinstance(n, str) for n in names):
         raise InputError(f"{what} must be a joint name or a list of joint names, e.g. ['t12', 'lower_neck'], "
-                         f"not {value!r:.60}.")
+                         f"not {describe(value)}.")
     return names
 
 

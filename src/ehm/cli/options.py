@@ -93,9 +93,10 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
     p.add_argument("--gravity", choices=("auto", "included", "removed"), default="auto",
                    help="gravity in the file's accelerations (not --imu): included: level the log (tilt from its "
                         "quietest 5 s near 1 g, g removed; refused without gravity); removed: take it as it is (a "
-                        "mean near 1 g is refused); auto (default): level it, with a warning, when the quietest 5 s "
-                        "have a mean (its norm or its z) within 10 %% of g, take it as it is when that mean is under "
-                        "half a g with z under 2 m/s^2, refuse it between")
+                        "mean near 1 g, or a mean z above 2 m/s^2, is refused); auto (default): level it, with a "
+                        "warning, when the quietest 5 s have a mean (its norm or its z) within 10 %% of g; otherwise "
+                        "take it as it is, but refuse a log whose mean z is above 2 m/s^2 (an offset), and one of 5 s "
+                        "or longer whose quietest 5 s have a mean of half a g or more")
     p.add_argument("--frame", choices=("seat", "earth"), default="seat",
                    help="axes of the file's accelerations: seat (x forward, y left, z up; default) or earth (x east, "
                         "y north, z up, as a phone app turns them): read as they are, with a note on what the "

@@ -49,6 +49,9 @@ def _mapping(value, arg: str) -> dict:
             raise InputError(f"{arg}: unknown key {key!r}; use {', '.join(CHANNEL_KEYS)}.")
         if v is not None and not isinstance(v, str):
             raise InputError(f"{arg}[{key!r}] must be a string; got {v!r}.")
+        if v is None and arg == "channels" and key in _ACC:
+            raise InputError(f"channels: {key} is set to None (--channel {key}=), but ax, ay and az cannot be left "
+                             "out: name a column for each (for an axis the log lacks, a column of zeros).")
     return dict(value)
 
 

@@ -191,7 +191,7 @@ def _common_time(src: _Source, use: dict, data: dict, stamps: dict, fill_gaps: b
 # --------------------------------------------------------------------------
 
 #: The median time step [s] of a logger's recording lies between these: 100 kHz is above any logger of a
-#: seat's motion, and a recording sampled at 2 Hz or slower holds nothing of the comfort band (0.5-80 Hz).
+#: seat's motion, and a recording sampled below 2 Hz keeps under 0.8 Hz of the comfort band (0.5-80 Hz).
 #: A log outside them is refused at any length: the time's unit is wrong.  The upper bound catches a log
 #: stamped in ms read as seconds at every logger rate up to 2 kHz (steps of 0.5 ms and longer), and one
 #: stamped in µs or ns (uptime, Unix time) at any rate.
@@ -263,8 +263,13 @@ def _check_time_unit(src: _Source, name: str, t: np.ndarray, unit: str, origin: 
                 f"{fits[fix]:.3g} s")
         if step > MAX_STEP_S and not said and step <= TABLE_MAX_STEP_S and t.size < LOG_SAMPLES:
             hint += f", or --unit {key}=s for a table written by hand in seconds"
+    elif too_fast and step >= MIN_STEP_S:
+        hint = (f"a log at {1e-3 / FAST_STEP_S:g} kHz or faster must last at least {MIN_FAST_DURATION_S:g} s (a "
+                "shorter one is most often a log in seconds read in a smaller unit): give a longer stretch of the "
+                "log, or resample it below that rate")
     else:
-        hint = "ehm reads logs sampled between 2 Hz and 100 kHz: resample it, or give the time's unit"
+        hint = (f"ehm reads logs sampled between {1 / MAX_STEP_S:g} Hz and {1e-3 / MIN_STEP_S:g} kHz: resample it, or "
+                "give the time's unit")
     raise InputError(f"{src.label}, {_column_words(src, name, key)}: {finding} if {what}; {hint}.")
 
 

@@ -20,9 +20,11 @@ Modes (``read_motion(gravity=...)``, ``--gravity``):
     Level the log when gravity is found in that window's mean: its norm, or its vertical (z) component, is
     within :data:`G_TOLERANCE` (10 %) of standard gravity (a log that brakes or corners most of the time has a
     mean far from 1 g, but its vertical mean is still g), with a one-line warning naming the tilt, the g
-    removed and the window.  Otherwise take it as gravity-free, unless that mean's norm is within
-    ``UNSURE_BAND`` (0.5-2 g) in a log of :data:`QUIET_WINDOW_S` or longer: neither gravity nor a vehicle's,
-    refused in one sentence naming ``--gravity included`` and ``--gravity removed``.
+    removed and the window.  Otherwise the log is taken as gravity-free, but refused in one sentence naming
+    ``--gravity included`` and ``--gravity removed`` when its mean cannot be a vehicle's (the rule of ``removed``
+    below, at any length), or when that window's mean norm is half a g (``UNSURE_BAND``) or more in a log of
+    :data:`QUIET_WINDOW_S` or longer: neither gravity nor a vehicle's.  (A shorter table written by hand, a step or a
+    ramp, may hold a large horizontal mean.)
 ``"included"``
     Level the log whatever its mean; refused when the window's mean is under ``INCLUDED_MIN_SHARE`` of g
     (there is no gravity to take out: levelling would remove a few hundredths of a m/s^2 as "g" and turn the
@@ -51,10 +53,10 @@ G_TOLERANCE = 0.10  #: a mean norm within this share of g is taken as gravity
 MAX_MEAN_VERTICAL_MPS2 = 2.0  #: a gravity-free log's mean z above this is refused
 QUIET_WINDOW_S = 5.0  #: length of the quiet window the tilt is taken from [s]
 #: ``auto``: a quiet window whose mean is not gravity (neither its norm nor its z within :data:`G_TOLERANCE` of g)
-#: but whose norm lies between these multiples of g is refused: a vehicle keeps half a g for 5 s seldom, and a
-#: sensor with gravity in it reads more than half a g always (1.12 g braking at half a g, a sensor tilted far).
-#: Below, the log is gravity-free; above, it is no vehicle's either way (its unit is checked on reading).
-UNSURE_BAND = (0.5, 2.0)
+#: but whose norm is this multiple of g or more, in a log of :data:`QUIET_WINDOW_S` or longer, is refused: a vehicle
+#: keeps half a g for 5 s seldom, and a sensor with gravity in it reads more than half a g always (1.12 g braking at
+#: half a g, a sensor tilted far).  Below, the log is gravity-free (unless its mean z is an offset).
+UNSURE_BAND = 0.5
 #: ``included``: a window's mean under this share of g holds no gravity to take out.
 INCLUDED_MIN_SHARE = 0.5
 
@@ -119,12 +121,8 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
     mean_words = (f"{where} has a mean acceleration of ({quiet[0]:.3g}, {quiet[1]:.3g}, {quiet[2]:.3g}) m/s^2 "
                   f"(norm {norm:.3g} m/s^2)")
     if gravity == "auto" and not found:
-        short = float(time_s[-1] - time_s[0]) < QUIET_WINDOW_S  # (a table written by hand: a step, a ramp)
-        if short or not UNSURE_BAND[0] * STANDARD_GRAVITY <= norm <= UNSURE_BAND[1] * STANDARD_GRAVITY:
-            return acc, rates, ""
-        raise InputError(f"{label}: {mean_words}, neither gravity (within {G_TOLERANCE:.0%} of g) nor a vehicle's, "
-                         "so ehm cannot tell whether the log holds gravity: give --gravity included (gravity="
-                         "'included') to level it, or --gravity removed (gravity='removed') to take it as it is.")
+        _check_not_found(time_s, acc, norm, mean_words, label)
+        return acc, rates, ""
     if gravity == "included" and norm < INCLUDED_MIN_SHARE * STANDARD_GRAVITY:
         raise InputError(f"{label}: taken as gravity included (--gravity included), but {mean_words}, far from g "
                          f"({STANDARD_GRAVITY:.4g} m/s^2): there is no gravity to take out; read it with --gravity "
@@ -141,15 +139,48 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
     return levelled, rates, note
 
 
-def _check_removed(mean: np.ndarray, label: str) -> None:
-    """``removed``: refuse a mean that cannot be a vehicle's (near 1 g, or a vertical offset)."""
+def _offset(mean: np.ndarray) -> bool:
+    """A mean no vehicle's can be: its norm within :data:`G_TOLERANCE` of g, or its z above
+    :data:`MAX_MEAN_VERTICAL_MPS2` (gravity, or an offset)."""
     norm = float(np.linalg.norm(mean))
-    if abs(norm - STANDARD_GRAVITY) <= G_TOLERANCE * STANDARD_GRAVITY or abs(mean[2]) > MAX_MEAN_VERTICAL_MPS2:
+    return abs(norm - STANDARD_GRAVITY) <= G_TOLERANCE * STANDARD_GRAVITY or abs(mean[2]) > MAX_MEAN_VERTICAL_MPS2
+
+
+_OFFSET_RULE = (f"a mean norm within {G_TOLERANCE:.0%} of g, or a mean z above {MAX_MEAN_VERTICAL_MPS2:g} m/s^2, is "
+                "gravity or an offset")
+
+
+def _check_removed(mean: np.ndarray, label: str) -> None:
+    """``removed``: refuse a mean that cannot be a vehicle's (:func:`_offset`)."""
+    if _offset(mean):
         raise InputError(
             f"{label}: taken as gravity removed (--gravity removed), but its mean acceleration "
-            f"({mean[0]:.3g}, {mean[1]:.3g}, {mean[2]:.3g}) m/s^2 cannot be a vehicle's (a mean norm within "
-            f"{G_TOLERANCE:.0%} of g, or a mean z above {MAX_MEAN_VERTICAL_MPS2:g} m/s^2, is gravity or an "
-            "offset); give --gravity included to level it.")
+            f"({mean[0]:.3g}, {mean[1]:.3g}, {mean[2]:.3g}) m/s^2 cannot be a vehicle's ({_OFFSET_RULE}); give "
+            "--gravity included to level it.")
+
+
+def _check_not_found(time_s: np.ndarray, acc: np.ndarray, norm: float, mean_words: str, label: str) -> None:
+    """``auto`` without gravity in the quiet window: refuse a log whose mean is an offset (:func:`_offset`, at any
+    length), and a log of :data:`QUIET_WINDOW_S` or longer whose quiet window's norm is half a g or more (neither
+    gravity nor a vehicle's); a shorter one (a table written by hand: a step, a ramp) with a small z mean is taken
+    as it is."""
+    mean = acc.mean(axis=0)
+    offset = _offset(mean)
+    if not offset and (float(time_s[-1] - time_s[0]) < QUIET_WINDOW_S or norm < UNSURE_BAND * STANDARD_GRAVITY):
+        return
+    included = "give --gravity included (gravity='included') to level it"
+    if offset:
+        found = (f"a mean z of {mean[2]:.3g} m/s^2 over the whole log, above {MAX_MEAN_VERTICAL_MPS2:g} m/s^2"
+                 if abs(mean[2]) > MAX_MEAN_VERTICAL_MPS2 else f"a mean norm of {np.linalg.norm(mean):.3g} m/s^2 over "
+                 f"the whole log, within {G_TOLERANCE:.0%} of g")
+        why = f"{found}, is gravity or an offset, which --gravity removed refuses too"
+        level = f"{included} with that mean taken as g, or " if norm >= INCLUDED_MIN_SHARE * STANDARD_GRAVITY else ""
+        advice = f"{level}take the offset out of the log (or check the acceleration's unit, --unit)"
+    else:
+        why = "a vehicle keeps half a g for 5 s seldom"
+        advice = f"{included}, or --gravity removed (gravity='removed') to take it as it is"
+    raise InputError(f"{label}: {mean_words}, neither gravity (within {G_TOLERANCE:.0%} of g) nor a vehicle's "
+                     f"({why}), so ehm cannot tell whether the log holds gravity: {advice}.")
 
 
 def _level_earth(acc: np.ndarray, mean: np.ndarray):

@@ -139,9 +139,10 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         Gravity in the accelerations of a seat or floor log (not an IMU log, whose route handles it):
         ``included`` levels the log (static tilt from its quietest 5 s near 1 g, rotated so that gravity is
         along z, g subtracted; refused where that window's mean is under half a g: no gravity to take out);
-        ``removed`` takes it as it is but refuses a mean near 1 g; ``auto`` levels it, with a warning, when the
-        quietest window's mean (its norm, or its z) is within 10 % of g, and refuses a mean of 0.5-2 g that is
-        neither.  See :mod:`ehm.readers.gravity`.
+        ``removed`` takes it as it is but refuses a mean near 1 g or a mean z above 2 m/s^2; ``auto`` levels it,
+        with a warning, when the quietest window's mean (its norm, or its z) is within 10 % of g, else takes it
+        as it is but refuses what ``removed`` refuses, and a window mean of half a g or more in a log of 5 s or
+        longer.  See :mod:`ehm.readers.gravity`.
     frame : {"seat", "earth"}
         The axes of the accelerations: ``seat`` (x forward, y left, z up) or ``earth`` (x east, y north, z up: a
         phone app's log turned into earth axes by the phone's own fusion).  Earth axes cannot be turned into the
@@ -208,8 +209,8 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
 
 def _rate(rate_hz) -> float | None:
     """``rate_hz`` checked: a number (not a bool or a string) of samples per second from 2 Hz to 100 kHz, the
-    rates :func:`ehm.readers.checks._check_time_unit` takes from a log's own time stamps (a rate of 2 Hz or below
-    holds nothing of the comfort band)."""
+    rates :func:`ehm.readers.checks._check_time_unit` takes from a log's own time stamps (a rate below 2 Hz holds
+    nothing of the comfort band; resampling to a few Hz is warned about by :func:`_rate_note`)."""
     if rate_hz is None:
         return None
     if isinstance(rate_hz, (bool, np.bool_)) or not isinstance(rate_hz, numbers.Real):
@@ -217,8 +218,9 @@ def _rate(rate_hz) -> float | None:
     rate = float(rate_hz)
     if not (math.isfinite(rate) and 1.0 / MAX_STEP_S <= rate <= 1.0 / MIN_STEP_S):
         raise InputError(f"rate_hz must be a positive number of samples per second from {1 / MAX_STEP_S:g} Hz to "
-                         f"{1e-3 / MIN_STEP_S:g} kHz (--rate; a log at {1 / MAX_STEP_S:g} Hz or slower holds nothing "
-                         f"of the comfort band, 0.5-80 Hz); got {rate_hz!r}.")
+                         f"{1e-3 / MIN_STEP_S:g} kHz (--rate; a log keeps the comfort band, 0.5-80 Hz, up to "
+                         f"{PASS_FRACTION:g} times its rate: at {1 / MAX_STEP_S:g} Hz "
+                         f"0.5-{PASS_FRACTION / MAX_STEP_S:g} Hz of it, with a warning saying how much is lost); got {rate_hz!r}.")
     return rate
 
 
@@ -248,9 +250,12 @@ def _rate_note(label: str, motion: SeatMotion, rate_hz: float) -> None:
     """One note when resampling to ``rate_hz`` cuts off at least ``BAND_WARNING_SHARE`` of a weighting's power
     that the log held (as an assessment warns about the band an input covers)."""
     own_hz = 1.0 / float(np.median(np.diff(motion.time_s)))
-    held = motion.content_limit_hz if motion.content_limit_hz is not None else own_hz / 2.0
+    if rate_hz >= own_hz:  # nothing downsampled: the log keeps what it held
+        return
+    held = min(motion.content_limit_hz if motion.content_limit_hz is not None else own_hz / 2.0,
+               PASS_FRACTION * own_hz)  # (the log's own pass band, as the resampler keeps it)
     low = 1.0 / motion.duration_s
-    kept = min(held, PASS_FRACTION * min(own_hz, rate_hz))
+    kept = min(held, PASS_FRACTION * rate_hz)
     if kept >= held:
         return
     lost = {w: band_share_outside(w, low, kept) - band_share_outside(w, low, held) for w in ("Wk", "Wd")}
