@@ -263,7 +263,7 @@ def test_a_missing_gyro_file_is_named_as_the_gyro(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["drive.csv", "study.toml"]
 
 
-# --- review of issue 31: batch bookkeeping, a killed study, a study folder of an earlier ehm ----------------------------
+# --- review of issue 31: batch bookkeeping, a killed study, a study folder of an earlier ehm ---------------------------
 
 def _manifest_writes(monkeypatch) -> list:
     """Count the writes of a manifest made through the atomic JSON writer of ehm.outdir (how it rewrites a folder's
