@@ -261,3 +261,166 @@ def test_a_missing_gyro_file_is_named_as_the_gyro(tmp_path, capsys):
     assert err == (f"ehm: error: {study}: [input] gyro 'gyro.csv' (no file {tmp_path / 'gyro.csv'}): give the gyro "
                    "file's path (relative paths start from the study file's folder).")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["drive.csv", "study.toml"]
+
+
+# --- review of issue 31: batch bookkeeping, a killed study, a study folder of an earlier ehm ---------------------------
+
+def _manifest_writes(monkeypatch) -> list:
+    """Count the writes of a manifest made through the atomic JSON writer of ehm.outdir (how it rewrites a folder's
+    manifest, before this change and after)."""
+    import ehm.outdir as outdir
+
+    writes, real = [], outdir.write_json_atomic
+
+    def counted(path, obj):
+        if Path(path).name == MANIFEST_NAME:
+            writes.append(path)
+        real(path, obj)
+
+    monkeypatch.setattr(outdir, "write_json_atomic", counted)
+    return writes
+
+
+@dask_and_pyarrow
+def test_a_study_writes_its_manifest_at_most_about_once_a_second(tmp_path, monkeypatch):
+    """Review case: batch bookkeeping grew quadratically with the number of runs (every finished run re-read,
+    re-wrote and fsynced the whole manifest: 4000 records took 43 s, the runs' results waiting behind it).  300
+    SYNTHETIC runs that take no time (a stand-in for run_one, on an in-process Dask cluster) end within a few
+    seconds: the manifest is written on entering, for the results table, on leaving, and at most once per second
+    between (the bound: 3 + the seconds it took; it was written once per run, 300 times).  It lists every record."""
+    import time
+
+    from dask.distributed import Client
+
+    import ehm.batch as batch
+
+    def no_time_run(spec):
+        return {"inputs": spec.inputs(), "outputs": {"x.peak_hz": 1.0}, "error": None, "simulated_s": 0.0,
+                "wall_s": 0.0, "warnings": []}
+
+    import contextlib
+
+    @contextlib.contextmanager
+    def in_process(scheduler, workers):
+        with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None,
+                    scheduler_kwargs={"dashboard_address": ":0"}) as client:
+            yield client
+
+    monkeypatch.setattr(batch, "run_one", no_time_run)
+    monkeypatch.setattr(batch, "_dask_client", in_process)
+    specs = [batch.RunSpec(f"{i:012x}", {}, {"k": float(i)}, (), ("transmissibility",), {}, f"{i:012x}", {"f": "1"})
+             for i in range(300)]
+    out = tmp_path / "res"
+    writes = _manifest_writes(monkeypatch)
+    t0 = time.monotonic()
+    assert batch.run_study(specs, out)["ran"] == 300
+    elapsed = time.monotonic() - t0
+    assert len(writes) <= 3 + elapsed, (len(writes), elapsed)
+    listed = read_manifest(out)
+    assert set(listed["files"]) == {f"runs/{s.point_id}.json" for s in specs} | {"results.parquet"}
+    assert listed["open"] is False
+
+
+_KILLED_STUDY = '''
+import os, signal, sys
+import ehm.batch as batch
+import ehm.outdir as outdir
+
+outdir.FLUSH_INTERVAL_S = 1e9  # no record listed before the kill: every record is one written since the last listing
+
+
+def killed(*args, **kwargs):  # the runs are recorded (and the cluster closed): killed before the results table
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+batch.write_table = killed
+if __name__ == "__main__":
+    name, specs = batch.load_study(sys.argv[1])
+    batch.run_study(specs, batch.Path(sys.argv[2]), workers=1)
+'''
+
+
+@dask_and_pyarrow
+def test_a_study_killed_before_its_manifest_listed_its_records_resumes(tmp_path, capsys):
+    """Review case: the manifest is now written at most about once a second, so a study killed in between (SIGKILL,
+    a power cut) leaves records that it does not list.  The next `ehm batch` must neither refuse them (ehm wrote
+    them) nor take a file of the user's as ehm's: the records name the folder's id (their content, not their
+    names), and only while the manifest says the killed command did not end.  Three SYNTHETIC linear-model runs;
+    no tolerance: exit codes, sentences and bytes are checked exactly."""
+    study = tmp_path / "study.toml"
+    study.write_text(TINY_STUDY + '[grid]\n"joints.t12.z.stiffness_N_per_m" = [14000.0, 15000.0, 16000.0]\n')
+    script = tmp_path / "killed.py"
+    script.write_text(_KILLED_STUDY)
+    res = tmp_path / "res"
+    done = subprocess.run([sys.executable, str(script), str(study), str(res)], capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": str(Path(__import__("ehm").__file__).parents[1])})
+    assert done.returncode == -9, done.stderr
+    records = sorted(p.relative_to(res).as_posix() for p in (res / "runs").iterdir())
+    killed = read_manifest(res)
+    assert len(records) == 3 and killed["open"] is True and killed["files"] == {}  # the case: none listed
+    # a file of the user's among them, a record without the folder's id: refused, nothing touched
+    mine = res / "runs" / "mine.json"
+    rec = json.loads((res / records[0]).read_text())
+    mine.write_text(json.dumps({k: v for k, v in rec.items() if k != "ehm_folder_id"}))
+    before = _tree(res)
+    assert main(["batch", str(study), "--out", str(res), "--workers", "1"]) == 2
+    assert _one_error_line(capsys.readouterr().err) == (
+        f"ehm: error: {res} holds runs/mine.json, which ehm did not write; give a new or empty folder for the "
+        "study's results: ehm adds only to a folder that it wrote and that holds nothing else.")
+    assert _tree(res) == before
+    mine.unlink()
+    # the study resumes: nothing is run again, the records are listed, the manifest closed
+    assert main(["batch", str(study), "--out", str(res), "--workers", "1"]) == 0
+    assert "ran 0 runs (3 already done" in capsys.readouterr().out
+    resumed = read_manifest(res)
+    assert set(resumed["files"]) == {*records, "results.parquet"} and resumed["open"] is False
+    # after a study that ended, a copy of a record (the folder's id and all) is the user's
+    (res / "runs" / "copy.json").write_text((res / records[0]).read_text())
+    before = _tree(res)
+    assert main(["batch", str(study), "--out", str(res), "--workers", "1"]) == 2
+    assert "holds runs/copy.json, which ehm did not write" in _one_error_line(capsys.readouterr().err)
+    assert _tree(res) == before
+
+
+def test_sigterm_writes_the_manifest_of_a_folder_being_added_to(tmp_path):
+    """Review case, continued: the manifest is written once more when the command ends, also on SIGTERM where ehm is
+    used from Python (SIGTERM left to its default: the process still ends by it).  Records written within the
+    second after the last writing, then SIGTERM: all listed, the manifest closed.  SYNTHETIC records."""
+    code = ("import os, signal, sys\nfrom pathlib import Path\nfrom ehm.outdir import added_folder, write_owned_json\n"
+            "out = Path(sys.argv[1])\nwith added_folder(out, 'results'):\n"
+            "    for i in range(3):\n        write_owned_json(out / 'runs' / f'{i}.json', {'i': i}, out)\n"
+            "    os.kill(os.getpid(), signal.SIGTERM)\n    print('not ended')\n")
+    out = tmp_path / "res"
+    done = subprocess.run([sys.executable, "-c", code, str(out)], capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": str(Path(__import__("ehm").__file__).parents[1])})
+    assert done.returncode == -15 and "not ended" not in done.stdout, done.stderr
+    listed = read_manifest(out)
+    assert set(listed["files"]) == {"runs/0.json", "runs/1.json", "runs/2.json"} and listed["open"] is False
+
+
+@dask_and_pyarrow
+def test_a_study_folder_of_an_earlier_ehm_says_it_cannot_be_resumed_and_what_to_do(tmp_path, capsys):
+    """Review case: a study folder written by an earlier ehm (no manifest) was refused with "give a new or empty
+    folder" only, with no word of why a study folder of ehm's own could not be resumed.  It is known by its
+    content (a run record in runs/), and the sentence says what to do; nothing in it is touched.  A SYNTHETIC
+    one-run study whose manifest is taken away, as an earlier ehm left it."""
+    study = tmp_path / "study.toml"
+    study.write_text(TINY_STUDY)
+    res = tmp_path / "res"
+    assert main(["batch", str(study), "--out", str(res), "--workers", "1"]) == 0
+    (res / MANIFEST_NAME).unlink()
+    for rec in (res / "runs").iterdir():  # an earlier ehm's record: no folder id
+        rec.write_text(json.dumps({k: v for k, v in json.loads(rec.read_text()).items() if k != "ehm_folder_id"}))
+    before = _tree(res)
+    capsys.readouterr()
+    assert main(["batch", str(study), "--out", str(res), "--workers", "1"]) == 2
+    assert _one_error_line(capsys.readouterr().err) == (
+        f"ehm: error: {res} is a study folder of an earlier ehm, written before study folders carried a manifest "
+        f"({MANIFEST_NAME}), so it cannot be resumed: ehm cannot tell the files it wrote there from any others; run "
+        f"the study into a new folder, e.g. {tmp_path / 'res-new'} (the earlier results stay where they are).")
+    assert _tree(res) == before
+    # a folder of the user's own JSON files under runs/ is not taken for one
+    (tmp_path / "mine" / "runs").mkdir(parents=True)
+    (tmp_path / "mine" / "runs" / "a.json").write_text('{"my": "notes"}')
+    assert main(["batch", str(study), "--out", str(tmp_path / "mine"), "--workers", "1"]) == 2
+    assert "holds runs, which ehm did not write" in _one_error_line(capsys.readouterr().err)

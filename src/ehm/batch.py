@@ -73,8 +73,8 @@ import numpy as np
 
 from .errors import EhmError, EhmWarning, InputError
 from .cluster import _dask_client, check_scheduler  # noqa: F401  (check_scheduler: the CLI's)
-from .io import replace_atomically, write_json_atomic
-from .outdir import added_folder, write_owned
+from .io import replace_atomically
+from .outdir import added_folder, write_owned, write_owned_json
 
 COMPUTE = ("transmissibility", "comfort")
 #: [grid] axes of how the person sits: the short name -> the parameter it sets (a name, not a number).
@@ -554,7 +554,9 @@ def run_study(specs: list[RunSpec], out: Path, scheduler: str | None = None, wor
     and, with ``retry_failed``, those that failed (e.g. after the parameter or study file was fixed).
     ``out`` is a folder of ehm's that is added to (``ehm.outdir.added_folder``: refused when it holds files
     ehm did not write); every record and table written there is listed in its manifest.  The runs' warnings come
-    back with their records and are warned here, each sentence once.
+    back with their records and are warned here, each sentence once.  The manifest is written at most about once a
+    second while runs end (and when the study ends); a record written after its last writing says which folder it
+    belongs to, so a study killed meanwhile resumes with it (``ehm.outdir.write_owned_json``).
     """
     with added_folder(out, "study's results"):
         runs_dir = out / "runs"
@@ -594,8 +596,7 @@ def _run_on_dask(todo: list[RunSpec], out: Path, scheduler, workers, progress) -
                 rec = {"inputs": spec.inputs(), "outputs": {}, "error": f"{_LOST_WORKER}{exc}",
                        "simulated_s": 0.0, "wall_s": 0.0}
             rec["fingerprint"] = spec.fingerprint
-            record = out / "runs" / f"{spec.point_id}.json"
-            write_owned(record, functools.partial(write_json_atomic, record, rec), out)
+            write_owned_json(out / "runs" / f"{spec.point_id}.json", rec, out)  # listed within about a second
             _warn_once(rec.get("warnings", []), shown)
             simulated += rec["simulated_s"]
             failed += rec["error"] is not None

@@ -15,7 +15,10 @@ holds nothing but the files listed there, each of its listed size and time (a fi
 user's), and neither it nor anything in it is read-only.  Names and extensions are never taken as evidence.
 Anything else is refused, before the run starts, with one sentence, and again just before the swap (a file added
 while the run was going keeps the folder; the new run is then left beside it).  A batch study's folder is added
-to rather than replaced (``added_folder``), under the same rule.
+to rather than replaced (``added_folder``), under the same rule; its manifest is kept in memory while a study runs and
+written at most about once a second, and a run record written since names the folder's id, so that a study killed
+meanwhile (SIGKILL, a power cut) resumes with it.  A study folder of an earlier ehm, without a manifest, is refused
+with a sentence saying so.
 
 No file joins a manifest silently: only a file that belongs to the folder is listed (``record_in_manifest``:
 a batch study's records and tables, an animation drawn into its own run folder).  A single file of any other
@@ -34,7 +37,9 @@ import contextlib
 import ctypes
 import errno
 import json
+import math
 import os
+import secrets
 import shutil
 import signal
 import socket
@@ -52,6 +57,13 @@ from .io import MANIFEST_NAME, _fsync_directory, manifest_or_why, read_manifest,
 
 #: Its format, written into it: a later ehm can tell what it reads.
 MANIFEST_FORMAT = 1
+#: A folder being added to writes its manifest at most this often (s), and when the command ends.
+FLUSH_INTERVAL_S = 1.0
+#: The field of a JSON file that ehm wrote into a folder being added to: the folder's id (its manifest's
+#: ``folder_id``), by which the file is known as ehm's before the manifest lists it.
+OWN_MARK = "ehm_folder_id"
+#: A file larger than this is not read to see whether it is ehm's (a run record is a few kB).
+_MARKED_MAX_BYTES = 16 << 20
 _STAGING = ".{name}.partial-{pid}-"
 _OLD = ".{name}.old-{pid}-"
 
@@ -71,26 +83,28 @@ def _ehm_version() -> str:
         return "unknown"
 
 
-def _write_manifest(folder: Path, what: str, state: str, listed: dict | None = None) -> None:
-    """Write the manifest of ``folder``: the files ehm wrote there (sub-folders included) with their sizes in bytes
-    and modification times in ns (a file edited in place keeps its size, not its time).
+def _manifest_data(what: str, state: str, files: dict, mtimes: dict) -> dict:
+    return {"written_by": "ehm", "format": MANIFEST_FORMAT, "state": state, "ehm_version": _ehm_version(),
+            "command": _command or f"ehm (Python): {what}",
+            "written_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "files": files, "mtime_ns": mtimes}
 
-    ``state`` "complete": a finished folder, listing every file under it, or the entries of ``listed``
-    (``{"files": ..., "mtime_ns": ...}``: a folder that is added to, which never lists what it did not write).
-    ``state`` "staging": a staging folder, named in its manifest with the process and the machine writing it;
-    that is what :func:`remove_stale` goes by, never the folder's name."""
+
+def _write_manifest(folder: Path, what: str, state: str) -> None:
+    """Write the manifest of ``folder``, a folder written as one unit: the files ehm wrote there (sub-folders
+    included) with their sizes in bytes and modification times in ns (a file edited in place keeps its size, not its
+    time).
+
+    ``state`` "complete": a finished folder, listing every file under it.  ``state`` "staging": a staging folder,
+    named in its manifest with the process and the machine writing it; that is what :func:`remove_stale` goes by,
+    never the folder's name."""
     files, mtimes = {}, {}
-    if listed is not None:
-        files, mtimes = dict(listed["files"]), dict(listed.get("mtime_ns", {}))
-    elif state == "complete":
+    if state == "complete":
         for p in sorted(folder.rglob("*")):
             rel = p.relative_to(folder).as_posix()
             if rel != MANIFEST_NAME and p.is_file() and not p.is_symlink():
                 st = p.stat()
                 files[rel], mtimes[rel] = st.st_size, st.st_mtime_ns
-    data = {"written_by": "ehm", "format": MANIFEST_FORMAT, "state": state, "ehm_version": _ehm_version(),
-            "command": _command or f"ehm (Python): {what}",
-            "written_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "files": files, "mtime_ns": mtimes}
+    data = _manifest_data(what, state, files, mtimes)
     if state == "staging":
         data["staging"] = {"folder": folder.name, "pid": os.getpid(), "host": socket.gethostname()}
     with open(folder / MANIFEST_NAME, "w", encoding="utf-8") as fh:
@@ -106,7 +120,13 @@ def record_in_manifest(path: Path | str, folder: Path | str) -> None:
 
     Only for a file that belongs to the folder: a batch study's records and tables, an animation of a run drawn
     into that run's folder.  A file written into a folder of ehm's by anything else is never listed (ehm refuses
-    to write one there, ``check_output_file``), so the next run refuses the folder instead of deleting it."""
+    to write one there, ``check_output_file``), so the next run refuses the folder instead of deleting it.
+    In a folder being added to in this process (:func:`added_folder`) it goes into the manifest kept in memory,
+    which is written at once."""
+    listing = _OPEN.get(os.path.realpath(folder))
+    if listing is not None:  # a folder being added to: its manifest is in memory, written now
+        listing.add(Path(path), Path(folder), now=True)
+        return
     changed, folder = [Path(path)], Path(folder)
     while True:
         data = read_manifest(folder)
@@ -140,17 +160,46 @@ def foreign_entry(folder: Path) -> str | None:
         return f"holds {entries[0].name}, which ehm did not write (the folder has no ehm manifest, {MANIFEST_NAME})"
     if data.get("state") != "complete":
         return "is the staging folder of an unfinished ehm run"
+    for rel, p, why in _unmatched(folder, data):
+        if not _written_since_listing(p, data):
+            return f"holds {rel}, {why}"
+    return None
+
+
+def _unmatched(folder: Path, data: dict):
+    """The files under ``folder`` that its manifest ``data`` does not list as they are: (relative name, path, why:
+    the words after the name)."""
     listed, mtimes = data["files"], data.get("mtime_ns", {})
     for p in sorted(folder.rglob("*")):
         rel = p.relative_to(folder).as_posix()
         if rel == MANIFEST_NAME or (p.is_dir() and not p.is_symlink()):
             continue
         if p.is_symlink() or not p.is_file() or rel not in listed:
-            return f"holds {rel}, which ehm did not write"
+            yield rel, p, "which ehm did not write"
+            continue
         st = p.stat()
         if st.st_size != listed[rel] or (rel in mtimes and st.st_mtime_ns != mtimes[rel]):
-            return f"holds {rel}, which was changed after ehm wrote it"
-    return None
+            yield rel, p, "which was changed after ehm wrote it"
+
+
+def _written_since_listing(p: Path, data: dict) -> bool:
+    """Whether ``p``, a file its folder's manifest ``data`` does not list as it is, is one that ehm wrote there
+    after the manifest was last written, by a command that ended without writing it again (killed, a power cut).
+
+    Only a folder that is added to (:func:`added_folder`) leaves files unlisted for a while, and only files that say
+    so themselves: JSON objects that name the folder's own id (``OWN_MARK``, :func:`write_owned_json`), and only
+    while the manifest says the command adding to it did not end (``"open"``).  A file of any other content, or one
+    found after the command closed the manifest, is not ehm's (names are never taken as evidence)."""
+    folder_id = data.get("folder_id")
+    if not data.get("open") or not isinstance(folder_id, str) or p.is_symlink() or not p.is_file():
+        return False
+    try:
+        if p.stat().st_size > _MARKED_MAX_BYTES:
+            return False
+        content = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return False
+    return isinstance(content, dict) and content.get(OWN_MARK) == folder_id
 
 
 def _read_only_entry(folder: Path) -> Path | None:
@@ -236,6 +285,11 @@ def _check_ehms_and_writable(path: Path, what: str, verb: str) -> None:
         locked = _read_only_entry(path)
     except OSError as exc:
         raise InputError(f"{path}: cannot read the {what} folder ({exc.strerror or exc}).") from None
+    if why and verb == "adds only to" and _earlier_study_folder(path):
+        raise InputError(f"{path} is a study folder of an earlier ehm, written before study folders carried a manifest "
+                         f"({MANIFEST_NAME}), so it cannot be resumed: ehm cannot tell the files it wrote there from "
+                         f"any others; run the study into a new folder, e.g. {path.parent / (path.name + '-new')} "
+                         "(the earlier results stay where they are).")
     if why:
         raise InputError(f"{path} {why}; give a new or empty folder for the {what}: ehm {verb} a folder "
                          "that it wrote and that holds nothing else.")
@@ -243,6 +297,23 @@ def _check_ehms_and_writable(path: Path, what: str, verb: str) -> None:
         which = "is read-only" if locked == path else f"holds {locked.relative_to(path).as_posix()}, which is read-only"
         raise InputError(f"{path} {which}, so ehm leaves it as it is; give another folder for the {what}, or make "
                          f"it writable first (chmod -R u+w {path}).")
+
+
+def _earlier_study_folder(path: Path) -> bool:
+    """Whether ``path``, a folder without a manifest, is a batch study's folder written by an ehm from before study
+    folders carried one: by content, a run record in its ``runs`` folder (a JSON object with the run's inputs and
+    run id, its outputs and its error), not by the names alone."""
+    if manifest_or_why(path) != (None, None) or not (path / "runs").is_dir():
+        return False
+    for p in sorted((path / "runs").glob("*.json"))[:3]:
+        try:
+            rec = json.loads(p.read_text(encoding="utf-8")) if p.stat().st_size <= _MARKED_MAX_BYTES else None
+        except (OSError, UnicodeDecodeError, ValueError):
+            continue
+        if isinstance(rec, dict) and isinstance(rec.get("inputs"), dict) and "run_id" in rec["inputs"] \
+                and {"outputs", "error"} <= set(rec):
+            return True
+    return False
 
 
 def check_output_file(path: Path | str, what: str = "output file", part_of: Path | str | None = None) -> Path:
@@ -505,13 +576,58 @@ class RunFolder:
         self._made = []
 
 
+class _Listing:
+    """The manifest of a folder being added to (:func:`added_folder`), kept in memory: a file ehm writes there is
+    listed at once, the manifest written at most every ``FLUSH_INTERVAL_S`` (or at once when asked), and closed
+    (``"open": false``) when the command ends."""
+
+    def __init__(self, path: Path, what: str):
+        data = read_manifest(path) or {"files": {}}
+        files, mtimes = dict(data["files"]), dict(data.get("mtime_ns", {}))
+        for rel, p, _ in _unmatched(path, data):  # left unlisted by a command that was killed: listed now
+            if _written_since_listing(p, data):
+                st = p.stat()
+                files[rel], mtimes[rel] = st.st_size, st.st_mtime_ns
+        self.path = path
+        self.data = _manifest_data(what, "complete", files, mtimes)
+        self.data["folder_id"] = data.get("folder_id") if isinstance(data.get("folder_id"), str) \
+            else secrets.token_hex(8)
+        self.flushed = -math.inf
+        self.flush()
+
+    def add(self, file: Path, folder: Path, now: bool) -> None:
+        rel = file.relative_to(folder).as_posix()
+        st = file.stat()
+        self.data["files"][rel], self.data["mtime_ns"][rel] = st.st_size, st.st_mtime_ns
+        if now or time.monotonic() - self.flushed >= FLUSH_INTERVAL_S:
+            self.flush()
+
+    def flush(self, close: bool = False) -> None:
+        """Write the manifest (whole or not at all), with Ctrl-C and SIGTERM held back meanwhile."""
+        with signals_held():
+            self.data["open"] = not close
+            write_json_atomic(self.path / MANIFEST_NAME, self.data)
+            self.flushed = time.monotonic()
+
+
+#: The folders being added to in this process (their real paths) and their manifests in memory.
+_OPEN: dict[str, _Listing] = {}
+
+
 @contextlib.contextmanager
 def added_folder(path: Path | str, what: str = "results"):
     """A folder that is added to over several commands (a batch study's results), under the same rule as a run's
     folder: it must be absent, empty, or ehm's holding nothing but the files its manifest lists (checked here
     too); it gets that manifest (the command and ehm version now adding to it), and every file ehm writes into it
-    is listed with :func:`write_owned`.  If the command fails or is interrupted while the folder it made holds
-    nothing but its manifest and empty folders, the folder (and the parent folders made for it) is removed."""
+    is listed with :func:`write_owned` or :func:`write_owned_json`.
+
+    While inside, the manifest is kept in memory and written at most about once a second
+    (``FLUSH_INTERVAL_S``; a rewrite per file grew with the square of their number: 43 s for 4000), and once more on
+    leaving, also on an error, Ctrl-C or SIGTERM.  A command killed in between (SIGKILL, a power cut) leaves files
+    unlisted: those that :func:`write_owned_json` wrote name the folder's id and are listed by the next command;
+    anything else unlisted is refused as before.  If the command fails or is interrupted while the folder it made
+    holds nothing but its manifest and empty folders, the folder (and the parent folders made for it) is
+    removed."""
     path = Path(path)
     check_output_folder(path, what, added_to=True)
     existed = path.exists()
@@ -522,16 +638,50 @@ def added_folder(path: Path | str, what: str = "results"):
         p = p.parent
     try:
         path.mkdir(parents=True, exist_ok=True)
-        _write_manifest(path, what, "complete", listed=read_manifest(path) or {"files": {}})
+        listing = _Listing(path, what)
     except OSError as exc:
         raise InputError(f"{path}: cannot create the {what} folder ({exc.strerror or exc}).") from None
+    key = os.path.realpath(path)
+    _OPEN[key] = listing
+    ended = False
     try:
-        yield path
-    except BaseException:
-        if not existed:
-            with signals_held():
+        with _closed_on_sigterm(listing):
+            yield path
+        ended = True
+    finally:
+        _OPEN.pop(key, None)
+        with signals_held():
+            try:
+                listing.flush(close=True)
+            except (OSError, InputError):
+                if ended:  # else the error under way is the one to tell; the next command lists what is marked
+                    raise
+            if not ended and not existed:
                 _remove_if_nothing_written(path, made)
-        raise
+
+
+@contextlib.contextmanager
+def _closed_on_sigterm(listing: _Listing):
+    """While inside, SIGTERM left to its default (ending the process at once: ehm used from Python) first writes
+    the folder's manifest, closed, and then ends the process as before.  A handler of the program's own (the
+    command line raises an exception, so :func:`added_folder` closes the manifest on its way out) is kept."""
+    if threading.current_thread() is not threading.main_thread() \
+            or signal.getsignal(signal.SIGTERM) not in (signal.SIG_DFL, None):
+        yield
+        return
+
+    def close_then_end(signum, frame):
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        with contextlib.suppress(OSError, InputError):
+            listing.flush(close=True)
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    signal.signal(signal.SIGTERM, close_then_end)
+    try:
+        yield
+    finally:
+        if signal.getsignal(signal.SIGTERM) is close_then_end:
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def _remove_if_nothing_written(path: Path, made: list[Path]) -> None:
@@ -552,8 +702,24 @@ def _remove_if_nothing_written(path: Path, made: list[Path]) -> None:
 
 def write_owned(path: Path | str, write, folder: Path | str) -> None:
     """Write a file of ``folder`` (a folder of ehm's that is added to, ``added_folder``) and list it in the
-    folder's manifest, with Ctrl-C and SIGTERM held back in between (so that the two happen together).
+    folder's manifest at once, with Ctrl-C and SIGTERM held back in between (so that the two happen together).
     ``write()`` writes ``path`` (atomically, :mod:`ehm.io`)."""
     with signals_held():
         write()
         record_in_manifest(path, folder)
+
+
+def write_owned_json(path: Path | str, obj: dict, folder: Path | str) -> None:
+    """Write the JSON object ``obj`` as a file of ``folder``, a folder being added to (:func:`added_folder`; a batch
+    study's run records), atomically, with the folder's id in it (``OWN_MARK``), and list it in the manifest kept in
+    memory, which is written within about a second (``FLUSH_INTERVAL_S``): so a file whose listing a killed command
+    did not write is still known as ehm's, by what it says, to the next command.  Outside ``added_folder`` it is
+    written and listed at once (:func:`write_owned`), without the id."""
+    path, folder = Path(path), Path(folder)
+    listing = _OPEN.get(os.path.realpath(folder))
+    if listing is None:
+        write_owned(path, lambda: write_json_atomic(path, obj), folder)
+        return
+    with signals_held():
+        write_json_atomic(path, {**obj, OWN_MARK: listing.data["folder_id"]})
+        listing.add(path, folder, now=False)
