@@ -184,7 +184,8 @@ class SeatedHuman:
         its estimate of the terms it leaves out is in ``result.extra["linear_check"]``.
         """
         if method in ("linear", "auto"):
-            return concatenate_runs(list(self.stream(motion, progress=progress, method=method, tolerance=tolerance)))
+            return concatenate_runs(list(self.stream(motion, progress=progress, method=method, tolerance=tolerance,
+                                                     pose_rate_hz=pose_rate_hz)))
         if method != "nonlinear":
             raise InputError(f"method must be 'nonlinear', 'linear' or 'auto', not {method!r}.")
         return concatenate_runs(list(self.stream(motion, progress=progress, pose_rate_hz=pose_rate_hz)))
@@ -217,8 +218,6 @@ class SeatedHuman:
             raise InputError("plot must be a function plot(preview, folder), e.g. ehm.plotting.plot_run_preview; "
                              "simulate_to does not draw by itself.")
         dt = float(self.model.mj.opt.timestep)
-        if method in ("linear", "auto"):
-            pose_rate_hz = None
         every = default_output_every(dt) if output_rate_hz is None else output_every(output_rate_hz, dt)
         if "parquet" in formats:
             pyarrow_modules()
@@ -251,7 +250,8 @@ class SeatedHuman:
             # on the model's step, resampled as the nonlinear route resamples (the same input either way)
             try:
                 yield from stream_checked(self, motion, method=method, chunk_s=chunk_s, progress=progress,
-                                          tolerance=TOLERANCE if tolerance is None else tolerance)
+                                          tolerance=TOLERANCE if tolerance is None else tolerance,
+                                          pose_rate_hz=pose_rate_hz)
             except DivergenceError as exc:
                 raise _with_input_cause(exc, motion, motion.duration_s) from None
             return

@@ -106,8 +106,7 @@ def cmd_simulate(args) -> int:
         chunks = None if parallel is None else parallel(human, motion, progress=show, chunk_s=10.0, pose_rate_hz=25.0)
         s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats, progress=show,
                               plot=draw, method=args.method, tolerance=_tolerance(args), chunks=chunks)
-    files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json" + \
-        (", poses.npz" if args.method == "nonlinear" else "") + \
+    files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json, poses.npz" + \
         (", time_histories.png" if args.plot else "")
     if parallel is None:
         speed = f"in {s['wall_s']:.2f} s ({s['realtime_factor']:.0f}x real time)"
