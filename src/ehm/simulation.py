@@ -164,12 +164,14 @@ class SeatedHuman:
         return self._linear[key]
 
     def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None,
-                 method: str = "nonlinear", tolerance: float | None = None) -> RunResult:
+                 method: str = "auto", tolerance: float | None = None) -> RunResult:
         """Run the settled person with a seat motion.
 
-        ``method="nonlinear"`` (default) steps the MuJoCo model (the motion resampled to the model's time
-        step); a motion with angular velocity needs a person built with ``rotating_seat=True``; for long
-        drives use :meth:`stream`, which holds one chunk at a time.
+        ``method="auto"`` (the default, as for :func:`ehm.assess`, ``ehm simulate`` and ``ehm assess``) is the
+        hybrid route, described below: the linear model where the contacts stick, the nonlinear one where they
+        slide or lift off, checked at every step.  ``method="nonlinear"`` steps the MuJoCo model throughout (the
+        motion resampled to the model's time step); a motion with angular velocity needs a person built with
+        ``rotating_seat=True``.  For long drives use :meth:`stream`, which holds one chunk at a time.
 
         ``method="linear"`` runs the person linearised at rest (:mod:`ehm.linear`) on the same input (the
         motion resampled to the model's step, anti-aliased), exactly discretised, about a thousand times
@@ -178,21 +180,19 @@ class SeatedHuman:
         ``tolerance`` (share of each point acceleration's rms, default 1 %) it warns
         (:class:`ehm.hybrid.LinearRouteWarning`) with the figure.  ``method="auto"`` (the hybrid route) keeps the
         nonlinear answer in those windows and the linear one elsewhere.  Both record what they checked in
-        ``result.extra["route"]`` (:class:`ehm.hybrid.RouteReport`) and record no poses.  A motion that rotates
+        ``result.extra["route"]`` (:class:`ehm.hybrid.RouteReport`).  Every route records the segments' poses at
+        ``pose_rate_hz`` when asked (for :mod:`ehm.animation`; the linear pieces through the model's kinematics,
+        :mod:`ehm.linear_poses`).  A motion that rotates
         the seat runs on the linear model of the seat's rotation in the seat's own frame (whether or not the
         person was built with ``rotating_seat=True``): see :func:`ehm.linear.stream_linear` for what it assumes;
         its estimate of the terms it leaves out is in ``result.extra["linear_check"]``.
         """
-        if method in ("linear", "auto"):
-            return concatenate_runs(list(self.stream(motion, progress=progress, method=method, tolerance=tolerance,
-                                                     pose_rate_hz=pose_rate_hz)))
-        if method != "nonlinear":
-            raise InputError(f"method must be 'nonlinear', 'linear' or 'auto', not {method!r}.")
-        return concatenate_runs(list(self.stream(motion, progress=progress, pose_rate_hz=pose_rate_hz)))
+        return concatenate_runs(list(self.stream(motion, progress=progress, method=method, tolerance=tolerance,
+                                                 pose_rate_hz=pose_rate_hz)))
 
     def simulate_to(self, out_dir: Path | str, motion: SeatMotion, output_rate_hz: float | None = None,
                     formats=("csv",), pose_rate_hz: float | None = 25.0, progress=None, chunk_s: float = 10.0,
-                    plot=None, method: str = "nonlinear", tolerance: float | None = None, chunks=None) -> dict:
+                    plot=None, method: str = "auto", tolerance: float | None = None, chunks=None) -> dict:
         """Run a seat motion and write its run folder while it runs; returns the summary.
 
         Chunks of ``chunk_s`` go to disk as they are computed (:mod:`ehm.runfiles`), so memory does not grow
@@ -200,8 +200,8 @@ class SeatedHuman:
         (:mod:`ehm.outdir`), and a failure or an interrupt leaves an earlier folder there as it was.
         ``output_rate_hz`` thins the time series (it must divide the model's rate; default
         :data:`ehm.runfiles.DEFAULT_OUTPUT_RATE_HZ`, or the nearest whole fraction of the model's rate above it);
-        ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method`` and ``tolerance`` as for :meth:`simulate` (the
-        linear and hybrid routes record no poses).
+        ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method`` and ``tolerance`` as for :meth:`simulate` (every
+        route records poses at ``pose_rate_hz``).
 
         ``plot`` draws figures into the folder before it is put in place: a callable ``plot(preview, folder)``
         that gets a :class:`RunResult` of at most :data:`ehm.runfiles.PREVIEW_ROWS` evenly spread rows and the
@@ -234,14 +234,14 @@ class SeatedHuman:
         return summary
 
     def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
-               method: str = "nonlinear", tolerance: float | None = None):
+               method: str = "auto", tolerance: float | None = None):
         """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
 
         Memory stays constant whatever the motion's length: the motion is resampled onto the model's time
         step (anti-aliased polyphase filter, :class:`ehm.resampling.Resampler`) one chunk at a time.
         ``progress(done_s, total_s)`` is called after every chunk.  ``method`` as
-        for :meth:`simulate` (both routes take the motion resampled to the model's step; the linear route records
-        no poses).
+        for :meth:`simulate` (default ``"auto"``, the hybrid route; every route takes the motion resampled to the
+        model's step).
         """
         require_motion("simulate()", motion)
         if method in ("linear", "auto"):
