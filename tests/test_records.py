@@ -370,9 +370,10 @@ def test_plot_of_a_long_run_uses_a_bounded_preview(tmp_path, human, monkeypatch)
     assert (tmp_path / "run" / "time_histories.png").stat().st_size > 0
 
 
-def test_progress_line_ends_before_an_error(tmp_path, capsys):
+def test_progress_line_ends_before_an_error(tmp_path, capsys, monkeypatch):
     # A drive that is calm for 10.5 s and then shakes the seat far beyond anything seated: the run diverges in its
-    # second 10 s chunk, after the progress line has started.
+    # second 10 s chunk, after the progress line has started (on a terminal: a pipe gets no bar, issue 32).
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
     t = np.round(np.arange(0, 12.0001, 0.01), 2)
     az = np.where(t > 10.5, 400.0, 0.0)
     path = tmp_path / "violent.csv"
