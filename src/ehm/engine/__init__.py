@@ -21,8 +21,8 @@ Map of the package (each module one idea; underscore names are private to the pa
   :func:`settled_point_poses`), the integration state to save and restore (:func:`get_state`,
   :func:`set_state`).
 * :mod:`.sensors`: sensor addresses, support forces and contact forces of a state.
-* :mod:`.stepper`: :func:`step`, :func:`run` (a :class:`RawRun`) and the point accelerations of the
-  integrated motion.
+* :mod:`.stepper`: :func:`step`, :func:`run` (a :class:`RawRun`), the point accelerations of the
+  integrated motion, and the drawn bodies' poses in a linear model's states (:func:`deviation_poses`).
 * :mod:`.linearisation`: :func:`linearize` into a :class:`LinearModel`, optionally with the seat rotation's
   fictitious loads about :func:`seat_pivot` as inputs (:func:`rotation_loads`).
 * :mod:`.export`: the compiled model as an MJB file, the MuJoCo C library (both for the native FMU) and the
