@@ -74,8 +74,7 @@ from .seat import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, seated
 from .sensors import (SENSOR_KINDS, _contact_name, contact_forces, sensor_slices, sliding_contacts,
                       support_forces, support_slices, touching_contacts)
 from .state import (data_at_deviation, deviation_of, get_state, new_data, qpos_at_deviation, rotating_data_at,
-                    rotating_qpos, set_seat, set_state,
-                    settle, settled_data, settled_point_poses, static_deviation_of)
+                    rotating_qpos, set_seat, set_state, settle, settled_data, settled_point_poses, static_deviation_of)
 from .stepper import RawRun, deviation_poses, evaluate_velocities, point_accelerations, run, step
 
 __all__ = [
@@ -83,8 +82,9 @@ __all__ = [
     "SEAT_DOFS", "SEAT_INERTIA_KGM2", "SENSOR_KINDS", "SUPPORT_GROUPS", "TRAPEZOIDAL_JOINTS",
     "ImpossibleInertia", "LinearModel", "Model", "RawRun", "SeatGeometry",
     "build", "c_library", "captured_warnings", "check_seat", "contact_forces", "contact_solver_params",
-    "data_at_deviation", "deviation_of", "deviation_poses", "dof_name", "drawing_geometry", "evaluate_velocities", "get_state",
-    "inertia_problem", "linearize", "new_data", "point_accelerations", "qpos_at_deviation", "rotating_data_at", "rotating_qpos", "rotation_loads", "run",
+    "data_at_deviation", "deviation_of", "deviation_poses", "dof_name", "drawing_geometry", "evaluate_velocities",
+    "get_state", "inertia_problem", "linearize", "new_data", "point_accelerations", "qpos_at_deviation",
+    "rotating_data_at", "rotating_qpos", "rotation_loads", "run",
     "save_binary", "seat_pivot", "seated_body", "segment_mass_properties", "sensor_slices", "set_seat", "set_state",
     "settle", "settled_data", "settled_point_poses", "sliding_contacts", "static_deviation_of", "step",
     "support_forces", "support_slices", "take_warnings", "touching_contacts",
