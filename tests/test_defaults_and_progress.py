@@ -14,6 +14,7 @@ import ehm
 from ehm.cli import main
 from ehm.cli import progress as cli_progress
 from ehm.cli.parser import build_parser
+from ehm.hybrid import LinearRouteWarning
 from ehm.imu import mounting_matrix
 from ehm.readers import mounting_rotation, read_motion
 
@@ -81,6 +82,9 @@ def test_hybrid_poses_in_a_window_are_the_nonlinear_models(human):
     assert windows and any(abs(w0 / 0.04 - round(w0 / 0.04)) > 1e-6 for w0, _ in windows)
     np.testing.assert_allclose(hy.poses["time_s"], nl.poses["time_s"], atol=1e-12)
     assert np.abs(hy.poses["pos"] - nl.poses["pos"]).max() < 1e-4
+    with pytest.warns(LinearRouteWarning):  # the linear route keeps its own poses there, on the grid
+        lin = human.simulate(motion, method="linear", pose_rate_hz=25.0)
+    np.testing.assert_allclose(lin.poses["time_s"], nl.poses["time_s"], atol=1e-12)
 
 
 def test_poses_on_a_turning_seat(tmp_path):

@@ -378,9 +378,10 @@ class _Hybrid:
         the answer kept (nonlinear for auto, linear for linear) and the state handed back."""
         given = self.drive.at(w0, w1)
         x0 = state_of(self.ss, self.blk, self.carry, given[1][0]) + self.offset
-        nonlinear, self.x_end = self.models.window(x0, given, w0, self.dt, self.description)
+        nonlinear, self.x_end = self.models.window(x0, given, w0, self.dt, self.description,
+                                                   posed=self.method == "auto")
         lin_carry = self.carry.copy()
-        linear = self._linear_piece(w0, w1, lin_carry, given)
+        linear = self._linear_piece(w0, w1, lin_carry, given, posed=self.method != "auto")  # auto: compared only
         self.sums.add_window(linear, nonlinear)
         self.report.windows_s.append([w0 * self.dt, w1 * self.dt])
         self.report.nonlinear_s += (w1 - w0) * self.dt
@@ -424,12 +425,13 @@ class _Hybrid:
             y += self.shift[-y.shape[0]:, None, None]
         return y
 
-    def _linear_piece(self, a: int, b: int, carry: np.ndarray, given=None, y=None, wall_s: float = 0.0):
+    def _linear_piece(self, a: int, b: int, carry: np.ndarray, given=None, y=None, wall_s: float = 0.0,
+                      posed: bool = True):
         """The linear answer over samples a ... b - 1 (``given``: the drive there, from :meth:`_Drive.at`; ``y``:
         outputs already computed from sample a, possibly further than b, ``carry`` then left as it is)."""
         t0 = time.perf_counter()
         u, inputs, seat = self.drive.at(a, b) if given is None else given
-        poses = self.poses.linear(a, b, carry, inputs[:b - a], self.offset) if self.poses else None
+        poses = self.poses.linear(a, b, carry, inputs[:b - a], self.offset) if self.poses and posed else None
         y = self._linear(inputs, carry) if y is None else y  # advances carry to b
         m, n_y = b - a, u.shape[0]
         check = None
@@ -475,9 +477,11 @@ class _Models:
         angles, rates, accs = self.kin.at(t)
         return angles, rates, accs, seat_body_rates(angles, rates, accs)[0]
 
-    def window(self, x0: np.ndarray, given, a: int, dt: float, description: str):
+    def window(self, x0: np.ndarray, given, a: int, dt: float, description: str, posed: bool = True):
         """The nonlinear model over the samples of ``given`` (from :meth:`_Drive.at`, starting at sample ``a``)
-        from the linear state ``x0``; returns the piece and the linear state after its last sample."""
+        from the linear state ``x0``; returns the piece (with poses if asked for and ``posed``) and the linear
+        state after its last sample."""
+        grid = self.grid if posed else None
         u = given[0]
         b = a + u.shape[0]
         t = np.arange(a, b) * dt
@@ -496,12 +500,12 @@ class _Models:
             R, angles, acc, rotation = None, None, u, None
         t0 = time.perf_counter()
         with engine.captured_warnings():
-            raw = engine.run(model, acc, d=d, seat_rotation=rotation, pose_every=self.grid.every if self.grid else None,
-                             pose_first=self.grid.first(a) if self.grid else 0)
+            raw = engine.run(model, acc, d=d, seat_rotation=rotation, pose_every=grid.every if grid else None,
+                             pose_first=grid.first(a) if grid else 0)
         wall = time.perf_counter() - t0
         piece = self.human._chunk_result(raw, t, u, R, angles, self.poses, self.pivot, wall, description)
-        if self.grid:
-            piece = replace(piece, poses=self.grid.of_raw(raw, a))
+        if grid:
+            piece = replace(piece, poses=grid.of_raw(raw, a))
         if self.rotating:  # the state after the last sample, relative to the seat there
             angles1, _, _, w1 = self._seat(np.array([b * dt]))
             x1 = engine.static_deviation_of(model, self.static, d, seat_rotation_matrices(angles1)[0], w1[0])
