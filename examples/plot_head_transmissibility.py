@@ -14,7 +14,7 @@ import ehm
 
 human = ehm.SeatedHuman()  # the default person, settled into the seat
 motion = ehm.random_vibration("z", duration_s=30.0, rms_mps2=0.3, seed=0)
-run = human.simulate(motion)
+run = human.simulate(motion, method="nonlinear")  # the full model, against the linearised one below
 
 head = run.point("head")
 estimate = ehm.h1_estimate(run.seat_acc_mps2[:, 2], head.acc_mps2[:, 2], fs_hz=1 / run.dt_s)

@@ -48,13 +48,13 @@ def test_rotating_seat_build_matches_static_build_for_translation():
     # (d'Alembert load, planes): head acceleration rms difference below 0.5 % of its rms (the seat's
     # tracking error and the box collider; measured 0.2 % with fore-aft input, 0.01 % vertical only).
     m = ehm.random_vibration("xz", 12.0, 0.3, seed=4)
-    a = ehm.SeatedHuman().simulate(m).point("head").acc_mps2
+    a = ehm.SeatedHuman().simulate(m, method="nonlinear").point("head").acc_mps2
     mr = SeatMotion(m.time_s, m.acc_mps2, "zero rotation", np.zeros_like(m.acc_mps2))
     rotating = ehm.SeatedHuman(rotating_seat=True)
-    b = rotating.simulate(mr).point("head").acc_mps2
+    b = rotating.simulate(mr, method="nonlinear").point("head").acc_mps2
     assert np.sqrt(np.mean((a - b) ** 2)) < 5e-3 * np.sqrt(np.mean(a ** 2))
     # A motion without angular velocities on the same rotating-seat person: the seat stays level, same result.
-    np.testing.assert_array_equal(rotating.simulate(m).point("head").acc_mps2, b)
+    np.testing.assert_array_equal(rotating.simulate(m, method="nonlinear").point("head").acc_mps2, b)
 
 
 def test_cli_simulate_takes_a_drive_file(tmp_path, capsys):
@@ -83,7 +83,7 @@ def test_sustained_cornering_leans_without_collapse_or_drift():
     ay = 3.5 * (np.clip((t - 1) / 2, 0, 1) - np.clip((t - 9) / 2, 0, 1))
     zeros = np.zeros_like(t)
     m = SeatMotion(t, np.column_stack([zeros, ay, zeros]), "cornering", np.column_stack([zeros, zeros, ay / 10]))
-    run = ehm.SeatedHuman(rotating_seat=True).simulate(m)
+    run = ehm.SeatedHuman(rotating_seat=True).simulate(m, method="nonlinear")
     pelvis = run.point("pelvis")
     assert np.abs(pelvis.disp_m).max() < 0.020
     assert np.degrees(np.abs(pelvis.rot_rad).max()) < 5.0

@@ -266,7 +266,8 @@ def test_ctrl_c_ends_a_batch_with_one_line_and_no_worker_tracebacks(tmp_path):
 
     study = tmp_path / "study.toml"
     study.write_text('[study]\ncompute = ["comfort"]\n[grid]\n"joints.t12.z.stiffness_N_per_m" = [14000.0, 16000.0]\n'
-                     '[input]\ndrive = "random"\naxes = ["z"]\nduration_s = 600.0\n')
+                     '[input]\ndrive = "random"\naxes = ["z"]\nduration_s = 600.0\n'
+                     'route = "nonlinear"\n')  # runs long enough to be interrupted
     env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1]), "PYTHONUNBUFFERED": "1", "MPLBACKEND": "Agg"}
     proc = subprocess.Popen([sys.executable, "-m", "ehm.cli", "batch", str(study), "--out", str(tmp_path / "res"),
                              "--workers", "2"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,

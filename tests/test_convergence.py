@@ -71,7 +71,8 @@ def test_time_domain_route_is_converged_on_the_main_paths():
         gains = []
         for human in (coarse, fine):
             dt = human.model.mj.opt.timestep
-            run = human.simulate(ehm.random_vibration(axis, 30.0, 0.3, seed=2, dt_s=CONVERGED_STEP_S))
+            run = human.simulate(ehm.random_vibration(axis, 30.0, 0.3, seed=2, dt_s=CONVERGED_STEP_S),
+                                 method="nonlinear")
             assert run.dt_s == dt
             gains.append({p: h1_estimate(run.seat_acc_mps2[:, k], run.point(p).acc_mps2[:, j], 1 / dt, segment_s=5.0)
                           for p, j in paths})
@@ -101,7 +102,7 @@ def test_a_person_without_input_comes_to_rest():
     # at 0.5 ms), still growing after 20 s; with enough it rests (measured: 31.5 urad after 20 s, < 0.1 urad in the
     # last 10 s, and the pelvis 0.3 um).  Bounds: 3 urad and 5 um over the last 10 s of 20 s without input.
     human = ehm.SeatedHuman()
-    run = human.simulate(ehm.random_vibration("z", 20.0, 0.0))
+    run = human.simulate(ehm.random_vibration("z", 20.0, 0.0), method="nonlinear")
     pitch = run.point("pelvis").rot_rad[:, 1]
     half = pitch.size // 2
     assert abs(pitch[-1] - pitch[half]) < 3e-6, (pitch[half], pitch[-1])

@@ -48,7 +48,7 @@ def _input_signal(motion, angvel=None):
 def _on_model_grid(motion):
     """The motion as a whole run feeds it to the engine (resampled onto the model step), so that fmpy's linear
     interpolation of the input at its step times gives the same samples."""
-    whole = ehm.SeatedHuman().simulate(motion)
+    whole = ehm.SeatedHuman().simulate(motion, method="nonlinear")
     return ehm.SeatMotion(whole.time_s, whole.seat_acc_mps2, f"{motion.description}, on the model grid")
 
 
@@ -102,7 +102,7 @@ def test_fmu_run_equals_whole_run(default_fmu):
     # runs one model step with it; the whole run gets the same samples.  Equal to round-off (1e-9 in SI units).
     motion = _on_model_grid(ehm.random_vibration("xyz", 0.5, 0.3, seed=3))
     res = _run(default_fmu, motion)
-    whole = ehm.SeatedHuman().simulate(motion)
+    whole = ehm.SeatedHuman().simulate(motion, method="nonlinear")
     _assert_matches(res, whole)
     assert np.abs(res["head_az_mps2"]).max() > 0.05  # the input really drove the model
 
@@ -115,11 +115,12 @@ def test_embedded_params_and_locks_and_params_file(tmp_path, default_fmu):
     params.export(tmp_path / "stiff.toml")
     motion = _on_model_grid(ehm.random_vibration("x", 0.3, 0.5, seed=5))
     locked = export_fmu(tmp_path / "locked.fmu", params=tmp_path / "stiff.toml", lock=["lower_neck"], python=True)
-    _assert_matches(_run(locked, motion), ehm.SeatedHuman(params=params, lock=["lower_neck"]).simulate(motion))
+    _assert_matches(_run(locked, motion),
+                    ehm.SeatedHuman(params=params, lock=["lower_neck"]).simulate(motion, method="nonlinear"))
     res = _run(default_fmu, motion, start_values={"params_file": str(tmp_path / "stiff.toml")})
-    whole = ehm.SeatedHuman(params=params).simulate(motion)
+    whole = ehm.SeatedHuman(params=params).simulate(motion, method="nonlinear")
     _assert_matches(res, whole)
-    default = ehm.SeatedHuman().simulate(motion).point("head").rot_rad[:-1, 1]
+    default = ehm.SeatedHuman().simulate(motion, method="nonlinear").point("head").rot_rad[:-1, 1]
     assert np.abs(res["head_pitch_rad"][1:] - default).max() > 1e-6  # the file did change the person
 
 

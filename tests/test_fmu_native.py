@@ -150,7 +150,7 @@ def test_c_host_equals_whole_run(unit, host, human, tmp_path):
     # here, not luck: both routes step the same libmujoco with the same gravity bits (G0 - a, one IEEE
     # subtraction, for a seat that does not rotate), so only the read-out arithmetic differs, and it is not fed
     # back; 1e-10 in SI units (thousands of ulps of the largest output, a 700 N force) allows for compilers.
-    whole = human.simulate(ehm.random_vibration("xyz", 10.0, 0.5, seed=3))
+    whole = human.simulate(ehm.random_vibration("xyz", 10.0, 0.5, seed=3), method="nonlinear")
     n, dt = whole.time_s.size, whole.dt_s
     assert n == int(round(10.0 / dt)) + 1
     got = _run_host(host, unit, whole.time_s, whole.seat_acc_mps2, tmp_path / "out.csv")
@@ -173,7 +173,7 @@ def test_c_host_sub_steps(unit, host, human, tmp_path):
     held = rng.normal(0.0, 0.5, (n_comm, 3))  # SYNTHETIC white seat acceleration [m/s^2]
     time_s = np.arange(n_comm * k + 1) * dt
     acc = np.vstack([np.repeat(held, k, axis=0), held[-1:]])
-    whole = human.simulate(ehm.SeatMotion(time_s, acc, "SYNTHETIC staircase"))
+    whole = human.simulate(ehm.SeatMotion(time_s, acc, "SYNTHETIC staircase"), method="nonlinear")
     got = _run_host(host, unit, time_s[:-1:k], held, tmp_path / "sub.csv")
     rows = np.concatenate([[0], np.arange(1, n_comm + 1) * k - 1])
     _assert_outputs_equal(got, rows, whole, atol=1e-10)
@@ -194,7 +194,7 @@ def test_fmpy_validates_and_simulates(unit, human):
     assert kinds["seat_pan_fz_N"] == ("output", "continuous", "Real", "N")
     assert kinds["head_pitch_acc_radps2"][3] == "rad/s2"
 
-    whole = human.simulate(ehm.random_vibration("xyz", 1.0, 0.5, seed=4))
+    whole = human.simulate(ehm.random_vibration("xyz", 1.0, 0.5, seed=4), method="nonlinear")
     sig = np.zeros(whole.time_s.size, dtype=[("time", float)] + [(n, float) for n in INPUTS])
     sig["time"] = whole.time_s
     for j, a in enumerate("xyz"):
@@ -565,7 +565,7 @@ def test_rotating_seat_unit_against_a_whole_drive(rotating_unit):
     t = np.arange(n) * dt
     acc = np.column_stack([0.5 * np.sin(2 * np.pi * 1.1 * t), 0.4 * np.sin(2 * np.pi * 0.7 * t), np.zeros(n)])
     w = np.column_stack([0.3 * np.sin(2 * np.pi * 0.9 * t), 0.2 * np.sin(2 * np.pi * 1.3 * t), np.zeros(n)])
-    whole = human.simulate(ehm.SeatMotion(t, acc, "SYNTHETIC roll and pitch", angvel_radps=w))
+    whole = human.simulate(ehm.SeatMotion(t, acc, "SYNTHETIC roll and pitch", angvel_radps=w), method="nonlinear")
     ref = _rotating_reference(human, acc, w)
     for p in ("head", "pelvis"):
         a, b = whole.point(p).acc_mps2, ref.point(p).acc_mps2

@@ -269,12 +269,12 @@ def test_the_mounting_turns_accelerations_and_rates_into_seat_axes(tmp_path):
     sensor_w = np.column_stack([seat_w[:, 1], -seat_w[:, 0], seat_w[:, 2]])
     frame = _plain(t, sensor_acc, sensor_w)
     for mounting in (mounting_rotation(0, 0, 90), mounting_rotation("0,0,90"), mounting_rotation(0, 0, 90).as_matrix(),
-                     mounting_rotation([0, 0, np.pi / 2], degrees=False)):
+                     mounting_rotation([0, 0, np.pi / 2], degrees=False), [0, 0, 90], (0, 0, 90), "0,0,90"):
         m = read_motion(frame, channels=NAMES, mounting=mounting)
         np.testing.assert_allclose(m.acc_mps2, seat_acc, atol=1e-12)
         np.testing.assert_allclose(m.angvel_radps, seat_w, atol=1e-12)
-    with pytest.raises(InputError, match="mounting must be a scipy Rotation or a 3x3 rotation matrix"):
-        read_motion(frame, channels=NAMES, mounting=[0, 0, 90])
+    with pytest.raises(InputError, match=r"mounting must be \(roll, pitch, yaw\) in degrees, a scipy Rotation"):
+        read_motion(frame, channels=NAMES, mounting=[[1, 0], [0, 1]])  # (roll, pitch, yaw) as the CLI: issue 32
     with pytest.raises(InputError, match="give three angles ROLL,PITCH,YAW"):
         mounting_rotation("0,90")
     # the command line: --mounting in degrees

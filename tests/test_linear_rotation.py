@@ -57,7 +57,7 @@ def drive():
 
 @pytest.fixture(scope="module")
 def nonlinear(human, drive):
-    return human.simulate(drive)
+    return human.simulate(drive, method="nonlinear")
 
 
 def test_rotating_drive_agrees_with_the_nonlinear_route(human, drive, nonlinear):
@@ -122,7 +122,7 @@ def test_a_steady_yaw_carries_the_centripetal_field(human, monkeypatch):
     w = np.zeros((t.size, 3))
     w[:, 2] = 0.6 * s * s * (3 - 2 * s)
     spin = SeatMotion(t, np.zeros((t.size, 3)), "SYNTHETIC yaw spin-up to 0.6 rad/s", angvel_radps=w)
-    nl = human.simulate(spin)
+    nl = human.simulate(spin, method="nonlinear")
     lin = human.simulate(spin, method="linear")
     ok = _errors(nl, lin)
     check = lin.extra["linear_check"]
@@ -153,7 +153,7 @@ def test_a_static_tilt_shifts_the_equilibrium_as_the_nonlinear_model_does(human,
     # Roll 3 deg: the head moves 4.1 mm sideways in both routes (measured 4.141 / 4.134 mm), the seat pan takes
     # 26 N sideways; pitch 3 deg: the head moves 1.0 mm forward (0.985 / 1.005 mm).
     motion = _tilt(axis)
-    nl, lin = human.simulate(motion), human.simulate(motion, method="linear")
+    nl, lin = human.simulate(motion, method="nonlinear"), human.simulate(motion, method="linear")
     assert np.degrees(nl.seat_angles_rad[-1, 2 - axis]) == pytest.approx(3.0, abs=1e-3)
     late = nl.time_s > 3.0
     for p in POINTS:

@@ -102,7 +102,7 @@ def test_seat_geometry_is_checked(values, words):
 def test_truncated_or_foreign_pose_file_is_one_sentence(tmp_path, capsys, damage):
     run = tmp_path / "run"
     human = ehm.SeatedHuman()
-    human.simulate_to(run, ehm.random_vibration("z", 1.0, 0.3, seed=0))
+    human.simulate_to(run, ehm.random_vibration("z", 1.0, 0.3, seed=0), method="nonlinear")
     data = bytearray((run / "poses.npz").read_bytes())
     if damage == "truncated":
         data = data[: len(data) // 2]
@@ -156,7 +156,7 @@ def test_a_divergence_names_an_unusual_input_and_the_cut_that_removes_it():
     motion = ehm.SeatMotion(t, acc, "SYNTHETIC phone being put in place")
     human = ehm.SeatedHuman()
     try:
-        human.simulate(motion)
+        human.simulate(motion, method="nonlinear")
     except DivergenceError as exc:
         text = str(exc)
         assert "the seat input is out of the ordinary before it" in text and "above 2 g" in text

@@ -107,7 +107,7 @@ def test_unknown_joint_name_is_refused():
 def test_static_equilibrium_mean_support_force_equals_weight(human):
     # Newton: at rest the supports carry the weight, m g = 70.882 kg x 9.81 m/s^2 = 695.35 N straight up
     # (mass from paper Table 2).  Tolerance 1 % of the weight (6.95 N) on each component.
-    run = human.simulate(random_vibration("z", 2, 0.0, seed=0))
+    run = human.simulate(random_vibration("z", 2, 0.0, seed=0), method="nonlinear")
     weight = PAPER_TOTAL_MASS_KG * G
     mean = run.support_total_N().mean(axis=0)
     np.testing.assert_allclose(mean, [0.0, 0.0, weight], rtol=0, atol=0.01 * weight)
@@ -146,7 +146,7 @@ def test_posture_holds_for_60_s(human):
     # Paper section 2: the PID posture control's integral action removes postural drift.  After settling,
     # 60 s without input: head, trunk and pelvis rotate < 0.1 deg; the pelvis moves < 1 mm.
     motion = random_vibration("z", 60, 0.0, seed=0, dt_s=human.model.mj.opt.timestep)
-    run = human.simulate(motion)
+    run = human.simulate(motion, method="nonlinear")
     assert run.time_s.shape == (motion.n_samples,) and run.time_s[-1] >= 60.0 - 1e-9
     for p in POINT_NAMES:
         drift_deg = np.degrees(np.abs(run.point(p).rot_rad).max())
@@ -242,10 +242,11 @@ def _arrays(run):
 
 
 def test_same_seed_same_result_different_seed_different_result(human):
-    a = _arrays(human.simulate(random_vibration("xyz", 1, 0.3, seed=1)))
-    b = _arrays(human.simulate(random_vibration("xyz", 1, 0.3, seed=1)))
-    c = _arrays(SeatedHuman().simulate(random_vibration("xyz", 1, 0.3, seed=1)))  # fresh build and settle
-    other = _arrays(human.simulate(random_vibration("xyz", 1, 0.3, seed=2)))
+    a = _arrays(human.simulate(random_vibration("xyz", 1, 0.3, seed=1), method="nonlinear"))
+    b = _arrays(human.simulate(random_vibration("xyz", 1, 0.3, seed=1), method="nonlinear"))
+    c = _arrays(SeatedHuman().simulate(random_vibration("xyz", 1, 0.3, seed=1),
+                                       method="nonlinear"))  # fresh build and settle
+    other = _arrays(human.simulate(random_vibration("xyz", 1, 0.3, seed=2), method="nonlinear"))
     for k in a:
         assert np.array_equal(a[k], b[k]), k
         assert np.array_equal(a[k], c[k]), k
@@ -270,7 +271,7 @@ def test_large_time_step_diverges_with_simulated_time(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     h = SeatedHuman(_stiff_at_coarsest_step())
     with pytest.raises(DivergenceError) as exc:
-        h.simulate(random_vibration("z", 2, 0.3, seed=0, dt_s=0.01, band_hz=(0.1, 4.0)))
+        h.simulate(random_vibration("z", 2, 0.3, seed=0, dt_s=0.01, band_hz=(0.1, 4.0)), method="nonlinear")
     msg = str(exc.value)
     match = re.search(r"t = (\d+(?:\.\d+)?) s", msg)
     assert match, msg
@@ -288,7 +289,7 @@ def test_variant_builds_settles_and_runs(lock, unlock):
     h = SeatedHuman(lock=lock, unlock=unlock)
     h.settle()
     motion = random_vibration("xyz", 1, 0.3, seed=3, dt_s=h.model.mj.opt.timestep)
-    run = h.simulate(motion)
+    run = h.simulate(motion, method="nonlinear")
     n = motion.n_samples  # samples at t = 0, dt, ..., 1 s
     assert run.time_s.shape == (n,)
     assert run.mass_kg == pytest.approx(PAPER_TOTAL_MASS_KG, abs=1e-9)

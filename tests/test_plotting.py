@@ -25,7 +25,7 @@ def _force_panels(fig):
 def test_time_histories_show_the_forces_of_the_excited_axis(human, axis):
     # A fore-aft (lateral) run: the support-force panel holds each surface's x (y) force [N], not the vertical
     # forces (which carry the weight and hardly move with fore-aft or lateral input).
-    run = human.simulate(ehm.random_vibration(axis, 1.0, 0.3, seed=1))
+    run = human.simulate(ehm.random_vibration(axis, 1.0, 0.3, seed=1), method="nonlinear")
     fig = plot_time_histories(run)
     try:
         panels = _force_panels(fig)
@@ -43,7 +43,7 @@ def test_time_histories_show_the_forces_of_the_excited_axis(human, axis):
 
 
 def test_time_histories_of_a_run_in_three_axes_show_three_force_panels(human, tmp_path):
-    run = human.simulate(ehm.random_vibration("xyz", 0.5, 0.3, seed=2))
+    run = human.simulate(ehm.random_vibration("xyz", 0.5, 0.3, seed=2), method="nonlinear")
     fig = plot_time_histories(run)
     try:
         panels = _force_panels(fig)

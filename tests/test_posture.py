@@ -94,7 +94,7 @@ def test_every_combination_settles_without_drift_and_has_transfer_functions(post
     # finishing the settling, 3e-4 rad in all, with a time constant of about 3 s; the default person's bound in
     # test_convergence is 3e-6 rad over 10 s of 20).
     human = _person(posture, support)
-    run = human.simulate(ehm.random_vibration("z", 12.0, 0.0))
+    run = human.simulate(ehm.random_vibration("z", 12.0, 0.0), method="nonlinear")
     half = run.time_s.size * 2 // 3
     for p in ("pelvis", "trunk", "head"):
         rot, disp = run.point(p).rot_rad, run.point(p).disp_m
@@ -183,7 +183,7 @@ def test_cli_posture_and_back_support_reach_the_native_fmu(tmp_path, capsys):
     # "The FMU export takes the person's step": the slouched person's own converged 0.5 ms (exactly the number)
     assert setup["dt_s"] == 0.0005 and 'stepSize="0.0005"' in description
     human = _person("slouched", "low")
-    whole = human.simulate(ehm.random_vibration("xyz", 1.0, 0.5, seed=4))
+    whole = human.simulate(ehm.random_vibration("xyz", 1.0, 0.5, seed=4), method="nonlinear")
     names = list(fmu_native.INPUTS)
     sig = np.zeros(whole.time_s.size, dtype=[("time", float)] + [(n, float) for n in names])
     sig["time"] = whole.time_s

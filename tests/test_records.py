@@ -85,7 +85,7 @@ def test_failure_or_interrupt_inside_leaves_the_earlier_folder(tmp_path):
 
 def test_interrupted_simulate_keeps_the_earlier_run(tmp_path, human):
     out = tmp_path / "run"
-    human.simulate_to(out, ehm.random_vibration("z", 1.0, 0.3, seed=0), chunk_s=0.5)
+    human.simulate_to(out, ehm.random_vibration("z", 1.0, 0.3, seed=0), chunk_s=0.5, method="nonlinear")
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     calls = []
 
@@ -95,7 +95,8 @@ def test_interrupted_simulate_keeps_the_earlier_run(tmp_path, human):
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        human.simulate_to(out, ehm.random_vibration("z", 3.0, 0.3, seed=1), chunk_s=0.5, progress=interrupt)
+        human.simulate_to(out, ehm.random_vibration("z", 3.0, 0.3, seed=1), chunk_s=0.5, progress=interrupt,
+                          method="nonlinear")
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert _siblings(out) == []
 
@@ -271,11 +272,11 @@ def _same(a, b, where: str, scale: float = 0.0) -> None:
 
 def test_streamed_run_equals_the_in_memory_run(tmp_path, human):
     motion = ehm.random_vibration("xz", 3.0, 0.3, seed=2)
-    run = human.simulate(motion, pose_rate_hz=25.0)
+    run = human.simulate(motion, pose_rate_hz=25.0, method="nonlinear")
     run.write(tmp_path / "memory")
     every_step_hz = 1 / human.model.mj.opt.timestep  # the in-memory run writes every step
     summary = human.simulate_to(tmp_path / "stream", motion, output_rate_hz=every_step_hz, chunk_s=0.25,
-                                formats=("csv", "parquet"))
+                                formats=("csv", "parquet"), method="nonlinear")
     assert (tmp_path / "stream" / "timeseries.csv").read_bytes() == (tmp_path / "memory" / "timeseries.csv").read_bytes()
     pq = pytest.importorskip("pyarrow.parquet")
     table = pq.read_table(tmp_path / "stream" / "timeseries.parquet")
@@ -292,7 +293,7 @@ def test_streamed_run_equals_the_in_memory_run(tmp_path, human):
         if key not in ("wall_s", "realtime_factor"):  # sums over chunks in another order: equal to rounding
             _same(summary[key], value, key)
     # a lower output rate writes every k-th row; the summary still uses every step
-    summary5 = human.simulate_to(tmp_path / "thin", motion, chunk_s=0.33)
+    summary5 = human.simulate_to(tmp_path / "thin", motion, chunk_s=0.33, method="nonlinear")
     header, thin = _csv(tmp_path / "thin" / "timeseries.csv")
     k = runfiles.default_output_every(run.dt_s)
     assert summary5["output_rate_hz"] == pytest.approx(1 / (k * run.dt_s))
@@ -310,7 +311,7 @@ def test_chunks_reach_the_disk_as_they_are_computed(tmp_path, human):
         sizes.append((staged[0] / "timeseries.csv").stat().st_size)
         assert not out.exists()  # the folder appears only when the run is whole
 
-    human.simulate_to(out, ehm.random_vibration("z", 2.0, 0.3, seed=0), chunk_s=0.25, progress=look)
+    human.simulate_to(out, ehm.random_vibration("z", 2.0, 0.3, seed=0), chunk_s=0.25, progress=look, method="nonlinear")
     assert len(sizes) == 9 and all(b > a for a, b in zip(sizes, sizes[1:]))  # t = 0 ... 2 s in 0.25 s chunks
 
 
@@ -320,7 +321,8 @@ def test_memory_does_not_grow_with_the_run(tmp_path, human, monkeypatch):
     # while the in-memory run grows with it (checked, so that the measure can tell).
     pytest.importorskip("pyarrow")
     monkeypatch.setattr(runfiles, "_ROW_GROUP_ROWS", 1000)
-    human.simulate_to(tmp_path / "warm", ehm.random_vibration("z", 1.0, 0.3, seed=0), formats=("csv", "parquet"))
+    human.simulate_to(tmp_path / "warm", ehm.random_vibration("z", 1.0, 0.3, seed=0), formats=("csv", "parquet"),
+                      method="nonlinear")
     peaks = {}
     for how in ("stream", "memory"):
         for dur in (4.0, 16.0):
@@ -328,9 +330,9 @@ def test_memory_does_not_grow_with_the_run(tmp_path, human, monkeypatch):
             tracemalloc.start()
             if how == "stream":
                 human.simulate_to(tmp_path / f"r{dur:g}", motion, output_rate_hz=1000, chunk_s=0.25,
-                                  formats=("csv", "parquet"))
+                                  formats=("csv", "parquet"), method="nonlinear")
             else:
-                human.simulate(motion, pose_rate_hz=25.0)
+                human.simulate(motion, pose_rate_hz=25.0, method="nonlinear")
             peaks[how, dur] = tracemalloc.get_traced_memory()[1]
             tracemalloc.stop()
     assert peaks["stream", 16.0] < 1.25 * peaks["stream", 4.0], peaks
@@ -361,17 +363,19 @@ def test_plot_of_a_long_run_uses_a_bounded_preview(tmp_path, human, monkeypatch)
 
     monkeypatch.setattr(plotting, "plot_time_histories", spy)
     human.simulate_to(tmp_path / "run", ehm.random_vibration("z", 2.0, 0.3, seed=0), chunk_s=0.5,
-                      plot=plotting.plot_run_preview)
+                      plot=plotting.plot_run_preview, method="nonlinear")
     dt = float(human.params.value("simulation.dt_s"))
     every = -(-(int(round(2.0 / dt)) + 1) // 200)  # ceil(steps / rows): 11 at 1 ms
     assert drawn["rows"] <= 200 and f"figure: every {every * dt:g} s" in drawn["title"]
     assert (tmp_path / "run" / "time_histories.png").stat().st_size > 0
 
 
-def test_progress_line_ends_before_an_error(tmp_path, capsys):
+def test_progress_line_ends_before_an_error(tmp_path, capsys, monkeypatch):
     # A drive that is calm for 10.5 s and then shakes the seat far beyond anything seated: the run diverges in its
-    # second 10 s chunk, after the progress line has started.  (400 m/s^2 at 4 Hz, six whole periods: a constant
-    # 400 m/s^2 for 1.5 s, a mean z of 50 m/s^2, is refused on reading as an offset.)
+    # second 10 s chunk, after the progress line has started (on a terminal: a pipe gets no bar, issue 32).  (400
+    # m/s^2 at 4 Hz, six whole periods: a constant 400 m/s^2 for 1.5 s, a mean z of 50 m/s^2, is refused on reading
+    # as an offset.)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
     t = np.round(np.arange(0, 12.0001, 0.01), 2)
     az = np.where(t > 10.5, 400.0 * np.sin(2 * np.pi * 4.0 * (t - 10.5)), 0.0)
     path = tmp_path / "violent.csv"

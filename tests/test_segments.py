@@ -39,7 +39,7 @@ def vibration():
 
 @pytest.fixture(scope="module")
 def continuous(person, vibration):
-    return person.simulate(vibration)
+    return person.simulate(vibration, method="nonlinear")
 
 
 def _share(a: np.ndarray, b: np.ndarray) -> float:
@@ -93,7 +93,7 @@ def test_one_worker_is_the_continuous_run_bit_for_bit(person, vibration, continu
 def test_rotating_seat_segment_starts_level_and_joins():
     drive = ehm.city_drive(16.0, seed=2)  # SYNTHETIC, with yaw, pitch and roll of the seat
     human = ehm.SeatedHuman(rotating_seat=True)
-    cont = human.simulate(drive)
+    cont = human.simulate(drive, method="nonlinear")
     seg = simulate_parallel(human, drive, workers=2, lead_in_s=3.0)
     np.testing.assert_array_equal(seg.time_s, cont.time_s)
     np.testing.assert_array_equal(seg.seat_angles_rad, cont.seat_angles_rad)  # the drive's attitude, reported

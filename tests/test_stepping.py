@@ -23,7 +23,7 @@ def _collect(sim, acc):
 def test_steps_equal_whole_run(motion):
     # Two routes, same operations: SeatedHuman.simulate (whole run) and Simulator.step (sample by sample)
     # must give the same numbers to round-off (1e-12 in SI units).
-    whole = ehm.SeatedHuman().simulate(motion)
+    whole = ehm.SeatedHuman().simulate(motion, method="nonlinear")
     states = _collect(Simulator(comfort=False), motion.acc_mps2)
     assert len(states) == whole.time_s.size
     np.testing.assert_allclose([s.time_s for s in states], whole.time_s, atol=1e-12)
@@ -58,7 +58,7 @@ def test_running_comfort_equals_accumulator(motion):
     # accumulator (scipy sosfilt): equal to round-off.
     sim = Simulator(comfort=True, comfort_every=1)
     last = _collect(sim, motion.acc_mps2)[-1]
-    whole = ehm.SeatedHuman().simulate(motion)
+    whole = ehm.SeatedHuman().simulate(motion, method="nonlinear")
     signals = {"seat": motion.acc_mps2, "head": whole.point("head").acc_mps2, "pelvis": whole.point("pelvis").acc_mps2}
     for loc, acc_xyz in signals.items():
         for j, axis in enumerate("xyz"):

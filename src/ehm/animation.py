@@ -77,8 +77,8 @@ def load_poses(source) -> dict:
             path = path / "poses.npz"
             if not path.is_file():
                 run_dir = path.parent
-                raise InputError(f"{run_dir} has no poses.npz (the linear and hybrid routes record none); write "
-                                 f"one with 'ehm simulate ... --method nonlinear --out {run_dir}'.")
+                raise InputError(f"{run_dir} has no poses.npz (not a run folder, or a run written by an earlier ehm on "
+                                 f"the linear or hybrid route); write one with 'ehm simulate ... --out {run_dir}'.")
         elif not path.is_file():
             raise InputError(f"{path}: no such file; write a run with 'ehm simulate ... --out RUN_DIR'.")
         where = str(path)

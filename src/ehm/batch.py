@@ -36,7 +36,8 @@ A study file (TOML) names what varies and what to compute::
     # drop_held = false         keep held samples (default true: a slow sensor's repeated rows are dropped)
     # encoding = "cp1252"       the drive file's text encoding (default: from its byte-order mark, else UTF-8)
     duration_s = 30.0
-    route = "nonlinear"         # simulation route of runs: "nonlinear" (MuJoCo), "auto" (ehm.hybrid) or "linear"
+    route = "auto"              # simulation route of a drive's runs: "auto" (ehm.hybrid, the default as everywhere),
+    #                           "nonlinear" (MuJoCo) or "linear"; transmissibility by method = "time": "nonlinear"
 
 Every run is recorded (its inputs, and its outputs or its error) in ``OUT/runs/<point>.json`` as soon as it
 ends, so an interrupted study resumes without redoing finished runs; at the end all runs are gathered
@@ -251,7 +252,7 @@ def _check_input(label: str, inp: dict, written_drive=None, written_gyro=None) -
     and ``written_gyro``: the drive and the gyro file as the file gives them, when ``inp`` holds them resolved."""
     if inp.get("method", "linear") not in ("linear", "time"):
         raise InputError(f"{label}: [input] method {inp['method']!r}: use \"linear\" or \"time\".")
-    if inp.get("route", "nonlinear") not in ("nonlinear", "linear", "auto"):
+    if inp.get("route", "auto") not in ("nonlinear", "linear", "auto"):
         raise InputError(f"{label}: [input] route {inp['route']!r}: use \"nonlinear\", \"auto\" or \"linear\".")
     axes = inp.get("axes", ["x"])
     if not isinstance(axes, list) or not axes or any(a not in ("x", "y", "z") for a in axes) or len(set(axes)) < len(axes):
@@ -421,7 +422,7 @@ def _run_point(spec: RunSpec) -> dict:
             from .assessment import assess, needs_rotating_seat
 
             motion = _drive(inp, params.time_step())
-            route = inp.get("route", "nonlinear")
+            route = inp.get("route", "auto")  # the hybrid route, as ehm.assess and ehm assess by default
             human = SeatedHuman(params=params, lock=spec.lock, size=size,
                                 rotating_seat=needs_rotating_seat(motion, route))
             result = assess(motion, human, method=route)

@@ -46,6 +46,7 @@ from .linear import (BLOCK, SeatRotation, _block_chunk, _block_form, _in_time_or
                      _result, _settled_orientations, advance, carry_of, contact_rows, left_out, seat_body_rates,
                      state_of)
 from .kinematics import seat_kinematics, seat_rotation_matrices
+from .linear_poses import PoseGrid
 from .resampling import Resampler
 from .results import POINT_NAMES, merge_linear_checks
 
@@ -253,13 +254,14 @@ class _Drive:
 
 
 def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, progress=None,
-                   tolerance: float = TOLERANCE):
+                   tolerance: float = TOLERANCE, pose_rate_hz: float | None = None):
     """Run ``motion`` on the hybrid route (``method="auto"``) or the checked linear route (``"linear"``), chunk
     by chunk, as :meth:`ehm.SeatedHuman.stream` does (see the module docstring).
 
     Yields :class:`ehm.results.RunResult` chunks on the model's time step; the last one carries the
     :class:`RouteReport` as plain data (:meth:`RouteReport.as_dict`) in ``extra["route"]``.  ``tolerance``:
-    share of rms the linear route's discrepancy may reach (``method="linear"`` warns above it).
+    share of rms the linear route's discrepancy may reach (``method="linear"`` warns above it).  ``pose_rate_hz``:
+    record the segments' poses at about this rate (:mod:`ehm.linear_poses`), as the nonlinear route does.
     """
     if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
         raise InputError(f"tolerance must be a share of rms between 0 and 1, not {tolerance!r}.")
@@ -273,7 +275,8 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     blk = _block_form(ss, float(f"{dt:.12g}"))
     drive = _Drive(motion, dt, rotates)
     per_chunk = max(1, int(round(chunk_s / dt)))
-    pieces = _Hybrid(human, ss, blk, drive, per_chunk, method, report, description).pieces()
+    poses = PoseGrid(human, ss, blk, dt, pose_rate_hz, drive.kin) if pose_rate_hz else None
+    pieces = _Hybrid(human, ss, blk, drive, per_chunk, method, report, description, poses).pieces()
     held = None
     for piece in pieces:
         if held is not None:
@@ -298,14 +301,15 @@ class _Hybrid:
     stretches and nonlinear windows in time order (see the module docstring)."""
 
     def __init__(self, human, ss, blk, drive: _Drive, per_chunk: int, method: str, report: RouteReport,
-                 description: str):
+                 description: str, poses: PoseGrid | None = None):
         self.human, self.ss, self.blk, self.drive, self.method, self.report = human, ss, blk, drive, method, report
+        self.poses = poses  # the segments' poses for pictures, when asked for
         self.dt = drive.dt
         self.per_chunk = per_chunk
         self.lead, self.quiet = int(round(LEAD_S / self.dt)), int(round(QUIET_S / self.dt))
         self.look = max(per_chunk, int(round(LOOKAHEAD_S / self.dt)))  # how far a window may run before it is cut
         self.R0 = _settled_orientations(ss, human.model)
-        self.models = _Models(human, drive.kin)
+        self.models = _Models(human, drive.kin, poses)
         self.contact_blk = _contact_blocks(ss, blk)
         self.sums = _Discrepancy()
         self.checks = []  # the linear pieces' estimates of what the linear model of the seat's rotation leaves out
@@ -374,9 +378,10 @@ class _Hybrid:
         the answer kept (nonlinear for auto, linear for linear) and the state handed back."""
         given = self.drive.at(w0, w1)
         x0 = state_of(self.ss, self.blk, self.carry, given[1][0]) + self.offset
-        nonlinear, self.x_end = self.models.window(x0, given, w0, self.dt, self.description)
+        nonlinear, self.x_end = self.models.window(x0, given, w0, self.dt, self.description,
+                                                   posed=self.method == "auto")
         lin_carry = self.carry.copy()
-        linear = self._linear_piece(w0, w1, lin_carry, given)
+        linear = self._linear_piece(w0, w1, lin_carry, given, posed=self.method != "auto")  # auto: compared only
         self.sums.add_window(linear, nonlinear)
         self.report.windows_s.append([w0 * self.dt, w1 * self.dt])
         self.report.nonlinear_s += (w1 - w0) * self.dt
@@ -420,11 +425,13 @@ class _Hybrid:
             y += self.shift[-y.shape[0]:, None, None]
         return y
 
-    def _linear_piece(self, a: int, b: int, carry: np.ndarray, given=None, y=None, wall_s: float = 0.0):
+    def _linear_piece(self, a: int, b: int, carry: np.ndarray, given=None, y=None, wall_s: float = 0.0,
+                      posed: bool = True):
         """The linear answer over samples a ... b - 1 (``given``: the drive there, from :meth:`_Drive.at`; ``y``:
         outputs already computed from sample a, possibly further than b, ``carry`` then left as it is)."""
         t0 = time.perf_counter()
         u, inputs, seat = self.drive.at(a, b) if given is None else given
+        poses = self.poses.linear(a, b, carry, inputs[:b - a], self.offset) if self.poses and posed else None
         y = self._linear(inputs, carry) if y is None else y  # advances carry to b
         m, n_y = b - a, u.shape[0]
         check = None
@@ -436,7 +443,7 @@ class _Hybrid:
                       self.description, seat=seat, check=check)
         if m < n_y:
             res = res.take(slice(0, m))
-        return replace(res, description=self.description, wall_s=wall_s + time.perf_counter() - t0)
+        return replace(res, description=self.description, wall_s=wall_s + time.perf_counter() - t0, poses=poses)
 
 
 def _first(seat: SeatRotation, m: int) -> SeatRotation:
@@ -452,9 +459,10 @@ class _Models:
     its state carried into the world and back (``ehm.engine.rotating_data_at``,
     ``ehm.engine.static_deviation_of``)."""
 
-    def __init__(self, human, kin):
+    def __init__(self, human, kin, poses: PoseGrid | None = None):
         self.human = human
         self.kin = kin
+        self.grid = poses
         self.rotating = human.model.seat is not None  # the windows on a rotating seat (level when kin is None)
         self.static = human._static_model if self.rotating else human.model
         self.poses = engine.settled_point_poses(human.model)
@@ -469,9 +477,11 @@ class _Models:
         angles, rates, accs = self.kin.at(t)
         return angles, rates, accs, seat_body_rates(angles, rates, accs)[0]
 
-    def window(self, x0: np.ndarray, given, a: int, dt: float, description: str):
+    def window(self, x0: np.ndarray, given, a: int, dt: float, description: str, posed: bool = True):
         """The nonlinear model over the samples of ``given`` (from :meth:`_Drive.at`, starting at sample ``a``)
-        from the linear state ``x0``; returns the piece and the linear state after its last sample."""
+        from the linear state ``x0``; returns the piece (with poses if asked for and ``posed``) and the linear
+        state after its last sample."""
+        grid = self.grid if posed else None
         u = given[0]
         b = a + u.shape[0]
         t = np.arange(a, b) * dt
@@ -490,9 +500,12 @@ class _Models:
             R, angles, acc, rotation = None, None, u, None
         t0 = time.perf_counter()
         with engine.captured_warnings():
-            raw = engine.run(model, acc, d=d, seat_rotation=rotation)
+            raw = engine.run(model, acc, d=d, seat_rotation=rotation, pose_every=grid.every if grid else None,
+                             pose_first=grid.first(a) if grid else 0)
         wall = time.perf_counter() - t0
         piece = self.human._chunk_result(raw, t, u, R, angles, self.poses, self.pivot, wall, description)
+        if grid:
+            piece = replace(piece, poses=grid.of_raw(raw, a))
         if self.rotating:  # the state after the last sample, relative to the seat there
             angles1, _, _, w1 = self._seat(np.array([b * dt]))
             x1 = engine.static_deviation_of(model, self.static, d, seat_rotation_matrices(angles1)[0], w1[0])

@@ -84,12 +84,16 @@ def _array(value, shape_text: str, arg: str, n: int | None = None) -> np.ndarray
 
 
 def mounting_matrix(mounting, label: str = "from_imu") -> np.ndarray:
-    """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix: None (the identity), one scipy Rotation or a
-    proper 3x3 rotation matrix; anything else is refused in one sentence naming ``label``."""
+    """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix: None (the identity), one scipy Rotation, a
+    proper 3x3 rotation matrix, or the sensor's (roll, pitch, yaw) in degrees as three numbers or ``"ROLL,PITCH,YAW"``
+    (as ``--mounting`` takes them, :func:`mounting_rotation`); anything else is refused in one sentence naming
+    ``label``."""
     if mounting is None:
         return np.eye(3)
     from scipy.spatial.transform import Rotation
 
+    if isinstance(mounting, str) or (not isinstance(mounting, Rotation) and np.ndim(mounting) == 1):
+        mounting = mounting_rotation(mounting)  # roll, pitch, yaw [deg]
     if isinstance(mounting, Rotation):
         if not mounting.single:
             raise InputError(f"{label}: mounting must be one rotation, not {len(mounting)}.")
@@ -99,12 +103,54 @@ def mounting_matrix(mounting, label: str = "from_imu") -> np.ndarray:
     except (TypeError, ValueError):
         m = None
     if m is None or m.shape != (3, 3):
-        raise InputError(f"{label}: mounting must be a scipy Rotation or a 3x3 rotation matrix (sensor axes -> seat "
-                         "axes); from roll, pitch and yaw use ehm.readers.mounting_rotation(roll, pitch, yaw).")
+        raise InputError(f"{label}: mounting must be (roll, pitch, yaw) in degrees, a scipy Rotation or a 3x3 rotation "
+                         "matrix (sensor axes -> seat axes).")
     if not (np.all(np.isfinite(m)) and np.allclose(m @ m.T, np.eye(3), atol=1e-6) and np.linalg.det(m) > 0):
         raise InputError(f"{label}: mounting must be a proper 3x3 rotation matrix (orthonormal, determinant +1), "
                          "sensor axes -> seat axes.")
     return m
+
+
+def mounting_rotation(roll, pitch=None, yaw=None, degrees: bool = True):
+    """A sensor's mounting (sensor axes -> seat axes) from its roll, pitch and yaw.
+
+    The sensor's axes are the seat's axes (x forward, y left, z up) turned by ``yaw`` about z, then ``pitch``
+    about the turned y, then ``roll`` about the twice-turned x (intrinsic z-y'-x'', as a vehicle's attitude).
+    A phone lying flat with its x axis pointing left (seat y) has yaw +90°; one standing upright in a windscreen
+    mount facing the driver, its y axis up and its screen facing back, has roll 90° and yaw -90°.
+
+    Parameters
+    ----------
+    roll : float, or a sequence of three floats, or str
+        Roll angle; or (roll, pitch, yaw); or ``"ROLL,PITCH,YAW"`` (as ``--mounting`` takes it).
+    pitch, yaw : float, optional
+        The other two angles, when ``roll`` is one number.
+    degrees : bool
+        Angles in degrees (default) or radians.
+
+    Returns
+    -------
+    scipy.spatial.transform.Rotation
+        For ``mounting=`` of :func:`ehm.read_motion` and :func:`ehm.from_imu`.
+    """
+    from scipy.spatial.transform import Rotation
+
+    given = roll
+    if isinstance(roll, str):
+        parts = [p.strip() for p in roll.split(",")]
+    elif pitch is None and yaw is None and np.ndim(roll) == 1:
+        parts = list(roll)
+    else:
+        parts = [roll, pitch, yaw]
+    try:
+        angles = [float(p) for p in parts]
+    except (TypeError, ValueError):
+        angles = []
+    if len(angles) != 3 or any(isinstance(p, bool) for p in parts) or not all(map(math.isfinite, angles)):
+        raise InputError(f"mounting {given!r} (--mounting): give three angles ROLL,PITCH,YAW "
+                         f"({'degrees' if degrees else 'radians'}), e.g. 0,0,90.")
+    r, p, y = angles
+    return Rotation.from_euler("ZYX", [y, p, r], degrees=degrees)
 
 
 def _positive(value, arg: str) -> float:
@@ -198,8 +244,9 @@ def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None
     angular_rate_radps : (n, 3) array or None
         Gyro rates about the sensor axes [rad/s]; None for an accelerometer-only log (levelled with its
         static tilt, the seat taken as not rotating).
-    mounting : 3x3 array or scipy.spatial.transform.Rotation, optional
-        Rotation from sensor axes to seat axes (x forward, y left, z up); default: aligned.
+    mounting : (roll, pitch, yaw) in degrees, 3x3 array or scipy.spatial.transform.Rotation, optional
+        Rotation from sensor axes to seat axes (x forward, y left, z up), the angles as ``--mounting`` takes them
+        (:func:`mounting_rotation`); default: aligned.
     rest_s : float
         Shortest rest [s] whose mean gyro rate is taken as the gyro bias (default 2 s); a rest may lie
         anywhere in the log, and a log without one is used without bias removal.

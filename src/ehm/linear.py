@@ -371,10 +371,12 @@ def _initial_state(blk: _Blocks, u0: np.ndarray) -> np.ndarray:
 def state_of(ss: StateSpace, blk: _Blocks, carry: np.ndarray, u: np.ndarray) -> np.ndarray:
     """The full state x of the continuous model (``ehm.engine.linearize``'s, relative to the settled state)
     from a time run's modal state ``carry`` (z~, as ``_block_chunk`` advances it) at a sample whose input
-    is ``u`` (nu,); the modes left out of time runs (not reached by the input) are taken as zero."""
+    is ``u`` (nu,); the modes left out of time runs (not reached by the input) are taken as zero.  Rows of
+    ``carry`` (k, m) and ``u`` (k, nu) give the states' rows (k, n_state)."""
     m = _modes(ss)
-    z = carry + blk.g1 * (blk.B @ u)
-    return (m.V @ (m.weight * z)).real + m.X_static @ u
+    wz = m.weight * (carry + blk.g1 * (u @ blk.B.T))
+    real = np.ascontiguousarray  # Re(V w z) as real products of contiguous arrays: BLAS's, 10x faster for many rows
+    return real(wz.real) @ real(m.V.real.T) - real(wz.imag) @ real(m.V.imag.T) + u @ m.X_static.T
 
 
 def carry_of(ss: StateSpace, blk: _Blocks, x: np.ndarray, u: np.ndarray) -> np.ndarray:

@@ -282,7 +282,8 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     if _stats is not None:
         _stats.update(segments=segments, tasks=[])
     if len(segments) == 1 or (workers == 1 and local):
-        yield from human.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
+        yield from human.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz,
+                                method="nonlinear")
         return
     if human.model.settled is None:
         human.settle()  # once here, not in every worker: the recipe carries the settled state

@@ -166,12 +166,14 @@ class SeatedHuman:
         return self._linear[key]
 
     def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None,
-                 method: str = "nonlinear", tolerance: float | None = None) -> RunResult:
+                 method: str = "auto", tolerance: float | None = None) -> RunResult:
         """Run the settled person with a seat motion.
 
-        ``method="nonlinear"`` (default) steps the MuJoCo model (the motion resampled to the model's time
-        step); a motion with angular velocity needs a person built with ``rotating_seat=True``; for long
-        drives use :meth:`stream`, which holds one chunk at a time.
+        ``method="auto"`` (the default, as for :func:`ehm.assess`, ``ehm simulate`` and ``ehm assess``) is the
+        hybrid route, described below: the linear model where the contacts stick, the nonlinear one where they
+        slide or lift off, checked at every step.  ``method="nonlinear"`` steps the MuJoCo model throughout (the
+        motion resampled to the model's time step); a motion with angular velocity needs a person built with
+        ``rotating_seat=True``.  For long drives use :meth:`stream`, which holds one chunk at a time.
 
         ``method="linear"`` runs the person linearised at rest (:mod:`ehm.linear`) on the same input (the
         motion resampled to the model's step, anti-aliased), exactly discretised, about a thousand times
@@ -180,20 +182,19 @@ class SeatedHuman:
         ``tolerance`` (share of each point acceleration's rms, default 1 %) it warns
         (:class:`ehm.hybrid.LinearRouteWarning`) with the figure.  ``method="auto"`` (the hybrid route) keeps the
         nonlinear answer in those windows and the linear one elsewhere.  Both record what they checked in
-        ``result.extra["route"]`` (:class:`ehm.hybrid.RouteReport`) and record no poses.  A motion that rotates
+        ``result.extra["route"]`` (:class:`ehm.hybrid.RouteReport`).  Every route records the segments' poses at
+        ``pose_rate_hz`` when asked (for :mod:`ehm.animation`; the linear pieces through the model's kinematics,
+        :mod:`ehm.linear_poses`).  A motion that rotates
         the seat runs on the linear model of the seat's rotation in the seat's own frame (whether or not the
         person was built with ``rotating_seat=True``): see :func:`ehm.linear.stream_linear` for what it assumes;
         its estimate of the terms it leaves out is in ``result.extra["linear_check"]``.
         """
-        if method in ("linear", "auto"):
-            return concatenate_runs(list(self.stream(motion, progress=progress, method=method, tolerance=tolerance)))
-        if method != "nonlinear":
-            raise InputError(f"method must be 'nonlinear', 'linear' or 'auto', not {method!r}.")
-        return concatenate_runs(list(self.stream(motion, progress=progress, pose_rate_hz=pose_rate_hz)))
+        return concatenate_runs(list(self.stream(motion, progress=progress, method=method, tolerance=tolerance,
+                                                 pose_rate_hz=pose_rate_hz)))
 
     def simulate_to(self, out_dir: Path | str, motion: SeatMotion, output_rate_hz: float | None = None,
                     formats=("csv",), pose_rate_hz: float | None = 25.0, progress=None, chunk_s: float = 10.0,
-                    plot=None, method: str = "nonlinear", tolerance: float | None = None, chunks=None) -> dict:
+                    plot=None, method: str = "auto", tolerance: float | None = None, chunks=None) -> dict:
         """Run a seat motion and write its run folder while it runs; returns the summary.
 
         Chunks of ``chunk_s`` go to disk as they are computed (:mod:`ehm.runfiles`), so memory does not grow
@@ -201,8 +202,8 @@ class SeatedHuman:
         (:mod:`ehm.outdir`), and a failure or an interrupt leaves an earlier folder there as it was.
         ``output_rate_hz`` thins the time series (it must divide the model's rate; default
         :data:`ehm.runfiles.DEFAULT_OUTPUT_RATE_HZ`, or the nearest whole fraction of the model's rate above it);
-        ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method`` and ``tolerance`` as for :meth:`simulate` (the
-        linear and hybrid routes record no poses).
+        ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method`` and ``tolerance`` as for :meth:`simulate` (every
+        route records poses at ``pose_rate_hz``).
 
         ``plot`` draws figures into the folder before it is put in place: a callable ``plot(preview, folder)``
         that gets a :class:`RunResult` of at most :data:`ehm.runfiles.PREVIEW_ROWS` evenly spread rows and the
@@ -219,8 +220,6 @@ class SeatedHuman:
             raise InputError("plot must be a function plot(preview, folder), e.g. ehm.plotting.plot_run_preview; "
                              "simulate_to does not draw by itself.")
         dt = float(self.model.mj.opt.timestep)
-        if method in ("linear", "auto"):
-            pose_rate_hz = None
         every = default_output_every(dt) if output_rate_hz is None else output_every(output_rate_hz, dt)
         if "parquet" in formats:
             pyarrow_modules()
@@ -237,14 +236,14 @@ class SeatedHuman:
         return summary
 
     def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
-               method: str = "nonlinear", tolerance: float | None = None):
+               method: str = "auto", tolerance: float | None = None):
         """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
 
         Memory stays constant whatever the motion's length: the motion is resampled onto the model's time
         step (anti-aliased polyphase filter, :class:`ehm.resampling.Resampler`) one chunk at a time.
         ``progress(done_s, total_s)`` is called after every chunk.  ``method`` as
-        for :meth:`simulate` (both routes take the motion resampled to the model's step; the linear route records
-        no poses).
+        for :meth:`simulate` (default ``"auto"``, the hybrid route; every route takes the motion resampled to the
+        model's step).
         """
         require_motion("simulate()", motion)
         if method in ("linear", "auto"):
@@ -253,7 +252,8 @@ class SeatedHuman:
             # on the model's step, resampled as the nonlinear route resamples (the same input either way)
             try:
                 yield from stream_checked(self, motion, method=method, chunk_s=chunk_s, progress=progress,
-                                          tolerance=TOLERANCE if tolerance is None else tolerance)
+                                          tolerance=TOLERANCE if tolerance is None else tolerance,
+                                          pose_rate_hz=pose_rate_hz)
             except DivergenceError as exc:
                 raise _with_input_cause(exc, motion, motion.duration_s) from None
             return

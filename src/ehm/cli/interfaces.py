@@ -13,8 +13,8 @@ from ..errors import InputError
 from ..outdir import check_output_file, check_output_folder
 from ..tables import load_body
 from .common import _human, _joint_list, _params, _read_motion_file, _size
-from .options import _model_options, _motion_file_options, _seating_options
-from .progress import _progress_line
+from .options import _model_options, _motion_file_options, _progress_options, _seating_options
+from .progress import _progress_count
 
 
 # --- ehm info -------------------------------------------------------------------------------------------------------
@@ -153,6 +153,7 @@ def add_batch(sub) -> None:
     p.add_argument("--csv", action="store_true", help="also write results.csv")
     p.add_argument("--retry-failed", action="store_true",
                    help="when resuming, run the recorded failures again too (lost workers are always retried)")
+    _progress_options(p)
     p.set_defaults(func=cmd_batch)
 
 
@@ -169,11 +170,8 @@ def cmd_batch(args) -> int:
     name, specs = load_study(args.study)
     out = check_output_folder(args.out, "study's results", added_to=True, inputs=_study_inputs(args.study, specs))
     print(f"study '{name}': {len(specs)} runs" + (f" on {scheduler}" if scheduler else ""))
-
-    def show(done, total):
-        _progress_line(f"  {done} / {total} runs done", done == total)
-
-    res = run_study(specs, out, scheduler=scheduler, workers=args.workers, csv=args.csv, progress=show,
+    res = run_study(specs, out, scheduler=scheduler, workers=args.workers, csv=args.csv,
+                    progress=_progress_count("runs", args.quiet),
                     retry_failed=args.retry_failed)
     if res["ran"] and res["failed"] == res["ran"]:
         raise InputError(f"all {res['ran']} runs failed; their errors are in {out}/results.parquet (output 'error').")

@@ -106,6 +106,13 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
                         "a warning when that loses 1 %% or more of the Wk or Wd band's power); 2 Hz to 100 kHz")
 
 
+def _progress_options(p: argparse.ArgumentParser) -> None:
+    """--quiet: the commands that show progress on stderr (ehm.cli.progress)."""
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="show no progress on stderr (by default a bar on a terminal; on a pipe or a file a line "
+                        "every 10 s at most)")
+
+
 def _parallel_options(p: argparse.ArgumentParser) -> None:
     """--workers, --scheduler, --lead-in: the nonlinear route in segments on several cores (ehm.segments)."""
     p.add_argument("--workers", type=int, metavar="N",

@@ -13,7 +13,7 @@ from ..motion import random_vibration, sine, sweep
 from ..outdir import RunFolder, check_output_file, check_output_folder
 from ..runfiles import DEFAULT_OUTPUT_RATE_HZ
 from .common import _band, _human, _input_files, _read_motion_file
-from .options import _excitation_options, _model_options, _motion_file_options, _parallel_options
+from .options import _excitation_options, _model_options, _motion_file_options, _parallel_options, _progress_options
 from .progress import _progress_bar
 
 #: The demo's transfer functions: Welch segments of 10 s (0.1 Hz resolution, as its peaks are printed), at least
@@ -59,6 +59,7 @@ def add_simulate(sub) -> None:
     p.add_argument("--plot", action="store_true", help="also draw time_histories.png")
     _route_options(p)
     _parallel_options(p)
+    _progress_options(p)
     p.set_defaults(func=cmd_simulate)
 
 
@@ -102,12 +103,11 @@ def cmd_simulate(args) -> int:
         from ..plotting import plot_run_preview as draw
     t0 = time.perf_counter()
     with _segments(args) as parallel:
-        show = _progress_bar("simulate")
+        show = _progress_bar("simulate", args.quiet)
         chunks = None if parallel is None else parallel(human, motion, progress=show, chunk_s=10.0, pose_rate_hz=25.0)
         s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats, progress=show,
                               plot=draw, method=args.method, tolerance=_tolerance(args), chunks=chunks)
-    files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json" + \
-        (", poses.npz" if args.method == "nonlinear" else "") + \
+    files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json, poses.npz" + \
         (", time_histories.png" if args.plot else "")
     if parallel is None:
         speed = f"in {s['wall_s']:.2f} s ({s['realtime_factor']:.0f}x real time)"
@@ -255,6 +255,7 @@ def add_assess(sub) -> None:
                    help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
     _route_options(p)
     _parallel_options(p)
+    _progress_options(p)
     p.set_defaults(func=cmd_assess)
 
 
@@ -267,7 +268,7 @@ def cmd_assess(args) -> int:
     with _segments(args) as parallel:
         kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
                                           "lead_in_s": parallel.lead_in_s}
-        result = assess(motion, human, progress=_progress_bar("assess"), method=args.method,
+        result = assess(motion, human, progress=_progress_bar("assess", args.quiet), method=args.method,
                         tolerance=_tolerance(args), **kw)
     summary = _assessment_summary(result, human)
     with RunFolder(final) as out:

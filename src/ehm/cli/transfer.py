@@ -16,7 +16,7 @@ from ..tables import load_body
 from ..timestep import check_time_step
 from .common import _band, _human, _input_files, _joint_list, _params, _read_motion_file, _size
 from .options import (_KEEP_SMALL_HELP, _excitation_options, _model_options, _motion_file_options,
-                      _seating_options)
+                      _progress_options, _seating_options)
 from .progress import _end_progress_line
 
 #: ehm fit: stopped on its budget, did not lower the criterion, its check disagreed, or a value ended on its
@@ -113,6 +113,7 @@ def add_fit(sub) -> None:
     p.add_argument("--out", required=True, metavar="FITTED.toml",
                    help="parameter file to write when the fit lowered the criterion; exit status 3 when it is not "
                         "identified (a value that ended on its search bound is written with grade 'at bound')")
+    _progress_options(p)
     p.set_defaults(func=cmd_fit)
 
 
@@ -140,7 +141,7 @@ def cmd_fit(args) -> int:
     band, data, params, body = _fit_inputs(args)
     result = fit(data, params=params, free=args.free, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
                  body=body, band_hz=band, max_evals=args.max_evals, workers=args.workers,
-                 time_check=not args.no_time_check, progress=print_progress,
+                 time_check=not args.no_time_check, progress=None if args.quiet else print_progress,
                  keep_small_curves=args.keep_small_curves)
     written = result.moved and result.crit_after < result.crit_before
     if written:

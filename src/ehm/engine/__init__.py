@@ -21,8 +21,8 @@ Map of the package (each module one idea; underscore names are private to the pa
   :func:`settled_point_poses`), the integration state to save and restore (:func:`get_state`,
   :func:`set_state`).
 * :mod:`.sensors`: sensor addresses, support forces and contact forces of a state.
-* :mod:`.stepper`: :func:`step`, :func:`run` (a :class:`RawRun`) and the point accelerations of the
-  integrated motion.
+* :mod:`.stepper`: :func:`step`, :func:`run` (a :class:`RawRun`), the point accelerations of the
+  integrated motion, and the drawn bodies' poses in a linear model's states (:func:`deviation_poses`).
 * :mod:`.linearisation`: :func:`linearize` into a :class:`LinearModel`, optionally with the seat rotation's
   fictitious loads about :func:`seat_pivot` as inputs (:func:`rotation_loads`).
 * :mod:`.export`: the compiled model as an MJB file, the MuJoCo C library (both for the native FMU) and the
@@ -73,17 +73,18 @@ from .model import G0, POINTS, SUPPORT_GROUPS, Model
 from .seat import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, seated_body
 from .sensors import (SENSOR_KINDS, _contact_name, contact_forces, sensor_slices, sliding_contacts,
                       support_forces, support_slices, touching_contacts)
-from .state import (data_at_deviation, deviation_of, get_state, new_data, rotating_data_at, set_seat, set_state,
-                    settle, settled_data, settled_point_poses, static_deviation_of)
-from .stepper import RawRun, evaluate_velocities, point_accelerations, run, step
+from .state import (data_at_deviation, deviation_of, get_state, new_data, qpos_at_deviation, rotating_data_at,
+                    rotating_qpos, set_seat, set_state, settle, settled_data, settled_point_poses, static_deviation_of)
+from .stepper import RawRun, deviation_poses, evaluate_velocities, point_accelerations, run, step
 
 __all__ = [
     "CHECK_EVERY", "DIVERGED_M", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS", "S_ENTRIES", "PAD_INERTIA_KGM2", "POINTS",
     "SEAT_DOFS", "SEAT_INERTIA_KGM2", "SENSOR_KINDS", "SUPPORT_GROUPS", "TRAPEZOIDAL_JOINTS",
     "ImpossibleInertia", "LinearModel", "Model", "RawRun", "SeatGeometry",
     "build", "c_library", "captured_warnings", "check_seat", "contact_forces", "contact_solver_params",
-    "data_at_deviation", "deviation_of", "dof_name", "drawing_geometry", "evaluate_velocities", "get_state",
-    "inertia_problem", "linearize", "new_data", "point_accelerations", "rotating_data_at", "rotation_loads", "run",
+    "data_at_deviation", "deviation_of", "deviation_poses", "dof_name", "drawing_geometry", "evaluate_velocities",
+    "get_state", "inertia_problem", "linearize", "new_data", "point_accelerations", "qpos_at_deviation",
+    "rotating_data_at", "rotating_qpos", "rotation_loads", "run",
     "save_binary", "seat_pivot", "seated_body", "segment_mass_properties", "sensor_slices", "set_seat", "set_state",
     "settle", "settled_data", "settled_point_poses", "sliding_contacts", "static_deviation_of", "step",
     "support_forces", "support_slices", "take_warnings", "touching_contacts",

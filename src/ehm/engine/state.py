@@ -99,14 +99,21 @@ def data_at_deviation(model: Model, x: np.ndarray, time_s: float = 0.0) -> mujoc
     s = model.settled if model.settled is not None else settle(model)
     d = settled_data(model)
     nv = model.mj.nv
-    qpos = s["qpos"].copy()
-    mujoco.mj_integratePos(model.mj, qpos, np.ascontiguousarray(x[:nv]), 1.0)
-    d.qpos[:] = qpos
+    d.qpos[:] = qpos_at_deviation(model, x)
     d.qvel[:] = s["qvel"] + x[nv:2 * nv]
     d.act[:] = s["act"] + x[2 * nv:]
     d.time = time_s
     mujoco.mj_forward(model.mj, d)
     return d
+
+
+def qpos_at_deviation(model: Model, x: np.ndarray) -> np.ndarray:
+    """The positions (qpos) of the linear model's state ``x``: its first nv entries integrated from the settled
+    qpos (MuJoCo's tangent space)."""
+    s = model.settled if model.settled is not None else settle(model)
+    qpos = s["qpos"].copy()
+    mujoco.mj_integratePos(model.mj, qpos, np.ascontiguousarray(x[:model.mj.nv]), 1.0)
+    return qpos
 
 
 def deviation_of(model: Model, d: mujoco.MjData) -> np.ndarray:
@@ -158,20 +165,35 @@ def rotating_data_at(rotating: Model, static: Model, x: np.ndarray, seat_R: np.n
     """
     ds = data_at_deviation(static, x)
     d = new_data(rotating)
-    k, kv = rotating.mj.nq - static.mj.nq, rotating.mj.nv - static.mj.nv
-    d.qpos[rotating.seat["qpos"]] = seat_angles_rad
+    kv = rotating.mj.nv - static.mj.nv
+    d.qpos[:] = rotating_qpos(rotating, static, ds.qpos, seat_R, seat_angles_rad)
     d.qvel[rotating.seat["dofs"]] = seat_rates_radps
-    d.qpos[k:], d.qvel[kv:], d.act[:] = ds.qpos, ds.qvel, ds.act
+    d.qvel[kv:], d.act[:] = ds.qvel, ds.act
     a, b = _free_joint(static)
     p = rotating.seat["pivot"]
     r, q = ds.qpos[a:a + 3], ds.qpos[a + 3:a + 7]
-    d.qpos[k + a:k + a + 3] = p + seat_R @ (r - p)
-    d.qpos[k + a + 3:k + a + 7] = _quat_mul(_quat(seat_R), q)
     d.qvel[kv + b:kv + b + 3] = seat_R @ (ds.qvel[b:b + 3] + np.cross(seat_w_radps, r - p))
     d.qvel[kv + b + 3:kv + b + 6] = ds.qvel[b + 3:b + 6] + _quat_mat(q).T @ seat_w_radps
     d.time = time_s
     mujoco.mj_forward(rotating.mj, d)
     return d
+
+
+def rotating_qpos(rotating: Model, static: Model, qpos: np.ndarray, seat_R: np.ndarray,
+                  seat_angles_rad: np.ndarray) -> np.ndarray:
+    """The rotating-seat model's positions for the static-seat model's ``qpos`` (relative to the seat), the seat at
+    ``seat_angles_rad`` (rotation ``seat_R``): the seat's hinges first, the pelvis's free joint carried about the
+    pivot p into the world (position p + R (r - p), orientation R q), every other joint as it is."""
+    k = rotating.mj.nq - static.mj.nq
+    out = np.zeros(rotating.mj.nq)
+    out[k:] = qpos
+    out[rotating.seat["qpos"]] = seat_angles_rad
+    a, _ = _free_joint(static)
+    p = rotating.seat["pivot"]
+    r, q = qpos[a:a + 3], qpos[a + 3:a + 7]
+    out[k + a:k + a + 3] = p + seat_R @ (r - p)
+    out[k + a + 3:k + a + 7] = _quat_mul(_quat(seat_R), q)
+    return out
 
 
 def static_deviation_of(rotating: Model, static: Model, d: mujoco.MjData, seat_R: np.ndarray,

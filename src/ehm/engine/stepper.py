@@ -14,7 +14,7 @@ from .diagnostics import CHECK_EVERY, _diverged, _instability
 from .model import G0, POINTS, Model
 from .seat import SEAT_INERTIA_KGM2
 from .sensors import sensor_slices, support_slices
-from .state import settled_data
+from .state import new_data, qpos_at_deviation, rotating_qpos, settled_data
 
 def evaluate_velocities(model: Model, d: mujoco.MjData) -> np.ndarray:
     """Velocity-stage kinematics and sensors of the current state of ``d``; returns ``d.sensordata``.
@@ -108,7 +108,7 @@ def _run_of(array: np.ndarray, idx) -> np.ndarray:
 
 
 def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
-        seat_rotation: tuple | None = None, pose_every: int | None = None) -> RawRun:
+        seat_rotation: tuple | None = None, pose_every: int | None = None, pose_first: int = 0) -> RawRun:
     """Run the settled model with a seat acceleration history, one row per time step.
 
     Parameters
@@ -122,7 +122,7 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
         Prescribed seat orientation for a model built with ``rotating_seat=True``.
     pose_every : int, optional
         Record the world pose of every segment body (and of the seat frame, if any) every this many steps,
-        for pictures.
+        for pictures, from step ``pose_first`` on (a run that continues another on the same pose grid).
     """
     mj = model.mj
     if (seat_rotation is not None) != (model.seat is not None):
@@ -134,7 +134,7 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
     n = acc.shape[0]
     sens = np.empty((n, mj.nsensordata))
     drive = _seat_drive(model, d, seat_rotation, n) if seat_rotation is not None else None
-    poses = _pose_buffers(model, n, int(pose_every)) if pose_every else None
+    poses = _pose_buffers(model, n, int(pose_every), int(pose_first)) if pose_every else None
     advance = _advancer(mj, d, G0[None, :] - acc, sens, drive)
     try:
         _run_blocks(model, d, n, advance, poses)
@@ -156,13 +156,39 @@ def _seat_drive(model: Model, d: mujoco.MjData, seat_rotation: tuple, n: int) ->
             "f_view": _run_of(d.qfrc_applied, model.seat["dofs"])}
 
 
-def _pose_buffers(model: Model, n: int, every: int) -> dict:
-    """Empty pose records of every segment body (and the seat frame, if any), one every ``every`` steps."""
-    ids = np.array([model.segment_bodies[s.name][0] for s in model.body.segments]
-                   + ([model.seat["body"]] if model.seat else []))
-    steps = np.arange(0, n, every)
-    return {"every": every, "ids": ids, "step": steps, "pos": np.empty((steps.size, ids.size, 3)),
+def _drawn_bodies(model: Model) -> np.ndarray:
+    """Body ids whose poses pictures draw: every segment body (and the seat frame, if any)."""
+    return np.array([model.segment_bodies[s.name][0] for s in model.body.segments]
+                    + ([model.seat["body"]] if model.seat else []))
+
+
+def _pose_buffers(model: Model, n: int, every: int, first: int = 0) -> dict:
+    """Empty pose records of the bodies drawn, one every ``every`` steps from step ``first``."""
+    ids = _drawn_bodies(model)
+    steps = np.arange(first, n, every)
+    return {"every": every, "first": first, "ids": ids, "step": steps, "pos": np.empty((steps.size, ids.size, 3)),
             "quat": np.empty((steps.size, ids.size, 4))}
+
+
+def deviation_poses(model: Model, x: np.ndarray, static: Model | None = None, seat_R: np.ndarray | None = None,
+                    seat_angles_rad: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """World poses of the bodies drawn (as :func:`run` records them: ``pos`` (m, k, 3), ``quat`` (m, k, 4)) in the
+    linear model's states ``x`` (m, n_state), by forward kinematics of their positions.
+
+    For a rotating-seat ``model`` the states are those of the static-seat build ``static`` (relative to the seat),
+    the seat at ``seat_angles_rad`` (m, 3), rotations ``seat_R`` (m, 3, 3) (:func:`rotating_qpos`)."""
+    ids = _drawn_bodies(model)
+    d = new_data(model)
+    m = x.shape[0]
+    pos, quat = np.empty((m, ids.size, 3)), np.empty((m, ids.size, 4))
+    for i in range(m):
+        if model.seat is None:
+            d.qpos[:] = qpos_at_deviation(model, x[i])
+        else:
+            d.qpos[:] = rotating_qpos(model, static, qpos_at_deviation(static, x[i]), seat_R[i], seat_angles_rad[i])
+        mujoco.mj_kinematics(model.mj, d)
+        pos[i], quat[i] = d.xpos[ids], d.xquat[ids]
+    return pos, quat
 
 
 def _advancer(mj: mujoco.MjModel, d: mujoco.MjData, gravity: np.ndarray, sens: np.ndarray, drive: dict | None):
@@ -192,13 +218,14 @@ def _run_blocks(model: Model, d: mujoco.MjData, n: int, advance, poses: dict | N
     """All ``n`` steps in blocks (of the pose interval, or :data:`CHECK_EVERY`): a pose at each block's start if
     asked for, the divergence check at least every :data:`CHECK_EVERY` steps and after the last."""
     block = poses["every"] if poses else CHECK_EVERY
+    first = poses["first"] if poses else 0
     checked = 0
-    for start in range(0, n, block):
-        stop = min(n, start + block)
-        if poses:  # the kinematics of the block's first step's start state, as the sensors
+    starts = ([0] if first else []) + list(range(first, n, block))
+    for start, stop in zip(starts, starts[1:] + [n]):
+        if poses and start >= first:  # the kinematics of the block's first step's start state, as the sensors
             advance(start, start + 1)
-            ids = poses["ids"]
-            poses["pos"][start // block], poses["quat"][start // block] = d.xpos[ids], d.xquat[ids]
+            ids, k = poses["ids"], (start - first) // block
+            poses["pos"][k], poses["quat"][k] = d.xpos[ids], d.xquat[ids]
             start += 1
         advance(start, stop)
         if stop - checked >= CHECK_EVERY or stop == n:

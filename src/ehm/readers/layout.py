@@ -23,7 +23,7 @@ import warnings
 import numpy as np
 
 from ..errors import EhmWarning, InputError
-from ..imu import mounting_matrix
+from ..imu import mounting_matrix, mounting_rotation  # noqa: F401 - mounting_rotation: ehm.readers'
 from ..resampling import UNIFORM_TOLERANCE
 from .checks import GAP_STEPS, MIN_OVERLAP
 
@@ -196,48 +196,6 @@ def _mounting_matrix(mounting, label: str) -> np.ndarray | None:
     """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix, checked as :func:`ehm.from_imu` checks it;
     None when there is none."""
     return None if mounting is None else mounting_matrix(mounting, label)
-
-
-def mounting_rotation(roll, pitch=None, yaw=None, degrees: bool = True):
-    """A sensor's mounting (sensor axes -> seat axes) from its roll, pitch and yaw.
-
-    The sensor's axes are the seat's axes (x forward, y left, z up) turned by ``yaw`` about z, then ``pitch``
-    about the turned y, then ``roll`` about the twice-turned x (intrinsic z-y'-x'', as a vehicle's attitude).
-    A phone lying flat with its x axis pointing left (seat y) has yaw +90°; one standing upright in a windscreen
-    mount facing the driver, its y axis up and its screen facing back, has roll 90° and yaw -90°.
-
-    Parameters
-    ----------
-    roll : float, or a sequence of three floats, or str
-        Roll angle; or (roll, pitch, yaw); or ``"ROLL,PITCH,YAW"`` (as ``--mounting`` takes it).
-    pitch, yaw : float, optional
-        The other two angles, when ``roll`` is one number.
-    degrees : bool
-        Angles in degrees (default) or radians.
-
-    Returns
-    -------
-    scipy.spatial.transform.Rotation
-        For ``mounting=`` of :func:`ehm.read_motion` and :func:`ehm.from_imu`.
-    """
-    from scipy.spatial.transform import Rotation
-
-    given = roll
-    if isinstance(roll, str):
-        parts = [p.strip() for p in roll.split(",")]
-    elif pitch is None and yaw is None and np.ndim(roll) == 1:
-        parts = list(roll)
-    else:
-        parts = [roll, pitch, yaw]
-    try:
-        angles = [float(p) for p in parts]
-    except (TypeError, ValueError):
-        angles = []
-    if len(angles) != 3 or any(isinstance(p, bool) for p in parts) or not all(map(math.isfinite, angles)):
-        raise InputError(f"mounting {given!r} (--mounting): give three angles ROLL,PITCH,YAW "
-                         f"({'degrees' if degrees else 'radians'}), e.g. 0,0,90.")
-    r, p, y = angles
-    return Rotation.from_euler("ZYX", [y, p, r], degrees=degrees)
 
 
 def parse_columns(columns) -> list | None:

@@ -108,10 +108,11 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     imu : bool
         The source is an IMU at the seat: ``ax, ay, az`` its specific force (gravity included) and
         ``wx, wy, wz`` its gyro rates, all required; see :func:`ehm.from_imu` (``mounting`` is passed on).
-    mounting : scipy.spatial.transform.Rotation or (3, 3) array, optional
+    mounting : (roll, pitch, yaw) in degrees, scipy.spatial.transform.Rotation or (3, 3) array, optional
         Rotation from the sensor's axes to the seat's (x forward, y left, z up), as :func:`ehm.from_imu`
-        takes it; applied to the accelerations and the angular velocities alike, for an IMU log or not.  From
-        roll, pitch and yaw: :func:`ehm.readers.mounting_rotation` (degrees, or ``degrees=False``).
+        takes it; applied to the accelerations and the angular velocities alike, for an IMU log or not.  Three
+        angles in degrees (or ``"ROLL,PITCH,YAW"``) as ``--mounting`` takes them, e.g. ``mounting=(0, 90, -180)``
+        (:func:`ehm.readers.mounting_rotation`; in radians: ``mounting_rotation(..., degrees=False)``).
     label : str, optional
         How messages name the source (default: its path, or ``DataFrame``).
     fill_gaps : bool
