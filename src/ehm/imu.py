@@ -86,7 +86,7 @@ def _array(value, shape_text: str, arg: str, n: int | None = None) -> np.ndarray
 def mounting_matrix(mounting, label: str = "from_imu") -> np.ndarray:
     """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix: None (the identity), one scipy Rotation, a
     proper 3x3 rotation matrix, or the sensor's (roll, pitch, yaw) in degrees as three numbers or ``"ROLL,PITCH,YAW"``
-    (as ``--mounting`` takes them, :func:`mounting_rotation`); anything else is refused in one sentence naming
+    (as ``--mounting`` takes them, :func:`ehm.readers.mounting_rotation`); anything else is refused in one sentence naming
     ``label``."""
     if mounting is None:
         return np.eye(3)
@@ -246,7 +246,7 @@ def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None
         static tilt, the seat taken as not rotating).
     mounting : (roll, pitch, yaw) in degrees, 3x3 array or scipy.spatial.transform.Rotation, optional
         Rotation from sensor axes to seat axes (x forward, y left, z up), the angles as ``--mounting`` takes them
-        (:func:`mounting_rotation`); default: aligned.
+        (:func:`ehm.readers.mounting_rotation`); default: aligned.
     rest_s : float
         Shortest rest [s] whose mean gyro rate is taken as the gyro bias (default 2 s); a rest may lie
         anywhere in the log, and a log without one is used without bias removal.

@@ -1,4 +1,4 @@
-"""The segments' poses on the linear and hybrid routes, for pictures (``poses.npz``, :mod:`ehm.animation`).
+"""The segments' poses on the linear and hybrid routes, for pictures (``poses.npz``, ``ehm.animation``).
 
 The linear model's state holds every joint's deviation from the settled posture, so the poses follow from it
 through the model's kinematics (``ehm.engine.deviation_poses``), only at the pose rate: the modal state is

@@ -183,7 +183,7 @@ class SeatedHuman:
         (:class:`ehm.hybrid.LinearRouteWarning`) with the figure.  ``method="auto"`` (the hybrid route) keeps the
         nonlinear answer in those windows and the linear one elsewhere.  Both record what they checked in
         ``result.extra["route"]`` (:class:`ehm.hybrid.RouteReport`).  Every route records the segments' poses at
-        ``pose_rate_hz`` when asked (for :mod:`ehm.animation`; the linear pieces through the model's kinematics,
+        ``pose_rate_hz`` when asked (for ``ehm.animation``; the linear pieces through the model's kinematics,
         :mod:`ehm.linear_poses`).  A motion that rotates
         the seat runs on the linear model of the seat's rotation in the seat's own frame (whether or not the
         person was built with ``rotating_seat=True``): see :func:`ehm.linear.stream_linear` for what it assumes;
