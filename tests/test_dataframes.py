@@ -69,7 +69,7 @@ def test_run_frame_attrs_hold_description_and_route(human, run):
     attrs = run.to_dataframe().attrs
     assert attrs["description"] == run.description and attrs["route"] == "linear"
     assert attrs["dt_s"] == run.dt_s and attrs["mass_kg"] == run.mass_kg and attrs["locked"] == "+".join(run.locked)
-    nonlinear = human.simulate(ehm.sine("z", 2.0, 0.5, 0.3))
+    nonlinear = human.simulate(ehm.sine("z", 2.0, 0.5, 0.3), method="nonlinear")
     assert nonlinear.to_dataframe(wide=True).attrs["route"] == "nonlinear"
 
 
