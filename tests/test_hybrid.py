@@ -296,3 +296,29 @@ def test_sustained_share_weighs_irregular_steps_by_their_length():
     share = hybrid.sustained_share(SeatMotion(t, acc, "SYNTHETIC sideways step"))
     assert share == pytest.approx(0.4, abs=0.01)
     assert hybrid.sustained_share(SeatMotion(t, 0.7 * acc, "SYNTHETIC sideways step, 1.4 m/s^2")) == 0.0
+
+
+def test_a_divergence_on_the_nonlinear_run_from_the_start_names_the_input_once(monkeypatch):
+    """The default route running the nonlinear model from the start of a drive (issue 32 item 6) inside the hybrid
+    route: a divergence there is one sentence naming the input once (both routes add the input's cause: before,
+    the hybrid route's own handler would have repeated it).  SYNTHETIC: the city drive with a 1.5 g vertical jump at
+    5 s, the run diverging at 6 s (raised by hand)."""
+    from ehm.errors import DivergenceError
+
+    drive = city_drive(30.0, seed=0, dt_s=0.01)
+    acc = drive.acc_mps2.copy()
+    acc[drive.time_s >= 5.0, 2] += 15.0
+    motion = SeatMotion(drive.time_s, acc, "SYNTHETIC city drive with a jump", drive.angvel_radps)
+    person = ehm.SeatedHuman(rotating_seat=True)
+    person.settle()
+
+    def diverging(*args, **kwargs):
+        err = DivergenceError("the simulation diverged at t = 6.000 s (a reason); try a smaller time step")
+        err.time_s = 6.0
+        raise err
+
+    monkeypatch.setattr(engine, "run", diverging)
+    with pytest.raises(DivergenceError) as exc:
+        person.simulate(motion)
+    assert str(exc.value).count("out of the ordinary") == 1, str(exc.value)
+    assert "a jump of 15.1 m/s^2" in str(exc.value)  # the jump plus the drive's own step there
