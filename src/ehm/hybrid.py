@@ -72,9 +72,9 @@ FALLBACK_AFTER_S = 30.0
 #: means over SUSTAINED_WINDOW_S, is above SUSTAINED_MPS2 for more than SUSTAINED_SHARE of the drive
 #: (:func:`sustained_share`).  Measured with the default person: a steady seat acceleration (a slow ramp) brings
 #: the back pads to their friction limit at 1.13 m/s^2 sideways and 1.7 m/s^2 braking (never pressed into the
-#: backrest).  Above 1.5 m/s^2: SYNTHETIC city drives (``ehm.city_drive``, seeds 0-7) 43-51 % of the drive, where
-#: the windows cover about two thirds of the first 37 s and the rest goes to the nonlinear model; the measured
-#: bus, tram and car logs of ``benchmarks/bench_routes.py`` 5 %, 0 % and 9 % (their linear shares 77 %, 95 % and 1 %:
+#: backrest).  Above 1.5 m/s^2: SYNTHETIC 120 s city drives (``ehm.city_drive``, seeds 0-7) 42-50 % of the drive,
+#: where the windows cover about two thirds of the first 37 s and the rest goes to the nonlinear model; the measured
+#: bus, tram and car logs of ``benchmarks/bench_routes.py`` 5 %, 0 % and 8 % (their linear shares 77 %, 95 % and 1 %:
 #: the car's contacts slide under vibration, which the 30 s decision catches).  A drive judged wrongly costs time,
 #: never accuracy (the nonlinear model is the reference).
 SUSTAINED_MPS2 = 1.5
