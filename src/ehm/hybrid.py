@@ -221,8 +221,8 @@ def _nonlinear_from_start(human, motion, report: RouteReport):
         return None
     report.from_start = True
     report.fallback = (f"from the start: the seat's horizontal acceleration (in {SUSTAINED_WINDOW_S:g} s means) is "
-                       f"above {SUSTAINED_MPS2:g} m/s^2 over {share:.0%} of the drive, more than {SUSTAINED_SHARE:.0%}, "
-                       "where the back pads reach their friction limit")
+                       f"above {SUSTAINED_MPS2:g} m/s^2 over {share:.0%} of the drive, more than "
+                       f"{SUSTAINED_SHARE:.0%}, where the back pads reach their friction limit")
     return motion if turns or motion.angvel_radps is None else replace(motion, angvel_radps=None)
 
 
