@@ -353,9 +353,10 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     method : str
         ``auto`` (default: the hybrid route, :mod:`ehm.hybrid`: the linearised person, with the nonlinear model
         through the windows where a contact reaches its friction limit or lifts off, and for the rest of the drive
-        once those windows cover more than half of it so far), ``nonlinear`` (MuJoCo throughout) or ``linear``
-        (the linearised person throughout, checked against the nonlinear model in those windows, with a warning
-        above ``tolerance``).  A drive that turns the seat runs the linear model of the seat's rotation and the
+        once those windows cover more than half of it so far, or from the start when the drive's manoeuvres hold
+        the contacts at their limit, :func:`ehm.hybrid.sustained_share`), ``nonlinear`` (MuJoCo throughout) or
+        ``linear`` (the linearised person throughout, checked against the nonlinear model in those windows, with a
+        warning above ``tolerance``).  A drive that turns the seat runs the linear model of the seat's rotation and the
         rotating seat in the windows.
     tolerance : float, optional
         The linear route's tolerance: share of each point acceleration's rms (default 1 %).

@@ -24,7 +24,9 @@ route by its effect:
    state back to the linear model at each window's end (``ehm.engine.deviation_of``,
    :func:`ehm.linear.carry_of`), so both pieces join without a jump; once the windows cover more than
    :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`), it runs the rest of the drive on
-   the nonlinear model.
+   the nonlinear model.  A drive whose manoeuvres hold the seat's horizontal acceleration above the back pads'
+   friction limit for much of its length (:func:`sustained_share` above :data:`SUSTAINED_SHARE`) runs on the
+   nonlinear model from its start: the linear model is then neither built nor run.
    ``method="linear"`` keeps the linear answer everywhere, the windows only checking it, and warns
    (:class:`LinearRouteWarning`, one sentence with the figure) when the discrepancy exceeds the tolerance.
 
@@ -66,6 +68,18 @@ LOOKAHEAD_S = 10.0
 FALLBACK_SHARE = 0.5
 #: The rest of a drive goes to the nonlinear model no earlier than this far into it [s].
 FALLBACK_AFTER_S = 30.0
+#: The hybrid route runs a drive on the nonlinear model from its start when the seat's horizontal acceleration, in
+#: means over SUSTAINED_WINDOW_S, is above SUSTAINED_MPS2 for more than SUSTAINED_SHARE of the drive
+#: (:func:`sustained_share`).  Measured with the default person: a steady seat acceleration (a slow ramp) brings
+#: the back pads to their friction limit at 1.13 m/s^2 sideways and 1.7 m/s^2 braking (never pressed into the
+#: backrest).  Above 1.5 m/s^2: SYNTHETIC 120 s city drives (``ehm.city_drive``, seeds 0-7) 42-50 % of the drive,
+#: where the windows cover about two thirds of the first 37 s and the rest goes to the nonlinear model; the measured
+#: bus, tram and car logs of ``benchmarks/bench_routes.py`` 5 %, 0 % and 8 % (their linear shares 77 %, 95 % and 1 %:
+#: the car's contacts slide under vibration, which the 30 s decision catches).  A drive judged wrongly costs time,
+#: never accuracy (the nonlinear model is the reference).
+SUSTAINED_MPS2 = 1.5
+SUSTAINED_SHARE = 0.3
+SUSTAINED_WINDOW_S = 1.0
 #: Default tolerance of the linear answers: discrepancy as a share of each point acceleration's rms.
 TOLERANCE = 0.01
 #: A point acceleration whose rms is below this share of the largest one's has no content of its own: its
@@ -101,6 +115,8 @@ class RouteReport:
         The tolerance the discrepancy is held to (share of rms).
     fallback : str
         From when and why the rest of the drive went to the nonlinear model, or "".
+    from_start : bool
+        The nonlinear model ran the whole drive, decided from its level before it started (``fallback`` says why).
     left_out : dict
         For a drive that turns the seat: the estimate of the terms the linear model of the seat's rotation
         leaves out (:func:`ehm.linear.left_out`, merged over the linear pieces); ``share`` its largest share of a
@@ -114,6 +130,7 @@ class RouteReport:
     discrepancy: dict = field(default_factory=dict)
     tolerance: float = TOLERANCE
     fallback: str = ""
+    from_start: bool = False
     #: drives that turn the seat: ehm.linear.left_out over the linear pieces
     left_out: dict = field(default_factory=dict)
 
@@ -137,6 +154,8 @@ class RouteReport:
         """One sentence for the console."""
         p, a, worst = self.largest()
         n = len(self.windows_s)
+        if self.from_start:
+            return f"route: nonlinear model for the whole drive {self.fallback}."
         if n == 0:
             return ("route: linear model for the whole drive; no contact reached its friction limit or lifted off "
                     "(checked at every step)." + self._left_out_sentence())
@@ -169,7 +188,56 @@ class RouteReport:
                 "discrepancy_share_of_rms": {k: [float(x) for x in v] for k, v in self.discrepancy.items()},
                 "largest_discrepancy": {"point": p, "axis": a, "share_of_rms": worst},
                 "tolerance_share_of_rms": self.tolerance, "within_tolerance": worst <= self.tolerance,
-                "fallback": self.fallback, **({"left_out": self.left_out} if self.left_out else {})}
+                "fallback": self.fallback, "nonlinear_from_start": self.from_start,
+                **({"left_out": self.left_out} if self.left_out else {})}
+
+
+def sustained_share(motion) -> float:
+    """Share of the drive's time where the seat's horizontal acceleration, in means over
+    :data:`SUSTAINED_WINDOW_S` around each moment, is above :data:`SUSTAINED_MPS2`: the manoeuvres (braking,
+    pulling away, corners) that hold the back pads at their friction limit.  The means come from the running
+    integral of each axis, read on a grid of a tenth of the window (irregular time steps are weighted by their
+    length; the memory is one array of the drive's length per axis)."""
+    t = motion.time_s
+    half = SUSTAINED_WINDOW_S / 2
+    grid = np.arange(t[0], t[-1], SUSTAINED_WINDOW_S / 10)
+    lo, hi = np.maximum(grid - half, t[0]), np.minimum(grid + half, t[-1])
+    means = []
+    for a in motion.acc_mps2[:, :2].T:
+        integral = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] + a[:-1]) * np.diff(t))])
+        means.append((np.interp(hi, t, integral) - np.interp(lo, t, integral)) / (hi - lo))
+    return float(np.mean(np.hypot(*means) > SUSTAINED_MPS2)) if grid.size else 0.0
+
+
+def _nonlinear_from_start(human, motion, report: RouteReport):
+    """The drive to run on the nonlinear model from its start (its angular velocities left out when they are all
+    zero), with the reason in ``report``, when its level says the nonlinear model would carry most of it and the
+    person can run it; else None."""
+    turns = motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))
+    if turns and human.model.seat is None:  # the windows say what is needed, as they do today
+        return None
+    share = sustained_share(motion)
+    if share <= SUSTAINED_SHARE:
+        return None
+    report.from_start = True
+    report.fallback = (f"from the start: the seat's horizontal acceleration (in {SUSTAINED_WINDOW_S:g} s means) is "
+                       f"above {SUSTAINED_MPS2:g} m/s^2 over {share:.0%} of the drive, more than "
+                       f"{SUSTAINED_SHARE:.0%}, where the back pads reach their friction limit")
+    return motion if turns or motion.angvel_radps is None else replace(motion, angvel_radps=None)
+
+
+def _stream_nonlinear(human, motion, report: RouteReport, chunk_s: float, progress, pose_rate_hz):
+    """The whole drive on the nonlinear route; the last chunk carries ``report``."""
+    held = None
+    for piece in human._stream_span(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz):
+        if held is not None:
+            yield held
+        held = piece
+    dt = float(human.model.mj.opt.timestep)
+    report.nonlinear_s = float(held.time_s[-1]) + dt
+    report.windows_s = [[0.0, report.nonlinear_s]]
+    report.discrepancy = {p: [0.0, 0.0, 0.0] for p in POINT_NAMES}
+    yield replace(held, extra={**held.extra, "route": report.as_dict()})
 
 
 def _near_limit(ss, y: np.ndarray, n: int) -> np.ndarray:
@@ -269,6 +337,10 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     report = RouteReport(method=method, duration_s=motion.duration_s, tolerance=float(tolerance))
     # a motion that turns the seat: the linear model of the seat's rotation (a person on a rotating seat whose
     # motion does not turn it runs the translation's, the windows on the rotating seat held level)
+    early = _nonlinear_from_start(human, motion, report) if method == "auto" else None
+    if early is not None:
+        yield from _stream_nonlinear(human, early, report, chunk_s, progress, pose_rate_hz)
+        return
     rotates = motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))
     description = motion.description
     ss = human.linear_model(rotation=rotates)

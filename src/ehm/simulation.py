@@ -426,6 +426,16 @@ UNUSUAL_TILT_DEG = 30.0
 
 
 def _with_input_cause(exc: DivergenceError, motion: SeatMotion, ran_s: float) -> DivergenceError:
+    """:func:`_input_cause`, once: an error it has already seen passes as it is (a route that runs another inside
+    it, as the hybrid route runs the nonlinear one from a drive's start, would otherwise name the input twice)."""
+    if getattr(exc, "input_checked", False):
+        return exc
+    out = _input_cause(exc, motion, ran_s)
+    out.input_checked = True
+    return out
+
+
+def _input_cause(exc: DivergenceError, motion: SeatMotion, ran_s: float) -> DivergenceError:
     """The divergence sentence naming the input as its cause when the seat input before the divergence is out of
     the ordinary (above 2 g, a jump of 1 g between two samples, or a seat tilted beyond 30 deg); the sentence as
     it was otherwise (then the time step or the parameters are the suspects).  ``ran_s``: how far the run got

@@ -68,7 +68,8 @@ def _route_options(p) -> None:
     p.add_argument("--method", choices=("auto", "nonlinear", "linear"), default="auto",
                    help="simulation route: auto (default: the linearised person, with the nonlinear model where a "
                         "contact reaches its friction limit or lifts off, and for the rest of the drive once those "
-                        "windows cover more than half of it so far), nonlinear (MuJoCo throughout) or linear (the "
+                        "windows cover more than half of it so far, or from the start for a drive whose manoeuvres "
+                        "hold 1.5 m/s^2 for over 30 %% of it), nonlinear (MuJoCo throughout) or linear (the "
                         "linearised person throughout, checked against the nonlinear model there)")
     p.add_argument("--tolerance", type=float, default=None, metavar="PERCENT",
                    help="the linear route's tolerance: discrepancy from the nonlinear model in %% of each point "
