@@ -9,7 +9,6 @@ each checks the exit code, the sentence and the files' bytes exactly; the time l
 from __future__ import annotations
 
 import errno
-import hashlib
 import json
 import os
 import stat
@@ -22,6 +21,7 @@ import pytest
 
 from ehm.cli import main
 from ehm.io import MANIFEST_NAME, read_manifest
+from test_user_files import _one_error_line, _tree  # the user-file tests' own helpers
 
 dask_and_pyarrow = pytest.mark.skipif(
     not all(__import__("importlib").util.find_spec(m) for m in ("dask", "distributed", "pyarrow")),
@@ -31,17 +31,6 @@ dask_and_pyarrow = pytest.mark.skipif(
 TINY_STUDY = '[study]\nname = "tiny"\ncompute = ["transmissibility"]\n[input]\naxes = ["z"]\n'
 
 
-def _tree(folder: Path) -> dict[str, str]:
-    """Every file under ``folder`` with the SHA-256 of its bytes."""
-    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(folder.rglob("*")) if p.is_file()}
-
-
-def _one_error_line(err: str) -> str:
-    lines = [ln for ln in err.replace("\r", "\n").splitlines() if ln.strip()]
-    assert "Traceback" not in err
-    assert lines[-1].startswith("ehm: error: "), err
-    return lines[-1]
 
 
 def _dead_pid() -> int:
