@@ -25,7 +25,7 @@ route by its effect:
    :func:`ehm.linear.carry_of`), so both pieces join without a jump; once the windows cover more than
    :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`), it runs the rest of the drive on
    the nonlinear model.  A drive whose manoeuvres hold the seat's horizontal acceleration above the back pads'
-   friction limit for much of its length (:func:`sustained_share` above :data:`SUSTAINED_SHARE`) runs on the
+   friction limit for much of its length (:func:`sustained_share` above ``SUSTAINED_SHARE``) runs on the
    nonlinear model from its start: the linear model is then neither built nor run.
    ``method="linear"`` keeps the linear answer everywhere, the windows only checking it, and warns
    (:class:`LinearRouteWarning`, one sentence with the figure) when the discrepancy exceeds the tolerance.
@@ -194,7 +194,7 @@ class RouteReport:
 
 def sustained_share(motion) -> float:
     """Share of the drive's time where the seat's horizontal acceleration, in means over
-    :data:`SUSTAINED_WINDOW_S` around each moment, is above :data:`SUSTAINED_MPS2`: the manoeuvres (braking,
+    ``SUSTAINED_WINDOW_S`` around each moment, is above ``SUSTAINED_MPS2``: the manoeuvres (braking,
     pulling away, corners) that hold the back pads at their friction limit.  The means come from the running
     integral of each axis, read on a grid of a tenth of the window (irregular time steps are weighted by their
     length; the memory is one array of the drive's length per axis)."""
