@@ -94,7 +94,8 @@ def test_bands_carry_their_source_and_condition():
     assert by["apparent_mass_peak"].holds(1.3) and by["apparent_mass_peak"].holds(1.7)
     assert not by["apparent_mass_peak"].holds(1.71) and not by["apparent_mass_peak"].holds(np.nan)
     assert by["apparent_mass_15_20hz"].holds([0.5, 0.6]) and not by["apparent_mass_15_20hz"].holds([0.5, 0.61])
-    assert by["lumbar_gain_vs_iso2631_5"].describe() == "gain_minus_reference of z->lumbar z over 1-12 Hz within -0.2-0.2"
+    assert by["lumbar_gain_vs_iso2631_5"].describe() == \
+        "gain_minus_reference of z->lumbar z over 1-12 Hz within -0.2-0.2"
 
 
 def test_the_references_own_curves_meet_their_bands():

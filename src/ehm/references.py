@@ -2,7 +2,7 @@
 
 Each reference says where it comes from and what condition it describes, so that a validation can evaluate a
 model against it and say why a figure is expected.  A numerical leaf: numpy and the standard library only (the
-package's data files are read with :mod:`csv`); no engine, no plotting.
+package's data files are read with ``csv``); no engine, no plotting.
 
 Public API
 ----------
@@ -131,7 +131,7 @@ def iso2631_5_lumbar_tf(freq_hz) -> np.ndarray:
 
     Clause 5.2, Formula 1: with ``s = j 2 pi f``,
     ``H(s) = (1 + 2 z1 s / w1 + (s / w1)^2) / prod_k (1 + 2 zk s / wk + (s / wk)^2)`` over the zero pair
-    :data:`ISO2631_5_ZERO` and the six pole pairs :data:`ISO2631_5_POLES`; ``H = 1`` at 0 Hz.  ``|H|`` is 1.01
+    ``ISO2631_5_ZERO`` and the six pole pairs ``ISO2631_5_POLES``; ``H = 1`` at 0 Hz.  ``|H|`` is 1.01
     at 1 Hz, peaks at 1.59 at 4.7 Hz and falls to 0.87 at 8 Hz and 0.82 at 10 Hz.
 
     Condition: the standard's model of seated people exposed to vertical seat vibration and shocks; it maps
@@ -198,12 +198,12 @@ def apparent_mass_one_mass(freq_hz, frame_share: float = 0.0, normalise_at_hz: f
     """The vertical apparent mass of Fairley & Griffin's (1989) one-mass fit, normalised.
 
     A mass ``m`` on a spring ``k`` and damper ``c`` over the seat, with natural frequency
-    :data:`FAIRLEY_GRIFFIN_NATURAL_FREQUENCY_HZ` (5 Hz) and damping ratio :data:`FAIRLEY_GRIFFIN_DAMPING_RATIO`
+    ``FAIRLEY_GRIFFIN_NATURAL_FREQUENCY_HZ`` (5 Hz) and damping ratio ``FAIRLEY_GRIFFIN_DAMPING_RATIO``
     (0.475), beside a rigid frame mass ``m0`` moving with the seat:
     ``M(jw) = m0 + m (k + jwc) / (k - w^2 m + jwc)``, divided by ``|M|`` at ``normalise_at_hz``.
 
     Condition: fitted to the mean apparent mass of 60 seated people (24 men, 24 women, 12 children), legs
-    moving with the seat, normalised by the apparent mass at 0.5 Hz (:data:`FAIRLEY_GRIFFIN_SOURCE`).  The
+    moving with the seat, normalised by the apparent mass at 0.5 Hz (``FAIRLEY_GRIFFIN_SOURCE``).  The
     page read does not give the frame's share, hence ``frame_share``.
 
     Normalised by the static mass (``normalise_at_hz=0``) the peak is 1.51 at 4.3 Hz without a frame mass and
@@ -370,7 +370,7 @@ class LockingFinding:
     label : str
         The finding as :meth:`ehm.study.LockingStudy.findings` reports it.
     variant : str
-        The locked variant (a key of :data:`LOCKING_VARIANTS`).
+        The locked variant (a key of ``LOCKING_VARIANTS``).
     input_axis, point, dof : str
         The path, as in :class:`ehm.FrfTable`.
     quantities : tuple of str
@@ -407,13 +407,13 @@ class LockingFinding:
 
     def holds(self, baseline: dict, variant: dict) -> bool:
         """Whether the finding holds for measured values: ``baseline`` and ``variant`` map each of
-        :attr:`quantities` to its value (e.g. a study row's attributes)."""
+        ``quantities`` to its value (e.g. a study row's attributes)."""
         return all(self.direction * self.change(q, baseline[q], variant[q]) > self.least_change
                    for q in self.quantities)
 
     def holds_in(self, study) -> bool:
         """Whether the finding holds in a locking study (anything with ``row(variant, input_axis, point, dof)``
-        returning rows with the :attr:`quantities` as attributes, e.g. :class:`ehm.study.LockingStudy`)."""
+        returning rows with the ``quantities`` as attributes, e.g. :class:`ehm.study.LockingStudy`)."""
         key = (self.input_axis, self.point, self.dof)
         base, var = study.row("baseline", *key), study.row(self.variant, *key)
         return self.holds({q: getattr(base, q) for q in self.quantities}, {q: getattr(var, q) for q in self.quantities})

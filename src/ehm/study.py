@@ -93,7 +93,7 @@ class LockingStudy:
                            "y -> head roll peak gain change [%]", "x -> head pitch peak gain change [%]"], rows)
 
     def findings(self) -> dict:
-        """The paper's findings (section 4, :data:`ehm.references.LOCKING_FINDINGS`), each as measured on this
+        """The paper's findings (section 4, ``ehm.references.LOCKING_FINDINGS``), each as measured on this
         model: a peak frequency as [baseline, variant] in Hz, gains as their changes from the baseline in %."""
         out = {}
         for finding in LOCKING_FINDINGS:

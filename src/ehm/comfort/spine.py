@@ -14,13 +14,13 @@ The standard's route, from the seat's vertical acceleration ``a_z`` (m/s^2, grav
    ``N`` days a year, the ultimate strength ``S_u,i = 6.75 - S_age (b + i - 1)`` [MPa] at the age reached
    (``b``: the age the exposure started; ``S_age`` 0.052 MPa a year for men, 0.039 for women) and the static
    stress ``S_stat = m_z 9.81 m/s^2``; and the probability of a lumbar injury ``P = 1 - exp(-(R / alpha)^beta)``
-   (Weibull, Table C.1).  Table C.2's R for 10, 50 and 90 % risk are :data:`RISK_R_10_50_90`.
+   (Weibull, Table C.1).  Table C.2's R for 10, 50 and 90 % risk are ``RISK_R_10_50_90``.
 
 The body model's route enters at step 2: :func:`spinal_dose_from_lumbar` takes an acceleration that is
 already the lumbar spine's (a model's lumbar point) and runs steps 2-4 alike.
 
 Why this filter: Formula 1 has ten more poles than zeros.  The bilinear transform puts those ten zeros on the
-Nyquist frequency (|H| off by 0.39 up to 40 Hz at 100 Hz, 0.07 at 256 Hz, 0.017 at 500 Hz) and the matched-z
+Nyquist frequency (``|H|`` off by 0.39 up to 40 Hz at 100 Hz, 0.07 at 256 Hz, 0.017 at 500 Hz) and the matched-z
 transform loses the phase (120 degrees at 20 Hz at 256 Hz) that sets where the response's peaks fall.  The
 impulse-invariant realisation (the analog impulse response sampled; six parallel second-order sections from the
 poles and their residues, scaled to 1 at 0 Hz) keeps both: at 128 Hz it follows Formula 1 up to 40 Hz within
@@ -194,7 +194,7 @@ def lumbar_sections(fs_hz: float) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     fs_hz : float
-        Sampling rate [Hz], at least :data:`FILTER_MIN_RATE_HZ`.
+        Sampling rate [Hz], at least ``FILTER_MIN_RATE_HZ``.
 
     Returns
     -------
@@ -351,7 +351,7 @@ class SpinalDoseAccumulator:
     Parameters
     ----------
     fs_hz : float
-        Sampling rate [Hz]; at least :data:`FILTER_MIN_RATE_HZ` for a seat record.
+        Sampling rate [Hz]; at least ``FILTER_MIN_RATE_HZ`` for a seat record.
     lumbar : bool
         Whether the blocks are already the lumbar spine's acceleration (default False: the seat's).
     """
@@ -460,7 +460,7 @@ def lumbar_response(seat_az_mps2, fs_hz: float, remove_mean: bool = True) -> Lum
     seat_az_mps2 : (n,) array_like
         The seat's vertical acceleration [m/s^2], gravity not included, uniformly sampled.
     fs_hz : float
-        Its sampling rate [Hz].  Below :data:`FILTER_MIN_RATE_HZ` the record is upsampled by the smallest whole
+        Its sampling rate [Hz].  Below ``FILTER_MIN_RATE_HZ`` the record is upsampled by the smallest whole
         factor that reaches it; a record whose Nyquist frequency lies below 40 Hz gets a warning (it misses part
         of the band the standard's transfer function is held to).
     remove_mean : bool
@@ -545,7 +545,7 @@ def spinal_dose_from_lumbar(lumbar_az_mps2, fs_hz: float, exposure: SpineExposur
 
 
 def route_difference(standard: SpinalDose, model: SpinalDose) -> str | None:
-    """A sentence where the two routes' daily compressive stresses differ by more than :data:`ROUTE_DIFFERENCE`
+    """A sentence where the two routes' daily compressive stresses differ by more than ``ROUTE_DIFFERENCE``
     of the standard's; None where they agree."""
     ref = standard.compressive_stress_mpa
     if ref <= 0.0 or abs(model.compressive_stress_mpa - ref) <= ROUTE_DIFFERENCE * ref:
