@@ -215,6 +215,12 @@ def test_implausible_exposure_is_one_sentence(kw, words):
     assert str(info.value).count(". ") == 0 and str(info.value).endswith(".")
 
 
+def test_exposure_must_be_a_spine_exposure():
+    """The Python API: an exposure given as something else (a dict) is one sentence, not an AttributeError."""
+    with pytest.raises(InputError, match="exposure must be an ehm.comfort.SpineExposure .*not dict"):
+        sp.spinal_dose(synthetic(500.0, 5.0), 500.0, {"daily_exposure_h": 2.0})
+
+
 # --- ehm assess --------------------------------------------------------------------------------------------------
 
 def test_assess_reports_iso2631_5(tmp_path, capsys):

@@ -210,6 +210,10 @@ class Assessment:
                  "duration": f"{self.duration_s:g} s, assessed in {self.wall_s:.3g} s",
                  "motion sickness (MSI at the end)": ", ".join(f"{k} {v['final_msi_percent']:.4g} %"
                                                                for k, v in sick.items())}
+        if self.iso2631_5:
+            v = self.iso2631_5["standard_route"]
+            facts["ISO 2631-5 (the standard's route)"] = (f"S_d {v['daily_compressive_stress_sd_mpa']:.3g} MPa, "
+                                                          f"R {v['r_factor']:.3g}")
         return html_table("ehm Assessment (ISO 2631-1)", facts,
                           ["location", "a_w,x [m/s²]", "a_w,y [m/s²]", "a_w,z [m/s²]", "a_v [m/s²]",
                            "comfort reaction", "VDV_z [m/s^1.75]", "MSDV_z [m/s^1.5]"], rows)

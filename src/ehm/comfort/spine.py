@@ -149,6 +149,16 @@ class SpineExposure:
                 "sex": self.sex, "m_z_mpa_per_mps2": self.m_z}
 
 
+def _exposure(exposure) -> SpineExposure:
+    """``exposure``, or the default one for None; anything else is refused in a sentence."""
+    if exposure is None:
+        return SpineExposure()
+    if not isinstance(exposure, SpineExposure):
+        raise InputError(f"exposure must be an ehm.comfort.SpineExposure (daily hours, age, years, days a year, sex), "
+                         f"not {type(exposure).__name__}.")
+    return exposure
+
+
 def _number(value, what: str, unit: str) -> float:
     try:
         out = float(value)
@@ -271,7 +281,7 @@ def r_factor(compressive_stress_mpa: float, exposure: SpineExposure | None = Non
     ``R = [sum_{i=1..n} (S_d N^(1/6) / (S_u,i - S_stat))^6]^(1/6)`` with ``S_u,i = 6.75 - S_age (b + i - 1)``:
     the first year at the age ``b`` the exposure started (this gives the Annex C example's R = 1.22).
     """
-    e = exposure or SpineExposure()
+    e = _exposure(exposure)
     ages = e.start_age_years + np.arange(e.exposure_years, dtype=float)
     margin = ULTIMATE_STRENGTH_MPA - STRENGTH_LOSS_MPA_PER_YEAR[e.sex] * ages - e.m_z * GRAVITY_MPS2
     per_year = float(compressive_stress_mpa) * e.days_per_year ** (1.0 / DOSE_EXPONENT) / margin
@@ -429,7 +439,7 @@ class SpinalDoseAccumulator:
         route : str
             How the lumbar response was had, for the record.
         """
-        e = exposure or SpineExposure()
+        e = _exposure(exposure)
         t_m = self._n / self.fs_hz if measured_s is None else _positive_float(measured_s, "measured_s")
         if self._n == 0:
             raise InputError("the ISO 2631-5 dose needs a record; no sample was fed.")
