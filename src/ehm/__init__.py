@@ -17,7 +17,7 @@ read_motion        a measured motion from .csv/.txt, .parquet, .mat, .mf4/.mdf o
                    units and rate (``load_motion_csv``: the same with the default names)
 from_imu           the seat's motion from an IMU log (specific force and gyro rates)
 city_drive, rough_road    SYNTHETIC drives
-assess, Assessment       ISO 2631-1 comfort and motion sickness of a drive, seat and body
+assess, Assessment       ISO 2631-1 comfort, ISO 2631-5 spinal dose and motion sickness of a drive, seat and body
 FrfTable, linear_frf, time_domain_frf, read_frf    transmissibility and apparent mass tables
 compare            the paper's criterion (Eqs. 2-3) of measured against model curves
 check_step, StepWarning    transfer functions at a time step against the same model at finer steps
@@ -37,7 +37,8 @@ ehm.frf            FRF tables: time_domain_frf, linear_frf, read_frf_csv, read_f
 ehm.criterion      the paper's criterion (Eqs. 2-3): compare, curve_criterion, small_curves
 ehm.fit            parameter identification: fit, write_identified
 ehm.study          the joint-locking study: locking_study
-ehm.comfort        ISO 2631-1 weightings (any sampling rate) and metrics
+ehm.comfort        ISO 2631-1 weightings (any sampling rate) and metrics; ISO 2631-5 spinal dose (ehm.comfort.spine)
+ehm.references     reference curves, bands and the paper's findings, with their sources
 ehm.sickness       subjective vertical conflict motion sickness model (whole record, or piece by piece:
                    SicknessAccumulator)
 ehm.linear         the linearised person as a state-space model (the linear route)

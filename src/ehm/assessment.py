@@ -8,7 +8,9 @@ and at the pelvis, trunk and head:
   comfort reaction, MSDV (Wf, vertical), the SEAT value (body over seat), weighted spectra and running rms;
 * motion sickness: the subjective vertical conflict model driven by the head's angular velocity and
   gravito-inertial acceleration (and, for comparison, by the seat's, as if the head were rigidly fixed to
-  the seat).
+  the seat);
+* ISO 2631-5 spinal dose (:mod:`ehm.comfort.spine`): the lumbar response's peaks, the daily dose, S_d and R by
+  the standard's transfer function from the seat's vertical acceleration, at the drive's own rate.
 
 Output points are the segments' centres of gravity; their accelerations are in seat axes.
 
@@ -30,6 +32,7 @@ import numpy as np
 from scipy import signal
 
 from .comfort import BAND_WARNING_SHARE, WEIGHTING_BANDS_HZ, ComfortAccumulator, band_share_outside, comfort_reaction
+from .comfort.spine import SpineExposure, iso2631_5_summary, spinal_dose
 from .errors import EhmWarning, InputError
 from .motion import SeatMotion, require_motion, seat_rotation_matrices
 from .resampling import PASS_FRACTION
@@ -130,6 +133,7 @@ class Assessment:
     input_band_hz: tuple | None = None  # (low, high) the seat input covers, see input_band
     band_outside_share: dict = field(default_factory=dict)  # weighting -> share of its power outside that band
     route: dict | None = None  # how the drive was run and checked (ehm.hybrid.RouteReport.as_dict)
+    iso2631_5: dict | None = None  # ISO 2631-5 spinal dose (ehm.comfort.spine.iso2631_5_summary)
 
     def total_value(self, location: str) -> float:
         """Vibration total value a_v = sqrt(a_wx^2 + a_wy^2 + a_wz^2), k = 1 (comfort) [m/s^2]."""
@@ -165,6 +169,8 @@ class Assessment:
                            for k, r in self.sickness.items()}
         out["body_displacement_max_m"] = {k: v.tolist() for k, v in self.max_displacement_m.items()}
         out["body_displacement_final_m"] = {k: v.tolist() for k, v in self.final_displacement_m.items()}
+        if self.iso2631_5:
+            out["iso2631_5"] = self.iso2631_5
         return out
 
 
@@ -177,8 +183,10 @@ class Assessment:
         figure with the columns ``location`` (``seat``, ``pelvis``, ``trunk``, ``head``), ``axis`` (``x``, ``y``,
         ``z``, or ``xyz`` for the total value and the sickness model), ``metric`` (``a_w``, ``mtvv``, ``vdv``,
         ``crest_factor``, ``mtvv_ratio``, ``vdv_ratio``, ``seat_value``; ``total_value``, ``msdv``,
-        ``displacement_max``; and the sickness model driven by the head and by the seat: ``msi_final``,
-        ``conflict_max``), ``value`` and ``unit`` (``m/s^2``, ``m/s^1.75``, ``m/s^1.5``, ``m``, ``%``, ``1``);
+        ``displacement_max``; the sickness model driven by the head and by the seat: ``msi_final``,
+        ``conflict_max``; and ISO 2631-5 by the standard's route, at the seat's z: ``iso2631_5_peak_max``,
+        ``iso2631_5_dz``, ``iso2631_5_dzd``, ``iso2631_5_sd``, ``iso2631_5_r``, ``iso2631_5_p``), ``value``
+        and ``unit`` (``m/s^2``, ``m/s^1.75``, ``m/s^1.5``, ``m``, ``%``, ``MPa``, ``1``);
         an undefined figure (the crest factor of an axis without motion) is NaN.  The drive's description, route
         and duration are in ``DataFrame.attrs``."""
         from .dataframes import frame
@@ -202,6 +210,10 @@ class Assessment:
                  "duration": f"{self.duration_s:g} s, assessed in {self.wall_s:.3g} s",
                  "motion sickness (MSI at the end)": ", ".join(f"{k} {v['final_msi_percent']:.4g} %"
                                                                for k, v in sick.items())}
+        if self.iso2631_5:
+            v = self.iso2631_5["standard_route"]
+            facts["ISO 2631-5 (the standard's route)"] = (f"S_d {v['daily_compressive_stress_sd_mpa']:.3g} MPa, "
+                                                          f"R {v['r_factor']:.3g}")
         return html_table("ehm Assessment (ISO 2631-1)", facts,
                           ["location", "a_w,x [m/s²]", "a_w,y [m/s²]", "a_w,z [m/s²]", "a_v [m/s²]",
                            "comfort reaction", "VDV_z [m/s^1.75]", "MSDV_z [m/s^1.5]"], rows)
@@ -228,7 +240,16 @@ def _summary_rows(summary: dict) -> list:
     for by, v in summary["sickness"].items():
         rows += [(by, "xyz", "msi_final", v["final_msi_percent"], "%"),
                  (by, "xyz", "conflict_max", v["max_conflict_mps2"], "m/s^2")]
+    if "iso2631_5" in summary:
+        v = summary["iso2631_5"]["standard_route"]
+        rows += [("seat", "z", f"iso2631_5_{metric}", v[key], unit) for metric, key, unit in _ISO2631_5_FIGURES]
     return rows
+
+
+#: ISO 2631-5 figures of the dataframe: (metric, key in the summary's standard route, unit)
+_ISO2631_5_FIGURES = (("peak_max", "lumbar_peak_max_mps2", "m/s^2"), ("dz", "dose_dz_mps2", "m/s^2"),
+                      ("dzd", "daily_dose_dzd_mps2", "m/s^2"), ("sd", "daily_compressive_stress_sd_mpa", "MPa"),
+                      ("r", "r_factor", "1"), ("p", "injury_probability", "1"))
 
 
 def _finite(x: float) -> float | None:
@@ -335,7 +356,7 @@ def needs_rotating_seat(motion: SeatMotion, method: str) -> bool:
 
 def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
            method: str = "auto", tolerance: float | None = None, workers: int = 1, client=None,
-           lead_in_s: float | None = None) -> Assessment:
+           lead_in_s: float | None = None, exposure: SpineExposure | None = None) -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
 
     Parameters
@@ -365,6 +386,9 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
         segment after a lead-in of ``lead_in_s`` (:func:`ehm.segments.stream_parallel`; the comfort and sickness
         figures within 1 % of the continuous run with the default lead-in).  ``workers=1`` and no client: the
         continuous run.
+    exposure : SpineExposure, optional
+        The daily exposure and the person of the ISO 2631-5 dose (default ``SpineExposure()``: 8 h a day, the
+        standard's Annex C example's man).
     """
     from .simulation import SeatedHuman
 
@@ -387,6 +411,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     shares = band_coverage(band)
     for sentence in band_warnings(band, shares):
         warnings.warn(f"{motion.description}: {sentence}", EhmWarning, stacklevel=2)
+    spine = iso2631_5(motion, exposure)
     description, duration = motion.description, motion.duration_s
     t0 = time.perf_counter()
     if method != "nonlinear" and (workers != 1 or client is not None):
@@ -402,8 +427,23 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     if method != "nonlinear":  # on the model's step, resampled a chunk at a time (the grid t = 0, dt, ...)
         description = f"{motion.description}, resampled to dt {dt:g} s"
         duration = int(np.floor(motion.duration_s / dt + 1e-9)) * dt
-    return _evaluate(running, chunks, motion if rotating else None, description, duration, band, shares, keep, dt,
-                     t0)
+    result = _evaluate(running, chunks, motion if rotating else None, description, duration, band, shares, keep, dt,
+                       t0)
+    result.iso2631_5 = spine
+    return result
+
+
+def iso2631_5(motion: SeatMotion, exposure: SpineExposure | None = None, model_lumbar=None) -> dict:
+    """The ISO 2631-5 section of an assessment (:func:`ehm.comfort.spine.iso2631_5_summary`).
+
+    The standard's route: the drive's own vertical seat acceleration at its own rate.  The body model's route,
+    ``model_lumbar``: None, or the model's lumbar point as a :class:`ehm.comfort.spine.SpinalDose` of
+    :func:`ehm.comfort.spine.spinal_dose_from_lumbar` (its vertical acceleration over the drive, at the model's
+    rate) -- the place where the model's lumbar point comes in.
+    """
+    fs = 1.0 / float(np.median(np.diff(motion.time_s)))
+    standard = spinal_dose(motion.acc_mps2[:, 2], fs, exposure, measured_s=motion.duration_s)
+    return iso2631_5_summary(standard, model_lumbar)
 
 
 def _evaluate(running: _Running, chunks, rotating_motion, description: str, duration: float, band, shares,

@@ -14,6 +14,35 @@ def _img(path: Path) -> str:
     return f'<img alt="{html.escape(Path(path).stem)}" src="data:image/png;base64,{data}">'
 
 
+def _iso2631_5_html(section: dict | None) -> str:
+    """The ISO 2631-5 section of the report: one row per route that was computed."""
+    if not section:
+        return ""
+    e = section["exposure"]
+    rows = []
+    for name, label in (("standard_route", "standard's transfer function, from the seat"),
+                        ("model_route", "body model's lumbar point")):
+        v = section.get(name)
+        if v:
+            rows.append(f"<tr><th>{label}</th><td>{v['lumbar_peak_max_mps2']:.3g}</td><td>{v['lumbar_peak_count']}</td>"
+                        f"<td>{v['dose_dz_mps2']:.3g}</td><td>{v['daily_dose_dzd_mps2']:.3g}</td>"
+                        f"<td><b>{v['daily_compressive_stress_sd_mpa']:.3g}</b></td><td><b>{v['r_factor']:.3g}</b></td>"
+                        f"<td>{100 * v['injury_probability']:.2g} %</td></tr>")
+    r10, r50, r90 = section["standard_route"]["r_for_risk_10_50_90_pct"]
+    differ = f"<p>{html.escape(section['routes_differ'])}</p>" if section.get("routes_differ") else ""
+    return f"""<h2>Spinal dose (ISO 2631-5)</h2>
+<table><tr><th>route</th><th>largest lumbar peak</th><th>peaks</th><th>D<sub>z</sub></th><th>D<sub>zd</sub></th>
+<th>S<sub>d</sub> [MPa]</th><th>R</th><th>P</th></tr>
+{''.join(rows)}</table>{differ}
+<p class="note">Lumbar peaks, D<sub>z</sub> and D<sub>zd</sub> in m/s²: the positive peaks of the lumbar spine's
+vertical acceleration response (ISO 2631-5:2018 Formula 1 applied to the seat's vertical acceleration, mean removed),
+their dose over the drive and over a day of {e['daily_exposure_h']:g} h. S<sub>d</sub>: daily compressive stress;
+R: over {e['exposure_years']} years from the age of {e['start_age_years']:g}, {e['days_per_year']:g} days a year,
+the standard's {'82 kg man' if e['sex'] == 'male' else '64 kg woman'}; R {r10:g}, {r50:g} and {r90:g} mean a 10, 50
+and 90 % probability of an adverse health effect (Annex C); P: the probability of a lumbar injury.</p>
+"""
+
+
 def write_report(summary: dict, figures: dict, path: Path | str, title: str = "Motion comfort assessment") -> None:
     """Write ``path`` (HTML) from an assessment summary (``Assessment.summary()``) and figure files."""
     locs = summary["locations"]
@@ -61,7 +90,7 @@ Comfort reactions: ISO 2631-1 Annex C bands for public transport.</p>
 <p>Predicted motion sickness incidence at the end of the drive (subjective vertical conflict model):
 <b>{sick['head']['final_msi_percent']:.2f} %</b> from the head's motion,
 {sick['seat']['final_msi_percent']:.2f} % for a head fixed to the seat.</p>
-<h2>Figures</h2>
+{_iso2631_5_html(summary.get("iso2631_5"))}<h2>Figures</h2>
 {''.join(_img(p) for p in figures.values())}
 <h2>Body motion</h2>
 <p>Largest displacement from the settled posture [mm]:

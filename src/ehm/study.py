@@ -14,10 +14,12 @@ import numpy as np
 
 from .errors import InputError
 from .frf import AXES, DOFS, POINTS, FrfTable, gain_unit, linear_frf, time_domain_frf
+from .references import LOCKING_FINDINGS
+from .references import LOCKING_VARIANTS as PAPER_VARIANTS  # the paper's variants: name -> joints locked
 from .tables import joint_names
 
-#: The paper's variants: name -> joints locked on top of the default (waist) lock.
-PAPER_VARIANTS = {"baseline": (), "SL": ("t12",), "NL": ("lower_neck",)}
+#: Reported beside the findings, though the paper states nothing on it: (label, path).
+_ALSO_REPORTED = (("SL: vertical pelvis peak frequency [Hz]", ("z", "pelvis", "z")),)
 
 #: Paths reported (input axis, point, dof): the in-plane responses of the paper's Figs. 3-5.
 STUDY_PATHS = tuple(
@@ -91,27 +93,19 @@ class LockingStudy:
                            "y -> head roll peak gain change [%]", "x -> head pitch peak gain change [%]"], rows)
 
     def findings(self) -> dict:
-        """The paper's findings (section 4), each as measured on this model."""
-        def r(v, *k):
-            return self.row(v, *k)
-
-        out = {
-            "SL: vertical trunk peak frequency [Hz] (paper: rises to an unrealistic ~8 Hz)":
-                [r("baseline", "z", "trunk", "z").peak_hz, r("SL", "z", "trunk", "z").peak_hz],
-            "SL: vertical head peak frequency [Hz]":
-                [r("baseline", "z", "head", "z").peak_hz, r("SL", "z", "head", "z").peak_hz],
-            "SL: vertical pelvis peak frequency [Hz]":
-                [r("baseline", "z", "pelvis", "z").peak_hz, r("SL", "z", "pelvis", "z").peak_hz],
-        }
-        for label, key in (("NL: head roll under lateral input", ("y", "head", "roll")),
-                           ("NL: head yaw under lateral input", ("y", "head", "yaw")),
-                           ("NL: head pitch under fore-aft input", ("x", "head", "pitch")),
-                           ("NL: head pitch under vertical input", ("z", "head", "pitch"))):
-            nl = r("NL", *key)
-            out[label + " (paper: " + ("drops clearly" if key[0] == "y" else "drops slightly") + ")"] = {
-                "peak_gain_change_pct": nl.peak_gain_change_pct,
-                "band_mean_gain_change_pct": nl.band_mean_change_pct,
-            }
+        """The paper's findings (section 4, ``ehm.references.LOCKING_FINDINGS``), each as measured on this
+        model: a peak frequency as [baseline, variant] in Hz, gains as their changes from the baseline in %."""
+        out = {}
+        for finding in LOCKING_FINDINGS:
+            key = (finding.input_axis, finding.point, finding.dof)
+            base, var = self.row("baseline", *key), self.row(finding.variant, *key)
+            if finding.quantities == ("peak_hz",):
+                out[finding.label] = [base.peak_hz, var.peak_hz]
+            else:
+                out[finding.label] = {f"{q}_change_pct": finding.change(q, getattr(base, q), getattr(var, q))
+                                      for q in finding.quantities}
+        out.update({label: [self.row("baseline", *path).peak_hz, self.row("SL", *path).peak_hz]
+                    for label, path in _ALSO_REPORTED})
         return out
 
 

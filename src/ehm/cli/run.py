@@ -255,22 +255,46 @@ def add_assess(sub) -> None:
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
     _route_options(p)
+    _exposure_options(p)
     _parallel_options(p)
     _progress_options(p)
     p.set_defaults(func=cmd_assess)
+
+
+def _exposure_options(p) -> None:
+    """The daily exposure and the person of the ISO 2631-5 spinal dose (ehm.comfort.spine.SpineExposure)."""
+    g = p.add_argument_group("ISO 2631-5 spinal dose (defaults: 8 h a day, the standard's Annex C example's person)")
+    g.add_argument("--daily-exposure-h", type=float, default=8.0, metavar="H",
+                   help="hours a day the person sits in vibration like this drive's (default 8)")
+    g.add_argument("--exposure-start-age-years", type=float, default=20.0, metavar="YEARS",
+                   help="the age the exposure started (default 20)")
+    g.add_argument("--exposure-years", type=int, default=20, metavar="N", help="years of exposure (default 20)")
+    g.add_argument("--exposure-days-per-year", type=float, default=120.0, metavar="DAYS",
+                   help="days of exposure a year (default 120)")
+    g.add_argument("--sex", choices=("male", "female"), default="male",
+                   help="the standard's person for the dose: its 82 kg man or 64 kg woman (stress per acceleration, "
+                        "strength, injury risk; default male); the body model is set by --params, --mass and the rest")
+
+
+def _exposure(args):
+    from ..comfort.spine import SpineExposure
+
+    return SpineExposure(daily_exposure_h=args.daily_exposure_h, start_age_years=args.exposure_start_age_years,
+                         exposure_years=args.exposure_years, days_per_year=args.exposure_days_per_year, sex=args.sex)
 
 
 def cmd_assess(args) -> int:
     from ..assessment import assess, needs_rotating_seat
 
     final = check_output_folder(args.out, inputs=_input_files(args))
+    exposure = _exposure(args)
     motion = _read_motion_file(args)
     human = _human(args, rotating_seat=needs_rotating_seat(motion, args.method))
     with _segments(args) as parallel:
         kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
                                           "lead_in_s": parallel.lead_in_s}
         result = assess(motion, human, progress=_progress_bar("assess", args.quiet), method=args.method,
-                        tolerance=_tolerance(args), **kw)
+                        tolerance=_tolerance(args), exposure=exposure, **kw)
     summary = _assessment_summary(result, human)
     with RunFolder(final) as out:
         _write_assessment(result, summary, out)
@@ -321,7 +345,31 @@ def _print_assessment(result, summary: dict, out: Path) -> None:
         print(f"  {summary['route']['summary_line']}")
     print(f"  motion sickness incidence at the end: head {summary['sickness']['head']['final_msi_percent']:.2f} %, "
           f"head fixed to the seat {summary['sickness']['seat']['final_msi_percent']:.2f} %")
+    for line in _iso2631_5_lines(summary.get("iso2631_5")):
+        print(f"  {line}")
     print(f"wrote {out}/assessment.json, report.html, weighted_spectra.png, running_rms.png, sickness.png")
+
+
+def _iso2631_5_lines(section: dict | None) -> list[str]:
+    """The ISO 2631-5 figures of an assessment's summary, for the console."""
+    if not section:
+        return []
+    e = section["exposure"]
+    lines = []
+    for name, label in (("standard_route", "by the standard's transfer function from the seat"),
+                        ("model_route", "by the body model's lumbar point")):
+        v = section.get(name)
+        if v:
+            lines.append(f"ISO 2631-5 {label}: largest lumbar peak {v['lumbar_peak_max_mps2']:.3g} m/s^2 at "
+                         f"{v['lumbar_peak_max_time_s']:.1f} s ({v['lumbar_peak_count']} peaks), D_z "
+                         f"{v['dose_dz_mps2']:.3g} m/s^2; {e['daily_exposure_h']:g} h a day: D_zd "
+                         f"{v['daily_dose_dzd_mps2']:.3g} m/s^2, S_d {v['daily_compressive_stress_sd_mpa']:.3g} MPa, "
+                         f"R {v['r_factor']:.3g} ({e['exposure_years']} years from age {e['start_age_years']:g}, "
+                         f"{e['days_per_year']:g} days a year, {e['sex']}; R {v['r_for_risk_10_50_90_pct'][0]:g} "
+                         f"is a 10 % risk)")
+    if section.get("routes_differ"):
+        lines.append(section["routes_differ"])
+    return lines
 
 
 # --- ehm animate ----------------------------------------------------------------------------------------------------
