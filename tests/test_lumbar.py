@@ -51,6 +51,19 @@ def test_lumbar_point_is_the_l4_l5_joint_centre_on_the_lower_torso(human):
     assert np.linalg.norm(d.site_xpos[site] - d.xipos[torso]) > 0.1
 
 
+def test_every_list_of_points_has_lumbar_last():
+    # "in every route, file and figure": the modules that keep their own list of points (fmu and frf do not import
+    # the engine) hold the engine's, lumbar last, so that the earlier outputs keep their places (FMU value
+    # references, file columns); the assessment's locations and the native FMU's outputs follow.
+    from ehm import assessment, fmu, fmu_native, frf, results
+
+    points = tuple(engine.POINTS)
+    assert points[-1] == "lumbar" and points[:3] == ("pelvis", "trunk", "head")
+    assert fmu.POINTS == frf.POINTS == fmu_native.POINTS == results.POINT_NAMES == points
+    assert assessment.LOCATIONS == ("seat", *points)
+    assert fmu.OUTPUTS.index("lumbar_ax_mps2") == 3 * 12 and fmu_native.OUTPUTS.index("lumbar_ax_mps2") == 3 * 15
+
+
 def test_lumbar_is_the_pelvis_plus_the_rigid_body_term(human, xz_run):
     # Hand check: with the waist locked (the default) pelvis and lower torso are one rigid body, so the lumbar
     # acceleration is the pelvis's plus alpha x r + w x (w x r), r from the pelvis's centre of gravity to the L4-L5

@@ -755,13 +755,13 @@ def left_out(y: np.ndarray, n: int, seat: SeatRotation) -> dict:
     point, against the point's own acceleration, estimates their effect (the response to a load is of the
     order of the load per unit mass).
 
-    Per point (``pelvis``, ``trunk``, ``head``, ``lumbar``) a dict: ``coriolis_mps2``, the largest ``2 |w| |v|`` (v the point's
-    velocity relative to the seat); ``offset_mps2``, the largest ``(|w|^2 + |alpha|) |dr|`` (dr its displacement
-    from rest); ``acc_rms_mps2``, the rms of its absolute acceleration (vector length); ``share``, the two
-    largest terms' sum over that rms; ``gyro_radps2``, the largest ``|w| |w_rel|`` (w_rel its angular velocity
-    relative to the seat); ``angacc_rms_radps2`` and ``angular_share`` likewise; and ``n`` the samples.  At the
-    top level ``share``: the largest share of all points, to compare with a tolerance (e.g. 0.01).  Largest
-    values against rms values: an estimate on the safe side.
+    Per point (``pelvis``, ``trunk``, ``head``, ``lumbar``) a dict: ``coriolis_mps2``, the largest ``2 |w| |v|`` (v
+    the point's velocity relative to the seat); ``offset_mps2``, the largest ``(|w|^2 + |alpha|) |dr|`` (dr its
+    displacement from rest); ``acc_rms_mps2``, the rms of its absolute acceleration (vector length); ``share``, the
+    two largest terms' sum over that rms; ``gyro_radps2``, the largest ``|w| |w_rel|`` (w_rel its angular velocity
+    relative to the seat); ``angacc_rms_radps2`` and ``angular_share`` likewise; and ``n`` the samples.  At the top
+    level ``share``: the largest share of all points, to compare with a tolerance (e.g. 0.01).  Largest values
+    against rms values: an estimate on the safe side.
     """
     kind = lambda k: _in_time_order(_kind(y, k))[:, :n].reshape(_NP, 3, n)  # noqa: E731
     acc = kind(_ACC) - (engine.G0 - seat.g_seat_mps2).T[None]

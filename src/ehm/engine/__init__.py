@@ -78,8 +78,8 @@ from .state import (data_at_deviation, deviation_of, get_state, new_data, qpos_a
 from .stepper import RawRun, deviation_poses, evaluate_velocities, point_accelerations, run, step
 
 __all__ = [
-    "CHECK_EVERY", "DIVERGED_M", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS", "S_ENTRIES", "PAD_INERTIA_KGM2", "POINT_JOINTS",
-    "POINTS",
+    "CHECK_EVERY", "DIVERGED_M", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS",
+    "S_ENTRIES", "PAD_INERTIA_KGM2", "POINT_JOINTS", "POINTS",
     "SEAT_DOFS", "SEAT_INERTIA_KGM2", "SENSOR_KINDS", "SUPPORT_GROUPS", "TRAPEZOIDAL_JOINTS",
     "ImpossibleInertia", "LinearModel", "Model", "RawRun", "SeatGeometry",
     "build", "c_library", "captured_warnings", "check_seat", "contact_forces", "contact_solver_params",
