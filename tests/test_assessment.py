@@ -117,7 +117,7 @@ def test_city_drive_assessment(tmp_path):
     dt = float(ehm.Parameters.load().value("simulation.dt_s"))
     ay = drive.resample(dt).acc_mps2[:, 1]
     assert res.metrics["seat"]["y"].a_w == pytest.approx(metrics(ay, 1 / dt, "Wd").a_w, rel=1e-6)
-    for loc in ("seat", "pelvis", "trunk", "head"):
+    for loc in ("seat", "pelvis", "trunk", "head", "lumbar"):
         assert s["locations"][loc]["total_value_mps2"] > 0
     # 40 s of city driving makes a little sickness (measured 0.03 %), far below the model's 85 % ceiling
     assert 0.001 < s["sickness"]["head"]["final_msi_percent"] < 1.0
@@ -143,7 +143,7 @@ def test_cli_assess_writes_report(tmp_path, capsys):
     for name in ("assessment.json", "report.html", "weighted_spectra.png", "running_rms.png", "sickness.png"):
         assert (out / name).stat().st_size > 0, name
     summary = json.loads((out / "assessment.json").read_text())
-    assert set(summary["locations"]) == {"seat", "pelvis", "trunk", "head"}
+    assert set(summary["locations"]) == {"seat", "pelvis", "trunk", "head", "lumbar"}
     html = (out / "report.html").read_text()
     assert "data:image/png;base64," in html and "SYNTHETIC city drive" in html
 
@@ -209,7 +209,7 @@ def test_linear_assessment_resamples_chunk_by_chunk():
     whole = assess(SeatMotion(drive.time_s, acc, "SYNTHETIC small drive").resample(dt), human, method="linear")
     assert streamed.description == f"SYNTHETIC small drive, resampled to dt {dt:g} s"
     assert streamed.duration_s == pytest.approx(whole.duration_s, abs=1e-12)
-    for loc in ("seat", "pelvis", "trunk", "head"):
+    for loc in ("seat", "pelvis", "trunk", "head", "lumbar"):
         for a in "xyz":
             s, w = streamed.metrics[loc][a], whole.metrics[loc][a]
             assert s.a_w > 1e-3 and s.a_w == pytest.approx(w.a_w, rel=1e-9), (loc, a)

@@ -98,8 +98,8 @@ def test_cli_batch(tmp_path, capsys, monkeypatch):
     lines = (tmp_path / "r" / "results.csv").read_text().splitlines()
     # the shape of Assessment.to_dataframe (issue 32): each output's location, axis, metric and unit beside it
     assert lines[0].startswith("\"run_id\",\"output\",\"location\",\"axis\",\"metric\",\"value\",\"unit\",\"error\"")
-    # 2 people x 1 parameter value x 6 outputs (peak frequency and gain of pelvis, trunk, head on seat z)
-    assert len(lines) == 1 + 2 * 6 and not any("error" in ln.split(",")[1] for ln in lines[1:])
+    # 2 people x 1 parameter value x 8 outputs (peak frequency and gain of pelvis, trunk, head, lumbar on seat z)
+    assert len(lines) == 1 + 2 * 8 and not any("error" in ln.split(",")[1] for ln in lines[1:])
 
 
 def test_fit_evaluates_candidates_on_a_dask_cluster():

@@ -14,7 +14,7 @@ from ehm.cli import main
 from ehm.params import Parameters, default_params_path
 
 REQUIRED_COLUMNS = ["time_s", "seat_ax_mps2", "seat_ay_mps2", "seat_az_mps2"] + [
-    f"{p}_{q}" for p in ("pelvis", "trunk", "head")
+    f"{p}_{q}" for p in ("pelvis", "trunk", "head", "lumbar")
     for q in ("ax_mps2", "ay_mps2", "az_mps2", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad")
 ]
 

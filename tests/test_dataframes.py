@@ -48,7 +48,7 @@ def test_run_long_frame_has_units_in_its_columns_and_the_arrays_values(run):
     df = run.to_dataframe()
     assert list(df.columns) == ["time_s", "location", "axis", "acc_mps2", "disp_m", "rot_rad", "angacc_radps2",
                                 "force_N"]
-    assert list(df["location"].cat.categories) == ["seat", "pelvis", "trunk", "head", *run.support_N]
+    assert list(df["location"].cat.categories) == ["seat", "pelvis", "trunk", "head", "lumbar", *run.support_N]
     assert len(df) == len(run.time_s) * 3 * (1 + len(run.points) + len(run.support_N))
     head_z = df[(df.location == "head") & (df.axis == "z")]
     np.testing.assert_array_equal(head_z.time_s, run.time_s)

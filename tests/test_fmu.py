@@ -22,7 +22,7 @@ fmpy = pytest.importorskip("fmpy", reason="running the exported FMU needs fmpy (
 
 from ehm.fmu import INPUTS, OUTPUTS, PARAMS_RESOURCE, SETUP_RESOURCE, export_fmu  # noqa: E402
 
-POINTS = ("pelvis", "trunk", "head")
+POINTS = tuple(ehm.engine.POINTS)  # the unit must carry every point the engine has
 DT = float(ehm.Parameters.load().value("simulation.dt_s"))  # the model step of the shipped parameters
 FIELDS = {"acc_mps2": ("ax_mps2", "ay_mps2", "az_mps2"), "rot_rad": ("roll_rad", "pitch_rad", "yaw_rad"),
           "disp_m": ("x_m", "y_m", "z_m"), "angvel_radps": ("wx_radps", "wy_radps", "wz_radps")}

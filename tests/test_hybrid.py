@@ -64,7 +64,7 @@ def test_small_input_runs_linear_only(human):
     route = run.extra["route"]
     assert route["windows_s"] == [] and route["nonlinear_s"] == 0 and route["linear_share"] == 1.0
     plain = simulate_linear(human, motion, dt_s=0.001)
-    for p in ("pelvis", "trunk", "head"):
+    for p in engine.POINTS:
         np.testing.assert_allclose(run.point(p).acc_mps2, plain.point(p).acc_mps2, rtol=0, atol=1e-12)
     assert "linear model for the whole drive" in route["summary_line"]
 
@@ -77,7 +77,7 @@ def test_hybrid_agrees_with_one_continuous_nonlinear_run(sliding):
     assert route["windows_s"] and 0 < route["nonlinear_s"] < 0.5 * motion.duration_s
     # the linear answer alone would be off by more than 1 % of rms in the windows: the check found real work
     assert route["largest_discrepancy"]["share_of_rms"] > 0.01
-    for p in ("pelvis", "trunk", "head"):
+    for p in engine.POINTS:
         a, b = hy.point(p).acc_mps2, nl.point(p).acc_mps2
         assert _share(a, b).max() < 0.02, p
         assert total_value(*a.T, 1000.0) == pytest.approx(total_value(*b.T, 1000.0), rel=0.005), p
@@ -163,7 +163,7 @@ def test_a_rotating_drive_hands_over_to_the_rotating_seat_and_back(turning, monk
     assert 0 < route["left_out"]["share"] < 1 and "leaves out" in route["summary_line"]
     np.testing.assert_array_equal(hy.time_s, nl.time_s)
     np.testing.assert_allclose(hy.seat_angles_rad, nl.seat_angles_rad, rtol=0, atol=1e-12)
-    for p in ("pelvis", "trunk", "head"):
+    for p in engine.POINTS:
         for field in ("acc_mps2", "gia_mps2", "angvel_radps"):
             a, b = getattr(hy.point(p), field), getattr(nl.point(p), field)
             assert _share(a, b).max() < 0.02, (p, field)
@@ -244,7 +244,7 @@ def test_a_rotating_seat_held_level_takes_the_windows_of_a_translation(turning, 
     motion, nl_static, _ = sliding
     nl, hy = turning.simulate(motion, method="nonlinear"), turning.simulate(motion, method="auto")
     assert hy.extra["route"]["windows_s"] and "linear_check" not in hy.extra
-    for p in ("pelvis", "trunk", "head"):
+    for p in engine.POINTS:
         a, b = hy.point(p).acc_mps2, nl.point(p).acc_mps2
         assert _share(a, b).max() < 0.02, p
         assert total_value(*a.T, 1000.0) == pytest.approx(total_value(*b.T, 1000.0), rel=0.005), p

@@ -17,7 +17,7 @@ from ehm.results import concatenate_runs
 
 #: The city drive scaled to this stays within the linear route (its contacts stuck; 0.35 is the limit).
 SCALE = 0.3
-POINTS = ("pelvis", "trunk", "head")
+POINTS = tuple(engine.POINTS)
 #: Largest rms difference from the nonlinear route, as a share of the nonlinear rms (vector over x, y, z), per
 #: output.  Measured on the drive below: acc 0.04-0.10 %, gia 0.06-0.16 %, angvel 0.2-0.6 %, rot 0.5-0.7 %,
 #: disp 0.4-0.8 %, angacc 2.4-3.5 % (the nonlinear seat tracks its angular acceleration within its 20 Hz
@@ -212,7 +212,7 @@ def test_assessment_of_a_rotating_drive_on_the_linear_route(drive):
     from ehm.assessment import assess
 
     lin, nl = assess(drive, method="linear", chunk_s=5.0), assess(drive, chunk_s=5.0)
-    for loc in ("seat", "pelvis", "trunk", "head"):
+    for loc in ("seat", *POINTS):
         for a in "xyz":
             assert nl.metrics[loc][a].a_w > 1e-3, (loc, a)
             assert lin.metrics[loc][a].a_w == pytest.approx(nl.metrics[loc][a].a_w, rel=0.01), (loc, a)

@@ -8,6 +8,7 @@ import pandas as pd
 import pytest
 
 import ehm
+from ehm import engine
 from ehm.cli import main
 from ehm.frf import linear_frf
 from ehm.linear import LinearRouteError, simulate_linear, stream_linear
@@ -36,7 +37,7 @@ def test_agrees_with_the_nonlinear_route(human, axis):
     nl, lin = human.simulate(motion, method="nonlinear"), human.simulate(motion, method="linear")
     assert lin.time_s.shape == nl.time_s.shape and "linear route" in lin.description
     k = "xyz".index(axis)
-    for p in ("pelvis", "trunk", "head"):
+    for p in engine.POINTS:
         a, b = nl.point(p).acc_mps2[:, k], lin.point(p).acc_mps2[:, k]
         assert _rms(a - b) <= 0.03 * _rms(a), (p, _rms(a - b) / _rms(a))
         # displacement and rotation follow as well (rotation: the largest component)
@@ -268,14 +269,15 @@ def test_orientations_are_exact():
     from ehm import linear
 
     rng = np.random.default_rng(0)
-    L, nb = linear.BLOCK, 40
-    R0 = Rotation.random(3, random_state=1).as_matrix()
+    L, nb, n_points = linear.BLOCK, 40, len(engine.POINTS)
+    rows = 3 * n_points  # of one output kind: every point's x, y, z
+    R0 = Rotation.random(n_points, random_state=1).as_matrix()
     for scale in (1e-3, 0.02, 0.5):
-        y = rng.standard_normal((78, L, nb))
-        y[18:27] *= scale  # rotation vectors
+        y = rng.standard_normal((5 * rows + 33, L, nb))
+        y[2 * rows:3 * rows] *= scale  # rotation vectors
         rot, angvel, gia = (linear._in_time_order(x) for x in linear._orientations(y, R0))
-        for p in range(3):
-            series = lambda k: linear._in_time_order(y[9 * k + 3 * p:9 * k + 3 * p + 3]).T  # noqa: E731
+        for p in range(n_points):
+            series = lambda k: linear._in_time_order(y[rows * k + 3 * p:rows * k + 3 * p + 3]).T  # noqa: E731
             rel = Rotation.from_rotvec(series(2))
             R = np.einsum("nij,jk->nik", rel.as_matrix(), R0[p])
             # ehm's Rodrigues matrix + arctan2/arcsin against scipy's quaternion route: each angle comes from

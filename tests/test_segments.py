@@ -15,7 +15,7 @@ from ehm.results import concatenate_runs
 from ehm import segments
 from ehm.segments import Segment, plan_segments, simulate_parallel, stream_parallel
 
-POINTS = ("pelvis", "trunk", "head")
+POINTS = tuple(ehm.engine.POINTS)
 
 
 @pytest.fixture(autouse=True)

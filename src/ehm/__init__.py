@@ -9,7 +9,7 @@ Public API
 SeatedHuman        one person on one seat: ``info()``, ``simulate(motion)``, ``stream``, ``linear_model()``
 simulate_parallel  a long nonlinear run in segments on several processes or a Dask cluster
 RunResult          a run's time histories by name: ``run.point("head").acc_mps2``
-PointMotion        acceleration, displacement and rotation of pelvis, trunk or head
+PointMotion        acceleration, displacement and rotation of pelvis, trunk, head or lumbar spine
 Simulator, StepState    step by step (one seat acceleration per call) and real time
 SeatMotion         a seat acceleration history (``resample``: anti-aliased polyphase)
 random_vibration, sine, sweep    generated seat motions

@@ -1,7 +1,7 @@
 """Comfort and sickness assessment of a whole drive, at the seat and through the body.
 
 :func:`~ehm.assess` runs the seated person through a drive chunk by chunk and evaluates, at the seat (the input)
-and at the pelvis, trunk and head:
+and at the pelvis, trunk, head and lumbar spine:
 
 * ISO 2631-1 comfort: frequency-weighted rms a_w, MTVV, VDV, crest factor per axis (Wd for x and y, Wk
   for z, seated, seat-surface axes), the vibration total value (k = 1, comfort) with the standard's
@@ -12,14 +12,15 @@ and at the pelvis, trunk and head:
 * ISO 2631-5 spinal dose (:mod:`ehm.comfort.spine`): the lumbar response's peaks, the daily dose, S_d and R by
   the standard's transfer function from the seat's vertical acceleration, at the drive's own rate.
 
-Output points are the segments' centres of gravity; their accelerations are in seat axes.
+Output points are the segments' centres of gravity, and the L4-L5 joint centre for ``lumbar``; their
+accelerations are in seat axes.
 
 Memory: every figure is accumulated chunk by chunk (comfort: :class:`ehm.comfort.ComfortAccumulator`;
 sickness: :class:`ehm.sickness.SicknessAccumulator`, the model run along on 20 Hz block means), so the working
 memory is set by the chunk, not by the drive.  What grows with the drive is only what the figures draw: the
-running rms of 12 signals at 10 Hz and the MSI and ``|conflict|`` of the two sickness runs at 20 Hz, about 6 MB
-of numbers per hour of drive (3.5 + 2.3 MB), 9 MB with the overhead of the per-chunk pieces they are gathered
-in (measured; a 200 Hz log's own time and three channels take 23 MB per hour).
+running rms of 15 signals at 10 Hz and the MSI and ``|conflict|`` of the two sickness runs at 20 Hz, about 7 MB
+of numbers per hour of drive (4.4 + 2.3 MB), 10 MB with the overhead of the per-chunk pieces they are gathered
+in (measured with 12 signals: 6 and 9 MB; a 200 Hz log's own time and three channels take 23 MB per hour).
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ from .motion import SeatMotion, require_motion, seat_rotation_matrices
 from .resampling import PASS_FRACTION
 from .sickness import SicknessAccumulator
 
-LOCATIONS = ("seat", "pelvis", "trunk", "head")
+LOCATIONS = ("seat", "pelvis", "trunk", "head", "lumbar")
 AXIS_WEIGHTING = {"x": "Wd", "y": "Wd", "z": "Wk"}  #: ISO 2631-1 seated, comfort/health axes
 SICKNESS_RATE_HZ = 20.0  #: Sample rate of the sickness model's input (block means of the run)
 TRACE_RATE_HZ = 10.0  #: Sample rate of the stored running rms and traces
@@ -180,7 +181,7 @@ class Assessment:
 
     def to_dataframe(self):
         """The figures of ``summary()`` (what ``assessment.json`` holds) as a long pandas DataFrame: one row per
-        figure with the columns ``location`` (``seat``, ``pelvis``, ``trunk``, ``head``), ``axis`` (``x``, ``y``,
+        figure with the columns ``location`` (``seat``, ``pelvis``, ``trunk``, ``head``, ``lumbar``), ``axis`` (``x``, ``y``,
         ``z``, or ``xyz`` for the total value and the sickness model), ``metric`` (``a_w``, ``mtvv``, ``vdv``,
         ``crest_factor``, ``mtvv_ratio``, ``vdv_ratio``, ``seat_value``; ``total_value``, ``msdv``,
         ``displacement_max``; the sickness model driven by the head and by the seat: ``msi_final``,

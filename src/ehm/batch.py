@@ -402,7 +402,7 @@ def _run_point(spec: RunSpec) -> dict:
         size = BodySize(**spec.person) if spec.person else None
         inp = spec.input
         if "transmissibility" in spec.compute:
-            from .frf import linear_frf, time_domain_frf
+            from .frf import POINTS, linear_frf, time_domain_frf
 
             human = SeatedHuman(params=params, lock=spec.lock, size=size)
             axes = inp.get("axes", ["x", "y", "z"])
@@ -413,7 +413,7 @@ def _run_point(spec: RunSpec) -> dict:
                     record["simulated_s"] += float(inp.get("duration_s", 30.0))
                 else:
                     table = linear_frf(human, axis)
-                for p in ("pelvis", "trunk", "head"):
+                for p in POINTS:
                     c = table.curve(axis, p, axis)
                     f_pk, g_pk = c.peak((0.3, 12.0))
                     record["outputs"][f"seat_{axis}->{p}_{axis}.peak_hz"] = f_pk

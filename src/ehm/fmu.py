@@ -22,9 +22,9 @@ Interface (all Real unless noted; seat axes x forward, y left, z up):
 * inputs ``seat_a{x,y,z}_mps2``: seat acceleration [m/s^2]; ``seat_w{x,y,z}_radps``: seat angular
   velocity [rad/s], which must stay 0 (step-by-step runs support seat translation only);
 * parameter ``params_file`` (String, fixed): a parameter file to use instead of the embedded one;
-* outputs for ``pelvis``, ``trunk`` and ``head``: absolute acceleration ``<p>_a{x,y,z}_mps2``, rotation
-  from the settled posture ``<p>_{roll,pitch,yaw}_rad``, displacement from the settled posture
-  ``<p>_{x,y,z}_m`` and angular velocity in the segment's own axes ``<p>_w{x,y,z}_radps``; and
+* outputs for ``pelvis``, ``trunk``, ``head`` and ``lumbar`` (the L4-L5 joint centre): absolute acceleration
+  ``<p>_a{x,y,z}_mps2``, rotation from the settled posture ``<p>_{roll,pitch,yaw}_rad``, displacement from the
+  settled posture ``<p>_{x,y,z}_m`` and angular velocity in the segment's own axes ``<p>_w{x,y,z}_radps``; and
   ``output_time_s``, the model time of the sample the outputs belong to.
 
 Timing: ``doStep(t, h)`` runs round(h / dt) model steps (dt from the parameter file) with the inputs held at
@@ -68,7 +68,7 @@ SETUP_RESOURCE = "ehm_fmu.json"
 SETUP_FORMAT = 1
 
 INPUTS = ("seat_ax_mps2", "seat_ay_mps2", "seat_az_mps2", "seat_wx_radps", "seat_wy_radps", "seat_wz_radps")
-POINTS = ("pelvis", "trunk", "head")
+POINTS = ("pelvis", "trunk", "head", "lumbar")  #: as ``ehm.engine.POINTS`` (its order: value references)
 #: (suffix, StepState field, index, description) of the outputs of each point.
 _POINT_OUTPUTS = (
     ("ax_mps2", "acc_mps2", 0, "absolute acceleration, seat x (forward) [m/s2]"),

@@ -1,10 +1,10 @@
 """Seat-to-body frequency response functions (paper Eq. 1), in the long format the tools exchange.
 
 A :class:`FrfTable` holds curves addressed by ``(input_axis, point, dof)``: input axis ``x``, ``y`` or
-``z``; point ``pelvis``, ``trunk`` or ``head``; dof ``x``, ``y``, ``z`` (translational gain,
-(m/s^2)/(m/s^2)) or ``roll``, ``pitch``, ``yaw`` (rotational gain, (rad/s^2)/(m/s^2)).  Apparent mass
-(ISO 5982), the force on the body per unit seat acceleration [kg], has the points ``support`` (all
-surfaces: seat pan, backrest and floor together) and ``seat_pan`` (the seat pan alone, with its cushion
+``z``; point ``pelvis``, ``trunk``, ``head`` or ``lumbar`` (the L4-L5 joint centre); dof ``x``, ``y``, ``z``
+(translational gain, (m/s^2)/(m/s^2)) or ``roll``, ``pitch``, ``yaw`` (rotational gain, (rad/s^2)/(m/s^2)).
+Apparent mass (ISO 5982), the force on the body per unit seat acceleration [kg], has the points ``support``
+(all surfaces: seat pan, backrest and floor together) and ``seat_pan`` (the seat pan alone, with its cushion
 bolsters), dof the input axis: ``(axis, "support", axis)``, ``(axis, "seat_pan", axis)``.  At low
 frequencies, where the body moves with the seat, the vertical apparent mass is the mass the surfaces
 carry.  Its CSV (or Parquet) form has the columns ``input_axis, point, dof, freq_hz, gain, phase_deg,
@@ -28,7 +28,7 @@ from .io import write_text_atomic
 from .transfer import Curve, band_select
 
 AXES = ("x", "y", "z")
-POINTS = ("pelvis", "trunk", "head")
+POINTS = ("pelvis", "trunk", "head", "lumbar")  #: as ``ehm.engine.POINTS``
 #: Apparent-mass "points": all support surfaces together, and the seat pan alone [kg].
 MASS_POINTS = ("support", "seat_pan")
 ALL_POINTS = POINTS + MASS_POINTS

@@ -275,19 +275,28 @@ def _foh(lam: np.ndarray, h: float):
     return phi, h * (e1 - e2) + phi * g1, g1
 
 
-#: Output kinds per point in a time run's output array, in this order (each: pelvis, trunk, head; x, y, z).
+#: Output kinds per point in a time run's output array, in this order (each: every point of
+#: ``engine.POINTS`` in turn; x, y, z).
 _KINDS = (("ax", "ay", "az"), ("x", "y", "z"), ("roll", "pitch", "yaw"), ("roll_acc", "pitch_acc", "yaw_acc"),
           ("wx", "wy", "wz"))
 _ACC, _DISP, _ROTVEC, _ANGACC, _ANGVEL = range(5)
 #: A model of the seat's rotation also gives each point's velocity relative to the seat (seat axes) [m/s]; a time
 #: run has them after the support forces, before the contacts (see :func:`_layout`).
 _VELOCITY = ("vx", "vy", "vz")
-_SUPPORT_ROWS = slice(45, 45 + 3 * len(engine.SUPPORT_GROUPS))
-_VELOCITY_ROWS = slice(_SUPPORT_ROWS.stop, _SUPPORT_ROWS.stop + 9)
+_NP = len(POINT_NAMES)  #: output points
+_PER_KIND = 3 * _NP  #: rows of one kind of :data:`_KINDS` in a time run's output array (points x axes)
+_SUPPORT_ROWS = slice(len(_KINDS) * _PER_KIND, len(_KINDS) * _PER_KIND + 3 * len(engine.SUPPORT_GROUPS))
+_VELOCITY_ROWS = slice(_SUPPORT_ROWS.stop, _SUPPORT_ROWS.stop + _PER_KIND)
+
+
+def _kind(y: np.ndarray, k: int) -> np.ndarray:
+    """The rows of output kind ``k`` (an index into :data:`_KINDS`) of a time run's output array: the points'
+    x, y, z in turn."""
+    return y[_PER_KIND * k:_PER_KIND * (k + 1)]
 
 
 def _layout(ss: StateSpace) -> np.ndarray:
-    """Output indices in the order a time run computes them: per kind of :data:`_KINDS` the three points'
+    """Output indices in the order a time run computes them: per kind of :data:`_KINDS` the points'
     three axes, then the support groups' x, y, z, (for a model of the seat's rotation the points' velocities,
     :data:`_VELOCITY`,) then all contacts' fn, all ft1, all ft2."""
     cached = ss.cache.get("layout")
@@ -690,11 +699,11 @@ class SeatRotation:
         w x w_rel; the angular velocity rows plus the seat's own w (absolute, seat axes).  (v, dr and w_rel:
         the point's velocity, displacement and angular velocity relative to the seat, seat axes.)"""
         L, nb = y.shape[1:]
-        acc, disp, angacc, angvel = (y[9 * k:9 * k + 9].reshape(3, 3, L, nb) for k in (_ACC, _DISP, _ANGACC, _ANGVEL))
-        vel = y[_VELOCITY_ROWS].reshape(3, 3, L, nb)
+        acc, disp, angacc, angvel = (_kind(y, k).reshape(_NP, 3, L, nb) for k in (_ACC, _DISP, _ANGACC, _ANGVEL))
+        vel = y[_VELOCITY_ROWS].reshape(_NP, 3, L, nb)
         w, alpha = _to_blocks(self.w_radps, L, nb), _to_blocks(self.alpha_radps2, L, nb)
         acc -= _to_blocks(engine.G0 - self.g_seat_mps2, L, nb)[None]
-        for i in range(3):  # 2 w x v + w x (w x dr) = w x (2 v + w x dr), then alpha x dr
+        for i in range(_NP):  # 2 w x v + w x (w x dr) = w x (2 v + w x dr), then alpha x dr
             _add_cross(acc[i], w, _add_cross(2 * vel[i], w, disp[i]))
             _add_cross(acc[i], alpha, disp[i])
             _add_cross(angacc[i], w, angvel[i])
@@ -746,18 +755,18 @@ def left_out(y: np.ndarray, n: int, seat: SeatRotation) -> dict:
     point, against the point's own acceleration, estimates their effect (the response to a load is of the
     order of the load per unit mass).
 
-    Per point (``pelvis``, ``trunk``, ``head``) a dict: ``coriolis_mps2``, the largest ``2 |w| |v|`` (v the point's
-    velocity relative to the seat); ``offset_mps2``, the largest ``(|w|^2 + |alpha|) |dr|`` (dr its displacement
-    from rest); ``acc_rms_mps2``, the rms of its absolute acceleration (vector length); ``share``, the two
-    largest terms' sum over that rms; ``gyro_radps2``, the largest ``|w| |w_rel|`` (w_rel its angular velocity
-    relative to the seat); ``angacc_rms_radps2`` and ``angular_share`` likewise; and ``n`` the samples.  At the
-    top level ``share``: the largest share of all points, to compare with a tolerance (e.g. 0.01).  Largest
-    values against rms values: an estimate on the safe side.
+    Per point (``pelvis``, ``trunk``, ``head``, ``lumbar``) a dict: ``coriolis_mps2``, the largest ``2 |w| |v|`` (v
+    the point's velocity relative to the seat); ``offset_mps2``, the largest ``(|w|^2 + |alpha|) |dr|`` (dr its
+    displacement from rest); ``acc_rms_mps2``, the rms of its absolute acceleration (vector length); ``share``, the
+    two largest terms' sum over that rms; ``gyro_radps2``, the largest ``|w| |w_rel|`` (w_rel its angular velocity
+    relative to the seat); ``angacc_rms_radps2`` and ``angular_share`` likewise; and ``n`` the samples.  At the top
+    level ``share``: the largest share of all points, to compare with a tolerance (e.g. 0.01).  Largest values
+    against rms values: an estimate on the safe side.
     """
-    kind = lambda k: _in_time_order(y[9 * k:9 * k + 9])[:, :n].reshape(3, 3, n)  # noqa: E731
+    kind = lambda k: _in_time_order(_kind(y, k))[:, :n].reshape(_NP, 3, n)  # noqa: E731
     acc = kind(_ACC) - (engine.G0 - seat.g_seat_mps2).T[None]
     disp, w_rel, angacc = kind(_DISP), kind(_ANGVEL), kind(_ANGACC)
-    vel = _in_time_order(y[_VELOCITY_ROWS])[:, :n].reshape(3, 3, n)
+    vel = _in_time_order(y[_VELOCITY_ROWS])[:, :n].reshape(_NP, 3, n)
     w = np.linalg.norm(seat.w_radps, axis=1)
     a = np.linalg.norm(seat.alpha_radps2, axis=1)
     out, worst = {}, 0.0
@@ -819,7 +828,7 @@ def _orientations(y: np.ndarray, R0: np.ndarray, gravity: np.ndarray | None = No
     axes from the rotation vector r (R = R_rel R0, R_rel = exp([r]x)), all points and axes at once: three
     arrays (point, axis, L, blocks) like ``y[...]`` of ``_block_chunk``'s layout.  ``gravity``: gravity in
     seat axes per sample, (3, L, blocks) (a rotating seat's R^T G0), default G0."""
-    kind = lambda k: y[9 * k:9 * k + 9].reshape(3, 3, *y.shape[1:])  # noqa: E731  (point, axis, L, blocks)
+    kind = lambda k: _kind(y, k).reshape(_NP, 3, *y.shape[1:])  # noqa: E731  (point, axis, L, blocks)
     r, w, acc = kind(_ROTVEC), kind(_ANGVEL), kind(_ACC)
     rot, angvel, gia = (np.empty_like(r) for _ in range(3))
     r0, r1, r2 = r[:, 0], r[:, 1], r[:, 2]
@@ -864,7 +873,7 @@ def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, 
     n = len(t)
     gravity = None if seat is None else _to_blocks(seat.g_seat_mps2, *y.shape[1:])
     rot, angvel, gia = (_in_time_order(x)[..., :n] for x in _orientations(y, R0, gravity))  # (point, axis, sample)
-    kind = lambda k: _in_time_order(y[9 * k:9 * k + 9])[:, :n].reshape(3, 3, n)  # noqa: E731
+    kind = lambda k: _in_time_order(_kind(y, k))[:, :n].reshape(_NP, 3, n)  # noqa: E731
     acc, disp, angacc = kind(_ACC), kind(_DISP), kind(_ANGACC)
     points = {p: PointMotion(name=p, acc_mps2=acc[i].T, disp_m=disp[i].T, rot_rad=rot[i].T,
                              angacc_radps2=angacc[i].T, angvel_radps=angvel[i].T, gia_mps2=gia[i].T)

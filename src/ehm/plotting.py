@@ -65,12 +65,13 @@ def plot_run_preview(preview: RunResult, folder: Path | str):
 
 
 def plot_time_histories(run: RunResult, path: Path | str | None = None, title: str | None = None):
-    """Seat input, support forces, and pelvis, trunk and head acceleration and rotation over time.
+    """Seat input, support forces, and the points' acceleration and rotation over time (pelvis, lumbar, trunk,
+    head: bottom to top).
 
     The support forces are drawn in the axes the seat moves in (:func:`excited_axes`): for a fore-aft run the
     x forces, for a lateral run the y forces, one panel per excited axis for a run in several axes."""
     t = run.time_s
-    names = list(run.points)
+    names = _bottom_up(run.points)
     force_axes = excited_axes(run.seat_acc_mps2)
     extra = len(force_axes) // 2  # force panels beyond the first fill extra rows, two per row
     rows = 1 + extra + len(names)
@@ -115,7 +116,7 @@ def plot_transmissibility(table, path: Path | str | None = None, band_hz=(0.2, 1
     ``table`` is an :class:`ehm.frf.FrfTable` (e.g. the demo's time-domain estimates).
     """
     axes_in = sorted({k[0] for k in table.curves}, key="xyz".index)
-    points = list(dict.fromkeys(k[1] for k in table.keys() if k[1] not in _MASS_ORDER))  # gains, not masses
+    points = _bottom_up(dict.fromkeys(k[1] for k in table.keys() if k[1] not in _MASS_ORDER))  # gains, not masses
     fig, axes = plt.subplots(len(axes_in), len(points), figsize=(4 * len(points), 3 * len(axes_in)),
                              squeeze=False, sharex=True)
     for i, a in enumerate(axes_in):
@@ -145,27 +146,35 @@ def plot_transmissibility(table, path: Path | str | None = None, band_hz=(0.2, 1
 _DOF_UNITS = {"x": "(m/s²)/(m/s²)", "y": "(m/s²)/(m/s²)", "z": "(m/s²)/(m/s²)",
               "roll": "(rad/s²)/(m/s²)", "pitch": "(rad/s²)/(m/s²)", "yaw": "(rad/s²)/(m/s²)"}
 _DOF_ORDER = ("x", "y", "z", "roll", "pitch", "yaw")
-_POINT_ORDER = ("head", "trunk", "pelvis")
+_POINT_ORDER = ("head", "trunk", "lumbar", "pelvis")  #: top to bottom
 _MASS_ORDER = ("support", "seat_pan")
 _MASS_LABEL = {"support": "all supports", "seat_pan": "seat pan"}
 
 
+def _bottom_up(points) -> list:
+    """Point names from the pelvis up (:data:`_POINT_ORDER` reversed), any others after them."""
+    order = _POINT_ORDER[::-1]
+    return sorted(points, key=lambda p: order.index(p) if p in order else len(order))
+
+
 def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None, title: str | None = None,
                   band_hz=(0.1, 12.0)):
-    """Gains of one input axis: rows head, trunk, pelvis; one column per output dof (as the paper's Figs. 3-5);
-    and, when the tables hold them, a last row with the apparent masses (all supports, seat pan) [kg].
+    """Gains of one input axis: rows head, trunk, lumbar, pelvis (those the tables hold); one column per output
+    dof (as the paper's Figs. 3-5); and, when the tables hold them, a last row with the apparent masses (all
+    supports, seat pan) [kg].
 
     ``tables`` is a list of ``(label, FrfTable)``; a table whose method is ``measured`` is drawn as
     markers (with gain_sd error bars when given), the others as lines.
     """
-    dofs = [d for d in _DOF_ORDER if any((input_axis, p, d) in t.curves for _, t in tables for p in _POINT_ORDER)]
-    masses = [p for p in _MASS_ORDER if any((input_axis, p, input_axis) in t.curves for _, t in tables)]
+    held = lambda p, d: any((input_axis, p, d) in t.curves for _, t in tables)  # noqa: E731
+    points = [p for p in _POINT_ORDER if any(held(p, d) for d in _DOF_ORDER)]
+    dofs = [d for d in _DOF_ORDER if any(held(p, d) for p in points)]
+    masses = [p for p in _MASS_ORDER if held(p, input_axis)]
     if not dofs and not masses:
         raise ValueError(f"no curves for input axis {input_axis}")
-    rows = [(p, d) for p in _POINT_ORDER for d in dofs]
-    n_rows, n_cols = len(_POINT_ORDER) * bool(dofs) + bool(masses), max(len(dofs), len(masses))
+    n_rows, n_cols = len(points) * bool(dofs) + bool(masses), max(len(dofs), len(masses))
     fig, axes = plt.subplots(n_rows, n_cols, figsize=(3.3 * n_cols, 2.5 * n_rows), squeeze=False, sharex=True)
-    cells = {(i, j): (p, d) for i, p in enumerate(_POINT_ORDER) for j, d in enumerate(dofs)} if dofs else {}
+    cells = {(i, j): (p, d) for i, p in enumerate(points) for j, d in enumerate(dofs)} if dofs else {}
     cells.update({(n_rows - 1, j): (p, input_axis) for j, p in enumerate(masses)})
     for (i, j), (p, d) in cells.items():
         ax = axes[i, j]
@@ -222,11 +231,11 @@ def plot_locking_study(study, path: Path | str | None = None):
     return _save(fig, path)
 
 
-_LOC_COLORS = {"seat": "0.3", "pelvis": "tab:blue", "trunk": "tab:orange", "head": "tab:red"}
+_LOC_COLORS = {"seat": "0.3", "pelvis": "tab:blue", "trunk": "tab:orange", "head": "tab:red", "lumbar": "tab:green"}
 
 
 def plot_weighted_spectra(assessment, path: Path | str | None = None):
-    """PSD of the frequency-weighted acceleration (Wd x/y, Wk z) at seat, pelvis, trunk and head."""
+    """PSD of the frequency-weighted acceleration (Wd x/y, Wk z) at seat, pelvis, trunk, head and lumbar spine."""
     fig, axes = plt.subplots(1, 3, figsize=(14, 4), sharey=True)
     for ax, a in zip(axes, "xyz"):
         for loc, spec in assessment.spectra.items():

@@ -22,17 +22,20 @@ from .errors import InputError
 
 __all__ = ["POINT_NAMES", "PointMotion", "RunResult", "concatenate_runs"]
 
-POINT_NAMES = tuple(engine.POINTS)  #: ``pelvis``, ``trunk`` (upper torso centre of gravity, T8 level), ``head``.
+#: ``pelvis``, ``trunk`` (upper torso centre of gravity, T8 level), ``head`` (centres of gravity), ``lumbar`` (the
+#: L4-L5 joint centre, on the lower torso).
+POINT_NAMES = tuple(engine.POINTS)
 
 
 @dataclass(frozen=True)
 class PointMotion:
-    """Motion of one output point (a segment's centre of gravity).
+    """Motion of one output point (a segment's centre of gravity; ``lumbar``: the L4-L5 joint centre, a point of
+    the lower torso).
 
     Attributes
     ----------
     name : str
-        ``pelvis``, ``trunk`` or ``head``.
+        ``pelvis``, ``trunk``, ``head`` or ``lumbar``.
     acc_mps2 : (n, 3) array
         Absolute translational acceleration in seat axes (x, y, z) [m/s^2].
     disp_m : (n, 3) array
@@ -97,7 +100,7 @@ class RunResult:
     extra: dict = field(default_factory=dict)
 
     def point(self, name: str) -> PointMotion:
-        """The motion of ``pelvis``, ``trunk`` or ``head``."""
+        """The motion of ``pelvis``, ``trunk``, ``head`` or ``lumbar``."""
         if name not in self.points:
             raise InputError(f"unknown point {name!r}; points are {', '.join(self.points)}.")
         return self.points[name]
@@ -163,7 +166,7 @@ class RunResult:
         ``DataFrame.attrs``.
 
         Long (default, tidy): one row per sample, location and axis, with the columns ``time_s``, ``location``
-        (``seat``, the points ``pelvis``, ``trunk``, ``head``, then the support surfaces), ``axis`` (``x``,
+        (``seat``, the points ``pelvis``, ``trunk``, ``head``, ``lumbar``, then the support surfaces), ``axis`` (``x``,
         ``y``, ``z``; rotations about that axis: roll, pitch, yaw) and one column per quantity:
         ``acc_mps2`` (the seat's input, the points' absolute acceleration), ``disp_m``, ``rot_rad``,
         ``angacc_radps2`` (the points) and ``force_N`` (the supports' force on the body); a quantity a

@@ -132,7 +132,8 @@ class SeatedHuman:
                         "locked": j.name in self.locked, "pos_m": j.pos_m.tolist(),
                         "axes_pitch_rad": j.axes_pitch_rad} for j in body.joints],
             "contacts": [{"name": c.name, "segment": c.segment, "surface": c.surface} for c in body.contacts],
-            "points": {p: engine.POINTS[p] for p in POINT_NAMES},
+            "points": {p: engine.POINTS[p] for p in POINT_NAMES},  # point -> its segment
+            "point_joints": dict(engine.POINT_JOINTS),  # a point at a joint's centre (else the segment's COG)
         }
 
     def settle(self) -> None:

@@ -6,8 +6,8 @@
 
 Each step gives the same numbers as a whole run of the same input (``SeatedHuman.simulate``); memory
 stays constant.  With ``comfort=True`` the running ISO 2631-1 figures (1 s running rms, a_w so far) of
-seat, pelvis, trunk and head are kept: the weighting filters run every step, and the figures reported in
-the returned state are refreshed every ``comfort_every`` steps.
+seat, pelvis, trunk, head and lumbar spine are kept: the weighting filters run every step, and the figures
+reported in the returned state are refreshed every ``comfort_every`` steps.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ class PointState:
 
 @dataclass(frozen=True)
 class StepState:
-    """Result of one :meth:`Simulator.step`: the time of the sample and the three points.
+    """Result of one :meth:`Simulator.step`: the time of the sample and the output points.
 
     ``comfort`` maps ``location -> axis -> (running_rms, a_w_so_far)`` [m/s^2] when comfort figures are
     on (updated every ``comfort_every`` steps), else it is empty.
@@ -47,6 +47,7 @@ class StepState:
     pelvis: PointState
     trunk: PointState
     head: PointState
+    lumbar: PointState  #: the L4-L5 joint centre (on the lower torso)
     comfort: dict
 
 
@@ -87,7 +88,7 @@ class Simulator:
     params, lock, unlock, body, size
         As for :class:`ehm.SeatedHuman`.
     comfort : bool
-        Keep running ISO 2631-1 figures (Wd x, y; Wk z) of seat, pelvis, trunk and head.
+        Keep running ISO 2631-1 figures (Wd x, y; Wk z) of seat, pelvis, trunk, head and lumbar spine.
     comfort_every : int
         Steps between refreshes of the reported comfort figures (the filters run every step).
 
@@ -174,8 +175,7 @@ class Simulator:
             self._running.add(row)
             if self._step % self.comfort_every == 0:
                 self._comfort_state = self._running.state()
-        return StepState(time_s=t, pelvis=points["pelvis"], trunk=points["trunk"], head=points["head"],
-                         comfort=self._comfort_state)
+        return StepState(time_s=t, **points, comfort=self._comfort_state)
 
 
 
@@ -213,7 +213,7 @@ def _cascade_state_space(sos: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
 
 
 class _RunningComfort:
-    """Running ISO 2631-1 figures of 12 channels (seat, pelvis, trunk, head; x, y, z), one row per step:
+    """Running ISO 2631-1 figures of 15 channels (seat, pelvis, trunk, head, lumbar; x, y, z), one row per step:
     causal Wd (x, y) and Wk (z) weighting, 1 s rectangular running rms and the weighted rms so far.  Each
     step costs the same few microseconds (no block spikes); the filters start in the steady state for the first
     row; equal to :class:`ehm.comfort.ComfortAccumulator` fed a first block of one row, channel by channel, to

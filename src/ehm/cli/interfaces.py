@@ -137,7 +137,7 @@ def cmd_realtime(args) -> int:
     if last and last["state"].comfort:
         c = last["state"].comfort
         print("running a_w so far [m/s^2]: " + ", ".join(
-            f"{loc} z {c[loc]['z'][1]:.3f}" for loc in ("seat", "pelvis", "trunk", "head")))
+            f"{loc} z {c[loc]['z'][1]:.3f}" for loc in c))
     return 0
 
 
@@ -225,7 +225,8 @@ def cmd_export_fmu(args) -> int:
     print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (native C on MuJoCo, "
           f"{PLATFORM}), {human.mass_kg:.1f} kg, {human.dof} degrees of freedom, model step "
           f"{human.model.mj.opt.timestep * 1000:g} ms; {len(INPUTS)} inputs (seat acceleration and angular velocity; "
-          f"{turning}), {len(OUTPUTS)} outputs (pelvis, trunk, head, support forces); no Python needed to run it")
+          f"{turning}), {len(OUTPUTS)} outputs (pelvis, trunk, head, lumbar, support forces); no Python needed to run "
+          "it")
     return 0
 
 
@@ -247,5 +248,5 @@ def _export_python_fmu(args, t0: float) -> int:
                       python=True)
     print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
           f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "
-          f"{len(OUTPUTS)} outputs (pelvis, trunk, head); the host's Python must be able to import ehm")
+          f"{len(OUTPUTS)} outputs (pelvis, trunk, head, lumbar); the host's Python must be able to import ehm")
     return 0

@@ -327,6 +327,8 @@ def _write_assessment(result, summary: dict, out: Path) -> None:
 
 
 def _print_assessment(result, summary: dict, out: Path) -> None:
+    from ..assessment import LOCATIONS
+
     loc = summary["locations"]
     print(f"{result.duration_s:.0f} s of '{result.description}' in {result.wall_s:.0f} s")
     band = summary.get("input_band_hz")
@@ -335,7 +337,7 @@ def _print_assessment(result, summary: dict, out: Path) -> None:
         print(f"  input covers {band[0]:.3g}-{band[1]:.3g} Hz" + (
             "; outside it: " + ", ".join(f"{100 * v:.1f} % of {w}'s power" for w, v in outside.items())
             if outside else " (the Wd, Wk and Wf bands whole)"))
-    for name in ("seat", "pelvis", "trunk", "head"):
+    for name in LOCATIONS:
         v = loc[name]
         ax = v["axes"]
         print(f"  {name:<7} a_v {v['total_value_mps2']:.3f} m/s^2 ({v['comfort_reaction']}), "

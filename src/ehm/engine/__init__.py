@@ -5,8 +5,8 @@ This package is the only place that imports :mod:`mujoco`; the rest of ehm uses 
 
 Map of the package (each module one idea; underscore names are private to the package):
 
-* :mod:`.model`: the :class:`Model` record and the shared names (:data:`G0`, :data:`POINTS`,
-  :data:`SUPPORT_GROUPS`).
+* :mod:`.model`: the :class:`Model` record and the shared names (:data:`G0`, :data:`POINTS` with
+  :data:`POINT_JOINTS`, :data:`SUPPORT_GROUPS`).
 * :mod:`.seat`: the seat surfaces as planes (:class:`SeatGeometry`), their checks (:func:`check_seat`) and the
   rotating seat's constants (:data:`SEAT_DOFS`, :data:`SEAT_INERTIA_KGM2`).
 * :mod:`.inertia`: a segment's own mass properties with its tissue pads taken out, and the rigid-body check
@@ -69,7 +69,7 @@ from .inertia import PAD_INERTIA_KGM2, ImpossibleInertia, inertia_problem, segme
 from .laws import FRICTION_SOFTNESS, TRAPEZOIDAL_JOINTS, _split_damping, contact_solver_params
 from .linearisation import (FIELD_INPUTS, OUTPUT_DOFS, ROTATION_INPUTS, S_ENTRIES, LinearModel, linearize,
                              rotation_loads, seat_pivot)
-from .model import G0, POINTS, SUPPORT_GROUPS, Model
+from .model import G0, POINT_JOINTS, POINTS, SUPPORT_GROUPS, Model
 from .seat import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, seated_body
 from .sensors import (SENSOR_KINDS, _contact_name, contact_forces, sensor_slices, sliding_contacts,
                       support_forces, support_slices, touching_contacts)
@@ -78,7 +78,8 @@ from .state import (data_at_deviation, deviation_of, get_state, new_data, qpos_a
 from .stepper import RawRun, deviation_poses, evaluate_velocities, point_accelerations, run, step
 
 __all__ = [
-    "CHECK_EVERY", "DIVERGED_M", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS", "S_ENTRIES", "PAD_INERTIA_KGM2", "POINTS",
+    "CHECK_EVERY", "DIVERGED_M", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS",
+    "S_ENTRIES", "PAD_INERTIA_KGM2", "POINT_JOINTS", "POINTS",
     "SEAT_DOFS", "SEAT_INERTIA_KGM2", "SENSOR_KINDS", "SUPPORT_GROUPS", "TRAPEZOIDAL_JOINTS",
     "ImpossibleInertia", "LinearModel", "Model", "RawRun", "SeatGeometry",
     "build", "c_library", "captured_warnings", "check_seat", "contact_forces", "contact_solver_params",

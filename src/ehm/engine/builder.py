@@ -15,7 +15,7 @@ from ..tables import Body
 from .diagnostics import _build_error, captured_warnings
 from .inertia import PAD_INERTIA_KGM2, pad_masses, segment_mass_properties
 from .laws import _split_damping, contact_solver_params
-from .model import G0, POINTS, Model
+from .model import G0, POINT_JOINTS, POINTS, Model
 from .seat import (SEAT_BANDWIDTH_HZ, SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, quat_pitch,
                    quat_z_to, seated_body)
 from .sensors import _REDUCE_NETFORCE, SENSOR_KINDS
@@ -162,14 +162,20 @@ class _SegmentTree:
                    pos=seg.com_m - frame_pos, quat=quat_pitch(seg.shape_pitch_rad), contype=0, conaffinity=0,
                    group=1, rgba=[0.85, 0.65, 0.5, 0.5])
         self.segment_bodies.setdefault(seg_name, []).append(seg_name)
-        if seg_name in POINTS.values():
-            point = [p for p, s in POINTS.items() if s == seg_name][0]
-            b.add_site(name=point, pos=seg.com_m - frame_pos, size=[0.01, 0, 0])
+        for point in (p for p, s in POINTS.items() if s == seg_name):
+            b.add_site(name=point, pos=self._point_position(point, seg) - frame_pos, size=[0.01, 0, 0])
         for c in self.body.contacts:
             if c.segment == seg_name:
                 self._add_contact(b, c, frame_pos)
         for j in self.children.get(seg_name, []):
             self.add(b, j.child, j.pos_m, frame_pos, j)
+
+    def _point_position(self, point: str, seg) -> np.ndarray:
+        """Where output ``point`` sits (reference frame of the built posture): the centre of its joint
+        (:data:`~ehm.engine.model.POINT_JOINTS`), else its segment's centre of gravity."""
+        if point in POINT_JOINTS:
+            return np.asarray(self.body.joint(POINT_JOINTS[point]).pos_m, dtype=float)
+        return seg.com_m
 
     def _add_joint(self, b, joint) -> None:
         """The joint's degrees of freedom on body ``b``, each with its spring and damper."""

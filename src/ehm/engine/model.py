@@ -12,7 +12,13 @@ from ..params import Parameters
 from ..tables import Body
 
 G0 = np.array([0.0, 0.0, -9.81])  #: Standard gravity in the seat frame [m/s^2].
-POINTS = {"pelvis": "pelvis", "trunk": "upper_torso", "head": "head"}  #: Output point -> segment.
+#: Output point -> the segment that carries it.  New points go last: the order is that of every output list
+#: (files, FMU value references).
+POINTS = {"pelvis": "pelvis", "trunk": "upper_torso", "head": "head", "lumbar": "lower_torso"}
+#: Points at a joint's centre (point -> joint, a joint of its segment); the others sit at their segment's centre
+#: of gravity.  ``lumbar`` is the L4-L5 joint centre on the lower torso: ISO 2631-5's lumbar response is that
+#: of the lower lumbar spine, and the joint centre is an anatomical landmark (docs/model.md, "Outputs").
+POINT_JOINTS = {"lumbar": "l4_l5"}
 #: Support force groups: the seat pan with its cushion bolsters, the backrest with its pads and bolsters, the floor.
 SUPPORT_GROUPS = {"seat_pan": ("seat_pan", "bolster_r", "bolster_l"),
                   "backrest": ("backrest_lower", "backrest_upper", "back_bolster_r", "back_bolster_l"),
