@@ -181,9 +181,9 @@ class Assessment:
 
     def to_dataframe(self):
         """The figures of ``summary()`` (what ``assessment.json`` holds) as a long pandas DataFrame: one row per
-        figure with the columns ``location`` (``seat``, ``pelvis``, ``trunk``, ``head``, ``lumbar``), ``axis`` (``x``, ``y``,
-        ``z``, or ``xyz`` for the total value and the sickness model), ``metric`` (``a_w``, ``mtvv``, ``vdv``,
-        ``crest_factor``, ``mtvv_ratio``, ``vdv_ratio``, ``seat_value``; ``total_value``, ``msdv``,
+        figure with the columns ``location`` (``seat``, ``pelvis``, ``trunk``, ``head``, ``lumbar``), ``axis``
+        (``x``, ``y``, ``z``, or ``xyz`` for the total value and the sickness model), ``metric`` (``a_w``, ``mtvv``,
+        ``vdv``, ``crest_factor``, ``mtvv_ratio``, ``vdv_ratio``, ``seat_value``; ``total_value``, ``msdv``,
         ``displacement_max``; the sickness model driven by the head and by the seat: ``msi_final``,
         ``conflict_max``; and ISO 2631-5 by the standard's route, at the seat's z: ``iso2631_5_peak_max``,
         ``iso2631_5_dz``, ``iso2631_5_dzd``, ``iso2631_5_sd``, ``iso2631_5_r``, ``iso2631_5_p``), ``value``
