@@ -1,0 +1,297 @@
+"""Is the person like people?  The model against the standards' reference curves, published fits and findings.
+
+:func:`validate` builds a person (any parameter file, size, posture and seat), computes the exact frequency
+response of its linearised model (:func:`ehm.linear_frf`, 0.1-20 Hz) and evaluates every band of
+:data:`ehm.references.BANDS` (ISO 2631-5's seat-to-lumbar transfer function, the one-mass apparent-mass fit of
+Fairley & Griffin, the vertical whole-body mode, the seat-to-head ranges) and every joint-locking finding of the
+paper (:data:`ehm.references.LOCKING_FINDINGS`, through :func:`ehm.study.locking_study`).  The result is a
+table: each check's figure, its band, and whether it passes.
+
+The references describe people sitting erect without a back support, feet supported (ISO 2631-5, the
+apparent-mass measurements); the seat-to-head ranges and the locking findings hold on the person's own seat
+too.  So by default the person is evaluated twice: in the references' condition (erect, back support
+``none``), where every band is checked, and on its own seat (the default person: the paper's seat with a high
+back support), where the seat-to-head bands and the locking findings are checked.  Giving ``posture`` or
+``back_support`` evaluates that one condition only, with every check.
+
+>>> from ehm.validation import validate
+>>> v = validate()               # the default person
+>>> v.passed, len(v.checks)
+>>> print(v.format_table())
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from . import references
+from .errors import InputError
+from .frf import FrfTable, linear_frf
+from .params import Parameters
+
+#: Frequencies the model is evaluated at [Hz]: 0.1-20 Hz in 0.05 Hz steps (the bands reach 20 Hz).
+FREQ_HZ = np.round(np.arange(0.1, 20.0 + 1e-9, 0.05), 10)
+#: The condition the reference curves describe: posture and back support.
+REFERENCE_CONDITION = ("erect", "none")
+#: Bands checked on the person's own seat too (they hold for seated people on any seat).
+ANY_SEAT_BANDS = ("head_vertical_peak_gain", "head_vertical_peak_frequency", "head_fore_aft_peak_frequency",
+                  "head_lateral_peak_frequency")
+
+
+@dataclass(frozen=True)
+class Check:
+    """One check of the model against a reference.
+
+    Attributes
+    ----------
+    name : str
+        The band's or finding's name (``ehm.references``).
+    condition : str
+        Where the person was evaluated: ``"erect, back support none"``.
+    what : str
+        The check in words.
+    value : float
+        The model's figure: a frequency [Hz], a gain, a gain's deviation from the reference curve at its
+        worst frequency, or a locking finding's change (Hz, or % of the baseline).
+    at_hz : float
+        Where the figure was taken (the peak's or the worst deviation's frequency) [Hz]; NaN for a locking
+        finding.
+    low, high : float
+        The band (NaN: no limit that side).
+    unit : str
+        The unit of ``value``, ``low`` and ``high``.
+    passed : bool
+    source : str
+        Where the reference comes from.
+    """
+
+    name: str
+    condition: str
+    what: str
+    value: float
+    at_hz: float
+    low: float
+    high: float
+    unit: str
+    passed: bool
+    source: str
+
+
+@dataclass(frozen=True)
+class Validation:
+    """Every check of a person against the references, and the frequency responses they were taken from.
+
+    Attributes
+    ----------
+    checks : tuple of Check
+    tables : dict
+        ``condition -> FrfTable``: the linear route's responses of the person in each condition, with the
+        ``lumbar`` point and the apparent mass (``support``).
+    person : dict
+        What was evaluated: the parameter file's name, size, conditions.
+    """
+
+    checks: tuple
+    tables: dict
+    person: dict = field(default_factory=dict)
+
+    @property
+    def passed(self) -> bool:
+        """Whether every check passes."""
+        return all(c.passed for c in self.checks)
+
+    @property
+    def failed(self) -> tuple:
+        """The checks that do not pass."""
+        return tuple(c for c in self.checks if not c.passed)
+
+    def check(self, name: str, condition: str | None = None) -> Check:
+        """The check called ``name`` (in ``condition``, default the first one evaluated)."""
+        for c in self.checks:
+            if c.name == name and (condition is None or c.condition == condition):
+                return c
+        raise InputError(f"no check {name!r}{'' if condition is None else ' in ' + condition}; the checks are "
+                         f"{', '.join(sorted({c.name for c in self.checks}))}.")
+
+    def as_dict(self) -> dict:
+        """Plain data for JSON output."""
+        return {"passed": self.passed, "n_checks": len(self.checks), "n_failed": len(self.failed),
+                "person": self.person, "checks": [asdict(c) for c in self.checks]}
+
+    def to_dataframe(self):
+        """The checks as a pandas DataFrame, one row each, with the columns of :class:`Check`."""
+        from .dataframes import frame
+
+        names = list(Check.__dataclass_fields__)
+        columns = {n: [getattr(c, n) for c in self.checks] for n in names}
+        return frame(columns, {"description": "the person against the standards' reference curves",
+                               "passed": self.passed, **{k: str(v) for k, v in self.person.items()}})
+
+    def format_table(self) -> str:
+        """The checks as a fixed-width text table, one line each, and a last line with the count."""
+        lines = [f"{'condition':<26}{'check':<44}{'model':>9}{'at Hz':>7}  {'band':<14}{'':<6}"]
+        for c in self.checks:
+            band = _band_text(c.low, c.high)
+            where = "" if np.isnan(c.at_hz) else f"{c.at_hz:.2f}"
+            lines.append(f"{c.condition:<26}{c.name:<44}{c.value:>9.3g}{where:>7}  {band + ' ' + c.unit:<14}"
+                         f"{'pass' if c.passed else 'FAIL':<6}")
+        lines.append(f"{len(self.checks) - len(self.failed)} of {len(self.checks)} checks pass.")
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        return self.to_dataframe().to_html(index=False)
+
+
+def _band_text(low: float, high: float) -> str:
+    if np.isnan(low):
+        return f"<= {high:g}"
+    if np.isnan(high):
+        return f">= {low:g}"
+    return f"{low:g} to {high:g}"
+
+
+def _condition_label(posture: str, back_support: str) -> str:
+    return f"{posture}, back support {back_support}"
+
+
+def _gain(table: FrfTable, band: references.Band) -> np.ndarray:
+    c = table.curve(*band.path)
+    g = np.asarray(c.gain, dtype=float)
+    if band.normalise_at_hz is not None:
+        g = g / np.interp(band.normalise_at_hz, c.freq_hz, g)
+    return g
+
+
+def band_figure(table: FrfTable, band: references.Band) -> tuple[float, float]:
+    """The model's figure for one band and where it was taken: ``(value, frequency [Hz])``.
+
+    ``peak_hz``/``peak_gain``: the largest gain in the band's frequency range, its frequency or gain;
+    ``gain``: the gain nearest the band's open side over the range (its largest against an upper limit);
+    ``gain_minus_reference``: the deviation from the reference curve with the largest modulus.
+    """
+    f = np.asarray(table.curve(*band.path).freq_hz, dtype=float)
+    g = _gain(table, band)
+    lo, hi = band.freq_range_hz
+    sel = (f >= lo - 1e-9) & (f <= hi + 1e-9)
+    if not sel.any():
+        raise InputError(f"the model's responses do not reach {lo:g}-{hi:g} Hz for the band {band.name}.")
+    f, g = f[sel], g[sel]
+    if band.quantity in ("peak_hz", "peak_gain"):
+        i = int(np.argmax(g))
+        return (float(f[i]) if band.quantity == "peak_hz" else float(g[i])), float(f[i])
+    if band.quantity == "gain":
+        i = int(np.argmax(g)) if band.low is None else int(np.argmin(g))
+        return float(g[i]), float(f[i])
+    if band.quantity == "gain_minus_reference":
+        d = g - np.abs(getattr(references, band.reference)(f))
+        i = int(np.argmax(np.abs(d)))
+        return float(d[i]), float(f[i])
+    raise InputError(f"band {band.name} has an unknown quantity {band.quantity!r}.")
+
+
+def _unit(band: references.Band) -> str:
+    if band.quantity == "peak_hz":
+        return "Hz"
+    return "-" if band.normalise_at_hz is not None or band.path[1] != "support" else "kg"
+
+
+def band_checks(table: FrfTable, condition: str, bands=None) -> list[Check]:
+    """Every band (default :data:`ehm.references.BANDS`) evaluated on one frequency-response table."""
+    out = []
+    for b in references.BANDS if bands is None else bands:
+        value, at = band_figure(table, b)
+        out.append(Check(b.name, condition, b.describe(), value, at,
+                         np.nan if b.low is None else float(b.low), np.nan if b.high is None else float(b.high),
+                         _unit(b), b.holds(value), b.source))
+    return out
+
+
+def locking_checks(study, condition: str) -> list[Check]:
+    """The paper's locking findings (:data:`ehm.references.LOCKING_FINDINGS`) in a locking study: one check per
+    finding and quantity, the change from the baseline (Hz, or % of the baseline's gain)."""
+    out = []
+    for finding in references.LOCKING_FINDINGS:
+        key = (finding.input_axis, finding.point, finding.dof)
+        base, var = study.row("baseline", *key), study.row(finding.variant, *key)
+        for q in finding.quantities:
+            change = finding.change(q, getattr(base, q), getattr(var, q))
+            bound = float(finding.least_change) * finding.direction + 0.0  # no -0
+            low, high = (bound, np.nan) if finding.direction > 0 else (np.nan, bound)
+            passed = finding.direction * change > finding.least_change
+            out.append(Check(f"locking_{finding.variant}_{finding.input_axis}_{finding.point}_{finding.dof}_{q}",
+                             condition, f"{finding.label}: {q} change", float(change), np.nan, low, high,
+                             "Hz" if q == "peak_hz" else "%", bool(passed), f"{finding.source}: {finding.paper}"))
+    return out
+
+
+def _person(params, size, posture, back_support, dt_s):
+    from .simulation import SeatedHuman
+
+    return SeatedHuman(params, size=size, posture=posture, back_support=back_support, dt_s=dt_s)
+
+
+def _conditions(params: Parameters, posture, back_support) -> list[tuple[str, str, bool]]:
+    """(posture, back support, every band?) for each condition to evaluate."""
+    if posture is not None or back_support is not None:
+        return [(posture or params.posture, back_support or params.back_support, True)]
+    own = (params.posture, params.back_support)
+    out = [(*REFERENCE_CONDITION, True)]
+    if own != REFERENCE_CONDITION:
+        out.append((*own, False))
+    return out
+
+
+def validate(params: Parameters | str | None = None, size=None, posture: str | None = None,
+             back_support: str | None = None, locking: bool = True, dt_s: float | None = None) -> Validation:
+    """The person against every reference of :mod:`ehm.references`.
+
+    Parameters
+    ----------
+    params : Parameters or path, optional
+        The person's parameters (default: the shipped default person).
+    size : ehm.BodySize, optional
+        An individual body size (:func:`ehm.scaling.body_size`).
+    posture, back_support : str, optional
+        Evaluate this condition only (every band and the locking findings in it).  Default: the references'
+        condition (erect, no back support) for every band, and the person's own seat for the seat-to-head
+        bands and the locking findings.
+    locking : bool
+        Evaluate the paper's joint-locking findings (three more linearisations of the person).
+    dt_s : float, optional
+        The time step the person is linearised at (default: its own).
+
+    Returns
+    -------
+    Validation
+    """
+    p = params if isinstance(params, Parameters) else Parameters.load(params)
+    checks, tables = [], {}
+    conditions = _conditions(p, posture, back_support)
+    for post, back, every in conditions:
+        label = _condition_label(post, back)
+        human = _person(p, size, post, back, dt_s)
+        table = linear_frf(human, "all", freq_hz=FREQ_HZ)
+        tables[label] = table
+        bands = None if every else [b for b in references.BANDS if b.name in ANY_SEAT_BANDS]
+        checks += band_checks(table, label, bands)
+    if locking:
+        from .study import locking_study
+
+        post, back, _ = conditions[-1]  # the person's own seat (the paper's study ran on its validation seat)
+        study = locking_study(params=p.seated(post, back) if size is None else p.seated(post, back),
+                              method="linear")
+        checks += locking_checks(study, _condition_label(post, back))
+    person = {"params": p.value("about.name") if _has(p, "about.name") else "custom",
+              "size": None if size is None else repr(size),
+              "conditions": [_condition_label(a, b) for a, b, _ in conditions]}
+    return Validation(checks=tuple(checks), tables=tables, person=person)
+
+
+def _has(p: Parameters, path: str) -> bool:
+    try:
+        p.value(path)
+    except (KeyError, InputError):
+        return False
+    return True
