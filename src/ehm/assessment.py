@@ -33,7 +33,7 @@ import numpy as np
 from scipy import signal
 
 from .comfort import BAND_WARNING_SHARE, WEIGHTING_BANDS_HZ, ComfortAccumulator, band_share_outside, comfort_reaction
-from .comfort.spine import SpineExposure, iso2631_5_summary, spinal_dose
+from .comfort.spine import SpinalDoseAccumulator, SpineExposure, iso2631_5_summary, spinal_dose
 from .errors import EhmWarning, InputError
 from .motion import SeatMotion, require_motion, seat_rotation_matrices
 from .resampling import PASS_FRACTION
@@ -185,9 +185,10 @@ class Assessment:
         (``x``, ``y``, ``z``, or ``xyz`` for the total value and the sickness model), ``metric`` (``a_w``, ``mtvv``,
         ``vdv``, ``crest_factor``, ``mtvv_ratio``, ``vdv_ratio``, ``seat_value``; ``total_value``, ``msdv``,
         ``displacement_max``; the sickness model driven by the head and by the seat: ``msi_final``,
-        ``conflict_max``; and ISO 2631-5 by the standard's route, at the seat's z: ``iso2631_5_peak_max``,
-        ``iso2631_5_dz``, ``iso2631_5_dzd``, ``iso2631_5_sd``, ``iso2631_5_r``, ``iso2631_5_p``), ``value``
-        and ``unit`` (``m/s^2``, ``m/s^1.75``, ``m/s^1.5``, ``m``, ``%``, ``MPa``, ``1``);
+        ``conflict_max``; and ISO 2631-5 at ``seat`` z by the standard's route and at ``lumbar`` z by the body model's
+        lumbar point: ``iso2631_5_peak_max``, ``iso2631_5_dz``, ``iso2631_5_dzd``, ``iso2631_5_sd``,
+        ``iso2631_5_r``, ``iso2631_5_p``), ``value`` and ``unit`` (``m/s^2``, ``m/s^1.75``, ``m/s^1.5``, ``m``,
+        ``%``, ``MPa``, ``1``);
         an undefined figure (the crest factor of an axis without motion) is NaN.  The drive's description, route
         and duration are in ``DataFrame.attrs``."""
         from .dataframes import frame
@@ -211,10 +212,11 @@ class Assessment:
                  "duration": f"{self.duration_s:g} s, assessed in {self.wall_s:.3g} s",
                  "motion sickness (MSI at the end)": ", ".join(f"{k} {v['final_msi_percent']:.4g} %"
                                                                for k, v in sick.items())}
-        if self.iso2631_5:
-            v = self.iso2631_5["standard_route"]
-            facts["ISO 2631-5 (the standard's route)"] = (f"S_d {v['daily_compressive_stress_sd_mpa']:.3g} MPa, "
-                                                          f"R {v['r_factor']:.3g}")
+        for route, label in (("standard_route", "the standard's route"), ("model_route", "the model's lumbar point")):
+            v = (self.iso2631_5 or {}).get(route)
+            if v:
+                facts[f"ISO 2631-5 ({label})"] = (f"S_d {v['daily_compressive_stress_sd_mpa']:.3g} MPa, "
+                                                  f"R {v['r_factor']:.3g}")
         return html_table("ehm Assessment (ISO 2631-1)", facts,
                           ["location", "a_w,x [m/s²]", "a_w,y [m/s²]", "a_w,z [m/s²]", "a_v [m/s²]",
                            "comfort reaction", "VDV_z [m/s^1.75]", "MSDV_z [m/s^1.5]"], rows)
@@ -241,9 +243,11 @@ def _summary_rows(summary: dict) -> list:
     for by, v in summary["sickness"].items():
         rows += [(by, "xyz", "msi_final", v["final_msi_percent"], "%"),
                  (by, "xyz", "conflict_max", v["max_conflict_mps2"], "m/s^2")]
-    if "iso2631_5" in summary:
-        v = summary["iso2631_5"]["standard_route"]
-        rows += [("seat", "z", f"iso2631_5_{metric}", v[key], unit) for metric, key, unit in _ISO2631_5_FIGURES]
+    spine = summary.get("iso2631_5") or {}
+    for loc, route in (("seat", "standard_route"), ("lumbar", "model_route")):  # the standard's, the model's
+        if spine.get(route):
+            v = spine[route]
+            rows += [(loc, "z", f"iso2631_5_{metric}", v[key], unit) for metric, key, unit in _ISO2631_5_FIGURES]
     return rows
 
 
@@ -273,6 +277,7 @@ class _Running:
     comfort: dict
     spectra: dict
     sickness: dict
+    spine: SpinalDoseAccumulator  # ISO 2631-5: the body model's lumbar point, z
     k_sick: int
     max_disp: dict
     final_disp: dict = field(default_factory=dict)
@@ -287,13 +292,15 @@ class _Running:
                    spectra={loc: {a: _Spectrum(fs, nper) for a in "xyz"} for loc in LOCATIONS},
                    # the sickness model runs along, piece by piece, on 20 Hz block means of the chunks
                    sickness={key: SicknessAccumulator(k_sick * dt) for key in ("head", "seat")},
-                   k_sick=k_sick, max_disp={p: np.zeros(3) for p in POINT_NAMES})
+                   spine=SpinalDoseAccumulator(fs, lumbar=True), k_sick=k_sick,
+                   max_disp={p: np.zeros(3) for p in POINT_NAMES})
 
     def add(self, chunk, seat_angvel: np.ndarray | None) -> None:
         """One chunk of the run; ``seat_angvel`` (n, 3) [rad/s] at its samples, None for a seat that does not turn."""
         self._comfort(chunk)
         self._sickness(chunk, seat_angvel)
         self._displacement(chunk)
+        self.spine.add(chunk.point("lumbar").acc_mps2[:, 2])
 
     def _comfort(self, chunk) -> None:
         from .results import POINT_NAMES
@@ -412,7 +419,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     shares = band_coverage(band)
     for sentence in band_warnings(band, shares):
         warnings.warn(f"{motion.description}: {sentence}", EhmWarning, stacklevel=2)
-    spine = iso2631_5(motion, exposure)
+    standard = spinal_dose_of_seat(motion, exposure)  # before the run: a drive it cannot take fails at once
     description, duration = motion.description, motion.duration_s
     t0 = time.perf_counter()
     if method != "nonlinear" and (workers != 1 or client is not None):
@@ -430,21 +437,25 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
         duration = int(np.floor(motion.duration_s / dt + 1e-9)) * dt
     result = _evaluate(running, chunks, motion if rotating else None, description, duration, band, shares, keep, dt,
                        t0)
-    result.iso2631_5 = spine
+    model = running.spine.result(exposure, measured_s=duration,
+                                 route=f"the body model's lumbar point (L4-L5 joint centre), z, at {1 / dt:g} Hz")
+    result.iso2631_5 = iso2631_5_summary(standard, model)
     return result
 
 
-def iso2631_5(motion: SeatMotion, exposure: SpineExposure | None = None, model_lumbar=None) -> dict:
-    """The ISO 2631-5 section of an assessment (:func:`ehm.comfort.spine.iso2631_5_summary`).
-
-    The standard's route: the drive's own vertical seat acceleration at its own rate.  The body model's route,
-    ``model_lumbar``: None, or the model's lumbar point as a :class:`ehm.comfort.spine.SpinalDose` of
-    :func:`ehm.comfort.spine.spinal_dose_from_lumbar` (its vertical acceleration over the drive, at the model's
-    rate) -- the place where the model's lumbar point comes in.
-    """
+def spinal_dose_of_seat(motion: SeatMotion, exposure: SpineExposure | None = None):
+    """ISO 2631-5 by the standard's route: Formula 1 on the drive's own vertical seat acceleration at its own rate
+    (:func:`ehm.comfort.spine.spinal_dose`)."""
     fs = 1.0 / float(np.median(np.diff(motion.time_s)))
-    standard = spinal_dose(motion.acc_mps2[:, 2], fs, exposure, measured_s=motion.duration_s)
-    return iso2631_5_summary(standard, model_lumbar)
+    return spinal_dose(motion.acc_mps2[:, 2], fs, exposure, measured_s=motion.duration_s)
+
+
+def iso2631_5(motion: SeatMotion, exposure: SpineExposure | None = None, model_lumbar=None) -> dict:
+    """The ISO 2631-5 section of an assessment (:func:`ehm.comfort.spine.iso2631_5_summary`): the standard's
+    route (:func:`spinal_dose_of_seat`) and, when given, the body model's (``model_lumbar``: a
+    :class:`ehm.comfort.spine.SpinalDose` of its lumbar point's vertical acceleration, as :func:`assess` makes
+    it from the run)."""
+    return iso2631_5_summary(spinal_dose_of_seat(motion, exposure), model_lumbar)
 
 
 def _evaluate(running: _Running, chunks, rotating_motion, description: str, duration: float, band, shares,
