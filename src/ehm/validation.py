@@ -189,7 +189,9 @@ def _condition_label(posture: str, back_support: str) -> str:
     return f"{posture}, back support {back_support}"
 
 
-def _gain(table: FrfTable, band: references.Band) -> np.ndarray:
+def band_gain(table: FrfTable, band: references.Band) -> np.ndarray:
+    """The model's curve a band speaks of: the gain of the band's path, over its value at
+    ``band.normalise_at_hz`` when the band says so (the apparent mass over its 0.5 Hz value)."""
     c = table.curve(*band.path)
     g = np.asarray(c.gain, dtype=float)
     if band.normalise_at_hz is not None:
@@ -205,7 +207,7 @@ def band_figure(table: FrfTable, band: references.Band) -> tuple[float, float]:
     ``gain_minus_reference``: the deviation from the reference curve with the largest modulus.
     """
     f = np.asarray(table.curve(*band.path).freq_hz, dtype=float)
-    g = _gain(table, band)
+    g = band_gain(table, band)
     lo, hi = band.freq_range_hz
     sel = (f >= lo - 1e-9) & (f <= hi + 1e-9)
     if not sel.any():
