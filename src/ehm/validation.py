@@ -130,9 +130,10 @@ class Validation:
         return tuple(c for c in self.checks if _CHECK_AXIS.get(c.name) == axis)
 
     def as_dict(self) -> dict:
-        """Plain data for JSON output."""
+        """Plain data for JSON output (a limit a band does not have, or a locking finding's frequency: None)."""
+        plain = lambda v: None if isinstance(v, float) and np.isnan(v) else v  # noqa: E731
         return {"passed": self.passed, "n_checks": len(self.checks), "n_failed": len(self.failed),
-                "person": self.person, "checks": [asdict(c) for c in self.checks]}
+                "person": self.person, "checks": [{k: plain(v) for k, v in asdict(c).items()} for c in self.checks]}
 
     def to_dataframe(self):
         """The checks as a pandas DataFrame, one row each, with the columns of :class:`Check`."""
@@ -156,11 +157,12 @@ class Validation:
 
     def format_table(self) -> str:
         """The checks as a fixed-width text table, one line each, and a last line with the count."""
-        lines = [f"{'condition':<26}{'check':<44}{'model':>9}{'at Hz':>7}  {'band':<14}{'':<6}"]
+        w = max([len("condition"), *(len(c.condition) for c in self.checks)]) + 2
+        lines = [f"{'condition':<{w}}{'check':<44}{'model':>9}{'at Hz':>7}  {'band':<16}{'':<6}"]
         for c in self.checks:
             band = _band_text(c.low, c.high)
             where = "" if np.isnan(c.at_hz) else f"{c.at_hz:.2f}"
-            lines.append(f"{c.condition:<26}{c.name:<44}{c.value:>9.3g}{where:>7}  {band + ' ' + c.unit:<14}"
+            lines.append(f"{c.condition:<{w}}{c.name:<44}{c.value:>9.3g}{where:>7}  {band + ' ' + c.unit:<16}"
                          f"{'pass' if c.passed else 'FAIL':<6}")
         lines.append(f"{len(self.checks) - len(self.failed)} of {len(self.checks)} checks pass.")
         return "\n".join(lines)
