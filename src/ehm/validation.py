@@ -1,6 +1,6 @@
 """Is the person like people?  The model against the standards' reference curves, published fits and findings.
 
-:func:`validate` builds a person (any parameter file, size, posture and seat), computes the exact frequency
+:func:`ehm.validate` builds a person (any parameter file, size, posture and seat), computes the exact frequency
 response of its linearised model (:func:`ehm.linear_frf`, 0.1-20 Hz) and evaluates every band of
 :data:`ehm.references.BANDS` (ISO 2631-5's seat-to-lumbar transfer function, the one-mass apparent-mass fit of
 Fairley & Griffin, the vertical whole-body mode, the seat-to-head ranges) and every joint-locking finding of the
@@ -136,7 +136,7 @@ class Validation:
                 "person": self.person, "checks": [{k: plain(v) for k, v in asdict(c).items()} for c in self.checks]}
 
     def to_dataframe(self):
-        """The checks as a pandas DataFrame, one row each, with the columns of :class:`Check`."""
+        """The checks as a pandas DataFrame, one row each, with the columns of :class:`~ehm.validation.Check`."""
         from .dataframes import frame
 
         names = list(Check.__dataclass_fields__)
@@ -145,8 +145,8 @@ class Validation:
                                "passed": self.passed, **{k: str(v) for k, v in self.person.items()}})
 
     def to_csv(self, path) -> None:
-        """Write the checks as CSV (whole or not at all), one row each, with the columns of :class:`Check`; a
-        limit a band does not have is an empty cell."""
+        """Write the checks as CSV (whole or not at all), one row each, with the columns of
+        :class:`~ehm.validation.Check`; a limit a band does not have is an empty cell."""
         buffer = io.StringIO()
         writer = csv.writer(buffer, lineterminator="\n")
         names = list(Check.__dataclass_fields__)
@@ -163,7 +163,7 @@ class Validation:
             band = _band_text(c.low, c.high)
             where = "" if np.isnan(c.at_hz) else f"{c.at_hz:.2f}"
             lines.append(f"{c.condition:<{w}}{c.name:<44}{c.value:>9.3g}{where:>7}  {band + ' ' + c.unit:<16}"
-                         f"{'pass' if c.passed else 'FAIL':<6}")
+                         f"{'pass' if c.passed else 'FAIL'}".rstrip())
         lines.append(f"{len(self.checks) - len(self.failed)} of {len(self.checks)} checks pass.")
         return "\n".join(lines)
 
