@@ -296,8 +296,8 @@ _VALIDATION_BAND_HZ = (0.5, 20.0)
 _VALIDATION_XLIM_HZ = (0.45, 22.0)  #: a margin round the band, so that marks at its ends show whole
 _REF_COLOR, _BAND_COLOR = "k", "0.55"
 _SOURCES = {"z": "Sources: ISO 2631-5:2018 cl. 5.2 Formula 1 (seat to lumbar spine); Fairley & Griffin 1989, one-mass "
-                 "fit to 60 seated people (apparent mass);\nseat-to-head ranges reported for seated people (docs/model); "
-                 "band widths: ehm issue 29.",
+                 "fit to 60 seated people (apparent mass);\nseat-to-head ranges reported for seated people "
+                 "(docs/model); band widths: ehm issue 29.",
             "x": "Source: fore-aft head peak below 3 Hz, ranges reported for seated people (docs/model).",
             "y": "Source: lateral head peak below 3 Hz, ranges reported for seated people (docs/model)."}
 

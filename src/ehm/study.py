@@ -147,7 +147,8 @@ def locking_study(params=None, variants: dict | None = None, method: str = "line
     if variants.get("baseline", ()) != ():
         raise InputError("'baseline' is the unlocked reference of the study; give the variant another name.")
     variants = {"baseline": (), **{k: joint_names(v, f"variant {k!r}") for k, v in variants.items() if k != "baseline"}}
-    humans = {name: SeatedHuman(params=params, lock=locks, size=size) for name, locks in variants.items()}  # checks names first
+    # built first: every variant's joint names are checked before any linearisation
+    humans = {name: SeatedHuman(params=params, lock=locks, size=size) for name, locks in variants.items()}
     tables: dict[str, FrfTable] = {}
     for name, human in humans.items():
         if progress:
