@@ -21,6 +21,7 @@ assess, Assessment       ISO 2631-1 comfort, ISO 2631-5 spinal dose and motion s
 FrfTable, linear_frf, time_domain_frf, read_frf    transmissibility and apparent mass tables
 compare            the paper's criterion (Eqs. 2-3) of measured against model curves
 check_step, StepWarning    transfer functions at a time step against the same model at finer steps
+validate, Validation    the person against the standards' reference curves and the paper's findings (``ehm validate``)
 LinearRouteError   an input too large for the linear route (a contact lifts off or slides)
 Parameters         a checked parameter file (``Parameters.load``, ``.with_values``, ``.export``)
 BodySize           individual body sizes (stature, mass, sitting height)
@@ -39,6 +40,7 @@ ehm.fit            parameter identification: fit, write_identified
 ehm.study          the joint-locking study: locking_study
 ehm.comfort        ISO 2631-1 weightings (any sampling rate) and metrics; ISO 2631-5 spinal dose (ehm.comfort.spine)
 ehm.references     reference curves, bands and the paper's findings, with their sources
+ehm.validation     the person against them: validate, band_checks, locking_checks
 ehm.sickness       subjective vertical conflict motion sickness model (whole record, or piece by piece:
                    SicknessAccumulator)
 ehm.linear         the linearised person as a state-space model (the linear route)
@@ -69,6 +71,7 @@ from .criterion import compare
 from .scaling import BodySize
 from .convergence import StepWarning, check_step
 from .linear import LinearRouteError
+from .validation import Validation, validate
 
 __all__ = [
     "DivergenceError", "EhmError", "EhmWarning", "InputError",
@@ -77,5 +80,5 @@ __all__ = [
     "city_drive", "rough_road", "assess", "Assessment",
     "FrfTable", "linear_frf", "time_domain_frf", "read_frf", "compare",
     "Parameters", "BodySize", "load_body", "Curve", "h1_estimate", "check_step", "StepWarning",
-    "LinearRouteError", "__version__",
+    "LinearRouteError", "validate", "Validation", "__version__",
 ]

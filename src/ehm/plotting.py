@@ -287,3 +287,179 @@ def plot_sickness(assessment, path: Path | str | None = None):
     fig.suptitle("Motion sickness incidence (subjective vertical conflict model)")
     fig.tight_layout()
     return _save(fig, path)
+
+
+# --- the person against the references (ehm validate) ---------------------------------------------------------------
+
+_CONDITION_STYLES = ("-", "--", ":", "-.")  #: the first condition evaluated (the references') solid, then dashed
+_VALIDATION_BAND_HZ = (0.5, 20.0)
+_VALIDATION_XLIM_HZ = (0.45, 22.0)  #: a margin round the band, so that marks at its ends show whole
+_REF_COLOR, _BAND_COLOR = "k", "0.55"
+_SOURCES = {"z": "Sources: ISO 2631-5:2018 cl. 5.2 Formula 1 (seat to lumbar spine); Fairley & Griffin 1989, one-mass "
+                 "fit to 60 seated people (apparent mass);\nseat-to-head ranges reported for seated people "
+                 "(docs/model); band widths: ehm issue 29.",
+            "x": "Source: fore-aft head peak below 3 Hz, ranges reported for seated people (docs/model).",
+            "y": "Source: lateral head peak below 3 Hz, ranges reported for seated people (docs/model)."}
+
+
+def plot_validation(validation, axis: str, path: Path | str | None = None):
+    """The person against the references for one seat input axis (:func:`ehm.validate`): the model's curves in
+    each condition evaluated (the references' condition solid, the person's own seat dashed) over the bands.
+
+    ``z``: (a) seat-to-lumbar gain against ISO 2631-5's transfer function and its ±0.20 band; (b) the apparent
+    mass over its 0.5 Hz value against Fairley & Griffin's one-mass fit (frame share 0 to 0.5, the region
+    between shaded) with the band limits; (c) seat-to-pelvis and seat-to-head gains with the head's band and the
+    pelvis peak's limit.  ``x``, ``y``: seat-to-head, trunk and pelvis gains on that axis with the head peak's
+    limit.  Where a check takes its figure (a peak, the worst deviation, the largest gain against a limit) is
+    marked on the model's curve: a dot where it passes, a cross where it fails.  The titles count the checks that
+    pass.
+    """
+    if axis not in _SOURCES:
+        raise InputError(f"axis {axis!r}: use x, y or z.")
+    panels = _Z_PANELS if axis == "z" else ((_horizontal_panel(axis),))
+    one = len(panels) == 1  # a single panel keeps its legend at its right, several theirs below them
+    fig, axes = plt.subplots(1, len(panels), figsize=(10.5, 5.2) if one else (5.4 * len(panels) + 1.0, 6.4),
+                             squeeze=False)
+    for ax, (title, draw) in zip(axes[0], panels):
+        names = draw(ax, validation)
+        ax.set_title(f"{title}: {_pass_count(validation, names)}", fontsize=9)
+        _frequency_axis(ax)
+        ax.legend(fontsize=7, frameon=False, **(dict(loc="center left", bbox_to_anchor=(1.02, 0.5)) if one else
+                                                dict(loc="upper center", bbox_to_anchor=(0.5, -0.16))))
+    bands = [c for c in validation.on_axis(axis) if not c.name.startswith("locking_")]
+    locking = [c for c in validation.on_axis(axis) if c.name.startswith("locking_")]
+    title = f"The person against the references, seat {_AXIS_NAMES[axis]} input: {_count(bands)} band checks pass"
+    if locking:
+        title += f"\nthe paper's joint-locking findings under it: {_count(locking)} pass (ehm study locking draws them)"
+    fig.suptitle(title, fontsize=10)
+    fig.text(0.01, 0.01, _SOURCES[axis] + "\nMarked: where each check takes its figure (dot: passes, cross: fails).",
+             fontsize=7, color="0.3")
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
+    return _save(fig, path)
+
+
+def _count(checks) -> str:
+    return f"{sum(c.passed for c in checks)} of {len(checks)}"
+
+
+def _pass_count(validation, names) -> str:
+    checks = [c for c in validation.checks if c.name in names]
+    return f"{_count(checks)} checks pass" if checks else "no checks"
+
+
+def _frequency_axis(ax) -> None:
+    ax.set_xscale("log")
+    ax.set_xlim(*_VALIDATION_XLIM_HZ)
+    ticks = [0.5, 1, 2, 3, 5, 10, 20]
+    ax.set_xticks(ticks, [f"{t:g}" for t in ticks])
+    ax.set_xlabel("frequency [Hz]")
+    ax.grid(alpha=0.3, which="both")
+
+
+def _band(name: str):
+    from .references import BANDS
+
+    return next(b for b in BANDS if b.name == name)
+
+
+def _model_lines(ax, validation, path, color, label, names=(), normalise_at_hz=None):
+    """The model's gain of ``path`` in each condition, one line style each; the peaks of the checks ``names`` taken
+    on it marked (a dot: passes, a cross: fails)."""
+    for style, (condition, table) in zip(_CONDITION_STYLES, validation.tables.items()):
+        c = table.curve(*path)
+        g = np.asarray(c.gain, float)
+        if normalise_at_hz is not None:
+            g = g / np.interp(normalise_at_hz, c.freq_hz, g)
+        sel = band_select(c.freq_hz, _VALIDATION_BAND_HZ)
+        ax.plot(c.freq_hz[sel], g[sel], ls=style, color=color, lw=1.4,
+                label=f"{label} ({condition})" if len(validation.tables) > 1 else label)
+        for check in validation.checks:
+            if check.name in names and check.condition == condition and np.isfinite(check.at_hz):
+                y = float(np.interp(check.at_hz, c.freq_hz, g))
+                ax.plot(check.at_hz, y, "o" if check.passed else "x", color=color, ms=6,
+                        mfc=color if check.passed else "none", mew=1.8)
+
+
+def _box(ax, f_band, g_band, label, color=_BAND_COLOR):
+    """A band of peak frequency and gain as a box."""
+    (f0, f1), (g0, g1) = f_band, g_band
+    ax.add_patch(plt.Rectangle((f0, g0), f1 - f0, g1 - g0, fill=True, alpha=0.15, color=color, lw=0, label=label))
+    ax.add_patch(plt.Rectangle((f0, g0), f1 - f0, g1 - g0, fill=False, ec=color, lw=1.0))
+
+
+def _peak_limit(ax, high_hz, label, color=_BAND_COLOR):
+    """An upper limit of a peak's frequency: a line, and the frequencies above it shaded."""
+    ax.axvline(high_hz, color=color, lw=1.0, ls="-.")
+    ax.axvspan(high_hz, _VALIDATION_XLIM_HZ[1], color=color, alpha=0.08, lw=0, label=label)
+
+
+def _lumbar_panel(ax, validation):
+    from .references import iso2631_5_lumbar_tf
+
+    dev, peak = _band("lumbar_gain_vs_iso2631_5"), _band("lumbar_peak_frequency")
+    f = np.geomspace(*_VALIDATION_BAND_HZ, 400)
+    ax.plot(f, np.abs(iso2631_5_lumbar_tf(f)), color=_REF_COLOR, lw=1.2, label="ISO 2631-5:2018 Formula 1")
+    fb = np.geomspace(*dev.freq_range_hz, 200)
+    ref = np.abs(iso2631_5_lumbar_tf(fb))
+    ax.fill_between(fb, ref + dev.low, ref + dev.high, color=_BAND_COLOR, alpha=0.25, lw=0,
+                    label=f"±{dev.high:.2f} over {dev.freq_range_hz[0]:g}-{dev.freq_range_hz[1]:g} Hz")
+    ax.axvspan(peak.low, peak.high, color="tab:green", alpha=0.08, lw=0,
+               label=f"its peak at {peak.low:g}-{peak.high:g} Hz")
+    names = ("lumbar_gain_vs_iso2631_5", "lumbar_peak_frequency", "spine_first_resonance")
+    _model_lines(ax, validation, dev.path, _LOC_COLORS["lumbar"], "model lumbar z", names)
+    ax.set_ylabel("gain [(m/s²)/(m/s²)]")
+    return names
+
+
+def _apparent_mass_panel(ax, validation):
+    from .references import apparent_mass_one_mass
+
+    f = np.geomspace(*_VALIDATION_BAND_HZ, 400)
+    lo, hi = (np.abs(apparent_mass_one_mass(f, share)) for share in (0.0, 0.5))
+    ax.plot(f, lo, color=_REF_COLOR, lw=1.2, label="Fairley & Griffin 1989, one-mass fit")
+    ax.plot(f, hi, color=_REF_COLOR, lw=0.8, ls=":", label="the same, half the mass on the frame")
+    ax.fill_between(f, np.minimum(lo, hi), np.maximum(lo, hi), color=_REF_COLOR, alpha=0.08, lw=0)
+    pf, pg = _band("apparent_mass_peak_frequency"), _band("apparent_mass_peak")
+    _box(ax, (pf.low, pf.high), (pg.low, pg.high), f"peak {pg.low:g}-{pg.high:g} at {pf.low:g}-{pf.high:g} Hz")
+    for name in ("apparent_mass_10hz", "apparent_mass_15_20hz"):
+        b = _band(name)
+        f0, f1 = b.freq_range_hz
+        ax.plot([f0, f1] if f1 > f0 else [f0 * 0.96, f0 * 1.04], [b.high, b.high], color="tab:red", lw=2.0)
+        ax.plot([f0, f1] if f1 > f0 else [f0], [b.high] * (2 if f1 > f0 else 1), "v", color="tab:red", ms=6,
+                label="upper limits: ≤ 0.75 at 10 Hz, ≤ 0.6 at 15-20 Hz" if name == "apparent_mass_10hz" else None)
+    names = ("apparent_mass_peak_frequency", "apparent_mass_peak", "apparent_mass_10hz", "apparent_mass_15_20hz")
+    _model_lines(ax, validation, pf.path, "tab:purple", "model, all supports", names,
+                 normalise_at_hz=pf.normalise_at_hz)
+    ax.set_ylabel(f"apparent mass over its {pf.normalise_at_hz:g} Hz value")
+    return names
+
+
+def _pelvis_head_panel(ax, validation):
+    pelvis, hf, hg = (_band(n) for n in ("pelvis_peak_frequency", "head_vertical_peak_frequency",
+                                         "head_vertical_peak_gain"))
+    _box(ax, (hf.low, hf.high), (hg.low, hg.high), f"head peak {hg.low:g}-{hg.high:g} at {hf.low:g}-{hf.high:g} Hz",
+         color="tab:red")
+    _peak_limit(ax, pelvis.high, f"no pelvis peak above {pelvis.high:g} Hz", color="tab:blue")
+    _model_lines(ax, validation, pelvis.path, _LOC_COLORS["pelvis"], "model pelvis z", (pelvis.name,))
+    _model_lines(ax, validation, hf.path, _LOC_COLORS["head"], "model head z", (hf.name,))
+    ax.set_ylabel("gain [(m/s²)/(m/s²)]")
+    return pelvis.name, hf.name, hg.name
+
+
+_Z_PANELS = (("(a) seat z → lumbar z", _lumbar_panel), ("(b) apparent mass z", _apparent_mass_panel),
+             ("(c) seat z → pelvis z, head z", _pelvis_head_panel))
+
+
+def _horizontal_panel(axis: str):
+    name = {"x": "head_fore_aft_peak_frequency", "y": "head_lateral_peak_frequency"}[axis]
+
+    def draw(ax, validation):
+        b = _band(name)
+        _peak_limit(ax, b.high, f"head peak at most {b.high:g} Hz", color="tab:red")
+        for point in ("pelvis", "trunk", "head"):
+            _model_lines(ax, validation, (axis, point, axis), _LOC_COLORS[point], f"model {point} {axis}",
+                         (name,) if point == "head" else ())
+        ax.set_ylabel("gain [(m/s²)/(m/s²)]")
+        return (name,)
+
+    return f"seat {axis} → head, trunk, pelvis {axis}", draw

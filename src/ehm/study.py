@@ -123,7 +123,8 @@ def parse_variant(text: str) -> tuple[str, tuple]:
 
 
 def locking_study(params=None, variants: dict | None = None, method: str = "linear",
-                  band_hz: tuple[float, float] = (0.5, 4.0), duration_s: float = 60.0, progress=None) -> LockingStudy:
+                  band_hz: tuple[float, float] = (0.5, 4.0), duration_s: float = 60.0, progress=None,
+                  size=None) -> LockingStudy:
     """Run the baseline and each variant; compare peak and band-mean gains with the baseline.
 
     Parameters
@@ -133,6 +134,10 @@ def locking_study(params=None, variants: dict | None = None, method: str = "line
         Default: the paper's (baseline, SL, NL).  A ``baseline`` entry is always added.
     method : ``linear`` (exact, fast) or ``time`` (random-vibration runs, H1 estimates)
     band_hz : band of the band-mean gain (default 0.5-4 Hz, where comfort matters most)
+    progress : callable, optional
+        Called with a line of text before each variant is linearised (or run).
+    size : ehm.BodySize, optional
+        An individual body size (:class:`ehm.BodySize`); default the reference person.
     """
     from .simulation import SeatedHuman
 
@@ -142,7 +147,8 @@ def locking_study(params=None, variants: dict | None = None, method: str = "line
     if variants.get("baseline", ()) != ():
         raise InputError("'baseline' is the unlocked reference of the study; give the variant another name.")
     variants = {"baseline": (), **{k: joint_names(v, f"variant {k!r}") for k, v in variants.items() if k != "baseline"}}
-    humans = {name: SeatedHuman(params=params, lock=locks) for name, locks in variants.items()}  # checks names first
+    # built first: every variant's joint names are checked before any linearisation
+    humans = {name: SeatedHuman(params=params, lock=locks, size=size) for name, locks in variants.items()}
     tables: dict[str, FrfTable] = {}
     for name, human in humans.items():
         if progress:

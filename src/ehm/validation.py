@@ -1,6 +1,6 @@
 """Is the person like people?  The model against the standards' reference curves, published fits and findings.
 
-:func:`validate` builds a person (any parameter file, size, posture and seat), computes the exact frequency
+:func:`ehm.validate` builds a person (any parameter file, size, posture and seat), computes the exact frequency
 response of its linearised model (:func:`ehm.linear_frf`, 0.1-20 Hz) and evaluates every band of
 :data:`ehm.references.BANDS` (ISO 2631-5's seat-to-lumbar transfer function, the one-mass apparent-mass fit of
 Fairley & Griffin, the vertical whole-body mode, the seat-to-head ranges) and every joint-locking finding of the
@@ -14,21 +14,28 @@ too.  So by default the person is evaluated twice: in the references' condition 
 back support), where the seat-to-head bands and the locking findings are checked.  Giving ``posture`` or
 ``back_support`` evaluates that one condition only, with every check.
 
->>> from ehm.validation import validate
->>> v = validate()               # the default person
+>>> import ehm
+>>> v = ehm.validate()                                   # the default person
 >>> v.passed, len(v.checks)
 >>> print(v.format_table())
+>>> v = ehm.validate("my.toml", size=ehm.BodySize(1.62, 58.0))   # a parameter file, a body size
+
+``ehm validate`` runs it from the command line (:doc:`/validation`), with a figure per seat input axis
+(:func:`ehm.plotting.plot_validation`).
 """
 
 from __future__ import annotations
 
+import csv
+import io
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
 from . import references
 from .errors import InputError
-from .frf import FrfTable, linear_frf
+from .frf import AXES, FrfTable, linear_frf
+from .io import write_text_atomic
 from .params import Parameters
 
 #: Frequencies the model is evaluated at [Hz]: 0.1-20 Hz in 0.05 Hz steps (the bands reach 20 Hz).
@@ -115,13 +122,21 @@ class Validation:
         raise InputError(f"no check {name!r}{'' if condition is None else ' in ' + condition}; the checks are "
                          f"{', '.join(sorted({c.name for c in self.checks}))}.")
 
+    def on_axis(self, axis: str) -> tuple:
+        """The checks of one seat input axis (``x``, ``y`` or ``z``): the bands on its paths and the locking
+        findings under it."""
+        if axis not in AXES:
+            raise InputError(f"axis {axis!r}: use one of {', '.join(AXES)}.")
+        return tuple(c for c in self.checks if _CHECK_AXIS.get(c.name) == axis)
+
     def as_dict(self) -> dict:
-        """Plain data for JSON output."""
+        """Plain data for JSON output (a limit a band does not have, or a locking finding's frequency: None)."""
+        plain = lambda v: None if isinstance(v, float) and np.isnan(v) else v  # noqa: E731
         return {"passed": self.passed, "n_checks": len(self.checks), "n_failed": len(self.failed),
-                "person": self.person, "checks": [asdict(c) for c in self.checks]}
+                "person": self.person, "checks": [{k: plain(v) for k, v in asdict(c).items()} for c in self.checks]}
 
     def to_dataframe(self):
-        """The checks as a pandas DataFrame, one row each, with the columns of :class:`Check`."""
+        """The checks as a pandas DataFrame, one row each, with the columns of :class:`~ehm.validation.Check`."""
         from .dataframes import frame
 
         names = list(Check.__dataclass_fields__)
@@ -129,19 +144,39 @@ class Validation:
         return frame(columns, {"description": "the person against the standards' reference curves",
                                "passed": self.passed, **{k: str(v) for k, v in self.person.items()}})
 
+    def to_csv(self, path) -> None:
+        """Write the checks as CSV (whole or not at all), one row each, with the columns of
+        :class:`~ehm.validation.Check`; a limit a band does not have is an empty cell."""
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        names = list(Check.__dataclass_fields__)
+        writer.writerow(names)
+        for c in self.checks:
+            writer.writerow([_csv_cell(getattr(c, n)) for n in names])
+        write_text_atomic(path, buffer.getvalue())
+
     def format_table(self) -> str:
         """The checks as a fixed-width text table, one line each, and a last line with the count."""
-        lines = [f"{'condition':<26}{'check':<44}{'model':>9}{'at Hz':>7}  {'band':<14}{'':<6}"]
+        w = max([len("condition"), *(len(c.condition) for c in self.checks)]) + 2
+        lines = [f"{'condition':<{w}}{'check':<44}{'model':>9}{'at Hz':>7}  {'band':<16}{'':<6}"]
         for c in self.checks:
             band = _band_text(c.low, c.high)
             where = "" if np.isnan(c.at_hz) else f"{c.at_hz:.2f}"
-            lines.append(f"{c.condition:<26}{c.name:<44}{c.value:>9.3g}{where:>7}  {band + ' ' + c.unit:<14}"
-                         f"{'pass' if c.passed else 'FAIL':<6}")
+            lines.append(f"{c.condition:<{w}}{c.name:<44}{c.value:>9.3g}{where:>7}  {band + ' ' + c.unit:<16}"
+                         f"{'pass' if c.passed else 'FAIL'}".rstrip())
         lines.append(f"{len(self.checks) - len(self.failed)} of {len(self.checks)} checks pass.")
         return "\n".join(lines)
 
     def _repr_html_(self) -> str:
         return self.to_dataframe().to_html(index=False)
+
+
+def _csv_cell(value) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return "" if np.isnan(value) else f"{value:.6g}"
+    return str(value)
 
 
 def _band_text(low: float, high: float) -> str:
@@ -156,7 +191,9 @@ def _condition_label(posture: str, back_support: str) -> str:
     return f"{posture}, back support {back_support}"
 
 
-def _gain(table: FrfTable, band: references.Band) -> np.ndarray:
+def band_gain(table: FrfTable, band: references.Band) -> np.ndarray:
+    """The model's curve a band speaks of: the gain of the band's path, over its value at
+    ``band.normalise_at_hz`` when the band says so (the apparent mass over its 0.5 Hz value)."""
     c = table.curve(*band.path)
     g = np.asarray(c.gain, dtype=float)
     if band.normalise_at_hz is not None:
@@ -172,7 +209,7 @@ def band_figure(table: FrfTable, band: references.Band) -> tuple[float, float]:
     ``gain_minus_reference``: the deviation from the reference curve with the largest modulus.
     """
     f = np.asarray(table.curve(*band.path).freq_hz, dtype=float)
-    g = _gain(table, band)
+    g = band_gain(table, band)
     lo, hi = band.freq_range_hz
     sel = (f >= lo - 1e-9) & (f <= hi + 1e-9)
     if not sel.any():
@@ -208,6 +245,15 @@ def band_checks(table: FrfTable, condition: str, bands=None) -> list[Check]:
     return out
 
 
+def _locking_name(finding: references.LockingFinding, quantity: str) -> str:
+    return f"locking_{finding.variant}_{finding.input_axis}_{finding.point}_{finding.dof}_{quantity}"
+
+
+#: Each check's seat input axis, by name: the bands' paths and the locking findings' input axes.
+_CHECK_AXIS = {**{b.name: b.path[0] for b in references.BANDS},
+               **{_locking_name(f, q): f.input_axis for f in references.LOCKING_FINDINGS for q in f.quantities}}
+
+
 def locking_checks(study, condition: str) -> list[Check]:
     """The paper's locking findings (:data:`ehm.references.LOCKING_FINDINGS`) in a locking study: one check per
     finding and quantity, the change from the baseline (Hz, or % of the baseline's gain)."""
@@ -220,9 +266,9 @@ def locking_checks(study, condition: str) -> list[Check]:
             bound = float(finding.least_change) * finding.direction + 0.0  # no -0
             low, high = (bound, np.nan) if finding.direction > 0 else (np.nan, bound)
             passed = finding.direction * change > finding.least_change
-            out.append(Check(f"locking_{finding.variant}_{finding.input_axis}_{finding.point}_{finding.dof}_{q}",
-                             condition, f"{finding.label}: {q} change", float(change), np.nan, low, high,
-                             "Hz" if q == "peak_hz" else "%", bool(passed), f"{finding.source}: {finding.paper}"))
+            out.append(Check(_locking_name(finding, q), condition, f"{finding.label}: {q} change", float(change),
+                             np.nan, low, high, "Hz" if q == "peak_hz" else "%", bool(passed),
+                             f"{finding.source}: {finding.paper}"))
     return out
 
 
@@ -244,7 +290,8 @@ def _conditions(params: Parameters, posture, back_support) -> list[tuple[str, st
 
 
 def validate(params: Parameters | str | None = None, size=None, posture: str | None = None,
-             back_support: str | None = None, locking: bool = True, dt_s: float | None = None) -> Validation:
+             back_support: str | None = None, locking: bool = True, dt_s: float | None = None,
+             progress=None) -> Validation:
     """The person against every reference of :mod:`ehm.references`.
 
     Parameters
@@ -252,7 +299,7 @@ def validate(params: Parameters | str | None = None, size=None, posture: str | N
     params : Parameters or path, optional
         The person's parameters (default: the shipped default person).
     size : ehm.BodySize, optional
-        An individual body size (:func:`ehm.scaling.body_size`).
+        An individual body size; default the reference person.
     posture, back_support : str, optional
         Evaluate this condition only (every band and the locking findings in it).  Default: the references'
         condition (erect, no back support) for every band, and the person's own seat for the seat-to-head
@@ -261,32 +308,62 @@ def validate(params: Parameters | str | None = None, size=None, posture: str | N
         Evaluate the paper's joint-locking findings (three more linearisations of the person).
     dt_s : float, optional
         The time step the person is linearised at (default: its own).
+    progress : callable, optional
+        ``progress(done, total)`` after each linearisation (one per condition, and one per locking variant).
 
     Returns
     -------
     Validation
+        Its checks in order: each condition's bands, then the locking findings (on the person's own seat).
     """
     p = params if isinstance(params, Parameters) else Parameters.load(params)
-    checks, tables = [], {}
     conditions = _conditions(p, posture, back_support)
+    total = len(conditions) + (len(references.LOCKING_VARIANTS) if locking else 0)
+    done = _Counter(progress, total)
+    checks, tables = [], {}
     for post, back, every in conditions:
         label = _condition_label(post, back)
-        human = _person(p, size, post, back, dt_s)
-        table = linear_frf(human, "all", freq_hz=FREQ_HZ)
+        table = linear_frf(_person(p, size, post, back, dt_s), "all", freq_hz=FREQ_HZ)
         tables[label] = table
         bands = None if every else [b for b in references.BANDS if b.name in ANY_SEAT_BANDS]
         checks += band_checks(table, label, bands)
+        done()
     if locking:
-        from .study import locking_study
-
         post, back, _ = conditions[-1]  # the person's own seat (the paper's study ran on its validation seat)
-        study = locking_study(params=p.seated(post, back) if size is None else p.seated(post, back),
-                              method="linear")
-        checks += locking_checks(study, _condition_label(post, back))
-    person = {"params": p.value("about.name") if _has(p, "about.name") else "custom",
-              "size": None if size is None else repr(size),
+        checks += locking_checks(_locking_study(p.seated(post, back).at_step(dt_s), size, done),
+                                 _condition_label(post, back))
+    person = {"params": p.value("about.name") if _has(p, "about.name") else "custom", "origin": str(p.origin),
+              "size": None if size is None else repr(size), "dt_s": dt_s, "locking": bool(locking),
               "conditions": [_condition_label(a, b) for a, b, _ in conditions]}
     return Validation(checks=tuple(checks), tables=tables, person=person)
+
+
+class _Counter:
+    """``progress(done, total)`` one step further at each call (nothing without a ``progress``)."""
+
+    def __init__(self, progress, total: int):
+        self.progress, self.total, self.done = progress, total, 0
+
+    def __call__(self, *_) -> None:
+        self.done += 1
+        if self.progress is not None:
+            self.progress(min(self.done, self.total), self.total)
+
+
+def _locking_study(params: Parameters, size, done: _Counter):
+    """The paper's locking study of the person on its own seat (linear method); ``done`` after each variant."""
+    from .study import PAPER_VARIANTS, locking_study
+
+    started = []  # the study announces each variant before linearising it: count the previous one as done
+
+    def step(_text):
+        if started:
+            done()
+        started.append(True)
+
+    study = locking_study(params=params, variants=dict(PAPER_VARIANTS), method="linear", size=size, progress=step)
+    done()
+    return study
 
 
 def _has(p: Parameters, path: str) -> bool:

@@ -27,6 +27,11 @@ def _model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--segments", metavar="FILE.csv", help="segment table (default: the paper's Table 2)")
     p.add_argument("--joints", metavar="FILE.csv", help="joint table (default: the paper's Table 1)")
     p.add_argument("--contacts", metavar="FILE.csv", help="contact ellipsoid table (default: shipped)")
+    _size_options(p)
+
+
+def _size_options(p: argparse.ArgumentParser) -> None:
+    """--stature, --mass, --sitting-height: an individual body size (ehm.scaling; read by common._size)."""
     p.add_argument("--stature", type=float, metavar="M", help="scale the person to this standing height [m]")
     p.add_argument("--mass", type=float, metavar="KG", help="scale the person to this body mass [kg]")
     p.add_argument("--sitting-height", type=float, metavar="M", help="sitting height [m] (default: in proportion)")

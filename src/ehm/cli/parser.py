@@ -17,6 +17,7 @@ SUBCOMMANDS = (
     transfer.add_fit,
     transfer.add_plot_frf,
     transfer.add_study,
+    transfer.add_validate,
     run.add_assess,
     interfaces.add_realtime,
     interfaces.add_batch,

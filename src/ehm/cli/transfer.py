@@ -1,4 +1,4 @@
-"""Transfer-function commands: frf, compare, fit, plot-frf, check-step and the locking study."""
+"""Transfer-function commands: frf, compare, fit, plot-frf, check-step, the locking study and validate."""
 
 from __future__ import annotations
 
@@ -11,14 +11,16 @@ import numpy as np
 from ..errors import InputError
 from ..io import write_json_atomic
 from ..outdir import RunFolder, check_output_file, check_output_folder
-from ..params import refuse_defaults
+from ..params import Parameters, refuse_defaults
 from ..tables import load_body
 from ..timestep import check_time_step
 from .common import _band, _human, _input_files, _joint_list, _params, _read_motion_file, _size
 from .options import (_KEEP_SMALL_HELP, _excitation_options, _model_options, _motion_file_options,
-                      _progress_options, _seating_options)
-from .progress import _end_progress_line
+                      _progress_options, _seating_options, _size_options)
+from .progress import _end_progress_line, _progress_count
 
+#: ehm validate: the person was evaluated, and some check does not pass.
+EXIT_CHECKS_FAILED = 1
 #: ehm fit: stopped on its budget, did not lower the criterion, its check disagreed, or a value ended on its
 #: search bound (then the file is still written, that value graded "at bound").
 EXIT_NOT_IDENTIFIED = 3
@@ -272,6 +274,68 @@ def _write_locking_study(study, variants: dict, out: Path) -> dict:
         table.to_csv(out / f"frf_{name}.csv")
     plot_locking_study(study, out / "locking.png")
     return findings
+
+
+# --- ehm validate ---------------------------------------------------------------------------------------------------
+
+#: The files ``ehm validate --out`` writes.
+VALIDATION_FILES = ("validation.csv", "validation.json", "validation_z.png", "validation_x.png", "validation_y.png")
+
+
+def add_validate(sub) -> None:
+    p = sub.add_parser(
+        "validate", help="the person against the standards' reference curves and the paper's findings (exit "
+                         "status 1 when a check fails)",
+        description="Evaluate a person (parameter file, size, posture, seat) against every reference of "
+                    "ehm.references: ISO 2631-5's seat-to-lumbar transfer function, the measured apparent mass "
+                    "(Fairley & Griffin's one-mass fit), the whole-body mode, the seat-to-head ranges, and the "
+                    "paper's joint-locking findings.  Prints one line per check (the model's figure, the band, "
+                    "pass or FAIL).  Without --posture and --back-support the person is evaluated in the "
+                    "references' condition (erect, back support none: every band) and on its own seat (the "
+                    "seat-to-head bands and the locking findings); with either, in that one condition, every "
+                    "check.  Exit status: 0 when every check passes, 1 when some check fails, 2 on bad input.")
+    p.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
+    _seating_options(p)
+    _size_options(p)
+    p.add_argument("--dt", type=float, help="time step the person is linearised at [s] (default: its own)")
+    p.add_argument("--no-locking", action="store_true",
+                   help="leave out the paper's joint-locking findings (three fewer linearisations)")
+    p.add_argument("--out", metavar="DIR",
+                   help="output folder: " + ", ".join(VALIDATION_FILES) + " (default: print the table only)")
+    _progress_options(p)
+    p.set_defaults(func=cmd_validate)
+
+
+def cmd_validate(args) -> int:
+    from ..validation import validate
+
+    if args.dt is not None:
+        check_time_step(args.dt, "--dt")
+    final = None if args.out is None else check_output_folder(args.out, inputs=_input_files(args))
+    validation = validate(Parameters.load(args.params), size=_size(args), posture=args.posture,
+                          back_support=args.back_support, locking=not args.no_locking, dt_s=args.dt,
+                          progress=_progress_count("linearisations", args.quiet))
+    _end_progress_line()
+    print(validation.format_table())
+    if final is not None:
+        with RunFolder(final) as out:
+            _write_validation(validation, out)
+        print(f"wrote {final}/" + ", ".join(VALIDATION_FILES))
+    if not validation.passed:
+        print(f"ehm: validate: {len(validation.failed)} of {len(validation.checks)} checks fail: "
+              f"{', '.join(dict.fromkeys(c.name for c in validation.failed))}.", file=sys.stderr)
+        return EXIT_CHECKS_FAILED
+    return 0
+
+
+def _write_validation(validation, out: Path) -> None:
+    """The checks' table (CSV, JSON) and a figure per seat input axis, written into ``out``."""
+    from ..plotting import plot_validation
+
+    validation.to_csv(out / "validation.csv")
+    write_json_atomic(out / "validation.json", validation.as_dict())
+    for axis in "zxy":
+        plot_validation(validation, axis, out / f"validation_{axis}.png")
 
 
 # --- ehm check-step -------------------------------------------------------------------------------------------------
