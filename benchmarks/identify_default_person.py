@@ -28,6 +28,7 @@ from __future__ import annotations
 import argparse
 import copy
 import json
+import re
 import sys
 import time
 from pathlib import Path
@@ -44,14 +45,19 @@ from ehm.transfer import Curve
 from ehm.validation import validate
 
 SIDES = ("r", "l")
-#: The values identified: name -> (dotted paths, lower bound, upper bound).  Both sides of the body move
-#: together.  Bounds: physiological orders of magnitude (contact stiffness of seated buttock tissue some tens of
-#: kN/m; joint rotational stiffness some tens to thousands of Nm/rad), wide enough not to decide the result.
+#: The values identified, those that shape the vertical response: the normal stiffness and damping of the contacts
+#: that carry the body's weight, and the joints whose compliance the vertical mode moves (the spine's vertical
+#: slide and the pitch of spine, hips and neck).  name -> (dotted paths, lower bound, upper bound).  Both sides of
+#: the body move together.  Bounds: physiological orders of magnitude (contact stiffness of seated buttock tissue
+#: some tens of kN/m; joint rotational stiffness some tens to thousands of Nm/rad), wide enough not to decide the
+#: result.
 FREE = {
     "buttock stiffness": (["contacts.buttock_{s}.stiffness_N_per_m"], 15e3, 150e3),
     "buttock damping": (["contacts.buttock_{s}.damping_Ns_per_m"], 100.0, 3000.0),
     "thigh stiffness": (["contacts.thigh_{s}.stiffness_N_per_m"], 20e3, 500e3),
     "thigh damping": (["contacts.thigh_{s}.damping_Ns_per_m"], 100.0, 5000.0),
+    "foot stiffness": (["contacts.foot_{s}.stiffness_N_per_m"], 10e3, 500e3),
+    "foot damping": (["contacts.foot_{s}.damping_Ns_per_m"], 50.0, 5000.0),
     "T12 vertical stiffness": (["joints.t12.z.stiffness_N_per_m"], 8e3, 150e3),
     "T12 vertical damping": (["joints.t12.z.damping_Ns_per_m"], 50.0, 3000.0),
     "T12 pitch stiffness": (["joints.t12.pitch.stiffness_Nm_per_rad"], 100.0, 3000.0),
@@ -72,6 +78,7 @@ CURVE_HZ = np.round(np.arange(1.0, 12.0 + 1e-9, 0.25), 6)  # the paper's band fo
 MASS_HZ = np.round(np.arange(1.0, 20.0 + 1e-9, 0.25), 6)
 LOW_HZ = (0.5, 1.5)
 LOW_GAIN_MAX = 1.12
+DEFAULTS = Path(__file__).resolve().parents[1] / "src" / "ehm" / "data" / "default_params.toml"
 
 
 def paths(name: str) -> list[str]:
@@ -175,12 +182,51 @@ def with_bounds(p: Parameters, factor: float) -> Parameters:
     return q
 
 
+def write_into_defaults(identified: Parameters, path: Path, source: str = "identified") -> None:
+    """Put the free values of ``identified`` into the shipped parameter file's text, graded ``identified`` with
+    ``source`` (its comments and layout kept; each value's line found in its own section)."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    section = None
+    for i, line in enumerate(lines):
+        m = re.match(r"\[([^\]]+)\]", line)
+        if m:
+            section = m.group(1)
+            continue
+        m = re.match(r"(\w+) = \{(.*)\}\s*$", line)
+        if section is None or not m:
+            continue
+        key, body = m.groups()
+        changed = False
+        for name in FREE:
+            for dotted in paths(name):
+                head, _, leaf = dotted.rpartition(".")
+                # a contact's value: section contacts.X, key = leaf; a joint's: section joints.X, key = dof
+                if head == section and key == leaf:
+                    body = re.sub(r"value = [^,]+", f"value = {_fmt(identified.value(dotted))}", body)
+                    changed = True
+                elif head.rpartition(".")[0] == section and key == head.rpartition(".")[2]:
+                    body = re.sub(rf"{leaf} = [^,]+", f"{leaf} = {_fmt(identified.value(dotted))}", body)
+                    changed = True
+        if changed:
+            body = re.sub(r'grade = "[^"]*"', 'grade = "identified"', body)
+            body = re.sub(r'source = "[^"]*"', f'source = "{source}"', body)
+            lines[i] = f"{key} = {{{body}}}"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def _fmt(v: float) -> str:
+    """Four significant figures, as a TOML float."""
+    return repr(float(f"{float(v):.4g}"))
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", required=True, type=Path)
     ap.add_argument("--start", type=Path, help="start parameter file (default: the shipped default person)")
     ap.add_argument("--max-evals", type=int, default=300, help="stage 1's evaluations (default 300)")
     ap.add_argument("--skip-search", action="store_true", help="start stage 2 from --start (no stage 1)")
+    ap.add_argument("--write-defaults", action="store_true",
+                    help="write the identified values into src/ehm/data/default_params.toml (grade identified)")
     args = ap.parse_args()
     out = args.out
     out.mkdir(parents=True, exist_ok=False)
@@ -202,9 +248,18 @@ def main() -> int:
         results[label] = v
         (out / f"validation_{label.replace(' ', '_')}.txt").write_text(v.format_table() + "\n")
         say(f"\n{label}: {path}\n{v.format_table()}")
-    (out / "summary.json").write_text(json.dumps({k: v.as_dict() for k, v in results.items()}, indent=1,
-                                                 default=str))
-    return 0
+    # the identified person: ehm fit's result when its fit converged and it passes every check, else the band
+    # search's when it does
+    chosen = next((label for label, ok in (("ehm fit", rc == 0), ("band search", True))
+                   if label in results and ok and results[label].passed), None)
+    say(f"\nidentified: {chosen or 'none (no stage passes every check)'}")
+    (out / "summary.json").write_text(json.dumps({"identified": chosen, **{k: v.as_dict() for k, v in results.items()}},
+                                                 indent=1, default=str))
+    if chosen and args.write_defaults:
+        path = {"band search": out / "band_search.toml", "ehm fit": out / "fitted.toml"}[chosen]
+        write_into_defaults(Parameters.load(path), DEFAULTS)
+        say(f"wrote the identified values into {DEFAULTS}")
+    return 0 if chosen else 1
 
 
 def _write_reference_csv(table: FrfTable, path: Path) -> None:
