@@ -21,16 +21,16 @@ __all__ = ["CONVERGED_STEP_S", "DEFAULT_STEP_ERRORS", "MAX_STEP_S", "MIN_STEP_S"
 #: ehm 0.1 on this formulation: trapezoidal contacts and trunk/neck damping, Euler; README "Time step and
 #: accuracy").  Between the steps listed the error is interpolated, beyond them extrapolated in proportion
 #: to the step.
-DEFAULT_STEP_ERRORS = {0.0005: 0.0066, 0.001: 0.0166, 0.0015: 0.045, 0.002: 0.091, 0.004: 0.43}
+DEFAULT_STEP_ERRORS = {0.0005: 0.0056, 0.001: 0.0077, 0.0015: 0.0243, 0.002: 0.0558, 0.004: 0.297}
 #: The largest step at which the default person is converged [s] (a posture may have its own: postures.NAME.dt_s).
 CONVERGED_STEP_S = 0.001
 #: The same for the shipped postures with a converged step of their own (postures.NAME.dt_s): worst path over the
 #: back supports none, low and high (docs/model.md, postures).
-POSTURE_STEP_ERRORS = {"slouched": {0.0005: 0.0106, 0.001: 0.0361, 0.002: 0.148}}
+POSTURE_STEP_ERRORS = {"slouched": {0.0005: 0.0056, 0.001: 0.0124, 0.002: 0.0558}}
 
 
 #: The shortest time step taken [s]: a step costs about 30 us of wall time (measured, default person), so the
-#: 10 s of settling alone take about 5 min at 1 us and hours below, for no accuracy to gain (0.7 % at 0.5 ms).
+#: 10 s of settling alone take about 5 min at 1 us and hours below, for no accuracy to gain (0.6 % at 0.5 ms).
 MIN_STEP_S = 1e-6
 #: The longest time step taken [s]: the default person still settles at 10 ms (its transfer functions off by about
 #: 100 %) and diverges at 20 ms (measured), and 10 ms resolves the 0.5-80 Hz of ISO 2631-1 no longer (Nyquist 50 Hz).
