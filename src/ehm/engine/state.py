@@ -6,6 +6,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from . import control as _control
 from .diagnostics import CHECK_EVERY, _diverged, _instability, captured_warnings
 from .model import G0, Model
 
@@ -66,6 +67,7 @@ def settled_data(model: Model) -> mujoco.MjData:
     d.qvel[:] = model.settled["qvel"]
     d.act[:] = model.settled["act"]
     mujoco.mj_forward(model.mj, d)
+    _control.start(model.head_control, d)
     return d
 
 
