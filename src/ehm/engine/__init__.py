@@ -65,7 +65,7 @@ the tests):
 
 from .builder import build
 from .control import HeadControl
-from .control_linear import CONTROL_INPUTS, Feedback, close_loop, feedback
+from .control_linear import CONTROL_INPUTS, Feedback, close_loop, closed_linear_model, delay_line, feedback
 from .diagnostics import (CHECK_EVERY, DIVERGED_M, _build_error, _diverged, _instability, captured_warnings,
                           dof_name, take_warnings)
 from .export import c_library, drawing_geometry, save_binary
@@ -82,7 +82,8 @@ from .state import (data_at_deviation, deviation_of, get_state, new_data, qpos_a
 from .stepper import RawRun, deviation_poses, evaluate_velocities, point_accelerations, run, step
 
 __all__ = [
-    "CHECK_EVERY", "CONTROL_INPUTS", "DIVERGED_M", "Feedback", "HeadControl", "close_loop", "feedback", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS",
+    "CHECK_EVERY", "CONTROL_INPUTS", "DIVERGED_M", "Feedback", "HeadControl", "close_loop", "closed_linear_model",
+    "delay_line", "feedback", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS",
     "S_ENTRIES", "PAD_INERTIA_KGM2", "POINT_JOINTS", "POINTS",
     "SEAT_DOFS", "SEAT_INERTIA_KGM2", "SENSOR_KINDS", "SUPPORT_GROUPS", "TRAPEZOIDAL_JOINTS",
     "ImpossibleInertia", "LinearModel", "Model", "RawRun", "SeatGeometry",

@@ -60,12 +60,10 @@ def pade(delay_s: float, order: int = PADE_ORDER):
 def feedback(model: Model, delay_s: float | None = None, order: int = PADE_ORDER) -> Feedback:
     """The model's head-in-space control as a :class:`Feedback` from :data:`SENSED` to :data:`CONTROL_INPUTS`.
 
-    The engine senses the state a step starts from and applies the torque over the step N steps later
-    (:func:`ehm.engine.control.after_step`): on average (N + 1/2) steps after the state, the delay taken here unless
+    The delay is the control's (the engine's is that on average, :func:`ehm.engine.control.after_step`) unless
     ``delay_s`` says otherwise (a study of the delay margin)."""
     c = model.head_control
-    dt = float(model.mj.opt.timestep)
-    T = c.delay_s + dt / 2 if delay_s is None else float(delay_s)
+    T = c.delay_s if delay_s is None else float(delay_s)
     kp, kd, ky = c.tilt_stiffness_Nm_per_rad, c.tilt_damping_Nms_per_rad, c.yaw_damping_Nms_per_rad
     K = -np.array([[kp, 0, kd, 0, 0], [0, kp, 0, kd, 0], [0, 0, 0, 0, ky]], dtype=float)
     Ap, Bp, Cp, Dp = pade(T, order)
@@ -91,3 +89,46 @@ def close_loop(A, B, C, D, input_names, output_names, fb: Feedback):
     C_cl = np.hstack([C + Dd @ Gx, Dd @ Gz])
     D_cl = Du + Dd @ Gu
     return A_cl, B_cl, C_cl, D_cl, tuple(inputs[k] for k in keep)
+
+
+def delay_line(model: Model, step_s: float | None = None) -> Feedback:
+    """The model's head-in-space control as a discrete :class:`Feedback` of one time step ``step_s`` (default the
+    model's), its delay as the engine applies it: the line of the torques of the last N states
+    (:func:`ehm.engine.control.after_step`), the mean of the two oldest applied over the step.  The delay must be a
+    whole number N >= 2 of such steps."""
+    c = model.head_control
+    h = float(model.mj.opt.timestep) if step_s is None else float(step_s)
+    N = int(round(c.delay_s / h))
+    if N < 2 or abs(N * h - c.delay_s) > 1e-6 * h:
+        raise ValueError(f"the control's delay {c.delay_s:g} s is not a whole number of steps of {h:g} s")
+    kp, kd, ky = c.tilt_stiffness_Nm_per_rad, c.tilt_damping_Nms_per_rad, c.yaw_damping_Nms_per_rad
+    K = -np.array([[kp, 0, kd, 0, 0], [0, kp, 0, kd, 0], [0, 0, 0, 0, ky]], dtype=float)
+    A = np.eye(3 * N, k=-3)  # newest first: the line shifts by one torque per step
+    B = np.zeros((3 * N, 5))
+    B[:3] = K
+    C = np.zeros((3, 3 * N))
+    C[:, -3:] = C[:, -6:-3] = 0.5 * np.eye(3)  # the mean of the two oldest
+    return Feedback(A=A, B=B, C=C, D=np.zeros((3, 5)), sensed=SENSED, drives=CONTROL_INPUTS)
+
+
+def closed_linear_model(model: Model, lm):
+    """The discrete linear model ``lm`` of :func:`ehm.engine.linearize` (with :data:`CONTROL_INPUTS`) closed with the
+    model's control, its delay exact (:func:`delay_line`): the states then the delay line's; the point velocity rows
+    closed alike.  A model without control, or ``lm`` without its inputs, is returned as it is."""
+    if model.head_control is None or CONTROL_INPUTS[0] not in lm.input_names:
+        return lm
+    from dataclasses import replace
+
+    from .model import POINTS
+
+    names = list(lm.output_names)
+    head = 6 * list(POINTS).index("head") + 3  # the head's angular velocity among the velocity rows
+    vel_names = [f"velocity.{k}" for k in range(lm.velocity_C.shape[0])]
+    C = np.vstack([lm.C, lm.velocity_C])
+    D = np.vstack([lm.D, lm.velocity_D])
+    outputs = names + vel_names
+    for k, axis in enumerate(("wx", "wy", "wz")):  # the sensed angular velocity: its velocity rows
+        outputs[len(names) + head + k] = f"head.{axis}"
+    A, B, C, D, inputs = close_loop(lm.A, lm.B, C, D, lm.input_names, outputs, delay_line(model, lm.dt_s))
+    n = len(names)
+    return replace(lm, A=A, B=B, C=C[:n], D=D[:n], velocity_C=C[n:], velocity_D=D[n:], input_names=inputs)
