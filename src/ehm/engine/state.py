@@ -103,7 +103,7 @@ def data_at_deviation(model: Model, x: np.ndarray, time_s: float = 0.0) -> mujoc
     nv = model.mj.nv
     d.qpos[:] = qpos_at_deviation(model, x)
     d.qvel[:] = s["qvel"] + x[nv:2 * nv]
-    d.act[:] = s["act"] + x[2 * nv:]
+    d.act[:] = s["act"] + x[2 * nv:2 * nv + model.mj.na]  # a closed loop's control states follow: not MuJoCo's
     d.time = time_s
     mujoco.mj_forward(model.mj, d)
     return d
