@@ -262,3 +262,29 @@ def test_the_torque_is_a_couple_on_head_and_upper_torso(on):
     assert not d.xfrc_applied[:, :3].any()
     i = mujoco.mj_name2id(on.model.mj, mujoco.mjtObj.mjOBJ_NUMERIC, engine.control.NUMERIC)
     assert i >= 0
+
+
+# ----------------------------------------------------------------------------- batch studies
+
+
+def test_batch_study_head_control_axis(tmp_path):
+    # "head_control in batch studies": a [grid] axis head_control = [false, true] runs the person both ways (the
+    # head's lateral weighted acceleration under lateral vibration differs), and a value that is not true or false
+    # is refused before any run in one sentence.
+    pytest.importorskip("dask.distributed")
+    pq = pytest.importorskip("pyarrow.parquet")
+    from ehm.batch import load_study, run_study
+
+    path = tmp_path / "hc.toml"
+    path.write_text('[study]\nname = "hc"\ncompute = ["comfort"]\n[grid]\nhead_control = [false, true]\n'
+                    '[input]\naxes = ["y"]\nrms_mps2 = 0.5\nduration_s = 6.0\nroute = "nonlinear"\n')
+    _, specs = load_study(path)
+    assert [s.params for s in specs] == [{"head_control.enabled": False}, {"head_control.enabled": True}]
+    res = run_study(specs, tmp_path / "res", workers=1)
+    assert res["ran"] == 2 and res["failed"] == 0
+    rows = pq.read_table(tmp_path / "res" / "results.parquet").to_pylist()
+    head_y = {r["run_id"]: r["value"] for r in rows if r["output"] == "head.a_w_y_mps2"}
+    assert len(head_y) == 2 and len(set(head_y.values())) == 2
+    path.write_text('[study]\nname = "hc"\ncompute = ["comfort"]\n[grid]\nhead_control = [0, 1]\n')
+    with pytest.raises(InputError, match=r"\[grid\] head_control holds 0; use true or false\."):
+        load_study(path)
