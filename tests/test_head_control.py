@@ -288,3 +288,60 @@ def test_batch_study_head_control_axis(tmp_path):
     path.write_text('[study]\nname = "hc"\ncompute = ["comfort"]\n[grid]\nhead_control = [0, 1]\n')
     with pytest.raises(InputError, match=r"\[grid\] head_control holds 0; use true or false\."):
         load_study(path)
+
+
+# ----------------------------------------------------------------------------- the FMUs
+
+
+def test_python_fmu_runs_the_control(tmp_path, on):
+    # "head_control in the FMU": the pythonfmu unit exported with head_control=True embeds the switch in its
+    # parameters and steps the same engine: its outputs equal a whole run of the controlled person to 1e-9 (the
+    # tolerance of test_fmu), and differ from the uncontrolled person's.
+    pytest.importorskip("pythonfmu")
+    fmpy = pytest.importorskip("fmpy")
+    from ehm.fmu import INPUTS, OUTPUTS, export_fmu
+
+    path = export_fmu(tmp_path / "hc.fmu", python=True, head_control=True)
+    dt = on.model.mj.opt.timestep
+    whole = on.simulate(ehm.random_vibration("y", 0.5, 0.5, seed=3), method="nonlinear")
+    sig = np.zeros(whole.time_s.size, dtype=[("time", float)] + [(n, float) for n in INPUTS])
+    sig["time"] = whole.time_s
+    for j, a in enumerate("xyz"):
+        sig[f"seat_a{a}_mps2"] = whole.seat_acc_mps2[:, j]
+    res = fmpy.simulate_fmu(str(path), start_time=0.0, stop_time=float(whole.time_s[-1]), step_size=dt,
+                            output_interval=dt, input=sig, output=list(OUTPUTS))
+    roll = whole.point("head").rot_rad[:, 0]
+    np.testing.assert_allclose(res["head_roll_rad"][1:], roll[:len(res) - 1], rtol=0, atol=1e-9)
+    plain = ehm.SeatedHuman().simulate(ehm.SeatMotion(whole.time_s, whole.seat_acc_mps2, "same"), method="nonlinear")
+    assert np.abs(plain.point("head").rot_rad[:, 0] - roll).max() > 1e-4
+
+
+def test_native_fmu_runs_the_control_as_python_does(tmp_path, on):
+    # The native C unit reads the gains, delay and addresses from the compiled model's numeric ehm_head_control and
+    # applies the same law after every step (ehm_fmu.c, head_control_after_step): a plain C host's outputs equal the
+    # Python whole run within 1e-10 in SI units, the tolerance of test_fmu_native's whole-run comparison.
+    import os
+    import subprocess
+    import zipfile
+    from importlib import resources
+
+    tfn = pytest.importorskip("test_fmu_native")  # skips where the native unit cannot be built
+    from ehm import fmu_native
+
+    path = fmu_native.export_native_fmu(tmp_path / "hc.fmu", ehm.SeatedHuman(head_control=True))
+    unzipped = tmp_path / "unzipped"
+    with zipfile.ZipFile(path) as z:
+        z.extractall(unzipped)
+    os.chmod(unzipped / "binaries" / fmu_native.PLATFORM / f"{fmu_native.MODEL_IDENTIFIER}.so", 0o755)
+    src = tmp_path / "fmu_host.c"
+    src.write_bytes(resources.files("ehm").joinpath("native", "fmu_host.c").read_bytes())
+    host = tmp_path / "fmu_host"
+    subprocess.run([*tfn.CC, "-std=c11", "-O2", "-I", str(fmu_native.fmi_headers()), str(src), "-o", str(host), "-ldl"],
+                   check=True, capture_output=True, text=True)
+    unit = (path, unzipped, tfn.fmpy.read_model_description(str(path)))
+    whole = on.simulate(ehm.random_vibration("xyz", 3.0, 0.5, seed=3), method="nonlinear")
+    n = whole.time_s.size
+    got = tfn._run_host(host, unit, whole.time_s, whole.seat_acc_mps2, tmp_path / "out.csv")
+    rows = np.concatenate([[0], np.arange(n)])
+    tfn._assert_outputs_equal({k: v[:-1] for k, v in got.items()}, rows[:-1], whole, atol=1e-10)
+    assert np.abs(got["head_roll_rad"]).max() > 1e-3
