@@ -79,7 +79,8 @@ def main() -> None:
     for axis, k, what in (("y", 0, "lateral -> roll"), ("x", 1, "fore-aft -> pitch")):
         motion = ehm.random_vibration(axis, 60.0, 0.5, seed=1, band_hz=(0.1, 2.0))
         for name, h in (("off", off), ("on", on)):
-            print(f"   {what:18s} {name:3s}", " ".join(f"{g:.2f}" for g in band_gains(h.simulate(motion, method="nonlinear"), axis, k)))
+            gains = band_gains(h.simulate(motion, method="nonlinear"), axis, k)
+            print(f"   {what:18s} {name:3s}", " ".join(f"{g:.2f}" for g in gains))
     print("2. delay margin (least damped mode below 20 Hz)")
     on.settle()
     for T in (0.02, 0.05, 0.1, 0.15, 0.2, 0.21, 0.25, 0.3, 0.31, 0.32, 0.33):
@@ -87,7 +88,8 @@ def main() -> None:
         slow = s[np.abs(s) < 2 * np.pi * 20]
         z = -slow.real / np.abs(slow)
         k = int(np.argmin(z))
-        print(f"   delay {T:.3f} s: {abs(slow[k]) / 2 / np.pi:5.2f} Hz, zeta {z[k]:+.4f}{'  UNSTABLE' if s.real.max() > 0 else ''}")
+        flag = "  UNSTABLE" if s.real.max() > 0 else ""
+        print(f"   delay {T:.3f} s: {abs(slow[k]) / 2 / np.pi:5.2f} Hz, zeta {z[k]:+.4f}{flag}")
     print("3. SYNTHETIC city drive")
     for name, hc in (("off", False), ("on", True)):
         print(f"   {name}:", {k: round(v, 3) if isinstance(v, float) else v for k, v in city(hc).items()})

@@ -1,6 +1,7 @@
 """Head-in-space control (issue 30): neck torques from the head's tilt and angular velocity in space, delayed, on top of
-the joint PID; off by default.  The law in the engine (ehm.engine.control), its linear model (ehm.engine.control_linear),
-the person's and the command line's switches and their one-sentence refusals."""
+the joint PID; off by default.  The law in the engine (ehm.engine.control), its linear model
+(ehm.engine.control_linear), the person's and the command line's switches and their one-sentence refusals, batch
+studies and the FMUs."""
 
 from __future__ import annotations
 

@@ -50,8 +50,9 @@ _CONTACT = {"stiffness_N_per_m": "positive", "damping_Ns_per_m": "nonnegative", 
             "shear_stiffness_N_per_m": "positive", "shear_damping_Ns_per_m": "nonnegative",
             "pad_mass_kg": "positive"}
 #: [head_control] (:mod:`ehm.engine.control`): optional in a file (load() fills in the shipped section, off).
-HEAD_CONTROL = {"enabled": "bool", "tilt_stiffness_Nm_per_rad": "nonnegative", "tilt_damping_Nms_per_rad": "nonnegative",
-                "yaw_damping_Nms_per_rad": "nonnegative", "delay_s": "positive"}
+HEAD_CONTROL = {"enabled": "bool", "tilt_stiffness_Nm_per_rad": "nonnegative",
+                "tilt_damping_Nms_per_rad": "nonnegative", "yaw_damping_Nms_per_rad": "nonnegative",
+                "delay_s": "positive"}
 _ROT = {"stiffness_Nm_per_rad": "nonnegative", "damping_Nms_per_rad": "nonnegative"}
 _TRANS = {"stiffness_N_per_m": "nonnegative", "damping_Ns_per_m": "nonnegative"}
 #: The source recorded on a time step given by the caller (SeatedHuman(dt_s=...), --dt): it then wins over a
@@ -303,7 +304,8 @@ class Parameters:
                     raise InputError(f"head-control gain {key} = {v!r} is not a finite number.")
             updates = {"head_control.enabled": True, **{f"head_control.{k}": float(v) for k, v in head_control.items()}}
         else:
-            raise InputError(f"head_control must be True, False, None or a dict of gains, not {describe(head_control)}.")
+            raise InputError("head_control must be True, False, None or a dict of gains, not "
+                             f"{describe(head_control)}.")
         if all(base.value(k) == v for k, v in updates.items()):
             return base
         if len(updates) == 1:

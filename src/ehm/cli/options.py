@@ -22,7 +22,8 @@ def _seating_options(p: argparse.ArgumentParser) -> None:
                         "velocity in space, delayed (gains: the parameter file's [head_control]; docs/model.md)")
     p.add_argument("--head-control-gains", metavar="KEY=VALUE,...",
                    help="head-in-space control with these gains (implies --head-control), e.g. "
-                        "tilt_stiffness_Nm_per_rad=30,tilt_damping_Nms_per_rad=2,yaw_damping_Nms_per_rad=1,delay_s=0.03")
+                        "tilt_stiffness_Nm_per_rad=30,tilt_damping_Nms_per_rad=2,yaw_damping_Nms_per_rad=1,"
+                        "delay_s=0.03")
 
 
 def _model_options(p: argparse.ArgumentParser) -> None:

@@ -125,7 +125,8 @@ def torque(control: HeadControl, d: mujoco.MjData) -> np.ndarray:
     mujoco.mju_rotVecQuat(u, d.userdata[REFERENCE], s[control.quat_adr:control.quat_adr + 4])
     w = s[control.angvel_adr:control.angvel_adr + 3]
     kp, kd = control.tilt_stiffness_Nm_per_rad, control.tilt_damping_Nms_per_rad
-    return np.array([kp * u[1] - kd * w[0], -kp * u[0] - kd * w[1], -control.yaw_damping_Nms_per_rad * w[2]])  # -kp e_z x u
+    # -k_tilt (e_z x u) - c_tilt (w_x, w_y, 0) - c_yaw (0, 0, w_z)
+    return np.array([kp * u[1] - kd * w[0], -kp * u[0] - kd * w[1], -control.yaw_damping_Nms_per_rad * w[2]])
 
 
 def after_step(control: HeadControl, d: mujoco.MjData) -> None:

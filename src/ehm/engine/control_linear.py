@@ -26,7 +26,8 @@ PADE_ORDER = 3
 
 @dataclass(frozen=True)
 class Feedback:
-    """A linear feedback law, dz/dt = A z + B s, drive = C z + D s, from the outputs ``sensed`` to the inputs ``drives``."""
+    """A linear feedback law, dz/dt = A z + B s, drive = C z + D s (or z+ = A z + B s for one step), from the
+    outputs ``sensed`` to the inputs ``drives``."""
 
     A: np.ndarray
     B: np.ndarray

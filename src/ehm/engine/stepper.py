@@ -199,11 +199,8 @@ def _advancer(mj: mujoco.MjModel, d: mujoco.MjData, gravity: np.ndarray, sens: n
     """The hot loop, ``advance(lo, hi)``: steps lo ... hi - 1 with their gravity (and seat drive), each step's
     start sensors into ``sens``.  Views bound once, no allocation per step.  With a head-in-space ``control``
     (:mod:`ehm.engine.control`) each MuJoCo step is followed by the law's update."""
-    g_view, s_view, step = mj.opt.gravity, d.sensordata, mujoco.mj_step
-    if control is not None:
-        def step(m, data, _step=mujoco.mj_step):
-            _step(m, data)
-            after_step(control, data)
+    g_view, s_view = mj.opt.gravity, d.sensordata
+    step = mujoco.mj_step if control is None else _controlled_step(control)
     if drive is not None:
         ctrl, ff, c_view, f_view = drive["ctrl"], drive["ff"], drive["c_view"], drive["f_view"]
 
@@ -221,6 +218,16 @@ def _advancer(mj: mujoco.MjModel, d: mujoco.MjData, gravity: np.ndarray, sens: n
                 step(mj, d)
                 sens[i] = s_view
     return advance
+
+
+def _controlled_step(control):
+    """One MuJoCo step followed by the head-in-space control's update (:func:`ehm.engine.control.after_step`)."""
+    mj_step = mujoco.mj_step
+
+    def step(m: mujoco.MjModel, d: mujoco.MjData) -> None:
+        mj_step(m, d)
+        after_step(control, d)
+    return step
 
 
 def _run_blocks(model: Model, d: mujoco.MjData, n: int, advance, poses: dict | None) -> None:
