@@ -16,6 +16,7 @@ A study file (TOML) names what varies and what to compute::
     lock = [[], ["t12"]]
     # posture = ["erect", "slouched"]          postures (the parameter file's [postures.NAME])
     # back_support = ["none", "low", "high"]   back supports (none, low, high, full)
+    # head_control = [false, true]             head-in-space control off and on (gains: "head_control.<gain>" axes)
 
     [input]
     axes = ["x", "y", "z"]      # transmissibility: seat axes (linear model; method = "time" for runs)
@@ -80,6 +81,8 @@ from .outdir import added_folder, write_owned, write_owned_json
 COMPUTE = ("transmissibility", "comfort")
 #: [grid] axes of how the person sits: the short name -> the parameter it sets (a name, not a number).
 SEATING = {"posture": "posture.name", "back_support": "seat.back_support"}
+#: [grid] axes that switch something on or off: the short name -> the parameter it sets (true or false).
+SWITCHES = {"head_control": "head_control.enabled"}
 
 
 @dataclass(frozen=True)
@@ -144,7 +147,7 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
     for k, v in grid.items():
         if not isinstance(v, list) or not v:
             raise InputError(f"{label}: [grid] {k!r} must be a non-empty list of values.")
-    grid = {SEATING.get(k, k): v for k, v in grid.items()}  # posture, back_support: their parameters
+    grid = {SEATING.get(k, SWITCHES.get(k, k)): v for k, v in grid.items()}  # short names: their parameters
     inp = dict(doc.get("input", {}))
     allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed", "channels", "units", "imu",
                      "rate_hz", "fill_gaps", "columns", "gyro", "mounting", "start_s", "end_s", "gravity", "frame",
@@ -307,6 +310,12 @@ def _check_before_running(label: str, people: list, grid: dict, locks: list) -> 
                     params.seated(**{seating[0]: v})
                 except InputError as exc:
                     raise InputError(f"{label}: [grid] {seating[0]}: {exc}") from None
+            continue
+        if key in SWITCHES.values():
+            for v in values:
+                if not isinstance(v, bool):
+                    name = [n for n, p in SWITCHES.items() if p == key][0]
+                    raise InputError(f"{label}: [grid] {name} holds {v!r}; use true or false.")
             continue
         for v in values:
             if isinstance(v, bool) or not isinstance(v, (int, float)):

@@ -354,7 +354,7 @@ def _install_atomic(built: Path, out: Path) -> None:
 
 def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, size=None,
                dt_s: float | None = None, rotating_seat: bool = False, posture: str | None = None,
-               back_support: str | None = None) -> Path:
+               back_support: str | None = None, head_control=None) -> Path:
     """Write an FMI 2.0 co-simulation FMU of the seated person to ``out_path`` (a ``.fmu`` file).
 
     Parameters
@@ -378,6 +378,9 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     posture, back_support : str, optional
         How the person sits, as for :class:`ehm.SeatedHuman` (default: the parameter file's); embedded in
         the unit (the native unit's ``resources/ehm_fmu.json`` names them).
+    head_control : bool or dict, optional
+        Head-in-space control, as for :class:`ehm.SeatedHuman` (default: the parameter file's); embedded in the
+        unit's parameters (both units run it: the native one reads its gains from the compiled model).
 
     Returns the path written.  The native unit needs a C compiler and fmpy at export time
     (:func:`ehm.fmu_native.export_native_fmu`); the pythonfmu unit needs the ``pythonfmu`` package
@@ -392,7 +395,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
 
         check_file_destination(out_path, ".fmu", "an FMU")
         human = SeatedHuman(params=params, lock=lock, unlock=unlock, size=size, dt_s=dt_s, rotating_seat=rotating_seat,
-                            posture=posture, back_support=back_support)
+                            posture=posture, back_support=back_support, head_control=head_control)
         return export_native_fmu(out_path, human)
     if size is not None or dt_s is not None or rotating_seat:
         raise InputError("the pythonfmu unit (--python) takes no body size, time step or rotating seat; set the size "
@@ -403,6 +406,7 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     check_file_destination(out, ".fmu", "an FMU")
     lock, unlock = list(joint_names(lock, "lock")), list(joint_names(unlock, "unlock"))
     p = (params if isinstance(params, Parameters) else Parameters.load(params)).seated(posture, back_support)
+    p = p.with_head_control(head_control)
     human = SeatedHuman(params=p, lock=lock, unlock=unlock)  # checks the joints and builds the model once
     setup = {"format": SETUP_FORMAT, "ehm_version": __version__, "params_origin": p.origin, "lock": lock,
              "unlock": unlock, "locked": sorted(human.locked), "dt_s": float(human.model.mj.opt.timestep),

@@ -341,7 +341,8 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
     axes = _axes(axis)
     cols = [AXES.index(a) for a in axes]
     if discrete or linear_model is not None:
-        lm = linear_model if linear_model is not None else engine.linearize(human.model)
+        lm = linear_model if linear_model is not None else engine.closed_linear_model(
+            human.model, engine.linearize(human.model))
         names = list(lm.output_names)
         H = discrete_frequency_response(lm.A, lm.B[:, cols], lm.C, lm.D[:, cols], lm.dt_s, f)
     else:

@@ -214,6 +214,12 @@ def _nonlinear_from_start(human, motion, report: RouteReport):
     zero), with the reason in ``report``, when its level says the nonlinear model would carry most of it and the
     person can run it; else None."""
     turns = motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))
+    if human.model.head_control is not None:  # the hand-over of states does not carry the control's delay line
+        human.check_nonlinear_motion(motion)
+        report.from_start = True
+        report.fallback = ("from the start: the person's head-in-space control runs on the nonlinear model (the "
+                           "hybrid route's hand-over between the models does not carry its delay line)")
+        return motion if turns or motion.angvel_radps is None else replace(motion, angvel_radps=None)
     if turns and human.model.seat is None:  # the windows say what is needed, as they do today
         return None
     share = sustained_share(motion)

@@ -96,7 +96,8 @@ class StateSpace:
         return np.array([self.index(n) for n in names])
 
 
-def continuous_model(model: engine.Model, refine: int = REFINE, pivot_m: np.ndarray | None = None) -> StateSpace:
+def continuous_model(model: engine.Model, refine: int = REFINE, pivot_m: np.ndarray | None = None,
+                     control_delay_s: float | None = None) -> StateSpace:
     """Linearise the settled ``model`` at its step / ``refine`` and convert to continuous time.
 
     Parameters
@@ -110,7 +111,14 @@ def continuous_model(model: engine.Model, refine: int = REFINE, pivot_m: np.ndar
         (twelve inputs, ``ehm.engine.linearize``); the point accelerations then include the seat's own
         alpha x r and S r (r the point's rest position from the pivot) and the angular accelerations the seat's
         alpha, so that they are absolute like the nonlinear route's.  None: seat translation only (three inputs).
+    control_delay_s : float, optional
+        A model with head-in-space control: its loop is closed with this delay [s] instead of the one the engine
+        applies (:func:`ehm.engine.feedback`; a study of the delay margin).
     """
+    if model.head_control is not None and pivot_m is not None:
+        raise InputError("the linear route of a seat that turns does not carry the head-in-space control (it would "
+                         "sense the head relative to the seat, not in space); run the nonlinear route "
+                         "(method='nonlinear' or 'auto').")
     h = float(model.mj.opt.timestep) / refine
     lm = engine.linearize(model, step_s=h, pivot_m=pivot_m)
     nx, nu = lm.B.shape
@@ -157,9 +165,13 @@ def continuous_model(model: engine.Model, refine: int = REFINE, pivot_m: np.ndar
     out_names += [names[k] for k in rest]
     contacts = tuple(n.split(".")[1] for n in out_names if n.startswith("contact.") and n.endswith(".fn"))
     friction = {c: float(model.params.value(f"contacts.{c}.friction")) for c in contacts}
-    ss = StateSpace(A=A, B=B, C=np.vstack(C_rows), D=np.vstack(D_rows), y0=np.concatenate(y0),
+    C, D, inputs = np.vstack(C_rows), np.vstack(D_rows), lm.input_names
+    if model.head_control is not None:  # the control's linear model closes the loop (its delay as Padé states)
+        A, B, C, D, inputs = engine.close_loop(A, B, C, D, inputs, out_names,
+                                                     engine.feedback(model, control_delay_s))
+    ss = StateSpace(A=A, B=B, C=C, D=D, y0=np.concatenate(y0),
                     output_names=tuple(out_names), contacts=contacts, friction=friction, linearised_at_step_s=h,
-                    input_names=lm.input_names, pivot_m=None if pivot_m is None else np.array(pivot_m, dtype=float))
+                    input_names=inputs, pivot_m=None if pivot_m is None else np.array(pivot_m, dtype=float))
     _settled_orientations(ss, model)  # kept with the model: a time run need not know which engine model it was
     return ss
 

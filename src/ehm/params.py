@@ -49,6 +49,10 @@ _SEAT = {"back_support": "back_support",
 _CONTACT = {"stiffness_N_per_m": "positive", "damping_Ns_per_m": "nonnegative", "friction": "nonnegative",
             "shear_stiffness_N_per_m": "positive", "shear_damping_Ns_per_m": "nonnegative",
             "pad_mass_kg": "positive"}
+#: [head_control] (:mod:`ehm.engine.control`): optional in a file (load() fills in the shipped section, off).
+HEAD_CONTROL = {"enabled": "bool", "tilt_stiffness_Nm_per_rad": "nonnegative",
+                "tilt_damping_Nms_per_rad": "nonnegative", "yaw_damping_Nms_per_rad": "nonnegative",
+                "delay_s": "positive"}
 _ROT = {"stiffness_Nm_per_rad": "nonnegative", "damping_Nms_per_rad": "nonnegative"}
 _TRANS = {"stiffness_N_per_m": "nonnegative", "damping_Ns_per_m": "nonnegative"}
 #: The source recorded on a time step given by the caller (SeatedHuman(dt_s=...), --dt): it then wins over a
@@ -109,6 +113,7 @@ class Parameters:
                 data[section][name] = {"value": default, "grade": "assumed", "source": "ehm"}
         if path is not None:
             _fill_postures(data)
+            _fill_section(data, "head_control")
         params = cls(data, "default" if path is None else str(path))
         params._check(label)
         return params
@@ -276,6 +281,38 @@ class Parameters:
             return self
         return self.with_values(updates)
 
+    def with_head_control(self, head_control=None) -> "Parameters":
+        """A copy with the head-in-space control (:mod:`ehm.engine.control`) switched: None keeps the file's
+        ``head_control.enabled``; True or False switches it on or off with the file's gains; a dict of gains (keys of
+        [head_control] but ``enabled``, e.g. ``{"tilt_stiffness_Nm_per_rad": 30.0, "delay_s": 0.03}``) switches it on
+        with those gains.  A gain that is not a key of [head_control] or not a valid value is refused in one
+        sentence."""
+        if head_control is None:
+            return self
+        base = self
+        if "head_control" not in self.data:  # parameters made before the section existed
+            base = Parameters(copy.deepcopy(self.data), self.origin)
+            _fill_section(base.data, "head_control")
+        if isinstance(head_control, bool):
+            updates = {"head_control.enabled": head_control}
+        elif isinstance(head_control, Mapping):
+            gains = [k for k in HEAD_CONTROL if k != "enabled"]
+            for key, v in head_control.items():
+                if key not in gains:
+                    raise InputError(f"unknown head-control gain {key!r}; use {', '.join(gains)}.")
+                if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                    raise InputError(f"head-control gain {key} = {v!r} is not a finite number.")
+            updates = {"head_control.enabled": True, **{f"head_control.{k}": float(v) for k, v in head_control.items()}}
+        else:
+            raise InputError("head_control must be True, False, None or a dict of gains, not "
+                             f"{describe(head_control)}.")
+        if all(base.value(k) == v for k, v in updates.items()):
+            return base
+        if len(updates) == 1:
+            return base.with_values(updates)
+        key, text = CALLER_SOURCE
+        return base.with_source(key, text).with_values(updates, source=key)
+
     def postures(self) -> tuple[str, ...]:
         """Names of the postures the file defines."""
         return tuple(self.data.get("postures", {}))
@@ -364,7 +401,7 @@ def _check_sections(label: str, d: dict) -> dict:
     for section in required:
         if not isinstance(d.get(section), dict):
             raise InputError(f"{label}: missing section [{section}].")
-    unknown = set(d) - {"about", "sources", "postures", *required}
+    unknown = set(d) - {"about", "sources", "postures", "head_control", *required}
     if unknown:
         raise InputError(f"{label}: unknown section [{sorted(unknown)[0]}].")
     return sources
@@ -372,7 +409,12 @@ def _check_sections(label: str, d: dict) -> dict:
 
 def _check_flat_sections(label: str, d: dict, sources: dict) -> None:
     """[simulation], [posture] and [seat]: every key known and present, each one entry with its value."""
-    for section, allowed in (("simulation", _SIMULATION), ("posture", _POSTURE), ("seat", _SEAT)):
+    flat = (("simulation", _SIMULATION), ("posture", _POSTURE), ("seat", _SEAT))
+    if "head_control" in d:
+        if not isinstance(d["head_control"], dict):
+            raise InputError(f"{label}: [head_control] must be a table.")
+        flat += (("head_control", HEAD_CONTROL),)
+    for section, allowed in flat:
         for key, entry in d[section].items():
             if key not in allowed:
                 raise InputError(f"{label}: unknown key {key!r} in [{section}].")
@@ -414,6 +456,19 @@ def _check_contacts(label: str, d: dict, sources: dict) -> None:
 def _shipped() -> dict:
     """The shipped parameter file as read (not to be changed: copy what you take)."""
     return tomllib.loads(default_params_path().read_text(encoding="utf-8"))
+
+
+def _fill_section(data: dict, name: str) -> None:
+    """Give a file that has no section ``name`` the shipped one (files exported before it existed), with its
+    sources."""
+    shipped = _shipped()
+    if name in data or name not in shipped or not isinstance(data.get("sources"), dict):
+        return
+    data[name] = copy.deepcopy(shipped[name])
+    for entry in shipped[name].values():
+        src = entry.get("source")
+        if src not in data["sources"]:
+            data["sources"][src] = shipped["sources"][src]
 
 
 def _fill_postures(data: dict) -> None:
@@ -518,6 +573,10 @@ def _check_value(label: str, where: str, value: Any, rule: str) -> None:
         return
     if rule == "time_step":
         check_time_step(value, f"{label}: {where}")
+        return
+    if rule == "bool":
+        if not isinstance(value, bool):
+            raise InputError(f"{label}: {where} = {value!r} must be true or false.")
         return
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise InputError(f"{label}: {where} = {value!r} is not a number.")

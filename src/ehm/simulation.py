@@ -57,14 +57,19 @@ class SeatedHuman:
         :mod:`ehm.posture`) and the seat's back support (``"none"``, ``"low"``, ``"high"``, the default, or
         ``"full"``; :mod:`ehm.seat`).  None: the parameter file's (``posture.name``, ``seat.back_support``); the
         person's ``params`` record them.
+    head_control : bool or dict, optional
+        Head-in-space control on top of the joint PID (:mod:`ehm.engine.control`, docs/model.md "Head-in-space
+        control"): True with the parameter file's gains ([head_control]), a dict of gains (e.g.
+        ``{"tilt_stiffness_Nm_per_rad": 30.0, "delay_s": 0.03}``) to switch it on with those, False off; None (the
+        default) keeps the file's ``head_control.enabled`` (off in the shipped file).
     """
 
     def __init__(self, params: Parameters | str | Path | None = None, lock=(), unlock=(),
                  body: Body | None = None, rotating_seat: bool = False, size=None, dt_s: float | None = None,
-                 posture: str | None = None, back_support: str | None = None):
+                 posture: str | None = None, back_support: str | None = None, head_control=None):
         self.body = body if body is not None else load_body()
         self.params = params if isinstance(params, Parameters) else Parameters.load(params)
-        self.params = self.params.seated(posture, back_support)
+        self.params = self.params.seated(posture, back_support).with_head_control(head_control)
         self.params = self.params.at_step(dt_s)
         warn_if_coarse(float(self.params.value("simulation.dt_s")), converged_s=self.params.converged_step(),
                        posture=self.params.posture)
@@ -103,6 +108,11 @@ class SeatedHuman:
             human.model.settled = {k: (v.copy() if isinstance(v, np.ndarray) else v)
                                    for k, v in recipe["settled"].items()}
         return human
+
+    @property
+    def head_control(self) -> bool:
+        """Whether the person's head-in-space control is on (:mod:`ehm.engine.control`)."""
+        return self.model.head_control is not None
 
     @property
     def dof(self) -> int:

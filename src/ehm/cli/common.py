@@ -19,8 +19,28 @@ def _joint_list(values: list[str] | None) -> list[str]:
 
 
 def _params(args) -> Parameters:
-    """The parameter file of --params, in the posture of --posture and with the back support of --back-support."""
-    return Parameters.load(args.params).seated(args.posture, args.back_support)
+    """The parameter file of --params, in the posture of --posture and with the back support of --back-support, with
+    the head-in-space control of --head-control and --head-control-gains."""
+    return Parameters.load(args.params).seated(args.posture, args.back_support).with_head_control(_head_control(args))
+
+
+def _head_control(args):
+    """None (the parameter file's), True (--head-control) or the gains of --head-control-gains KEY=VALUE,..."""
+    text = getattr(args, "head_control_gains", None)
+    if text is None:
+        return True if getattr(args, "head_control", False) else None
+    gains = {}
+    for item in (x.strip() for x in text.split(",") if x.strip()):
+        key, eq, value = item.partition("=")
+        try:
+            gains[key.strip()] = float(value) if eq else None
+        except ValueError:
+            gains[key.strip()] = None
+        if gains[key.strip()] is None:
+            raise InputError(f"--head-control-gains: {item!r} is not KEY=NUMBER, e.g. tilt_stiffness_Nm_per_rad=30.")
+    if not gains:
+        raise InputError("--head-control-gains needs at least one KEY=NUMBER, e.g. tilt_stiffness_Nm_per_rad=30.")
+    return gains
 
 
 def _human(args, rotating_seat: bool = False) -> SeatedHuman:

@@ -17,6 +17,13 @@ def _seating_options(p: argparse.ArgumentParser) -> None:
                    help="the seat's back support: none, low (one pad at the posterior superior iliac spine), high "
                         "(also one at the scapula: the paper's seat) or full (a car backrest) (default: the parameter "
                         "file's seat.back_support, high)")
+    p.add_argument("--head-control", action="store_true",
+                   help="head-in-space control on top of the joint PID: neck torques from the head's tilt and angular "
+                        "velocity in space, delayed (gains: the parameter file's [head_control]; docs/model.md)")
+    p.add_argument("--head-control-gains", metavar="KEY=VALUE,...",
+                   help="head-in-space control with these gains (implies --head-control), e.g. "
+                        "tilt_stiffness_Nm_per_rad=30,tilt_damping_Nms_per_rad=2,yaw_damping_Nms_per_rad=1,"
+                        "delay_s=0.03")
 
 
 def _model_options(p: argparse.ArgumentParser) -> None:

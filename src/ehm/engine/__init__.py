@@ -23,6 +23,8 @@ Map of the package (each module one idea; underscore names are private to the pa
 * :mod:`.sensors`: sensor addresses, support forces and contact forces of a state.
 * :mod:`.stepper`: :func:`step`, :func:`run` (a :class:`RawRun`), the point accelerations of the
   integrated motion, and the drawn bodies' poses in a linear model's states (:func:`deviation_poses`).
+* :mod:`.control`: the head-in-space control as the engine applies it (:class:`HeadControl`, after every step), and
+  :mod:`.control_linear` its linear model (:func:`feedback`, the delay as Padé states) and :func:`close_loop`.
 * :mod:`.linearisation`: :func:`linearize` into a :class:`LinearModel`, optionally with the seat rotation's
   fictitious loads about :func:`seat_pivot` as inputs (:func:`rotation_loads`).
 * :mod:`.export`: the compiled model as an MJB file, the MuJoCo C library (both for the native FMU) and the
@@ -62,6 +64,8 @@ the tests):
 """
 
 from .builder import build
+from .control import HeadControl
+from .control_linear import CONTROL_INPUTS, Feedback, close_loop, closed_linear_model, delay_line, feedback
 from .diagnostics import (CHECK_EVERY, DIVERGED_M, _build_error, _diverged, _instability, captured_warnings,
                           dof_name, take_warnings)
 from .export import c_library, drawing_geometry, save_binary
@@ -78,7 +82,8 @@ from .state import (data_at_deviation, deviation_of, get_state, new_data, qpos_a
 from .stepper import RawRun, deviation_poses, evaluate_velocities, point_accelerations, run, step
 
 __all__ = [
-    "CHECK_EVERY", "DIVERGED_M", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS",
+    "CHECK_EVERY", "CONTROL_INPUTS", "DIVERGED_M", "Feedback", "HeadControl", "close_loop", "closed_linear_model",
+    "delay_line", "feedback", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS",
     "S_ENTRIES", "PAD_INERTIA_KGM2", "POINT_JOINTS", "POINTS",
     "SEAT_DOFS", "SEAT_INERTIA_KGM2", "SENSOR_KINDS", "SUPPORT_GROUPS", "TRAPEZOIDAL_JOINTS",
     "ImpossibleInertia", "LinearModel", "Model", "RawRun", "SeatGeometry",

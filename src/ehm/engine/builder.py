@@ -12,6 +12,7 @@ import numpy as np
 from ..errors import InputError
 from ..params import Parameters
 from ..tables import Body
+from . import control as _control
 from .diagnostics import _build_error, captured_warnings
 from .inertia import PAD_INERTIA_KGM2, pad_masses, segment_mass_properties
 from .laws import _split_damping, contact_solver_params
@@ -59,9 +60,24 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     _add_pairs(spec, body, params)
     _add_actuators(spec, rotating_seat, tree.actuated)
     _add_sensors(spec, seat)
+    head_control = _control.HeadControl.from_params(params, float(params.value("simulation.dt_s")))
+    _control.add_to_spec(spec, head_control)
     mj = _compile(spec)
     contact_solver_params(mj, body, params, mj.opt.timestep)
-    return _model(mj, body, params, locked, tree, seat, origin if rotating_seat else None)
+    model = _model(mj, body, params, locked, tree, seat, origin if rotating_seat else None)
+    model.head_control = _head_control(model, head_control)
+    return model
+
+
+def _head_control(model: Model, control):
+    """The head-in-space control with the compiled model's addresses (None when off)."""
+    if control is None:
+        return None
+    mj = model.mj
+    adr = {k: int(mj.sensor_adr[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SENSOR, f"head_{k}")])
+           for k in ("framequat", "frameangvel")}
+    return _control.compiled(mj, control, model.segment_bodies["head"][0], model.segment_bodies["upper_torso"][0],
+                             adr["framequat"], adr["frameangvel"])
 
 
 def _checked_locked(body: Body, locked) -> frozenset:

@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 import mujoco
 import numpy as np
 
+from .control_linear import CONTROL_INPUTS, control_loads
 from .laws import contact_solver_params
 from .model import G0, POINTS, SUPPORT_GROUPS, Model
 from .seat import SeatGeometry
@@ -144,6 +145,10 @@ def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None,
     (``MjData.xfrc_applied``).  The model itself is the static seat's; the first three inputs are then the
     uniform field's change (seat acceleration plus the change of gravity in seat axes), the acceleration rows'
     identity is for them as before.
+
+    A model with head-in-space control (:mod:`ehm.engine.control`) is linearised without it, with three more inputs
+    last (:data:`CONTROL_INPUTS`: the control's torque on the head, world axes, held over the step), which
+    :func:`ehm.engine.close_loop` closes with the control's own linear model (its delay as Padé states).
     """
     mj = model.mj
     if model.settled is None:
@@ -158,8 +163,8 @@ def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None,
     nv, na = mj.nv, mj.na
     nx = 2 * nv + na
     warm = settled_data(model).qacc_warmstart.copy()
-    loads = None if pivot_m is None else rotation_loads(model, pivot_m)
-    nu = len(FIELD_INPUTS) + (0 if loads is None else len(ROTATION_INPUTS))
+    loads = _loads(model, pivot_m)
+    nu = len(FIELD_INPUTS) + (0 if loads is None else loads.shape[0])
 
     def evaluate(dx: np.ndarray, du: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         mujoco.mj_resetData(mj, d)
@@ -193,9 +198,17 @@ def linearize(model: Model, eps: float = 1e-6, step_s: float | None = None,
         if h != own_step:
             contact_solver_params(mj, model.body, model.params, own_step)
     lm = _with_accelerations(A, B, Cs, Ds, y0, h, contacts)
-    if loads is not None:
-        lm = replace(lm, input_names=FIELD_INPUTS + ROTATION_INPUTS)
-    return lm
+    return replace(lm, input_names=FIELD_INPUTS + (() if pivot_m is None else ROTATION_INPUTS)
+                   + (() if model.head_control is None else CONTROL_INPUTS))
+
+
+def _loads(model: Model, pivot_m: np.ndarray | None) -> np.ndarray | None:
+    """Loads on the bodies per unit input beyond the uniform field (as ``MjData.xfrc_applied``): the seat rotation's
+    (:func:`rotation_loads`, with ``pivot_m``), then the head-in-space control's torque (:data:`CONTROL_INPUTS`, when
+    the model has the control, which the step linearised does not apply itself)."""
+    parts = ([] if pivot_m is None else [rotation_loads(model, pivot_m)]) + \
+        ([] if model.head_control is None else [control_loads(model)])
+    return np.concatenate(parts) if parts else None
 
 
 def _differentiate(evaluate, nx: int, eps: float, nu: int = 3):

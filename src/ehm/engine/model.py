@@ -51,6 +51,8 @@ class Model:
     seat: dict | None = None  #: Rotating seat: body id, dof, qpos and ctrl addresses (None: static seat).
     pelvis_qpos: int = 0  #: Address of the pelvis free joint in qpos.
     settled: dict | None = field(default=None, repr=False)
+    #: Head-in-space control (:class:`ehm.engine.control.HeadControl`), None when off.
+    head_control: object | None = None
 
     @property
     def dof(self) -> int:

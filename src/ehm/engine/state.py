@@ -6,6 +6,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from . import control as _control
 from .diagnostics import CHECK_EVERY, _diverged, _instability, captured_warnings
 from .model import G0, Model
 
@@ -66,6 +67,7 @@ def settled_data(model: Model) -> mujoco.MjData:
     d.qvel[:] = model.settled["qvel"]
     d.act[:] = model.settled["act"]
     mujoco.mj_forward(model.mj, d)
+    _control.start(model.head_control, d)
     return d
 
 
@@ -101,7 +103,7 @@ def data_at_deviation(model: Model, x: np.ndarray, time_s: float = 0.0) -> mujoc
     nv = model.mj.nv
     d.qpos[:] = qpos_at_deviation(model, x)
     d.qvel[:] = s["qvel"] + x[nv:2 * nv]
-    d.act[:] = s["act"] + x[2 * nv:]
+    d.act[:] = s["act"] + x[2 * nv:2 * nv + model.mj.na]  # a closed loop's control states follow: not MuJoCo's
     d.time = time_s
     mujoco.mj_forward(model.mj, d)
     return d

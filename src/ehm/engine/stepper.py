@@ -10,6 +10,7 @@ import mujoco
 import numpy as np
 
 from ..errors import InputError
+from .control import after_step
 from .diagnostics import CHECK_EVERY, _diverged, _instability
 from .model import G0, POINTS, Model
 from .seat import SEAT_INERTIA_KGM2
@@ -67,6 +68,8 @@ def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool 
         mujoco.mj_step(model.mj, d)
     finally:
         g[:] = G0
+    if model.head_control is not None:
+        after_step(model.head_control, d)
     start = d.sensordata.copy()
     if check or d.warning[_BADQACC].number:
         why = _instability(model, d)
@@ -135,7 +138,7 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
     sens = np.empty((n, mj.nsensordata))
     drive = _seat_drive(model, d, seat_rotation, n) if seat_rotation is not None else None
     poses = _pose_buffers(model, n, int(pose_every), int(pose_first)) if pose_every else None
-    advance = _advancer(mj, d, G0[None, :] - acc, sens, drive)
+    advance = _advancer(mj, d, G0[None, :] - acc, sens, drive, model.head_control)
     try:
         _run_blocks(model, d, n, advance, poses)
     finally:
@@ -191,10 +194,13 @@ def deviation_poses(model: Model, x: np.ndarray, static: Model | None = None, se
     return pos, quat
 
 
-def _advancer(mj: mujoco.MjModel, d: mujoco.MjData, gravity: np.ndarray, sens: np.ndarray, drive: dict | None):
+def _advancer(mj: mujoco.MjModel, d: mujoco.MjData, gravity: np.ndarray, sens: np.ndarray, drive: dict | None,
+              control=None):
     """The hot loop, ``advance(lo, hi)``: steps lo ... hi - 1 with their gravity (and seat drive), each step's
-    start sensors into ``sens``.  Views bound once, no allocation per step."""
-    g_view, s_view, step = mj.opt.gravity, d.sensordata, mujoco.mj_step
+    start sensors into ``sens``.  Views bound once, no allocation per step.  With a head-in-space ``control``
+    (:mod:`ehm.engine.control`) each MuJoCo step is followed by the law's update."""
+    g_view, s_view = mj.opt.gravity, d.sensordata
+    step = mujoco.mj_step if control is None else _controlled_step(control)
     if drive is not None:
         ctrl, ff, c_view, f_view = drive["ctrl"], drive["ff"], drive["c_view"], drive["f_view"]
 
@@ -212,6 +218,16 @@ def _advancer(mj: mujoco.MjModel, d: mujoco.MjData, gravity: np.ndarray, sens: n
                 step(mj, d)
                 sens[i] = s_view
     return advance
+
+
+def _controlled_step(control):
+    """One MuJoCo step followed by the head-in-space control's update (:func:`ehm.engine.control.after_step`)."""
+    mj_step = mujoco.mj_step
+
+    def step(m: mujoco.MjModel, d: mujoco.MjData) -> None:
+        mj_step(m, d)
+        after_step(control, d)
+    return step
 
 
 def _run_blocks(model: Model, d: mujoco.MjData, n: int, advance, poses: dict | None) -> None:

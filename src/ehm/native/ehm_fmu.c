@@ -113,6 +113,7 @@ typedef struct {
     int pos_ready;                      /* 1: the position stage of the current state is done (evaluate_velocities) */
     Seat seat;
     mjtNum seat_q[4];                   /* seat attitude at the start of the step being taken */
+    const mjtNum *head_control;         /* the numeric ehm_head_control (NULL: no head-in-space control) */
 } Ehm;
 
 typedef struct {
@@ -465,6 +466,8 @@ static int load_work(Ehm *e, void *arg) {
     j = mj_name2id(e->m, mjOBJ_JOINT, "pelvis");
     if (j < 0) { snprintf(a->why, a->size, "the model has no pelvis joint"); return -1; }
     e->pelvis_adr = e->m->jnt_qposadr[j];
+    j = mj_name2id(e->m, mjOBJ_NUMERIC, "ehm_head_control");
+    e->head_control = j < 0 ? NULL : e->m->numeric_data + e->m->numeric_adr[j];
     snprintf(path, sizeof path, "%s/ehm_state.txt", a->dir);
     return read_state(e, path, a->why, a->size);
 }
@@ -487,6 +490,43 @@ static int load_resources(Ehm *e, const char *uri) {
 
 /* -------------------------------------------------------------------------------------- the model step */
 
+/* Head-in-space control (ehm.engine.control): the numeric ehm_head_control holds delay_steps, head_body,
+ * torso_body, quat_adr, angvel_adr (sensordata), tilt stiffness, tilt damping, yaw damping; userdata holds the
+ * reference up (head axes) and the line of the last N - 1 torques, oldest first. */
+enum { HC_STEPS, HC_HEAD, HC_TORSO, HC_QUAT, HC_ANGVEL, HC_KP, HC_KD, HC_KYAW };
+
+/* Start the law in the current state (ehm.engine.control.start): its head orientation the reference. */
+static void head_control_start(Ehm *e) {
+    const mjtNum ez[3] = {0, 0, 1};
+    mjtNum qc[4];
+    if (!e->head_control) return;
+    mju_negQuat(qc, e->d->sensordata + (int)e->head_control[HC_QUAT]);
+    mju_zero(e->d->userdata, e->m->nuserdata);
+    mju_rotVecQuat(e->d->userdata, ez, qc);
+}
+
+/* After a MuJoCo step (ehm.engine.control.after_step): the torque of the state it started from into the line, the
+ * mean of the two oldest onto head and upper torso for the next step. */
+static void head_control_after_step(Ehm *e) {
+    const mjtNum *c = e->head_control, *s = e->d->sensordata;
+    const mjtNum *w = s + (int)c[HC_ANGVEL];
+    mjtNum u[3], tau[3], applied[3], *line = e->d->userdata + 3, *head, *torso;
+    int n = (int)e->m->nuserdata - 3, k;
+    mju_rotVecQuat(u, e->d->userdata, s + (int)c[HC_QUAT]);
+    tau[0] = c[HC_KP] * u[1] - c[HC_KD] * w[0];
+    tau[1] = -c[HC_KP] * u[0] - c[HC_KD] * w[1];
+    tau[2] = -c[HC_KYAW] * w[2];
+    for (k = 0; k < 3; k++) applied[k] = 0.5 * (line[k] + (n > 3 ? line[3 + k] : tau[k]));
+    memmove(line, line + 3, (size_t)(n - 3) * sizeof(mjtNum));
+    mju_copy3(line + n - 3, tau);
+    head = e->d->xfrc_applied + 6 * (int)c[HC_HEAD] + 3;
+    torso = e->d->xfrc_applied + 6 * (int)c[HC_TORSO] + 3;
+    for (k = 0; k < 3; k++) {
+        head[k] = applied[k];
+        torso[k] = -applied[k];
+    }
+}
+
 /* The settled state at the unit's start time, as ehm.engine.settled_data. */
 static void to_settled(Ehm *e) {
     mj_resetData(e->m, e->d);
@@ -494,6 +534,7 @@ static void to_settled(Ehm *e) {
     mju_copy(e->d->qvel, e->qvel0, e->nv);
     mju_copy(e->d->act, e->act0, e->na);
     mj_forward(e->m, e->d);
+    head_control_start(e);
     e->pos_ready = 0;
     mju_unit4(e->seat.q);
     e->seat.yaw = 0.0;
@@ -570,6 +611,7 @@ static void model_step(Ehm *e, const double a[3], const double w[3]) {
     } else {
         mj_step(e->m, e->d);
     }
+    if (e->head_control) head_control_after_step(e);
     e->pos_ready = 0;
     g[0] = G0[0];
     g[1] = G0[1];

@@ -1,0 +1,135 @@
+"""The head-in-space control's linearisation (:mod:`ehm.engine.control`), so that the linear route carries it without
+knowing the law: :func:`ehm.engine.linearize` linearises the person without the control and with its torque as three
+more inputs (:data:`CONTROL_INPUTS`, applied by :func:`control_loads`); :func:`feedback` is the law as a continuous
+linear system from the linear model's outputs to those inputs, its delay as a Padé approximant (:data:`PADE_ORDER`
+states per axis); :func:`close_loop` closes any state-space model with such a feedback."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import linalg, signal
+
+from .model import Model
+
+#: The control's torque on the head (world axes [N m], the reaction on the upper torso), inputs of the linearisation.
+CONTROL_INPUTS = ("head_torque_x", "head_torque_y", "head_torque_z")
+#: What the law senses among the linear route's outputs (:class:`ehm.linear.StateSpace`): the head's rotation in
+#: roll and pitch (the rotation vector's horizontal components: its tilt) and its angular velocity.
+SENSED = ("head.roll", "head.pitch", "head.wx", "head.wy", "head.wz")
+#: Order of the Padé approximant of the delay: its phase is within 1 deg of the delay's up to
+#: omega T = 3 (24 Hz at the default 20 ms).
+PADE_ORDER = 3
+
+
+@dataclass(frozen=True)
+class Feedback:
+    """A linear feedback law, dz/dt = A z + B s, drive = C z + D s (or z+ = A z + B s for one step), from the
+    outputs ``sensed`` to the inputs ``drives``."""
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    sensed: tuple
+    drives: tuple
+
+
+def control_loads(model: Model) -> np.ndarray:
+    """The control's torque per unit input (3, n_body, 6), as ``MjData.xfrc_applied``: on the head, and its reaction
+    on the upper torso."""
+    c = model.head_control
+    loads = np.zeros((3, model.mj.nbody, 6))
+    for k in range(3):
+        loads[k, c.head_body, 3 + k] = 1.0
+        loads[k, c.torso_body, 3 + k] = -1.0
+    return loads
+
+
+def pade(delay_s: float, order: int = PADE_ORDER):
+    """The Padé approximant of exp(-s T) as a state space (A, B, C, D), one input and one output."""
+    n = order
+    c = [math.factorial(2 * n - k) * math.factorial(n) / (math.factorial(2 * n) * math.factorial(k)
+                                                          * math.factorial(n - k)) * delay_s ** k for k in range(n + 1)]
+    num = [(-1) ** k * ck for k, ck in enumerate(c)][::-1]  # highest power first
+    den = c[::-1]
+    return signal.tf2ss(num, den)
+
+
+def feedback(model: Model, delay_s: float | None = None, order: int = PADE_ORDER) -> Feedback:
+    """The model's head-in-space control as a :class:`Feedback` from :data:`SENSED` to :data:`CONTROL_INPUTS`.
+
+    The delay is the control's (the engine's is that on average, :func:`ehm.engine.control.after_step`) unless
+    ``delay_s`` says otherwise (a study of the delay margin)."""
+    c = model.head_control
+    T = c.delay_s if delay_s is None else float(delay_s)
+    kp, kd, ky = c.tilt_stiffness_Nm_per_rad, c.tilt_damping_Nms_per_rad, c.yaw_damping_Nms_per_rad
+    K = -np.array([[kp, 0, kd, 0, 0], [0, kp, 0, kd, 0], [0, 0, 0, 0, ky]], dtype=float)
+    Ap, Bp, Cp, Dp = pade(T, order)
+    blocks = [linalg.block_diag(*[m] * 3) for m in (Ap, Bp, Cp, Dp)]
+    return Feedback(A=blocks[0], B=blocks[1] @ K, C=blocks[2], D=blocks[3] @ K, sensed=SENSED, drives=CONTROL_INPUTS)
+
+
+def close_loop(A, B, C, D, input_names, output_names, fb: Feedback):
+    """The model dx/dt = A x + B u, y = C x + D u closed with the feedback ``fb`` (its drives among the inputs, what
+    it senses among the outputs).  Returns (A, B, C, D, input_names) of the closed loop: states x then the
+    feedback's, the drives no longer inputs."""
+    inputs, outputs = list(input_names), list(output_names)
+    drive = [inputs.index(n) for n in fb.drives]
+    keep = [k for k in range(len(inputs)) if k not in drive]
+    sense = [outputs.index(n) for n in fb.sensed]
+    Bu, Bd, Du, Dd = B[:, keep], B[:, drive], D[:, keep], D[:, drive]
+    Cs, Dsu, Dsd = C[sense], Du[sense], Dd[sense]
+    # drive = M (fb.C z + fb.D (Cs x + Dsu u)), M = (I - fb.D Dsd)^-1 (the loop through the direct terms)
+    M = np.linalg.inv(np.eye(len(drive)) - fb.D @ Dsd)
+    Gx, Gz, Gu = M @ fb.D @ Cs, M @ fb.C, M @ fb.D @ Dsu
+    A_cl = np.block([[A + Bd @ Gx, Bd @ Gz], [fb.B @ (Cs + Dsd @ Gx), fb.A + fb.B @ Dsd @ Gz]])
+    B_cl = np.vstack([Bu + Bd @ Gu, fb.B @ (Dsu + Dsd @ Gu)])
+    C_cl = np.hstack([C + Dd @ Gx, Dd @ Gz])
+    D_cl = Du + Dd @ Gu
+    return A_cl, B_cl, C_cl, D_cl, tuple(inputs[k] for k in keep)
+
+
+def delay_line(model: Model, step_s: float | None = None) -> Feedback:
+    """The model's head-in-space control as a discrete :class:`Feedback` of one time step ``step_s`` (default the
+    model's), its delay as the engine applies it: the line of the torques of the last N states
+    (:func:`ehm.engine.control.after_step`), the mean of the two oldest applied over the step.  The delay must be a
+    whole number N >= 2 of such steps."""
+    c = model.head_control
+    h = float(model.mj.opt.timestep) if step_s is None else float(step_s)
+    N = int(round(c.delay_s / h))
+    if N < 2 or abs(N * h - c.delay_s) > 1e-6 * h:
+        raise ValueError(f"the control's delay {c.delay_s:g} s is not a whole number of steps of {h:g} s")
+    kp, kd, ky = c.tilt_stiffness_Nm_per_rad, c.tilt_damping_Nms_per_rad, c.yaw_damping_Nms_per_rad
+    K = -np.array([[kp, 0, kd, 0, 0], [0, kp, 0, kd, 0], [0, 0, 0, 0, ky]], dtype=float)
+    A = np.eye(3 * N, k=-3)  # newest first: the line shifts by one torque per step
+    B = np.zeros((3 * N, 5))
+    B[:3] = K
+    C = np.zeros((3, 3 * N))
+    C[:, -3:] = C[:, -6:-3] = 0.5 * np.eye(3)  # the mean of the two oldest
+    return Feedback(A=A, B=B, C=C, D=np.zeros((3, 5)), sensed=SENSED, drives=CONTROL_INPUTS)
+
+
+def closed_linear_model(model: Model, lm):
+    """The discrete linear model ``lm`` of :func:`ehm.engine.linearize` (with :data:`CONTROL_INPUTS`) closed with the
+    model's control, its delay exact (:func:`delay_line`): the states then the delay line's; the point velocity rows
+    closed alike.  A model without control, or ``lm`` without its inputs, is returned as it is."""
+    if model.head_control is None or CONTROL_INPUTS[0] not in lm.input_names:
+        return lm
+    from dataclasses import replace
+
+    from .model import POINTS
+
+    names = list(lm.output_names)
+    head = 6 * list(POINTS).index("head") + 3  # the head's angular velocity among the velocity rows
+    vel_names = [f"velocity.{k}" for k in range(lm.velocity_C.shape[0])]
+    C = np.vstack([lm.C, lm.velocity_C])
+    D = np.vstack([lm.D, lm.velocity_D])
+    outputs = names + vel_names
+    for k, axis in enumerate(("wx", "wy", "wz")):  # the sensed angular velocity: its velocity rows
+        outputs[len(names) + head + k] = f"head.{axis}"
+    A, B, C, D, inputs = close_loop(lm.A, lm.B, C, D, lm.input_names, outputs, delay_line(model, lm.dt_s))
+    n = len(names)
+    return replace(lm, A=A, B=B, C=C[:n], D=D[:n], velocity_C=C[n:], velocity_D=D[n:], input_names=inputs)
