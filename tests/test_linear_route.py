@@ -112,11 +112,12 @@ def test_quiet_at_small_input_and_refuses_lift_off(human):
 
 
 def test_refuses_a_sliding_pelvis(human):
-    # A steady 0.6 g lateral push exceeds the 0.5 friction coefficient: the seat-pan contacts must slide.
+    # A steady 0.6 g lateral push exceeds the 0.5 friction coefficient: the contacts must slide and the linear route
+    # refuse.  The feet, which use 0.44 of their friction at rest, slide first (measured at t = 0.19 s, 0.23 g).
     t = np.arange(0, 2.0, 0.001)
     ramp = np.clip(t / 0.5, 0, 1) * 0.6 * G
     push = SeatMotion(t, np.column_stack([0 * t, ramp, 0 * t]), "0.6 g lateral")
-    with pytest.raises(LinearRouteError, match=r"(buttock|thigh|back)\w* contact slides"):
+    with pytest.raises(LinearRouteError, match=r"(buttock|thigh|back|foot)\w* contact slides"):
         simulate_linear(human, push)
 
 

@@ -323,14 +323,15 @@ def test_a_step_given_or_set_by_the_file_wins_over_the_posture_step(tmp_path):
 def test_slouched_person_at_one_ms_warns_with_its_own_converged_step(tmp_path, capsys):
     # "a slouched person at an explicit --dt 0.001 warns that it is coarser than its converged 0.5 ms, with the
     # expected error; erect at 1 ms does not warn (today's behaviour unchanged)".  The expected error is the measured
-    # worst path at 1 ms (3.61 %, printed rounded: 4 %), in Python and on the command line (a 0.2 s run).
+    # worst path at 1 ms (1.24 % for the identified person, printed rounded: 1 %), in Python and on the command line
+    # (a 0.2 s run).
     import warnings
 
     from ehm.cli import main
     from ehm.timestep import StepWarning
 
     with pytest.warns(StepWarning, match=r"dt = 1 ms is coarser than the 0\.5 ms at which the model in the slouched "
-                                         r"posture is converged: .* about 4 % .*--dt 0\.001 --posture slouched"):
+                                         r"posture is converged: .* about 1 % .*--dt 0\.001 --posture slouched"):
         human = ehm.SeatedHuman(posture="slouched", dt_s=0.001)
     assert human.model.mj.opt.timestep == 0.001
     with warnings.catch_warnings():
