@@ -113,7 +113,7 @@ def continuous_model(model: engine.Model, refine: int = REFINE, pivot_m: np.ndar
         alpha, so that they are absolute like the nonlinear route's.  None: seat translation only (three inputs).
     control_delay_s : float, optional
         A model with head-in-space control: its loop is closed with this delay [s] instead of the one the engine
-        applies (:func:`ehm.engine.feedback`; a study of the delay margin).
+        applies (``ehm.engine.feedback``; a study of the delay margin).
     """
     if model.head_control is not None and pivot_m is not None:
         raise InputError("the linear route of a seat that turns does not carry the head-in-space control (it would "

@@ -49,7 +49,7 @@ _SEAT = {"back_support": "back_support",
 _CONTACT = {"stiffness_N_per_m": "positive", "damping_Ns_per_m": "nonnegative", "friction": "nonnegative",
             "shear_stiffness_N_per_m": "positive", "shear_damping_Ns_per_m": "nonnegative",
             "pad_mass_kg": "positive"}
-#: [head_control] (:mod:`ehm.engine.control`): optional in a file (load() fills in the shipped section, off).
+#: [head_control] (``ehm.engine.control``): optional in a file (load() fills in the shipped section, off).
 HEAD_CONTROL = {"enabled": "bool", "tilt_stiffness_Nm_per_rad": "nonnegative",
                 "tilt_damping_Nms_per_rad": "nonnegative", "yaw_damping_Nms_per_rad": "nonnegative",
                 "delay_s": "positive"}
@@ -282,7 +282,7 @@ class Parameters:
         return self.with_values(updates)
 
     def with_head_control(self, head_control=None) -> "Parameters":
-        """A copy with the head-in-space control (:mod:`ehm.engine.control`) switched: None keeps the file's
+        """A copy with the head-in-space control (``ehm.engine.control``) switched: None keeps the file's
         ``head_control.enabled``; True or False switches it on or off with the file's gains; a dict of gains (keys of
         [head_control] but ``enabled``, e.g. ``{"tilt_stiffness_Nm_per_rad": 30.0, "delay_s": 0.03}``) switches it on
         with those gains.  A gain that is not a key of [head_control] or not a valid value is refused in one

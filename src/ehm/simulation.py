@@ -58,7 +58,7 @@ class SeatedHuman:
         ``"full"``; :mod:`ehm.seat`).  None: the parameter file's (``posture.name``, ``seat.back_support``); the
         person's ``params`` record them.
     head_control : bool or dict, optional
-        Head-in-space control on top of the joint PID (:mod:`ehm.engine.control`, docs/model.md "Head-in-space
+        Head-in-space control on top of the joint PID (``ehm.engine.control``, docs/model.md "Head-in-space
         control"): True with the parameter file's gains ([head_control]), a dict of gains (e.g.
         ``{"tilt_stiffness_Nm_per_rad": 30.0, "delay_s": 0.03}``) to switch it on with those, False off; None (the
         default) keeps the file's ``head_control.enabled`` (off in the shipped file).
@@ -111,7 +111,7 @@ class SeatedHuman:
 
     @property
     def head_control(self) -> bool:
-        """Whether the person's head-in-space control is on (:mod:`ehm.engine.control`)."""
+        """Whether the person's head-in-space control is on (``ehm.engine.control``)."""
         return self.model.head_control is not None
 
     @property
