@@ -18,7 +18,7 @@ tuned by hand (the start, ``START``):
 
 Then :func:`ehm.validate` on both results; the one that passes every check (stage 2's, when it does) is the
 identified person.  Everything goes to ``--out``: the reference curves, both parameter files, the validation
-tables and figures.  Takes about 40 minutes on two cores (stage 1: some 250 evaluations of about 6 s).
+tables and their figures (``validation_<stage>_<axis>.png``).  Takes about 40 minutes on two cores (stage 1: some 250 evaluations of about 6 s).
 
     python benchmarks/identify_default_person.py --out identified/
 """
@@ -41,6 +41,7 @@ from ehm import references
 from ehm.cli import main as ehm_main
 from ehm.frf import FrfTable
 from ehm.params import Parameters
+from ehm.plotting import plot_validation
 from ehm.transfer import Curve
 from ehm.validation import validate
 
@@ -246,7 +247,10 @@ def main() -> int:
             continue
         v = validate(Parameters.load(path).seated("erect", "high"))
         results[label] = v
-        (out / f"validation_{label.replace(' ', '_')}.txt").write_text(v.format_table() + "\n")
+        stem = f"validation_{label.replace(' ', '_')}"
+        (out / f"{stem}.txt").write_text(v.format_table() + "\n")
+        for axis in "zxy":  # the figures per axis, as ehm validate draws them
+            plot_validation(v, axis, out / f"{stem}_{axis}.png")
         say(f"\n{label}: {path}\n{v.format_table()}")
     # the identified person: ehm fit's result when its fit converged and it passes every check, else the band
     # search's when it does
