@@ -38,9 +38,14 @@ def band_gains(run, axis: str, k: int) -> list[float]:
     return [float(np.degrees(h[(f >= lo) & (f < hi)].mean())) for lo, hi in BANDS]
 
 
-def closed_rates(human, delay_s: float) -> np.ndarray:
-    model = replace(human.model, head_control=replace(human.model.head_control, delay_s=delay_s))
-    lm = engine.closed_linear_model(model, engine.linearize(human.model))
+def closed_rates(human, delay_s: float | None) -> np.ndarray:
+    """Continuous-time rates of the linearised one-step loop (closed with the control at ``delay_s``; None: the
+    person without the control), the integral actions' neutral directions left out."""
+    if delay_s is None:
+        lm = engine.linearize(human.model)
+    else:
+        model = replace(human.model, head_control=replace(human.model.head_control, delay_s=delay_s))
+        lm = engine.closed_linear_model(model, engine.linearize(human.model))
     mu = np.linalg.eigvals(lm.A)
     s = np.log(mu[np.abs(mu) > 1e-12].astype(complex)) / lm.dt_s
     return s[np.abs(s) > 1e-3]
@@ -83,13 +88,16 @@ def main() -> None:
             print(f"   {what:18s} {name:3s}", " ".join(f"{g:.2f}" for g in gains))
     print("2. delay margin (least damped mode below 20 Hz)")
     on.settle()
-    for T in (0.02, 0.05, 0.1, 0.15, 0.2, 0.21, 0.25, 0.3, 0.31, 0.32, 0.33):
-        s = closed_rates(on, T)
+    off.settle()
+    for name, h, T in [("off", off, None)] + [("on", on, T) for T in (0.02, 0.05, 0.1, 0.15, 0.2, 0.25, 0.28, 0.29,
+                                                                      0.3, 0.31, 0.32, 0.33)]:
+        s = closed_rates(h, T)
         slow = s[np.abs(s) < 2 * np.pi * 20]
         z = -slow.real / np.abs(slow)
         k = int(np.argmin(z))
         flag = "  UNSTABLE" if s.real.max() > 0 else ""
-        print(f"   delay {T:.3f} s: {abs(slow[k]) / 2 / np.pi:5.2f} Hz, zeta {z[k]:+.4f}{flag}")
+        what = "control off" if T is None else f"delay {T:.3f} s"
+        print(f"   {what}: {abs(slow[k]) / 2 / np.pi:5.2f} Hz, zeta {z[k]:+.4f}{flag}")
     print("3. SYNTHETIC city drive")
     for name, hc in (("off", False), ("on", True)):
         print(f"   {name}:", {k: round(v, 3) if isinstance(v, float) else v for k, v in city(hc).items()})
