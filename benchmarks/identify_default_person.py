@@ -5,8 +5,9 @@ ISO 2631-5:2018's seat-to-lumbar transfer function and the one-mass fit to measu
 Griffin (1989).  The person is identified in that condition, in two stages, from ``START`` (the values an
 exploratory search reached from the ehm authors' hand-tuned ones):
 
-1. **Band search.**  Least squares (scipy, trust-region reflective, in log space within the bounds of ``FREE``) on how far
-   each check of :func:`ehm.validate` lies outside its band (by a margin of a tenth of the band inside it), plus
+1. **Band search.**  Least squares (scipy, trust-region reflective, in log space within the bounds of ``FREE``, in
+   the two ``ROUNDS``) on how far each check of :func:`ehm.validate` lies outside its band (by a margin of a
+   tenth of the band inside it), plus
    the distance of the lumbar gain from ISO 2631-5's and of the apparent mass from the one-mass fit, and a
    bound on the low-frequency gains (below 1.5 Hz the body follows the seat: lumbar and head gains at most
    1.12, which keeps the unsupported trunk upright).  The checks include the seat-to-head bands on the
@@ -72,6 +73,14 @@ FREE = {
     "lower neck pitch damping": (["joints.lower_neck.pitch.damping_Nms_per_rad"], 2.0, 40.0),
     "upper neck pitch stiffness": (["joints.upper_neck.pitch.stiffness_Nm_per_rad"], 40.0, 300.0),
     "upper neck pitch damping": (["joints.upper_neck.pitch.damping_Nms_per_rad"], 1.0, 30.0),
+    "buttock shear stiffness": (["contacts.buttock_{s}.shear_stiffness_N_per_m"], 3e3, 80e3),
+    "buttock shear damping": (["contacts.buttock_{s}.shear_damping_Ns_per_m"], 50.0, 3000.0),
+    "thigh shear stiffness": (["contacts.thigh_{s}.shear_stiffness_N_per_m"], 2e3, 60e3),
+    "thigh shear damping": (["contacts.thigh_{s}.shear_damping_Ns_per_m"], 50.0, 3000.0),
+    "knee pitch stiffness": (["joints.knee_{s}.pitch.stiffness_Nm_per_rad"], 10.0, 300.0),
+    "knee pitch damping": (["joints.knee_{s}.pitch.damping_Nms_per_rad"], 0.5, 30.0),
+    "ankle pitch stiffness": (["joints.ankle_{s}.pitch.stiffness_Nm_per_rad"], 5.0, 200.0),
+    "ankle pitch damping": (["joints.ankle_{s}.pitch.damping_Nms_per_rad"], 0.2, 20.0),
 }
 #: Stage 1's start: the values an exploratory search on the linear model reached (CHANGELOG, "The default person
 #: identified"), with every other value as shipped.  From the earlier hand-tuned values the same search stops in a
@@ -82,6 +91,9 @@ START = {"buttock stiffness": 45940.0, "buttock damping": 545.1, "thigh stiffnes
          "L4-L5 pitch stiffness": 3093.0, "L4-L5 pitch damping": 5.104, "hip pitch stiffness": 90.5,
          "hip pitch damping": 6.979, "lower neck pitch stiffness": 284.3, "lower neck pitch damping": 8.937,
          "upper neck pitch stiffness": 68.91, "upper neck pitch damping": 2.292}
+#: Stage 1 in rounds: first the contacts' normal springs and the spine's, hips' and neck's, then with the tissue
+#: pads' shear and the legs' joints as well (each round from the one before).
+ROUNDS = (list(START), list(FREE))
 #: Share of the body's mass on the rigid frame of the one-mass fit in the reference curve (stage 2): the
 #: lower legs and feet with half the thighs, which move with the seat and the floor (24 % of this body).
 FRAME_SHARE = 0.2
@@ -96,13 +108,13 @@ def paths(name: str) -> list[str]:
     return [t.format(s=s) for t in FREE[name][0] for s in (SIDES if "{s}" in t else ("",))]
 
 
-def with_free(base: Parameters, x: np.ndarray) -> Parameters:
-    """The parameters with the free values ``x`` (in ``FREE``'s order)."""
-    return base.with_values({p: float(v) for name, v in zip(FREE, x) for p in paths(name)})
+def with_free(base: Parameters, x: np.ndarray, names=None) -> Parameters:
+    """The parameters with the free values ``x`` of ``names`` (default: all of ``FREE``, in its order)."""
+    return base.with_values({p: float(v) for name, v in zip(names or list(FREE), x) for p in paths(name)})
 
 
-def start_values(base: Parameters) -> np.ndarray:
-    return np.array([float(base.value(paths(name)[0])) for name in FREE])
+def start_values(base: Parameters, names=None) -> np.ndarray:
+    return np.array([float(base.value(paths(name)[0])) for name in names or list(FREE)])
 
 
 def _hinge(value: float, low: float, high: float, margin: float) -> float:
@@ -137,28 +149,29 @@ def search_residuals(v) -> np.ndarray:
     return np.array(r)
 
 
-def band_search(base: Parameters, max_evals: int, say) -> Parameters:
-    """Stage 1 (see the module docstring)."""
-    lo = np.log([FREE[n][1] for n in FREE])
-    hi = np.log([FREE[n][2] for n in FREE])
-    x0 = np.clip(np.log(start_values(base)), lo + 1e-9, hi - 1e-9)
+def band_search(base: Parameters, max_evals: int, say, names=None) -> Parameters:
+    """Stage 1 (see the module docstring) over the values ``names`` (default: all of ``FREE``)."""
+    names = names or list(FREE)
+    lo = np.log([FREE[n][1] for n in names])
+    hi = np.log([FREE[n][2] for n in names])
+    x0 = np.clip(np.log(start_values(base, names)), lo + 1e-9, hi - 1e-9)
     n_eval = [0]
     t0 = time.perf_counter()
 
     def residuals(log_x):
         n_eval[0] += 1
         try:
-            r = search_residuals(validate(with_free(base, np.exp(log_x))))
+            r = search_residuals(validate(with_free(base, np.exp(log_x), names)))
         except ehm.EhmError:
             r = np.full(residuals.size, 100.0)
         if n_eval[0] % 17 == 1:
             say(f"stage 1: {n_eval[0]} evaluations, cost {float(r @ r):.4g}, {time.perf_counter() - t0:.0f} s")
         return r
 
-    residuals.size = search_residuals(validate(with_free(base, np.exp(x0)))).size
+    residuals.size = search_residuals(validate(with_free(base, np.exp(x0), names))).size
     res = least_squares(residuals, x0, bounds=(lo, hi), diff_step=1e-3, max_nfev=max_evals)
     say(f"stage 1: {res.message} after {n_eval[0]} evaluations, cost {2 * res.cost:.4g}")
-    return with_free(base, np.exp(res.x))
+    return with_free(base, np.exp(res.x), names)
 
 
 def reference_table(person: Parameters) -> FrfTable:
@@ -244,8 +257,10 @@ def main() -> int:
     say = lambda line: print(line, flush=True)  # noqa: E731
     base = Parameters.load(args.start).seated("erect", "none")
     if args.start is None:
-        base = with_free(base, np.array([START[name] for name in FREE]))
-    stage1 = base if args.skip_search else band_search(base, args.max_evals, say)
+        base = with_free(base, np.array(list(START.values())), list(START))
+    stage1 = base
+    for names in ([] if args.skip_search else ROUNDS):
+        stage1 = band_search(stage1, args.max_evals, say, names)
     stage1.export(out / "band_search.toml")
     _write_reference_csv(reference_table(stage1), out / "reference_curves.csv")
     with_bounds(stage1, 1.25).export(out / "fit_start.toml")
