@@ -32,8 +32,9 @@ POSTURE_STEP_ERRORS = {"slouched": {0.0005: 0.0056, 0.001: 0.0124, 0.002: 0.0558
 #: The shortest time step taken [s]: a step costs about 30 us of wall time (measured, default person), so the
 #: 10 s of settling alone take about 5 min at 1 us and hours below, for no accuracy to gain (0.6 % at 0.5 ms).
 MIN_STEP_S = 1e-6
-#: The longest time step taken [s]: the default person still settles at 10 ms (its transfer functions off by about
-#: 100 %) and diverges at 20 ms (measured), and 10 ms resolves the 0.5-80 Hz of ISO 2631-1 no longer (Nyquist 50 Hz).
+#: The longest time step taken [s]: the default person still settles at 10 ms (its transfer functions off by up to
+#: 363 % of their peak) and diverges at 20 ms (measured), and 10 ms resolves the 0.5-80 Hz of ISO 2631-1 no longer
+#: (Nyquist 50 Hz).
 MAX_STEP_S = 0.01
 
 
