@@ -198,10 +198,12 @@ def test_python_fmu_survives_being_freed_after_a_fatal_error(python_fmu, tmp_pat
     assert "failed: fmi2" in done.stdout and done.stdout.rstrip().endswith("freed")
 
 
-def test_simulator_refuses_the_step_after_a_divergence():
+def test_simulator_refuses_the_step_after_a_divergence(tmp_path, monkeypatch):
     """'a step that diverges': MuJoCo resets a state whose accelerations blow up, and main's Simulator then
     reported the reset state as the person's for up to 99 steps (checked every 100); now the next step raises,
-    at the time MuJoCo found it (the step's start, 3 ms)."""
+    at the time MuJoCo found it (the step's start, 3 ms).  MuJoCo writes MUJOCO_LOG.TXT into the working directory
+    on that warning, so the test runs in tmp_path."""
+    monkeypatch.chdir(tmp_path)
     sim = ehm.Simulator(comfort=False)
     sim.step([0.0, 0.0, 0.0])
     sim.step([0.0, 0.0, 0.0])
