@@ -90,6 +90,7 @@ SLAVE_TEMPLATE = '''"""FMI 2.0 co-simulation slave of ehm {version} (written by 
 
 All the work is done by ehm.fmu.SlaveCore, which needs the ehm package in the host's Python.
 """
+import ctypes
 import functools
 
 from pythonfmu import Fmi2Slave
@@ -103,9 +104,11 @@ except ImportError as exc:  # said when the unit starts: a unit that fails to in
     MISSING = ("this FMU runs the ehm package inside the host's Python interpreter, which cannot "
                f"import it ({{exc}}); install ehm (with mujoco, numpy, scipy) in that environment.")
 
-#: Slaves whose call raised (fmi2Fatal), kept alive: pythonfmu 0.7 releases the slave, its class and its log
-#: queue once when a call raises and again when the host frees the instance, and without this reference that
-#: second release frees them twice and crashes the host.
+#: Slaves whose call raised (fmi2Fatal), kept alive for good: pythonfmu 0.7 releases the slave, its class and its
+#: log queue once when a call raises and again when the host frees the instance.  A reference held in a list
+#: balanced that second release but was itself released when the interpreter shut down, which freed them
+#: a last time while the garbage collector still walked them (a crash at the host's exit); a reference taken with
+#: Py_IncRef is never released, so they outlive the interpreter (a few objects, once per failed call).
 KEPT = []
 
 
@@ -115,7 +118,9 @@ def _kept_on_failure(method):
         try:
             return method(self, *args)
         except BaseException:
-            KEPT.append((self, type(self), self.log_queue))
+            for obj in (self, type(self), self.log_queue):
+                ctypes.pythonapi.Py_IncRef(ctypes.py_object(obj))
+            KEPT.append(id(self))
             raise
     return call
 
