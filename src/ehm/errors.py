@@ -77,6 +77,18 @@ def positive_number(func: str, name: str, value: object) -> float:
     return result
 
 
+def frequencies_hz(values: object, name: str = "freq_hz") -> np.ndarray:
+    """``values`` as an array of frequencies [Hz]; one sentence (:class:`InputError`) unless numbers, finite and
+    non-negative."""
+    try:
+        f = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be numbers in Hz; got {type(values).__name__}.") from None
+    if not np.all(np.isfinite(f)) or np.any(f < 0):
+        raise InputError(f"{name} must be finite and non-negative frequencies in Hz; got {values!r}.")
+    return f
+
+
 def finite_samples(name: str, values: object, advice: str = "fill or cut the gap first") -> np.ndarray:
     """``values`` as a 1-D float array of at least one finite sample, or an :class:`InputError` naming ``name`` and
     the first bad sample (and ``advice``: what to do about it)."""

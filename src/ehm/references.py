@@ -31,7 +31,7 @@ from importlib import resources
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, frequencies_hz
 
 __all__ = [
     "ISO2631_5_ZERO", "ISO2631_5_POLES", "ISO2631_5_ANNEX_D_B", "ISO2631_5_ANNEX_D_A", "ISO2631_5_ANNEX_D_FS_HZ",
@@ -111,16 +111,6 @@ ISO2631_5_ANNEX_D_FS_HZ = 256.0
 ISO2631_5_SOURCE = "; ".join(_ISO_SOURCES)
 
 
-def _frequencies(freq_hz, arg: str = "freq_hz") -> np.ndarray:
-    try:
-        f = np.asarray(freq_hz, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{arg} must be numbers in Hz; got {type(freq_hz).__name__}.") from None
-    if not np.all(np.isfinite(f)) or np.any(f < 0):
-        raise InputError(f"{arg} must be finite and non-negative frequencies in Hz; got {freq_hz!r}.")
-    return f
-
-
 def _second_order(s: np.ndarray, w: float, zeta: float) -> np.ndarray:
     """``1 + 2 zeta s / w + (s / w)^2``."""
     return 1.0 + 2.0 * zeta * s / w + (s / w) ** 2
@@ -148,7 +138,7 @@ def iso2631_5_lumbar_tf(freq_hz) -> np.ndarray:
     ndarray of complex
         ``H(j 2 pi f)``, same shape as ``freq_hz``.
     """
-    s = 2j * np.pi * _frequencies(freq_hz)
+    s = 2j * np.pi * frequencies_hz(freq_hz)
     out = _second_order(s, *ISO2631_5_ZERO)
     for w, zeta in ISO2631_5_POLES:
         out = out / _second_order(s, w, zeta)
@@ -171,7 +161,7 @@ def iso2631_5_annex_d_tf(freq_hz) -> np.ndarray:
     ndarray of complex
         ``B(z) / A(z)`` at ``z = exp(j 2 pi f / 256 Hz)``, same shape as ``freq_hz``.
     """
-    f = _frequencies(freq_hz)
+    f = frequencies_hz(freq_hz)
     if np.any(f > ISO2631_5_ANNEX_D_FS_HZ / 2):
         raise InputError(f"freq_hz must lie within the Annex D filter's band, 0 to {ISO2631_5_ANNEX_D_FS_HZ / 2:g} Hz; "
                          f"got up to {float(np.max(f)):g} Hz.")
@@ -224,12 +214,12 @@ def apparent_mass_one_mass(freq_hz, frame_share: float = 0.0, normalise_at_hz: f
     ndarray of complex
         Normalised apparent mass, same shape as ``freq_hz``; ``abs`` gives the curve the bands speak of.
     """
-    f = _frequencies(freq_hz)
+    f = frequencies_hz(freq_hz)
     share = float(frame_share)
     if not 0.0 <= share <= MAX_FRAME_SHARE:
         raise InputError(f"frame_share is the frame's share of the body's mass, 0 to {MAX_FRAME_SHARE:g}; "
                          f"got {frame_share!r}.")
-    f0 = float(_frequencies(normalise_at_hz, "normalise_at_hz"))
+    f0 = float(frequencies_hz(normalise_at_hz, "normalise_at_hz"))
 
     def mass(freq):
         r = freq / FAIRLEY_GRIFFIN_NATURAL_FREQUENCY_HZ  # k = m wn^2, c = 2 zeta m wn

@@ -30,7 +30,7 @@ import numpy as np
 from scipy import optimize as _opt
 from scipy import signal as _sig
 
-from ..errors import EhmWarning, InputError
+from ..errors import EhmWarning, InputError, frequencies_hz
 from .checks import _positive_float, _signal_1d
 
 _Q_BAND = 1.0 / math.sqrt(2.0)
@@ -101,12 +101,7 @@ def frequency_weighting(name: str, freq_hz) -> np.ndarray:
         Response W(j 2 pi f), same shape as ``freq_hz``; ``abs`` gives the weighting factor.
     """
     key = _canonical_name(name)
-    try:
-        f = np.asarray(freq_hz, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"freq_hz must be numbers in Hz; got {type(freq_hz).__name__}.") from None
-    if not np.all(np.isfinite(f)) or np.any(f < 0):
-        raise InputError(f"freq_hz must be finite and non-negative; got {freq_hz!r}.")
+    f = frequencies_hz(freq_hz)
     s = 2j * np.pi * f
     out = np.ones(f.shape, dtype=complex)
     for num, den in _analog_factors(key):
