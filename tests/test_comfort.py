@@ -200,9 +200,9 @@ def test_a_log_at_100_hz_rates_like_the_same_signal_at_1_khz(name, kind):
 def test_band_beyond_nyquist_warns_once():
     import warnings
 
-    from ehm import comfort
+    from ehm.comfort import weighting
 
-    comfort._WARNED.clear()
+    weighting._WARNED.clear()  # the module tested: its record of warnings given
     with pytest.warns(UserWarning, match=r"Wk reaches up to 100 Hz but data sampled at 100 Hz hold nothing "
                                          r"above 50 Hz") as record:
         weight("Wk", np.ones(50), 100.0)

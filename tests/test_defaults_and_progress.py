@@ -154,7 +154,7 @@ def test_progress_on_a_pipe_is_a_few_lines(monkeypatch, capsys):
     tenth of the drive (here the updates come every 5 s: at most one line per 10 s and per tenth, 10 or fewer)."""
     clock = iter(np.arange(0.0, 1000.0, 5.0))
     monkeypatch.setattr(cli_progress.time, "monotonic", lambda: float(next(clock)))
-    show = cli_progress._progress_bar("assess")
+    show = cli_progress.progress_bar("assess")
     for done in np.linspace(342 / 60, 342, 60):
         show(done, 342.0)
     err = capsys.readouterr().err
@@ -166,7 +166,7 @@ def test_progress_on_a_pipe_is_a_few_lines(monkeypatch, capsys):
 def test_progress_on_a_terminal_is_a_bar(monkeypatch, capsys):
     """Issue 32: on a terminal the bar stays (rewritten in place)."""
     monkeypatch.setattr(cli_progress.sys.stderr, "isatty", lambda: True, raising=False)
-    show = cli_progress._progress_bar("simulate")
+    show = cli_progress.progress_bar("simulate")
     show(5.0, 10.0)
     show(10.0, 10.0)
     err = capsys.readouterr().err
@@ -176,7 +176,7 @@ def test_progress_on_a_terminal_is_a_bar(monkeypatch, capsys):
 def test_quiet_prints_no_progress_and_a_short_pipe_run_none(tmp_path, capsys):
     """Issue 32: --quiet on the commands that print progress; a run shorter than a progress interval prints no
     progress line on a pipe either."""
-    assert cli_progress._progress_bar("simulate", quiet=True) is None
+    assert cli_progress.progress_bar("simulate", quiet=True) is None
     for args in (["simulate", "--duration", "2", "--quiet"], ["simulate", "--duration", "2"]):
         assert main([*args, "--out", str(tmp_path / "run")]) == 0
         assert capsys.readouterr().err == ""

@@ -296,7 +296,7 @@ def test_a_study_writes_its_manifest_at_most_about_once_a_second(tmp_path, monke
             yield client
 
     monkeypatch.setattr(batch, "run_one", no_time_run)
-    monkeypatch.setattr(batch, "_dask_client", in_process)
+    monkeypatch.setattr(batch, "dask_client", in_process)
     specs = [batch.RunSpec(f"{i:012x}", {}, {"k": float(i)}, (), ("transmissibility",), {}, f"{i:012x}", {"f": "1"})
              for i in range(300)]
     out = tmp_path / "res"

@@ -198,12 +198,12 @@ def _block_outputs(ss, u, dt, pieces=1):
     into ``pieces`` chunks."""
     from ehm import linear
 
-    blk, lay = linear._block_form(ss, dt), linear._layout(ss)
-    carry = linear._initial_state(blk, u[0])
+    blk, lay = linear.block_form(ss, dt), linear.output_layout(ss)
+    carry = linear.initial_state(blk, u[0])
     out = []
     for part in np.array_split(u, pieces):
-        y = linear._block_chunk(blk, part, carry)
-        out.append(linear._in_time_order(y)[:, :len(part)].T)
+        y = linear.block_chunk(blk, part, carry)
+        out.append(linear.in_time_order(y)[:, :len(part)].T)
     y = np.empty((len(u), len(ss.output_names)))
     y[:, lay] = np.concatenate(out)
     return y - ss.y0
@@ -251,7 +251,7 @@ def test_left_out_modes_change_little(human):
     from ehm import linear
 
     ss = human.linear_model()
-    m = linear._modes(ss)
+    m = linear.modes_of(ss)
     assert m.unreached > 0 and m.static_hz.min() > linear.STATIC_ABOVE_HZ
     for dt in (0.001, 0.0005):
         u = ehm.random_vibration("xyz", 5.0, 0.3, seed=3, dt_s=dt).acc_mps2
@@ -276,9 +276,9 @@ def test_orientations_are_exact():
     for scale in (1e-3, 0.02, 0.5):
         y = rng.standard_normal((5 * rows + 33, L, nb))
         y[2 * rows:3 * rows] *= scale  # rotation vectors
-        rot, angvel, gia = (linear._in_time_order(x) for x in linear._orientations(y, R0))
+        rot, angvel, gia = (linear.in_time_order(x) for x in linear._orientations(y, R0))
         for p in range(n_points):
-            series = lambda k: linear._in_time_order(y[rows * k + 3 * p:rows * k + 3 * p + 3]).T  # noqa: E731
+            series = lambda k: linear.in_time_order(y[rows * k + 3 * p:rows * k + 3 * p + 3]).T  # noqa: E731
             rel = Rotation.from_rotvec(series(2))
             R = np.einsum("nij,jk->nik", rel.as_matrix(), R0[p])
             # ehm's Rodrigues matrix + arctan2/arcsin against scipy's quaternion route: each angle comes from
@@ -301,7 +301,7 @@ def test_scan_is_the_recursion(n):
     ref = [z0]
     for k in range(n - 1):
         ref.append(a * ref[-1] + e[k])
-    np.testing.assert_allclose(linear._scan(a, e, z0), np.array(ref), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(linear.modal_scan(a, e, z0), np.array(ref), rtol=1e-12, atol=1e-12)
 
 
 def test_the_advised_scale_passes_the_check(human):

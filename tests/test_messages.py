@@ -37,7 +37,9 @@ def test_mujoco_warning_is_folded_into_the_divergence_sentence(tmp_path, capfd):
 
 def test_build_errors_are_translated():
     exc = ValueError("Error: inertia must satisfy A + B >= C; use 'balanceinertia' to fix\nElement name 'pelvis', id 9")
-    msg = str(engine._build_error(exc))
+    from ehm.engine.diagnostics import build_error
+
+    msg = str(build_error(exc))
     assert "\n" not in msg and "balanceinertia" not in msg
     assert "'pelvis'" in msg and "inertia must satisfy A + B >= C" in msg
 

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from ehm import engine
+from ehm.engine.sensors import contact_name
 from ehm.errors import DivergenceError, InputError
 from ehm.motion import random_vibration
 from ehm.params import Parameters
@@ -213,7 +214,7 @@ def test_contact_rows_carry_the_intended_law(human, contact):
     b = float(human.params.value(f"contacts.{contact}.damping_Ns_per_m"))
     pad = next(c for c in human.model.body.contacts if c.name == contact).tissue_pad
     h = mj.opt.timestep
-    rows = [i for i in range(d.ncon) if engine._contact_name(human.model, d.contact[i]) == contact]
+    rows = [i for i in range(d.ncon) if contact_name(human.model, d.contact[i]) == contact]
     assert len(rows) == 1
     r = d.contact[rows[0]].efc_address
     assert pad == (contact != "foot_r")

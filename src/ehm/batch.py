@@ -74,7 +74,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import EhmError, EhmWarning, InputError
-from .cluster import _dask_client, check_scheduler  # noqa: F401  (check_scheduler: the CLI's)
+from .cluster import dask_client, check_scheduler  # noqa: F401  (check_scheduler: the CLI's)
 from .io import replace_atomically
 from .outdir import added_folder, write_owned, write_owned_json
 
@@ -594,7 +594,7 @@ def _run_on_dask(todo: list[RunSpec], out: Path, scheduler, workers, progress) -
     from dask.distributed import as_completed
 
     simulated, failed, shown = 0.0, 0, set()
-    with _dask_client(scheduler, workers) as client:
+    with dask_client(scheduler, workers) as client:
         t0 = time.perf_counter()  # throughput excludes starting the cluster
         futures = client.map(run_one, todo, pure=False)
         by_future = dict(zip(futures, todo))

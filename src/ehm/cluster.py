@@ -17,7 +17,7 @@ from .processes import sigint_ignored as _sigint_ignored
 
 
 @contextlib.contextmanager
-def _dask_client(scheduler: str | None, workers: int | None):
+def dask_client(scheduler: str | None, workers: int | None):
     """A Dask client of the cluster at ``scheduler``, or of a local cluster of ``workers`` processes; closed on
     leaving, quietly when leaving on an interrupt or error.
 

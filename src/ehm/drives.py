@@ -15,15 +15,15 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal
 
-from .errors import InputError
-from .motion import SeatMotion, _check_seed, _number
+from .errors import InputError, finite_number
+from .motion import SeatMotion, check_seed
 
 #: ISO 8608 road classes: displacement PSD Gd(n0) at n0 = 0.1 cycles/m [m^3] (geometric class mean).
 ROAD_CLASS_GD0_M3 = {"A": 16e-6, "B": 64e-6, "C": 256e-6, "D": 1024e-6, "E": 4096e-6}
 
 
 def _check(name: str, value: float, low: float, high: float = np.inf) -> float:
-    v = _number("drive", name, value)
+    v = finite_number("drive", name, value)
     if v <= low or v > high:
         raise InputError(f"{name} must be a number above {low:g}" + (f" and at most {high:g}" if np.isfinite(high) else "")
                          + f", not {value!r}.")
@@ -33,7 +33,7 @@ def _check(name: str, value: float, low: float, high: float = np.inf) -> float:
 def _seed(seed) -> int:
     if seed is None:
         raise InputError("drive: seed must be a whole number >= 0 (a drive file names its seed), got None.")
-    return _check_seed(seed, "drive")
+    return check_seed(seed, "drive")
 
 
 def _smooth_steps(t: np.ndarray, events: list[tuple[float, float, float, float]]) -> np.ndarray:

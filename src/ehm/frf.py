@@ -221,9 +221,9 @@ def read_frf(path: Path | str) -> FrfTable:
     """An FRF table from CSV (:func:`~ehm.frf.read_frf_csv`) or from Parquet written by :meth:`FrfTable.to_parquet`."""
     if not str(path).lower().endswith(".parquet"):
         return read_frf_csv(path)
-    from .readers.frames import _ParquetSource
+    from .readers.frames import ParquetSource
 
-    src = _ParquetSource(Path(path), str(path))
+    src = ParquetSource(Path(path), str(path))
     missing = [c for c in COLUMNS[:5] if c not in src.names]
     if missing:
         raise InputError(f"{path}: missing column {missing[0]!r}.")

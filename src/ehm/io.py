@@ -71,7 +71,7 @@ def replace_atomically(target: Path | str, write, what: str = "file") -> Path:
     finally:
         if tmp is not None and os.path.exists(tmp):
             os.unlink(tmp)
-    _fsync_directory(target.parent)
+    fsync_directory(target.parent)
     return target
 
 
@@ -104,7 +104,7 @@ def manifest_or_why(folder: Path | str) -> tuple[dict | None, str | None]:
     return data, None
 
 
-def _fsync_directory(directory: Path) -> None:
+def fsync_directory(directory: Path) -> None:
     """Flush a directory entry to disk where the platform allows it."""
     try:
         fd = os.open(directory, os.O_RDONLY)

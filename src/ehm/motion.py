@@ -414,7 +414,7 @@ def _motion(t_s: np.ndarray, axes: tuple[int, ...], columns: dict[int, np.ndarra
     return SeatMotion(t_s, acc, description)
 
 
-def _check_seed(seed: object, func: str = "random_vibration") -> int | None:
+def check_seed(seed: object, func: str = "random_vibration") -> int | None:
     if seed is None:
         return None
     if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, Integral):
@@ -477,7 +477,7 @@ def random_vibration(
     axes = parse_axes(axis)
     duration, dt, t = _time_grid(func, duration_s, dt_s)
     rms = _non_negative(func, "rms_mps2", rms_mps2)
-    seed_value = _check_seed(seed)
+    seed_value = check_seed(seed)
     low, high = _pass_band(func, band_hz, dt)
     label = _axes_label(axes)
     seed_text = "unseeded" if seed_value is None else f"seed {seed_value}"

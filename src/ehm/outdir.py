@@ -53,7 +53,7 @@ from importlib import metadata
 from pathlib import Path
 
 from .errors import EhmWarning, InputError
-from .io import MANIFEST_NAME, _fsync_directory, manifest_or_why, read_manifest, write_json_atomic
+from .io import MANIFEST_NAME, fsync_directory, manifest_or_why, read_manifest, write_json_atomic
 
 #: Its format, written into it: a later ehm can tell what it reads.
 MANIFEST_FORMAT = 1
@@ -542,7 +542,7 @@ class RunFolder:
                     os.rename(staging, target)
             else:
                 os.rename(staging, target)
-            _fsync_directory(target.parent)
+            fsync_directory(target.parent)
             self.staging = None
             if old is not None:
                 _remove_tree(old)

@@ -11,14 +11,14 @@ from ..simulation import SeatedHuman
 from ..tables import load_body
 
 
-def _joint_list(values: list[str] | None) -> list[str]:
+def joint_list(values: list[str] | None) -> list[str]:
     out: list[str] = []
     for v in values or []:
         out += [x.strip() for x in v.split(",") if x.strip()]
     return out
 
 
-def _params(args) -> Parameters:
+def params_from_args(args) -> Parameters:
     """The parameter file of --params, in the posture of --posture and with the back support of --back-support, with
     the head-in-space control of --head-control and --head-control-gains."""
     return Parameters.load(args.params).seated(args.posture, args.back_support).with_head_control(_head_control(args))
@@ -43,16 +43,16 @@ def _head_control(args):
     return gains
 
 
-def _human(args, rotating_seat: bool = False) -> SeatedHuman:
-    params = _params(args)
+def human_from_args(args, rotating_seat: bool = False) -> SeatedHuman:
+    params = params_from_args(args)
     if getattr(args, "dt", None) is not None:
         params = params.at_step(args.dt, "--dt")
     body = load_body(args.segments, args.joints, args.contacts)
-    return SeatedHuman(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock), body=body,
-                       rotating_seat=rotating_seat, size=_size(args))
+    return SeatedHuman(params=params, lock=joint_list(args.lock), unlock=joint_list(args.unlock), body=body,
+                       rotating_seat=rotating_seat, size=size_from_args(args))
 
 
-def _size(args):
+def size_from_args(args):
     """A BodySize from --stature / --mass / --sitting-height, or None for the reference person."""
     if args.stature is None and args.mass is None and args.sitting_height is None:
         return None
@@ -62,14 +62,14 @@ def _size(args):
                     args.mass if args.mass is not None else REFERENCE_MASS_KG, args.sitting_height)
 
 
-def _band(values) -> tuple[float, float]:
+def checked_band(values) -> tuple[float, float]:
     lo, hi = values
     if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi):
         raise InputError(f"--band {lo:g} {hi:g}: the band needs two finite frequencies with 0 < low < high [Hz].")
     return float(lo), float(hi)
 
 
-def _read_motion_file(args):
+def read_motion_file(args):
     """The --motion file (or a shipped SYNTHETIC drive) through ehm.readers.read_motion."""
     from ..readers import mounting_rotation, parse_assignments, read_motion
 
@@ -83,7 +83,7 @@ def _read_motion_file(args):
                        encoding=getattr(args, "encoding", None))
 
 
-def _input_files(args) -> list[str]:
+def input_files(args) -> list[str]:
     """The files a command reads (--motion, --gyro, --params and the body tables), where given as files: an output
     folder that holds one would delete it (ehm.outdir.check_output_folder refuses that)."""
     from pathlib import Path

@@ -6,7 +6,7 @@ import sys
 
 from ..errors import EhmError, EhmWarning
 from .parser import build_parser
-from .progress import _end_progress_line
+from .progress import end_progress_line
 
 EXIT_ERROR = 2
 
@@ -23,7 +23,7 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
     if text in _SHOWN:
         return
     _SHOWN.add(text)
-    _end_progress_line()
+    end_progress_line()
     out = sys.stderr if file is None else file
     if issubclass(category, EhmWarning):
         print(f"ehm: warning: {text}", file=out, flush=True)
@@ -70,11 +70,11 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.func(args)
     except (EhmError, MemoryError, OSError, KeyboardInterrupt) as exc:
-        _end_progress_line()
+        end_progress_line()
         return _report_failure(exc)
     finally:
         set_command(None)
-        _end_progress_line()
+        end_progress_line()
         _report_mujoco_warnings()
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)

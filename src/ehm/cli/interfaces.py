@@ -12,22 +12,22 @@ from .. import __version__
 from ..errors import InputError
 from ..outdir import check_output_file, check_output_folder
 from ..tables import load_body
-from .common import _human, _joint_list, _params, _read_motion_file, _size
-from .options import _model_options, _motion_file_options, _progress_options, _seating_options
-from .progress import _progress_count
+from .common import human_from_args, joint_list, params_from_args, read_motion_file, size_from_args
+from .options import model_options, motion_file_options, progress_options, seating_options
+from .progress import progress_count
 
 
 # --- ehm info -------------------------------------------------------------------------------------------------------
 
 def add_info(sub) -> None:
     p = sub.add_parser("info", help="describe the model (segments, joints, degrees of freedom)")
-    _model_options(p)
+    model_options(p)
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_info)
 
 
 def cmd_info(args) -> int:
-    human = _human(args)
+    human = human_from_args(args)
     info = human.info()
     if args.json:
         print(json.dumps(info, indent=2))
@@ -53,14 +53,14 @@ def add_params(sub) -> None:
     p = sub.add_parser("params", help="print or export the parameter file")
     p.add_argument("--params", metavar="FILE.toml", help="parameter file to read (default: the shipped defaults)")
     p.add_argument("--export", metavar="FILE.toml", help="write it to a file")
-    _seating_options(p)
+    seating_options(p)
     p.set_defaults(func=cmd_params)
 
 
 def cmd_params(args) -> int:
     if args.export:
         check_output_file(args.export, "parameter file")
-    params = _params(args)
+    params = params_from_args(args)
     if args.export:
         params.export(args.export)
         print(f"wrote {args.export}")
@@ -97,8 +97,8 @@ def cmd_drive(args) -> int:
 
 def add_realtime(sub) -> None:
     p = sub.add_parser("realtime", help="step the model paced to the wall clock; report per-step latency")
-    _model_options(p)
-    _motion_file_options(p, True, "seat motion file (.csv/.txt, .parquet, .mat, .mf4), or city / road")
+    model_options(p)
+    motion_file_options(p, True, "seat motion file (.csv/.txt, .parquet, .mat, .mf4), or city / road")
     p.add_argument("--duration", type=float, help="run only this many seconds of the motion")
     p.add_argument("--no-pace", action="store_true", help="run as fast as possible (latency figures only)")
     p.add_argument("--no-comfort", action="store_true", help="skip the running comfort figures")
@@ -119,12 +119,12 @@ def _check_realtime_motion(args, motion) -> None:
 def cmd_realtime(args) -> int:
     from ..stepping import Simulator, run_realtime
 
-    motion = _read_motion_file(args)
+    motion = read_motion_file(args)
     _check_realtime_motion(args, motion)
-    params = _params(args)
-    sim = Simulator(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+    params = params_from_args(args)
+    sim = Simulator(params=params, lock=joint_list(args.lock), unlock=joint_list(args.unlock),
                     comfort=not args.no_comfort, body=load_body(args.segments, args.joints, args.contacts),
-                    size=_size(args))
+                    size=size_from_args(args))
     m = motion.resample(sim.dt_s)
     acc = m.acc_mps2 if args.duration is None else m.acc_mps2[: int(round(args.duration / sim.dt_s)) + 1]
     print(f"real-time run of {acc.shape[0] * sim.dt_s:.1f} s of '{motion.description}', one {sim.dt_s * 1000:g} ms "
@@ -153,7 +153,7 @@ def add_batch(sub) -> None:
     p.add_argument("--csv", action="store_true", help="also write results.csv")
     p.add_argument("--retry-failed", action="store_true",
                    help="when resuming, run the recorded failures again too (lost workers are always retried)")
-    _progress_options(p)
+    progress_options(p)
     p.set_defaults(func=cmd_batch)
 
 
@@ -171,7 +171,7 @@ def cmd_batch(args) -> int:
     out = check_output_folder(args.out, "study's results", added_to=True, inputs=_study_inputs(args.study, specs))
     print(f"study '{name}': {len(specs)} runs" + (f" on {scheduler}" if scheduler else ""))
     res = run_study(specs, out, scheduler=scheduler, workers=args.workers, csv=args.csv,
-                    progress=_progress_count("runs", args.quiet),
+                    progress=progress_count("runs", args.quiet),
                     retry_failed=args.retry_failed)
     if res["ran"] and res["failed"] == res["ran"]:
         raise InputError(f"all {res['ran']} runs failed; their errors are in {out}/results.parquet (output 'error').")
@@ -201,7 +201,7 @@ def _print_batch(res: dict, out: Path, csv: bool) -> None:
 def add_export_fmu(sub) -> None:
     p = sub.add_parser("export-fmu", help="write an FMI 2.0 co-simulation unit (FMU) of the person for vehicle tools")
     p.add_argument("--out", required=True, metavar="FILE.fmu", help="FMU file to write")
-    _model_options(p)
+    model_options(p)
     p.add_argument("--dt", type=float,
                    help="model step [s] (default: the parameter file's, or the posture's own converged step)")
     p.add_argument("--python", action="store_true",
@@ -219,7 +219,7 @@ def cmd_export_fmu(args) -> int:
         return _export_python_fmu(args, t0)
     from ..fmu_native import INPUTS, OUTPUTS, PLATFORM, export_native_fmu
 
-    human = _human(args, rotating_seat=args.rotating_seat)
+    human = human_from_args(args, rotating_seat=args.rotating_seat)
     path = export_native_fmu(args.out, human)
     turning = "the seat turns with them" if args.rotating_seat else "seat angular velocity must stay 0"
     print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (native C on MuJoCo, "
@@ -244,7 +244,7 @@ def _export_python_fmu(args, t0: float) -> int:
         raise InputError(f"export-fmu --python takes only --params, --posture, --back-support, --lock and --unlock, "
                          f"not {', '.join(extra)}; "
                          "export the native unit (without --python) for these.")
-    path = export_fmu(args.out, params=_params(args), lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+    path = export_fmu(args.out, params=params_from_args(args), lock=joint_list(args.lock), unlock=joint_list(args.unlock),
                       python=True)
     print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
           f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 
-_KEEP_SMALL_HELP = ("keep measured curves whose peak is below 10 %% of the largest of their kind for the same seat "
+KEEP_SMALL_HELP = ("keep measured curves whose peak is below 10 %% of the largest of their kind for the same seat "
                     "axis (left out of the criterion, with a warning listing them, by default)")
 
 
-def _seating_options(p: argparse.ArgumentParser) -> None:
+def seating_options(p: argparse.ArgumentParser) -> None:
     """--posture and --back-support: how the person sits (ehm.posture, ehm.seat)."""
     p.add_argument("--posture", metavar="NAME",
                    help="reference posture: erect, slouched, or one the parameter file defines in [postures.NAME] "
@@ -26,25 +26,25 @@ def _seating_options(p: argparse.ArgumentParser) -> None:
                         "delay_s=0.03")
 
 
-def _model_options(p: argparse.ArgumentParser) -> None:
+def model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
-    _seating_options(p)
+    seating_options(p)
     p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
     p.add_argument("--unlock", action="append", metavar="JOINT", help="unlock a joint, e.g. waist")
     p.add_argument("--segments", metavar="FILE.csv", help="segment table (default: the paper's Table 2)")
     p.add_argument("--joints", metavar="FILE.csv", help="joint table (default: the paper's Table 1)")
     p.add_argument("--contacts", metavar="FILE.csv", help="contact ellipsoid table (default: shipped)")
-    _size_options(p)
+    size_options(p)
 
 
-def _size_options(p: argparse.ArgumentParser) -> None:
-    """--stature, --mass, --sitting-height: an individual body size (ehm.scaling; read by common._size)."""
+def size_options(p: argparse.ArgumentParser) -> None:
+    """--stature, --mass, --sitting-height: an individual body size (ehm.scaling; read by common.size_from_args)."""
     p.add_argument("--stature", type=float, metavar="M", help="scale the person to this standing height [m]")
     p.add_argument("--mass", type=float, metavar="KG", help="scale the person to this body mass [kg]")
     p.add_argument("--sitting-height", type=float, metavar="M", help="sitting height [m] (default: in proportion)")
 
 
-def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
+def excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
     p.add_argument("--duration", type=float, default=duration, help=f"simulated time [s] (default {duration:g})")
     p.add_argument("--rms", type=float, default=0.3, help="rms seat acceleration of random input [m/s^2] (default 0.3)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -54,7 +54,7 @@ def _excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
                                             "own converged step: slouched 0.0005)")
 
 
-def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: str) -> None:
+def motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: str) -> None:
     """--motion FILE and how to read it: --channel, --unit (both repeatable), --encoding, --columns, --gyro,
     --mounting, --start, --end, --imu, --drop-held, --fill-gaps, --rate."""
     p.add_argument("--motion", required=required, metavar="FILE", help=help_text)
@@ -118,14 +118,14 @@ def _motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: 
                         "a warning when that loses 1 %% or more of the Wk or Wd band's power); 2 Hz to 100 kHz")
 
 
-def _progress_options(p: argparse.ArgumentParser) -> None:
+def progress_options(p: argparse.ArgumentParser) -> None:
     """--quiet: the commands that show progress on stderr (ehm.cli.progress)."""
     p.add_argument("-q", "--quiet", action="store_true",
                    help="show no progress on stderr (by default a bar on a terminal; on a pipe or a file a line "
                         "every 10 s at most)")
 
 
-def _parallel_options(p: argparse.ArgumentParser) -> None:
+def parallel_options(p: argparse.ArgumentParser) -> None:
     """--workers, --scheduler, --lead-in: the nonlinear route in segments on several cores (ehm.segments)."""
     p.add_argument("--workers", type=int, metavar="N",
                    help="run the nonlinear route in N segments on N local processes, each after a lead-in (default: "

@@ -3,7 +3,7 @@
 On a terminal a bar rewritten in place (carriage returns), ended before anything else is printed.  On a pipe or a
 file (a CI log, ``2> log.txt``) plain lines, at most one every :data:`PLAIN_EVERY_S` and only at a new tenth of the
 work, and a last one only when an earlier one was printed: a short run prints none, a 342 s assessment a handful.
-``--quiet`` (:func:`ehm.cli.options._progress_options`) prints none.  Library calls print nothing unless given a
+``--quiet`` (:func:`ehm.cli.options.progress_options`) prints none.  Library calls print nothing unless given a
 ``progress=`` function.
 """
 
@@ -24,7 +24,7 @@ def _progress_line(text: str, last: bool) -> None:
     _OPEN_LINE["open"] = not last
 
 
-def _end_progress_line() -> None:
+def end_progress_line() -> None:
     """End an unfinished progress line, so that what follows starts a line of its own."""
     if _OPEN_LINE["open"]:
         print(file=sys.stderr, flush=True)
@@ -55,7 +55,7 @@ class _Progress:
             self.tenth, self.last, self.printed = tenth, now, True
 
 
-def _progress_bar(label: str, quiet: bool = False):
+def progress_bar(label: str, quiet: bool = False):
     """Progress of a run through a drive, ``show(done_s, total_s)``; None when ``quiet``."""
     def text(done_s, total_s, frac, tty):
         if tty:
@@ -64,6 +64,6 @@ def _progress_bar(label: str, quiet: bool = False):
     return None if quiet else _Progress(text)
 
 
-def _progress_count(what: str, quiet: bool = False):
+def progress_count(what: str, quiet: bool = False):
     """Progress counted in items, ``show(done, total)`` ("3 / 10 runs done"); None when ``quiet``."""
     return None if quiet else _Progress(lambda done, total, frac, tty: f"  {done} / {total} {what} done")

@@ -12,9 +12,9 @@ from ..io import write_json_atomic
 from ..motion import random_vibration, sine, sweep
 from ..outdir import RunFolder, check_output_file, check_output_folder
 from ..runfiles import DEFAULT_OUTPUT_RATE_HZ
-from .common import _band, _human, _input_files, _read_motion_file
-from .options import _excitation_options, _model_options, _motion_file_options, _parallel_options, _progress_options
-from .progress import _progress_bar
+from .common import checked_band, human_from_args, input_files, read_motion_file
+from .options import excitation_options, model_options, motion_file_options, parallel_options, progress_options
+from .progress import progress_bar
 
 #: The demo's transfer functions: Welch segments of 10 s (0.1 Hz resolution, as its peaks are printed), at least
 #: four of them per run (seven averages with the 50 % overlap), so a run lasts at least 40 s.
@@ -23,7 +23,7 @@ DEMO_MIN_SEGMENTS = 4
 
 
 def _random_input(args, axis: str, dt: float):
-    return random_vibration(axis, args.duration, args.rms, seed=args.seed, dt_s=dt, band_hz=_band(args.band))
+    return random_vibration(axis, args.duration, args.rms, seed=args.seed, dt_s=dt, band_hz=checked_band(args.band))
 
 
 def _motion(args, dt: float):
@@ -38,15 +38,15 @@ def _motion(args, dt: float):
 
 def add_simulate(sub) -> None:
     p = sub.add_parser("simulate", help="run the model with a seat motion and write timeseries.csv, summary.json")
-    _model_options(p)
-    _excitation_options(p, 35.0)
+    model_options(p)
+    excitation_options(p, 35.0)
     p.add_argument("--axis", default="z", help="excited seat axes: x, y, z or a combination (default z)")
     p.add_argument("--signal", choices=("random", "sine", "sweep"), default="random", help="generated input (default random)")
     p.add_argument("--amplitude", type=float, default=0.5, help="sine or sweep peak acceleration [m/s^2]")
     p.add_argument("--freq", type=float, default=4.0, help="sine frequency [Hz]")
     p.add_argument("--f0", type=float, default=0.5, help="sweep start frequency [Hz]")
     p.add_argument("--f1", type=float, default=12.0, help="sweep end frequency [Hz]")
-    _motion_file_options(p, False, "seat motion file (.csv/.txt, .parquet, .mat, .mf4, or city / road): time_s, "
+    motion_file_options(p, False, "seat motion file (.csv/.txt, .parquet, .mat, .mf4, or city / road): time_s, "
                                    "ax_mps2, ay_mps2, az_mps2 [, wx_radps, wy_radps, wz_radps] unless --channel says")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (replaced whole: one run per folder)")
     p.add_argument("--output-rate", type=float, metavar="HZ",
@@ -58,8 +58,8 @@ def add_simulate(sub) -> None:
                         "(default csv)")
     p.add_argument("--plot", action="store_true", help="also draw time_histories.png")
     _route_options(p)
-    _parallel_options(p)
-    _progress_options(p)
+    parallel_options(p)
+    progress_options(p)
     p.set_defaults(func=cmd_simulate)
 
 
@@ -90,21 +90,21 @@ def cmd_simulate(args) -> int:
     formats = ("csv", "parquet") if args.format == "both" else (args.format,)
     if "parquet" in formats:
         pyarrow_modules()
-    out = check_output_folder(args.out, inputs=_input_files(args))
+    out = check_output_folder(args.out, inputs=input_files(args))
     if args.motion:  # a drive file with angular velocities needs the rotating seat
-        motion = _read_motion_file(args)
+        motion = read_motion_file(args)
         from ..assessment import needs_rotating_seat
 
-        human = _human(args, rotating_seat=needs_rotating_seat(motion, args.method))
+        human = human_from_args(args, rotating_seat=needs_rotating_seat(motion, args.method))
     else:
-        human = _human(args)
+        human = human_from_args(args)
         motion = _motion(args, float(human.params.value("simulation.dt_s")))
     draw = None
     if args.plot:  # simulate_to computes; the figure is drawn here, into the folder before it is put in place
         from ..plotting import plot_run_preview as draw
     t0 = time.perf_counter()
     with _segments(args) as parallel:
-        show = _progress_bar("simulate", args.quiet)
+        show = progress_bar("simulate", args.quiet)
         chunks = None if parallel is None else parallel(human, motion, progress=show, chunk_s=10.0, pose_rate_hz=25.0)
         s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats, progress=show,
                               plot=draw, method=args.method, tolerance=_tolerance(args), chunks=chunks)
@@ -162,9 +162,9 @@ def _segments(args):
     if scheduler is None:
         yield _Parallel(workers, None, lead)
         return
-    from ..cluster import _dask_client, check_scheduler
+    from ..cluster import dask_client, check_scheduler
 
-    with _dask_client(check_scheduler(scheduler), None) as client:
+    with dask_client(check_scheduler(scheduler), None) as client:
         yield _Parallel(1, client, lead)
 
 
@@ -172,8 +172,8 @@ def _segments(args):
 
 def add_demo(sub) -> None:
     p = sub.add_parser("demo", help="x, y and z random vibration of the default model, with plots")
-    _model_options(p)
-    _excitation_options(p, 60.0)
+    model_options(p)
+    excitation_options(p, 60.0)
     p.add_argument("--axes", nargs="+", default=["x", "y", "z"], choices=("x", "y", "z"),
                    help="seat axes to run, one run each (default x y z)")
     p.add_argument("--out", default="ehm-demo", metavar="DIR", help="output folder (default ehm-demo)")
@@ -191,8 +191,8 @@ def _check_demo_duration(duration_s: float) -> None:
 
 def cmd_demo(args) -> int:
     _check_demo_duration(args.duration)
-    final = check_output_folder(args.out, inputs=_input_files(args))
-    human = _human(args)
+    final = check_output_folder(args.out, inputs=input_files(args))
+    human = human_from_args(args)
     dt = float(human.params.value("simulation.dt_s"))
     print(f"ehm demo: default person ({human.mass_kg:.3f} kg, {human.dof} dof) on the validation seat; "
           f"{args.duration:g} s of {args.rms:g} m/s^2 rms random vibration per axis; output in {final}/")
@@ -248,16 +248,16 @@ def _transmissibility_peaks(table) -> dict:
 
 def add_assess(sub) -> None:
     p = sub.add_parser("assess", help="comfort (ISO 2631-1) and motion sickness of a drive, at the seat and the body")
-    _model_options(p)
-    _motion_file_options(p, True, "drive file (.csv/.txt, .parquet, .mat, .mf4: time_s, ax_mps2, ay_mps2, az_mps2 "
+    model_options(p)
+    motion_file_options(p, True, "drive file (.csv/.txt, .parquet, .mat, .mf4: time_s, ax_mps2, ay_mps2, az_mps2 "
                                   "[, wx_radps, wy_radps, wz_radps] unless --channel says) or 'city' / 'road' for the "
                                   "shipped SYNTHETIC drives")
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
     _route_options(p)
     _exposure_options(p)
-    _parallel_options(p)
-    _progress_options(p)
+    parallel_options(p)
+    progress_options(p)
     p.set_defaults(func=cmd_assess)
 
 
@@ -286,14 +286,14 @@ def _exposure(args):
 def cmd_assess(args) -> int:
     from ..assessment import assess, needs_rotating_seat
 
-    final = check_output_folder(args.out, inputs=_input_files(args))
+    final = check_output_folder(args.out, inputs=input_files(args))
     exposure = _exposure(args)
-    motion = _read_motion_file(args)
-    human = _human(args, rotating_seat=needs_rotating_seat(motion, args.method))
+    motion = read_motion_file(args)
+    human = human_from_args(args, rotating_seat=needs_rotating_seat(motion, args.method))
     with _segments(args) as parallel:
         kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
                                           "lead_in_s": parallel.lead_in_s}
-        result = assess(motion, human, progress=_progress_bar("assess", args.quiet), method=args.method,
+        result = assess(motion, human, progress=progress_bar("assess", args.quiet), method=args.method,
                         tolerance=_tolerance(args), exposure=exposure, **kw)
     summary = _assessment_summary(result, human)
     with RunFolder(final) as out:

@@ -14,10 +14,10 @@ from ..outdir import RunFolder, check_output_file, check_output_folder
 from ..params import Parameters, refuse_defaults
 from ..tables import load_body
 from ..timestep import check_time_step
-from .common import _band, _human, _input_files, _joint_list, _params, _read_motion_file, _size
-from .options import (_KEEP_SMALL_HELP, _excitation_options, _model_options, _motion_file_options,
-                      _progress_options, _seating_options, _size_options)
-from .progress import _end_progress_line, _progress_count
+from .common import checked_band, human_from_args, input_files, joint_list, params_from_args, read_motion_file, size_from_args
+from .options import (KEEP_SMALL_HELP, excitation_options, model_options, motion_file_options,
+                      progress_options, seating_options, size_options)
+from .progress import end_progress_line, progress_count
 
 #: ehm validate: the person was evaluated, and some check does not pass.
 EXIT_CHECKS_FAILED = 1
@@ -30,14 +30,14 @@ EXIT_NOT_IDENTIFIED = 3
 
 def add_frf(sub) -> None:
     p = sub.add_parser("frf", help="seat-to-body frequency responses (time-domain H1 or linearised model)")
-    _model_options(p)
-    _excitation_options(p, 60.0)
+    model_options(p)
+    excitation_options(p, 60.0)
     p.add_argument("--axis", default="all", choices=("x", "y", "z", "all"), help="input axis (default all)")
     p.add_argument("--method", default="linear", choices=("time", "linear"), help="estimation route (default linear)")
     p.add_argument("--df", type=float, default=0.05, help="frequency step of the linear method [Hz] (default 0.05)")
     p.add_argument("--route", choices=("nonlinear", "linear"), default="nonlinear",
                    help="simulation route of the time method's runs (default nonlinear)")
-    _motion_file_options(p, False, "time method: run the model with this measured seat motion instead of random "
+    motion_file_options(p, False, "time method: run the model with this measured seat motion instead of random "
                                    "vibration (H1 per excited seat axis)")
     p.add_argument("--out", required=True, metavar="FRF.csv|FRF.parquet")
     p.set_defaults(func=cmd_frf)
@@ -54,16 +54,16 @@ def _linear_frequencies(df: float, band: tuple[float, float]) -> np.ndarray:
 def cmd_frf(args) -> int:
     from ..frf import linear_frf, time_domain_frf
 
-    band = _band(args.band)
+    band = checked_band(args.band)
     check_output_file(args.out, "FRF table")
-    human = _human(args)
+    human = human_from_args(args)
     if args.motion and args.method == "linear":
         raise InputError("--motion: a measured seat motion needs the time method (--method time).")
     if args.method == "linear":
         table = linear_frf(human, args.axis, freq_hz=_linear_frequencies(args.df, band))
     else:
         table = time_domain_frf(human, args.axis, duration_s=args.duration, rms_mps2=args.rms, seed=args.seed,
-                                band_hz=band, route=args.route, motion=_read_motion_file(args) if args.motion else None)
+                                band_hz=band, route=args.route, motion=read_motion_file(args) if args.motion else None)
     table.write(args.out)  # CSV, or Parquet for a .parquet name
     print(f"wrote {args.out}: {len(table.curves)} curves ({args.method} method)")
     return 0
@@ -77,7 +77,7 @@ def add_compare(sub) -> None:
     p.add_argument("--frf", required=True, metavar="MODEL.csv", help="model gains from 'ehm frf' (.csv or .parquet)")
     p.add_argument("--band", type=float, nargs=2, default=(0.1, 12.0), metavar=("LOW_HZ", "HIGH_HZ"),
                    help="frequency band of the criterion (default 0.1 12)")
-    p.add_argument("--keep-small-curves", action="store_true", help=_KEEP_SMALL_HELP)
+    p.add_argument("--keep-small-curves", action="store_true", help=KEEP_SMALL_HELP)
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_compare)
 
@@ -86,7 +86,7 @@ def cmd_compare(args) -> int:
     from ..criterion import compare
     from ..frf import read_frf
 
-    result = compare(read_frf(args.data), read_frf(args.frf), _band(args.band), keep_small=args.keep_small_curves)
+    result = compare(read_frf(args.data), read_frf(args.frf), checked_band(args.band), keep_small=args.keep_small_curves)
     if args.json:
         print(json.dumps(result.as_dict(), indent=2))
     else:
@@ -100,7 +100,7 @@ def cmd_compare(args) -> int:
 
 def add_fit(sub) -> None:
     p = sub.add_parser("fit", help="identify parameters from measured gains (writes a new parameter file)")
-    _model_options(p)
+    model_options(p)
     p.add_argument("--data", required=True, metavar="EXP.csv", help="measured gains (long format)")
     p.add_argument("--free", nargs="+", metavar="PATTERN",
                    help="parameters to fit, glob patterns of dotted names (default: neck and spine joints)")
@@ -111,11 +111,11 @@ def add_fit(sub) -> None:
                         "status 3 when the fit stops on it")
     p.add_argument("--workers", type=int, help="processes for the finite differences (default: 2 or the cores)")
     p.add_argument("--no-time-check", action="store_true", help="skip the time-domain check of the result")
-    p.add_argument("--keep-small-curves", action="store_true", help=_KEEP_SMALL_HELP)
+    p.add_argument("--keep-small-curves", action="store_true", help=KEEP_SMALL_HELP)
     p.add_argument("--out", required=True, metavar="FITTED.toml",
                    help="parameter file to write when the fit lowered the criterion; exit status 3 when it is not "
                         "identified (a value that ended on its search bound is written with grade 'at bound')")
-    _progress_options(p)
+    progress_options(p)
     p.set_defaults(func=cmd_fit)
 
 
@@ -123,14 +123,14 @@ def _fit_inputs(args):
     """The checked inputs of a fit, in the order their problems are reported: band, measured gains, parameters, body."""
     from ..frf import read_frf
 
-    if _size(args) is not None:
+    if size_from_args(args) is not None:
         raise InputError("--stature/--mass/--sitting-height: ehm fit identifies the reference person's parameters; "
                          "fit without them (body sizes scale a parameter file when it is used).")
     check_output_file(args.out, "parameter file")
     refuse_defaults(args.out)
-    band = _band(args.band)
+    band = checked_band(args.band)
     data = read_frf(args.data)
-    params = _params(args)
+    params = params_from_args(args)
     body = load_body(args.segments, args.joints, args.contacts)
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers {args.workers}: use 1 or more processes.")
@@ -141,7 +141,7 @@ def cmd_fit(args) -> int:
     from ..fit import fit, print_progress, write_identified
 
     band, data, params, body = _fit_inputs(args)
-    result = fit(data, params=params, free=args.free, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
+    result = fit(data, params=params, free=args.free, lock=joint_list(args.lock), unlock=joint_list(args.unlock),
                  body=body, band_hz=band, max_evals=args.max_evals, workers=args.workers,
                  time_check=not args.no_time_check, progress=None if args.quiet else print_progress,
                  keep_small_curves=args.keep_small_curves)
@@ -151,7 +151,7 @@ def cmd_fit(args) -> int:
     _print_fit(result)
     print(f"wrote {args.out}" if written else f"no parameter file written ({args.out} left as it was)")
     if not result.identified:
-        _end_progress_line()
+        end_progress_line()
         print(f"ehm: fit: {result.verdict}", file=sys.stderr)
         return EXIT_NOT_IDENTIFIED
     return 0
@@ -216,7 +216,7 @@ def add_study(sub) -> None:
     ssub = p.add_subparsers(dest="study", required=True)
     q = ssub.add_parser("locking", help="baseline, spine locked (SL), neck locked (NL) and named variants")
     q.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
-    _seating_options(q)
+    seating_options(q)
     q.add_argument("--variant", action="append", metavar="NAME=J1,J2", help="another variant to run")
     q.add_argument("--method", default="linear", choices=("linear", "time"),
                    help="transfer functions of the linearised person (default) or of random-vibration runs")
@@ -235,9 +235,9 @@ def cmd_study_locking(args) -> int:
     for v in args.variant or []:
         name, joints = parse_variant(v)
         variants[name] = joints
-    band = _band(args.band)
-    params = _params(args)
-    final = check_output_folder(args.out, inputs=_input_files(args))
+    band = checked_band(args.band)
+    params = params_from_args(args)
+    final = check_output_folder(args.out, inputs=input_files(args))
     study = locking_study(params=params, variants=variants, method=args.method, band_hz=band,
                           duration_s=args.duration, progress=print)
     with RunFolder(final) as out:
@@ -295,14 +295,14 @@ def add_validate(sub) -> None:
                     "seat-to-head bands and the locking findings); with either, in that one condition, every "
                     "check.  Exit status: 0 when every check passes, 1 when some check fails, 2 on bad input.")
     p.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
-    _seating_options(p)
-    _size_options(p)
+    seating_options(p)
+    size_options(p)
     p.add_argument("--dt", type=float, help="time step the person is linearised at [s] (default: its own)")
     p.add_argument("--no-locking", action="store_true",
                    help="leave out the paper's joint-locking findings (three fewer linearisations)")
     p.add_argument("--out", metavar="DIR",
                    help="output folder: " + ", ".join(VALIDATION_FILES) + " (default: print the table only)")
-    _progress_options(p)
+    progress_options(p)
     p.set_defaults(func=cmd_validate)
 
 
@@ -311,11 +311,11 @@ def cmd_validate(args) -> int:
 
     if args.dt is not None:
         check_time_step(args.dt, "--dt")
-    final = None if args.out is None else check_output_folder(args.out, inputs=_input_files(args))
-    validation = validate(Parameters.load(args.params), size=_size(args), posture=args.posture,
+    final = None if args.out is None else check_output_folder(args.out, inputs=input_files(args))
+    validation = validate(Parameters.load(args.params), size=size_from_args(args), posture=args.posture,
                           back_support=args.back_support, locking=not args.no_locking, dt_s=args.dt,
-                          progress=_progress_count("linearisations", args.quiet))
-    _end_progress_line()
+                          progress=progress_count("linearisations", args.quiet))
+    end_progress_line()
     print(validation.format_table())
     if final is not None:
         with RunFolder(final) as out:
@@ -342,7 +342,7 @@ def _write_validation(validation, out: Path) -> None:
 
 def add_check_step(sub) -> None:
     p = sub.add_parser("check-step", help="transfer functions at a time step against the same model at finer steps")
-    _model_options(p)
+    model_options(p)
     p.add_argument("--dt", type=float, help="time step to check [s] (default: the person's: the parameter file's "
                                             "0.001, or the posture's own converged step: slouched 0.0005)")
     p.add_argument("--ratio", type=int, nargs="+", default=[8, 4], help="finer steps as divisors (default: 8 4)")
@@ -359,8 +359,8 @@ def cmd_check_step(args) -> int:
     if any(body_args):
         raise InputError("check-step uses the shipped body tables; --segments, --joints and --contacts are not "
                          "supported here.")
-    check = check_step(_params(args), dt_s=args.dt, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
-                       size=_size(args), ratios=args.ratio)
+    check = check_step(params_from_args(args), dt_s=args.dt, lock=joint_list(args.lock), unlock=joint_list(args.unlock),
+                       size=size_from_args(args), ratios=args.ratio)
     if args.json:
         _print_step_check_json(check)
     else:

@@ -34,7 +34,6 @@ from .streaming import ComfortAccumulator
 from .values import ComfortMetrics, comfort_reaction, metrics, seat_value, total_value
 from .weighting import (ACCURATE_UP_TO_FS, BAND_WARNING_SHARE, WEIGHTING_BANDS_HZ, WEIGHTINGS, WeightingFilter,
                         band_share_outside, frequency_weighting, weight, weighting_deviation_db, weighting_sos)
-from .weighting import _WARNED  # noqa: F401  (the (weighting, rate) pairs already warned about)
 
 __all__ = [
     "WEIGHTINGS", "ACCURATE_UP_TO_FS", "frequency_weighting", "weighting_sos", "weighting_deviation_db", "weight",

@@ -7,7 +7,7 @@ import math
 from ..errors import InputError, finite_samples
 
 
-def _positive_float(value, arg: str) -> float:
+def positive_float(value, arg: str) -> float:
     try:
         out = float(value)
     except (TypeError, ValueError):
@@ -17,7 +17,7 @@ def _positive_float(value, arg: str) -> float:
     return out
 
 
-def _non_negative_float(value, arg: str, what: str = "number") -> float:
+def non_negative_float(value, arg: str, what: str = "number") -> float:
     try:
         out = float(value)
     except (TypeError, ValueError):
@@ -27,5 +27,5 @@ def _non_negative_float(value, arg: str, what: str = "number") -> float:
     return out
 
 
-def _signal_1d(values, arg: str):
+def signal_1d(values, arg: str):
     return finite_samples(arg, values)

@@ -47,7 +47,7 @@ from scipy import signal as _sig
 
 from ..errors import EhmWarning, InputError
 from ..references import ISO2631_5_POLES, ISO2631_5_ZERO
-from .checks import _positive_float, _signal_1d
+from .checks import positive_float, signal_1d
 
 __all__ = [
     "SpineExposure", "SpinalDose", "LumbarResponse", "SpinalDoseAccumulator", "lumbar_sections",
@@ -217,7 +217,7 @@ def lumbar_sections(fs_hz: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _filter_rate(fs_hz) -> float:
-    fs = _positive_float(fs_hz, "fs_hz")
+    fs = positive_float(fs_hz, "fs_hz")
     if fs < FILTER_MIN_RATE_HZ:
         raise InputError(f"the lumbar filter runs at {FILTER_MIN_RATE_HZ:g} Hz or faster, not {fs:g} Hz (the "
                          "analog poles reach 67 Hz); upsample the record, or use lumbar_response / spinal_dose, "
@@ -243,7 +243,7 @@ def response_peaks(response) -> np.ndarray:
         The peaks [m/s^2] in the order they occur (a run still positive at the end counts).
     """
     acc = SpinalDoseAccumulator(FILTER_MIN_RATE_HZ, lumbar=True)  # the rate only times the largest peak
-    acc.add(_signal_1d(response, "response"))
+    acc.add(signal_1d(response, "response"))
     return acc.peaks()
 
 
@@ -265,8 +265,8 @@ def daily_dose(dose_mps2: float, measured_s: float, daily_exposure_h: float) -> 
     daily_exposure_h : float
         ``t_d``: the daily exposure [h].
     """
-    t_m = _positive_float(measured_s, "measured_s")
-    t_d = 3600.0 * _positive_float(daily_exposure_h, "daily_exposure_h")
+    t_m = positive_float(measured_s, "measured_s")
+    t_d = 3600.0 * positive_float(daily_exposure_h, "daily_exposure_h")
     return float(dose_mps2 * (t_d / t_m) ** (1.0 / DOSE_EXPONENT))
 
 
@@ -367,7 +367,7 @@ class SpinalDoseAccumulator:
     """
 
     def __init__(self, fs_hz: float, lumbar: bool = False):
-        self.fs_hz = _positive_float(fs_hz, "fs_hz") if lumbar else _filter_rate(fs_hz)
+        self.fs_hz = positive_float(fs_hz, "fs_hz") if lumbar else _filter_rate(fs_hz)
         self.lumbar = bool(lumbar)
         self._b, self._a = (None, None) if lumbar else _sections(self.fs_hz)
         self._zi = None
@@ -381,7 +381,7 @@ class SpinalDoseAccumulator:
         x = np.asarray(block, dtype=float)
         if x.size == 0:  # nothing to add (a block of a split may be empty)
             return np.zeros(0)
-        x = _signal_1d(x, "block")
+        x = signal_1d(x, "block")
         y = x if self.lumbar else self._filter(x)
         self._collect(y)
         self._n += y.size
@@ -440,7 +440,7 @@ class SpinalDoseAccumulator:
             How the lumbar response was had, for the record.
         """
         e = _exposure(exposure)
-        t_m = self._n / self.fs_hz if measured_s is None else _positive_float(measured_s, "measured_s")
+        t_m = self._n / self.fs_hz if measured_s is None else positive_float(measured_s, "measured_s")
         if self._n == 0:
             raise InputError("the ISO 2631-5 dose needs a record; no sample was fed.")
         peaks = self.peaks()
@@ -481,8 +481,8 @@ def lumbar_response(seat_az_mps2, fs_hz: float, remove_mean: bool = True) -> Lum
     LumbarResponse
         ``acc_mps2`` [m/s^2] and ``fs_hz``: the record's rate, or the rate it was upsampled to.
     """
-    x = _signal_1d(seat_az_mps2, "seat_az_mps2")
-    fs = _positive_float(fs_hz, "fs_hz")
+    x = signal_1d(seat_az_mps2, "seat_az_mps2")
+    fs = positive_float(fs_hz, "fs_hz")
     if x.size == 0:
         raise InputError("seat_az_mps2 is empty; the lumbar response needs a record.")
     if fs / 2.0 < _TIGHT_BAND_HZ:
@@ -519,7 +519,7 @@ def spinal_dose(seat_az_mps2, fs_hz: float, exposure: SpineExposure | None = Non
     SpinalDose
     """
     response = lumbar_response(seat_az_mps2, fs_hz)
-    fs = _positive_float(fs_hz, "fs_hz")
+    fs = positive_float(fs_hz, "fs_hz")
     route = (f"ISO 2631-5 Formula 1 from the seat's z acceleration at {fs:g} Hz, mean removed" +
              (f", upsampled to {response.fs_hz:g} Hz" if response.fs_hz != fs else ""))
     t_m = measured_s if measured_s is not None else response.acc_mps2.size / response.fs_hz

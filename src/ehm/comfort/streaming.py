@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .checks import _positive_float, _signal_1d
+from .checks import positive_float, signal_1d
 from .values import ComfortMetrics
 from .weighting import WeightingFilter
 
@@ -29,10 +29,10 @@ class ComfortAccumulator:
     """
 
     def __init__(self, weighting: str, fs_hz: float, tau_s: float = 1.0, keep_every: int = 100):
-        self.fs = _positive_float(fs_hz, "fs_hz")
+        self.fs = positive_float(fs_hz, "fs_hz")
         self._w = WeightingFilter(weighting, self.fs)
         self._wf = WeightingFilter("Wf", self.fs)
-        self._n_tau = int(round(_positive_float(tau_s, "tau_s") * self.fs))
+        self._n_tau = int(round(positive_float(tau_s, "tau_s") * self.fs))
         if self._n_tau < 1:
             raise InputError(f"tau_s must span at least one sample at {self.fs:g} Hz; got {tau_s!r}.")
         self._keep = max(1, int(keep_every))
@@ -45,7 +45,7 @@ class ComfortAccumulator:
 
     def add(self, block) -> np.ndarray:
         """Feed the next samples [m/s^2]; returns their weighted values."""
-        x = _signal_1d(block, "block")
+        x = signal_1d(block, "block")
         aw = self._w.process(x)
         awf = self._wf.process(x)
         sq = aw * aw

@@ -10,8 +10,8 @@ import numpy as np
 from scipy import signal as _sig
 
 from ..errors import InputError
-from .checks import _non_negative_float, _positive_float, _signal_1d
-from .weighting import _canonical_name, start_level, steady_state, weight, weighting_sos
+from .checks import non_negative_float, positive_float, signal_1d
+from .weighting import canonical_name, start_level, steady_state, weight, weighting_sos
 
 _PURPOSES = ("comfort", "health")
 
@@ -100,14 +100,14 @@ def metrics(signal, fs_hz: float, weighting: str | None = "Wk", *, tau_s: float 
     the signal taken as zero before the record starts (the window holds ``round(tau_s * fs_hz)``
     samples); the exponential-averaging alternative of 6.3.1 is not used.  MTVV is its maximum.
     """
-    x = _signal_1d(signal, "signal")
-    fs = _positive_float(fs_hz, "fs_hz")
-    tau = _positive_float(tau_s, "tau_s")
+    x = signal_1d(signal, "signal")
+    fs = positive_float(fs_hz, "fs_hz")
+    tau = positive_float(tau_s, "tau_s")
     if weighting is None:
         aw = x
         msdv = None
     else:
-        key = _canonical_name(weighting, "weighting")
+        key = canonical_name(weighting, "weighting")
         sos, sos_f = weighting_sos(key, fs), weighting_sos("Wf", fs)
         level = start_level(x, fs)
         aw = _sig.sosfilt(sos, x, zi=steady_state(sos, level))[0]
@@ -163,7 +163,7 @@ def total_value(ax, ay, az, fs_hz: float, purpose: str = "comfort", seated: bool
         raise InputError(
             "purpose 'health' applies to seated persons only (ISO 2631-1 clause 7); got seated=False."
         )
-    axes = [_signal_1d(a, n) for a, n in ((ax, "ax"), (ay, "ay"), (az, "az"))]
+    axes = [signal_1d(a, n) for a, n in ((ax, "ax"), (ay, "ay"), (az, "az"))]
     if not axes[0].size == axes[1].size == axes[2].size:
         raise InputError(
             f"ax, ay and az must have the same length; got {axes[0].size}, {axes[1].size} and {axes[2].size}."
@@ -214,7 +214,7 @@ def comfort_reaction(a_w: float) -> str:
     str
         e.g. ``"a little uncomfortable / fairly uncomfortable"`` for 0.55 m/s^2.
     """
-    a = _non_negative_float(a_w, "a_w", "acceleration in m/s^2")
+    a = non_negative_float(a_w, "a_w", "acceleration in m/s^2")
     return " / ".join(label for lo, hi, label in _REACTIONS if lo <= a < hi)
 
 
@@ -239,6 +239,6 @@ def seat_value(a_w_body: float, a_w_seat: float) -> float:
     float
         SEAT [%].
     """
-    body = _non_negative_float(a_w_body, "a_w_body")
-    seat = _positive_float(a_w_seat, "a_w_seat")
+    body = non_negative_float(a_w_body, "a_w_body")
+    seat = positive_float(a_w_seat, "a_w_seat")
     return 100.0 * body / seat

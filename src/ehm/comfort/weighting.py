@@ -31,7 +31,7 @@ from scipy import optimize as _opt
 from scipy import signal as _sig
 
 from ..errors import EhmWarning, InputError, frequencies_hz
-from .checks import _positive_float, _signal_1d
+from .checks import positive_float, signal_1d
 
 _Q_BAND = 1.0 / math.sqrt(2.0)
 
@@ -49,7 +49,7 @@ _PARAMETERS: dict[str, tuple[float | None, ...]] = {
 WEIGHTINGS: tuple[str, ...] = tuple(_PARAMETERS)
 
 
-def _canonical_name(name, arg: str = "name") -> str:
+def canonical_name(name, arg: str = "name") -> str:
     if isinstance(name, str):
         for key in _PARAMETERS:
             if key.lower() == name.strip().lower():
@@ -100,7 +100,7 @@ def frequency_weighting(name: str, freq_hz) -> np.ndarray:
     ndarray of complex
         Response W(j 2 pi f), same shape as ``freq_hz``; ``abs`` gives the weighting factor.
     """
-    key = _canonical_name(name)
+    key = canonical_name(name)
     f = frequencies_hz(freq_hz)
     s = 2j * np.pi * f
     out = np.ones(f.shape, dtype=complex)
@@ -141,7 +141,7 @@ def _prewarp(w: float, fs: float) -> float:
 
 
 def _sample_rate(name: str, fs_hz) -> float:
-    fs = _positive_float(fs_hz, "fs_hz")
+    fs = positive_float(fs_hz, "fs_hz")
     f1 = _PARAMETERS[name][0]
     if fs < _MIN_FS_PER_F1 * f1:
         raise InputError(f"fs_hz must be at least {_MIN_FS_PER_F1:g} times the lower band edge of {name} "
@@ -315,7 +315,7 @@ def weighting_sos(name: str, fs_hz: float) -> np.ndarray:
     (n_sections, 6) ndarray
         ``[b0, b1, b2, 1, a1, a2]`` rows for ``scipy.signal.sosfilt``.
     """
-    key = _canonical_name(name)
+    key = canonical_name(name)
     fs = _sample_rate(key, fs_hz)
     _warn_band_beyond_nyquist(key, fs)
     return _fitted_sos(key, fs).copy()
@@ -332,7 +332,7 @@ def weighting_deviation_db(name: str, fs_hz: float, up_to_fs: float = ACCURATE_U
     (float, float)
         The largest ``|20 log10 |H_digital / W_analog||`` [dB] and the frequency where it occurs [Hz].
     """
-    key = _canonical_name(name)
+    key = canonical_name(name)
     fs = _sample_rate(key, fs_hz)
     f1 = _PARAMETERS[key][0]
     top = float(up_to_fs) * fs
@@ -370,7 +370,7 @@ def weight(name: str, signal, fs_hz: float) -> np.ndarray:
         Weighted acceleration, same units as ``signal``.
     """
     sos = weighting_sos(name, fs_hz)
-    x = _signal_1d(signal, "signal")
+    x = signal_1d(signal, "signal")
     return _sig.sosfilt(sos, x, zi=steady_state(sos, start_level(x, fs_hz)))[0]
 
 
@@ -412,7 +412,7 @@ def band_share_outside(name: str, low_hz: float, high_hz: float) -> float:
     the standard's one-third-octave bands); the share is the part of that integral below ``low_hz`` or
     above ``high_hz``.  0 when the input covers the whole band.
     """
-    key = _canonical_name(name)
+    key = canonical_name(name)
     lo, hi = WEIGHTING_BANDS_HZ[key]
     f = np.geomspace(lo, hi, 4001)
     p = np.abs(frequency_weighting(key, f)) ** 2
@@ -440,7 +440,7 @@ class WeightingFilter:
 
     def __init__(self, name: str, fs_hz: float):
         self.sos = weighting_sos(name, fs_hz)
-        self.name = _canonical_name(name)
+        self.name = canonical_name(name)
         self.fs_hz = float(fs_hz)
         self._zi = None  # set by the first block: the steady state for its start level (as weight does)
 

@@ -44,7 +44,7 @@ the tests):
 * The damping of trunk and neck joints is integrated by the trapezoidal rule, so that the step's error is
   of second order in it: half of it is MuJoCo joint damping, which the Euler integrator treats implicitly
   (the velocity at the step's end), and half an actuator whose bias force is -c/2 times the joint velocity,
-  which it treats explicitly (the velocity at the step's start) (:func:`_split_damping`).  The other
+  which it treats explicitly (the velocity at the step's start) (:func:`split_damping`).  The other
   joints' damping is implicit.
 * Contacts are explicit ellipsoid-plane pairs with a linear spring K and damper B on penetration,
   elliptic friction cones and the NoSlip solver; seat and backrest ellipsoids ride on soft-tissue pads
@@ -66,17 +66,16 @@ the tests):
 from .builder import build
 from .control import HeadControl
 from .control_linear import CONTROL_INPUTS, Feedback, close_loop, closed_linear_model, delay_line, feedback
-from .diagnostics import (CHECK_EVERY, DIVERGED_M, _build_error, _diverged, _instability, captured_warnings,
-                          dof_name, take_warnings)
+from .diagnostics import CHECK_EVERY, DIVERGED_M, captured_warnings, dof_name, take_warnings
 from .export import c_library, drawing_geometry, save_binary
 from .inertia import PAD_INERTIA_KGM2, ImpossibleInertia, inertia_problem, segment_mass_properties
-from .laws import FRICTION_SOFTNESS, TRAPEZOIDAL_JOINTS, _split_damping, contact_solver_params
+from .laws import FRICTION_SOFTNESS, TRAPEZOIDAL_JOINTS, contact_solver_params
 from .linearisation import (FIELD_INPUTS, OUTPUT_DOFS, ROTATION_INPUTS, S_ENTRIES, LinearModel, linearize,
                              rotation_loads, seat_pivot)
 from .model import G0, POINT_JOINTS, POINTS, SUPPORT_GROUPS, Model
 from .seat import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, seated_body
-from .sensors import (SENSOR_KINDS, _contact_name, contact_forces, sensor_slices, sliding_contacts,
-                      support_forces, support_slices, touching_contacts)
+from .sensors import (SENSOR_KINDS, contact_forces, sensor_slices, sliding_contacts, support_forces, support_slices,
+                      touching_contacts)
 from .state import (data_at_deviation, deviation_of, get_state, new_data, qpos_at_deviation, rotating_data_at,
                     rotating_qpos, set_seat, set_state, settle, settled_data, settled_point_poses, static_deviation_of)
 from .stepper import RawRun, deviation_poses, evaluate_velocities, point_accelerations, run, step

@@ -13,13 +13,13 @@ from ..errors import InputError
 from ..params import Parameters
 from ..tables import Body
 from . import control as _control
-from .diagnostics import _build_error, captured_warnings
+from .diagnostics import build_error, captured_warnings
 from .inertia import PAD_INERTIA_KGM2, pad_masses, segment_mass_properties
-from .laws import _split_damping, contact_solver_params
+from .laws import split_damping, contact_solver_params
 from .model import G0, POINT_JOINTS, POINTS, Model
 from .seat import (SEAT_BANDWIDTH_HZ, SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, quat_pitch,
                    quat_z_to, seated_body)
-from .sensors import _REDUCE_NETFORCE, SENSOR_KINDS
+from .sensors import REDUCE_NETFORCE, SENSOR_KINDS
 
 #: Half sizes [m] of the static seat surfaces as drawn (planes: the contact is with the infinite plane).
 _PLANE_SIZE = {"seat_pan": [0.25, 0.25, 0.05], "floor": [0.5, 0.4, 0.1],
@@ -97,7 +97,7 @@ def _new_spec(sim: dict) -> mujoco.MjSpec:
     opt = spec.option
     opt.timestep = float(sim["dt_s"])
     opt.gravity = G0
-    # Euler with implicit joint damping: with half the damping explicit (_split_damping) the damping is
+    # Euler with implicit joint damping: with half the damping explicit (split_damping) the damping is
     # trapezoidal.  (implicitfast would also take the explicit half's actuators implicitly.)
     opt.integrator = mujoco.mjtIntegrator.mjINT_EULER
     opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
@@ -259,7 +259,7 @@ def _add_actuators(spec: mujoco.MjSpec, rotating_seat: bool, actuated: list) -> 
     for jn, ki in actuated:
         a = spec.add_actuator(name=f"integral_{jn}", target=jn, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         a.set_to_pid(kp=0.0, kv=0.0, ki=ki)
-    _split_damping(spec)
+    split_damping(spec)
 
 
 def _add_sensors(spec: mujoco.MjSpec, seat: SeatGeometry) -> None:
@@ -272,7 +272,7 @@ def _add_sensors(spec: mujoco.MjSpec, seat: SeatGeometry) -> None:
     for surface in seat.planes:
         spec.add_sensor(name=f"support_{surface}", type=mujoco.mjtSensor.mjSENS_CONTACT,
                         objtype=mujoco.mjtObj.mjOBJ_BODY, objname=surface,
-                        intprm=[1 << int(mujoco.mjtConDataField.mjCONDATA_FORCE), _REDUCE_NETFORCE, 1])
+                        intprm=[1 << int(mujoco.mjtConDataField.mjCONDATA_FORCE), REDUCE_NETFORCE, 1])
 
 
 def _compile(spec: mujoco.MjSpec) -> mujoco.MjModel:
@@ -281,7 +281,7 @@ def _compile(spec: mujoco.MjSpec) -> mujoco.MjModel:
         with captured_warnings():
             return spec.compile()
     except ValueError as exc:
-        raise _build_error(exc) from None
+        raise build_error(exc) from None
 
 
 def _model(mj: mujoco.MjModel, body: Body, params: Parameters, locked: frozenset, tree: _SegmentTree,

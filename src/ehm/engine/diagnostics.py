@@ -68,7 +68,7 @@ def dof_name(model: Model, index: int) -> str:
     return name
 
 
-def _build_error(exc: Exception) -> InputError:
+def build_error(exc: Exception) -> InputError:
     """MuJoCo's compiler message as one sentence: what it refused, and where."""
     text = str(exc).strip()
     where = re.search(r"Element name '([^']*)'", text)
@@ -79,7 +79,7 @@ def _build_error(exc: Exception) -> InputError:
                       "in the body tables and the parameter file.")
 
 
-def _instability(model: Model, d: mujoco.MjData) -> str | None:
+def instability(model: Model, d: mujoco.MjData) -> str | None:
     """A reason why the state is no longer a seated person, or None."""
     if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
         return "the accelerations became infinite or NaN"
@@ -91,7 +91,7 @@ def _instability(model: Model, d: mujoco.MjData) -> str | None:
     return None
 
 
-def _diverged(model: Model, t: float, why: str, phase: str = "") -> DivergenceError:
+def divergence_error(model: Model, t: float, why: str, phase: str = "") -> DivergenceError:
     """The divergence sentence, with MuJoCo's own warning folded in (its time replaces ``t``: MuJoCo resets the
     state, and with it the time, when it finds a bad acceleration)."""
     dt = model.mj.opt.timestep

@@ -1,5 +1,5 @@
 """The force laws MuJoCo is set to integrate: trapezoidal damping of the trunk and neck joints
-(:func:`_split_damping`, at build time) and the contacts' spring and damper with their friction
+(:func:`split_damping`, at build time) and the contacts' spring and damper with their friction
 (:func:`contact_solver_params`, after compiling and whenever the step changes)."""
 
 from __future__ import annotations
@@ -9,14 +9,14 @@ import mujoco
 from ..params import Parameters
 from ..tables import Body
 
-#: Joints whose damping is trapezoidal (:func:`_split_damping`): the open chain of trunk and neck, where implicit
+#: Joints whose damping is trapezoidal (:func:`split_damping`): the open chain of trunk and neck, where implicit
 #: damping on light segments (the 1.6 kg neck) was the largest step error left (seat z -> head pitch 2.7 % at
 #: 1 ms).  The legs and the tissue pads keep implicit damping: splitting them as well measured 1.8 % instead of
 #: 1.5 % at 1 ms, at 22 more actuators.
 TRAPEZOIDAL_JOINTS = ("l4_l5", "waist", "t12", "lower_neck", "upper_neck")
 
 
-def _split_damping(spec: mujoco.MjSpec) -> None:
+def split_damping(spec: mujoco.MjSpec) -> None:
     """Make the damping of :data:`TRAPEZOIDAL_JOINTS` trapezoidal: half stays joint damping (implicit under the
     Euler integrator), half becomes an actuator ``damper_<dof>`` with bias force -c/2 times the joint velocity
     (explicit)."""

@@ -15,7 +15,7 @@ from .state import settled_data
 #: There are no acceleration sensors: they would make MuJoCo run its post-constraint pass (``cacc``,
 #: ``cfrc_ext``) in every step, about 7 % of a step; the support forces come from contact sensors instead.
 SENSOR_KINDS = ("framepos", "framequat", "framelinvel", "frameangvel")
-_REDUCE_NETFORCE = 3  #: A contact sensor's ``reduce="netforce"``: the net force of all matching contacts, world axes.
+REDUCE_NETFORCE = 3  #: A contact sensor's ``reduce="netforce"``: the net force of all matching contacts, world axes.
 
 
 def sensor_slices(model: Model) -> dict:
@@ -46,7 +46,7 @@ def support_forces(model: Model, d: mujoco.MjData) -> dict:
     return {s: d.sensordata[sl[s]].copy() for s in model.surface_bodies}
 
 
-def _contact_name(model: Model, c) -> str:
+def contact_name(model: Model, c) -> str:
     """The body-side contact name (contacts.csv) of a MuJoCo contact: the pair's name."""
     return mujoco.mj_id2name(model.mj, mujoco.mjtObj.mjOBJ_GEOM, int(c.geom[1]))
 
@@ -58,7 +58,7 @@ def contact_forces(model: Model, d: mujoco.MjData, names) -> np.ndarray:
     index = {n: i for i, n in enumerate(names)}
     f6 = np.zeros(6)
     for i in range(d.ncon):
-        k = index.get(_contact_name(model, d.contact[i]))
+        k = index.get(contact_name(model, d.contact[i]))
         if k is not None:
             mujoco.mj_contactForce(model.mj, d, i, f6)
             out[3 * k:3 * k + 3] += f6[:3]
@@ -69,7 +69,7 @@ def touching_contacts(model: Model) -> list[str]:
     """Names (contacts.csv) of the contacts that touch in the settled state, with friction (the linear model
     holds them stuck)."""
     d = settled_data(model)
-    return sorted({_contact_name(model, d.contact[i]) for i in range(d.ncon) if d.contact[i].dim >= 3})
+    return sorted({contact_name(model, d.contact[i]) for i in range(d.ncon) if d.contact[i].dim >= 3})
 
 
 def sliding_contacts(model: Model, d: mujoco.MjData, ratio: float = 0.98) -> list[str]:
@@ -87,5 +87,5 @@ def sliding_contacts(model: Model, d: mujoco.MjData, ratio: float = 0.98) -> lis
             continue
         mujoco.mj_contactForce(model.mj, d, i, f6)  # contact frame: normal, then the two tangents
         if f6[0] > 0 and math.hypot(f6[1] / c.friction[0], f6[2] / c.friction[1]) >= ratio * f6[0]:
-            out.append(_contact_name(model, c))
+            out.append(contact_name(model, c))
     return out

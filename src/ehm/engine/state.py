@@ -7,7 +7,7 @@ import mujoco
 import numpy as np
 
 from . import control as _control
-from .diagnostics import CHECK_EVERY, _diverged, _instability, captured_warnings
+from .diagnostics import CHECK_EVERY, divergence_error, instability, captured_warnings
 from .model import G0, Model
 
 
@@ -46,14 +46,14 @@ def settle(model: Model, duration_s: float | None = None) -> dict:
                     mj.pair_friction[back] = friction
                 mujoco.mj_step(mj, d)
                 if i % CHECK_EVERY == 0:
-                    why = _instability(model, d)
+                    why = instability(model, d)
                     if why:
-                        raise _diverged(model, d.time, why, " while settling into the seat, before the run")
+                        raise divergence_error(model, d.time, why, " while settling into the seat, before the run")
     finally:
         mj.pair_friction[back] = friction
-    why = _instability(model, d)
+    why = instability(model, d)
     if why:
-        raise _diverged(model, d.time, why, " while settling into the seat, before the run")
+        raise divergence_error(model, d.time, why, " while settling into the seat, before the run")
     model.settled = {"qpos": d.qpos.copy(), "qvel": d.qvel.copy(), "act": d.act.copy(), "settle_s": duration_s}
     return model.settled
 

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..errors import InputError
 from .control import after_step
-from .diagnostics import CHECK_EVERY, _diverged, _instability
+from .diagnostics import CHECK_EVERY, divergence_error, instability
 from .model import G0, POINTS, Model
 from .seat import SEAT_INERTIA_KGM2
 from .sensors import sensor_slices, support_slices
@@ -72,9 +72,9 @@ def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool 
         after_step(model.head_control, d)
     start = d.sensordata.copy()
     if check or d.warning[_BADQACC].number:
-        why = _instability(model, d)
+        why = instability(model, d)
         if why:
-            raise _diverged(model, d.time if start_s is None else start_s, why)
+            raise divergence_error(model, d.time if start_s is None else start_s, why)
     return start, evaluate_velocities(model, d)
 
 
@@ -246,9 +246,9 @@ def _run_blocks(model: Model, d: mujoco.MjData, n: int, advance, poses: dict | N
         advance(start, stop)
         if stop - checked >= CHECK_EVERY or stop == n:
             checked = stop
-            why = _instability(model, d)
+            why = instability(model, d)
             if why:
-                raise _diverged(model, d.time, why)  # d.time: 0 in the settled state, across chunks
+                raise divergence_error(model, d.time, why)  # d.time: 0 in the settled state, across chunks
 
 
 def _raw_run(model: Model, d: mujoco.MjData, sens: np.ndarray, acc: np.ndarray, poses: dict | None) -> RawRun:

@@ -1,4 +1,4 @@
-"""What every source format answers: a table of named channels (:class:`_Source`), and a channel as floats."""
+"""What every source format answers: a table of named channels (:class:`Source`), and a channel as floats."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from .channels import DEFAULT_CHANNELS
 
 
 @dataclass
-class _Source:
+class Source:
     """A table of named channels: what it holds and how to read one channel as floats."""
 
     label: str
@@ -52,7 +52,7 @@ class _Source:
         """Release the file."""
 
 
-def _as_floats(src: _Source, name: str, key: str, column) -> np.ndarray:
+def as_floats(src: Source, name: str, key: str, column) -> np.ndarray:
     """A column as float64; one sentence naming the first value that is not a number."""
     import pandas as pd
 
@@ -68,12 +68,12 @@ def _as_floats(src: _Source, name: str, key: str, column) -> np.ndarray:
     bad = np.flatnonzero(np.isnan(numeric) & given)
     if bad.size:
         i = int(bad[0])
-        raise InputError(f"{src.label}, {src.where(i)}, {_column_words(src, name, key)}: {src.raw(name, i)} is not "
+        raise InputError(f"{src.label}, {src.where(i)}, {column_words(src, name, key)}: {src.raw(name, i)} is not "
                          "a number.")
     return numeric
 
 
-def _column_words(src: _Source, name: str, key: str) -> str:
+def column_words(src: Source, name: str, key: str) -> str:
     if src.kind == "columns":  # the channel is named when the column's name does not say it
         return f"column {name}" if name == DEFAULT_CHANNELS[key] else f"column {name} (channel {key})"
     return f"channel {key} ({name!r})"

@@ -16,9 +16,9 @@ DEFAULT_CHANNELS = {"time": "time_s", "ax": "ax_mps2", "ay": "ay_mps2", "az": "a
 #: Units inside ehm.
 SI_UNITS = {"time": "s", "ax": "m/s^2", "ay": "m/s^2", "az": "m/s^2", "wx": "rad/s", "wy": "rad/s", "wz": "rad/s",
             "dt": "s"}
-_ACC, _RATES = ("ax", "ay", "az"), ("wx", "wy", "wz")
-_KIND = {"time": ("a time", "'s' or 'ms'"), "dt": ("a time step", "'s' or 'ms'"), **{k: ("an acceleration", "'m/s^2' or 'g'") for k in _ACC},
-         **{k: ("an angular rate", "'rad/s' or 'deg/s'") for k in _RATES}}
+ACC_KEYS, RATE_KEYS = ("ax", "ay", "az"), ("wx", "wy", "wz")
+KEY_KINDS = {"time": ("a time", "'s' or 'ms'"), "dt": ("a time step", "'s' or 'ms'"), **{k: ("an acceleration", "'m/s^2' or 'g'") for k in ACC_KEYS},
+         **{k: ("an angular rate", "'rad/s' or 'deg/s'") for k in RATE_KEYS}}
 _LISTED = 25  #: Most channel names listed in a message.
 
 
@@ -39,7 +39,7 @@ def parse_assignments(values, option: str) -> dict:
     return out
 
 
-def _mapping(value, arg: str) -> dict:
+def mapping_arg(value, arg: str) -> dict:
     if value is None:
         return {}
     if not isinstance(value, dict):
@@ -49,13 +49,13 @@ def _mapping(value, arg: str) -> dict:
             raise InputError(f"{arg}: unknown key {key!r}; use {', '.join(CHANNEL_KEYS)}.")
         if v is not None and not isinstance(v, str):
             raise InputError(f"{arg}[{key!r}] must be a string; got {v!r}.")
-        if v is None and arg == "channels" and key in _ACC:
+        if v is None and arg == "channels" and key in ACC_KEYS:
             raise InputError(f"channels: {key} is set to None (--channel {key}=), but ax, ay and az cannot be left "
                              "out: name a column for each (for an axis the log lacks, a column of zeros).")
     return dict(value)
 
 
-def _listed(names) -> str:
+def listed_names(names) -> str:
     names = [str(n) for n in names]
     if len(names) > _LISTED:
         return ", ".join(names[:_LISTED]) + f" and {len(names) - _LISTED} more"
@@ -93,7 +93,7 @@ _HINTS = (("ns", re.compile(r"nano", re.IGNORECASE)), ("us", re.compile(r"micro"
 
 
 def _kind(key: str) -> str:
-    return "time" if key in ("time", "dt") else "acc" if key in _ACC else "rate"
+    return "time" if key in ("time", "dt") else "acc" if key in ACC_KEYS else "rate"
 
 
 def _folded(text: str) -> str:
@@ -104,7 +104,7 @@ def _folded(text: str) -> str:
     return re.sub(r"[\s^]", "", text).lower()
 
 
-def _name_unit(name: str, key: str) -> tuple[str, str]:
+def name_unit(name: str, key: str) -> tuple[str, str]:
     """The unit a channel's name carries, and how (``"brackets"``, ``"parens"``, ``"in"``, ``"word"``, or
     ``"hint"`` for a time count named inside a word); ``("", "")`` when it carries none.
 

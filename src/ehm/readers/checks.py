@@ -8,13 +8,13 @@ import numpy as np
 
 from ..errors import EhmWarning, InputError
 from ..resampling import Resampler
-from .base import _column_words, _Source
-from .channels import _ACC, _KIND, _RATES, ASSUMED, FILE, GIVEN, INFERRED, NAME, SI_UNITS
-from .frames import _FrameSource, _ParquetSource
-from .text import _TextSource
+from .base import column_words, Source
+from .channels import ACC_KEYS, KEY_KINDS, RATE_KEYS, ASSUMED, FILE, GIVEN, INFERRED, NAME, SI_UNITS
+from .frames import FrameSource, ParquetSource
+from .text import TextSource
 from .units import MAX_STEP_S as _MAX_STEP_S
 from .units import MIN_STEP_S as _MIN_STEP_S
-from .units import _factor
+from .units import unit_factor
 
 #: A step between time stamps longer than this many median steps is a gap (a logger's dropout), refused unless
 #: ``fill_gaps``.  Loggers miss a sample or two now and then (a 100 Hz IMU log: steps of up to 3 median steps; a
@@ -31,19 +31,19 @@ RATE_CHANGE_RATIO = 2.0
 RATE_WINDOW = 25
 
 
-def _check_finite(src: _Source, key: str, name: str, values: np.ndarray) -> None:
+def check_finite(src: Source, key: str, name: str, values: np.ndarray) -> None:
     bad = np.flatnonzero(~np.isfinite(values))
     if not bad.size:
         return
     i = int(bad[0])
-    where = _column_words(src, name, key)
-    if isinstance(src, _TextSource):
+    where = column_words(src, name, key)
+    if isinstance(src, TextSource):
         if src.row_field_count(i) != len(src.names):
             raise InputError(f"{src.label}, {src.where(i)}: expected {len(src.names)} fields {src.layout_words}, "
                              f"found {src.row_field_count(i)}.")
         if not src.field_text(name, i):
             raise InputError(f"{src.label}, {src.where(i)}, {where}: value is empty, expected a number.")
-    elif np.isnan(values[i]) and isinstance(src, (_ParquetSource, _FrameSource)):
+    elif np.isnan(values[i]) and isinstance(src, (ParquetSource, FrameSource)):
         raise InputError(f"{src.label}, {src.where(i)}, {where}: value is missing (NaN), expected a number.")
     raise InputError(f"{src.label}, {src.where(i)}, {where}: {src.raw(name, i)} is not a finite number (NaN or "
                      "infinite).")
@@ -54,7 +54,7 @@ def _check_finite(src: _Source, key: str, name: str, values: np.ndarray) -> None
 FLAG_EMPTY_SHARE = 0.5
 
 
-def _check_not_flag(src: _Source, key: str, name: str, raw, values: np.ndarray) -> None:
+def check_not_flag(src: Source, key: str, name: str, raw, values: np.ndarray) -> None:
     """Refuse, in one sentence naming the column, a boolean column (True/False) or a sparse 0/1 flag column
     (see :data:`FLAG_EMPTY_SHARE`) mapped to a channel of measured values."""
     import pandas as pd
@@ -69,15 +69,15 @@ def _check_not_flag(src: _Source, key: str, name: str, raw, values: np.ndarray) 
         if not np.isin(values[filled], (0.0, 1.0)).all():
             return
     what = "True/False" if boolean else f"only 0 and 1 in {int(np.isfinite(values).sum())} of its {values.size} rows"
-    raise InputError(f"{src.label}, {_column_words(src, name, key)}: the column holds {what}, a flag, not "
-                     f"{_KIND[key][0]}: map the channel to the column of its measured values (--channel {key}=NAME).")
+    raise InputError(f"{src.label}, {column_words(src, name, key)}: the column holds {what}, a flag, not "
+                     f"{KEY_KINDS[key][0]}: map the channel to the column of its measured values (--channel {key}=NAME).")
 
 
-def _check_times(src: _Source, name: str, t: np.ndarray) -> None:
+def check_times(src: Source, name: str, t: np.ndarray) -> None:
     """Times strictly increasing, else one sentence with the rows and values (they may start below 0: the time
     axis is moved to start at 0)."""
-    where = _column_words(src, name, "time") if not isinstance(src, _TextSource) else f"column {name}"
-    text = (lambda i: src.field_text(name, i)) if isinstance(src, _TextSource) else (lambda i: f"{t[i]:.9g}")
+    where = column_words(src, name, "time") if not isinstance(src, TextSource) else f"column {name}"
+    text = (lambda i: src.field_text(name, i)) if isinstance(src, TextSource) else (lambda i: f"{t[i]:.9g}")
     bad = np.flatnonzero(np.diff(t) <= 0)
     if bad.size:
         i = int(bad[0]) + 1
@@ -85,7 +85,7 @@ def _check_times(src: _Source, name: str, t: np.ndarray) -> None:
                          f"{text(i - 1)} s on {src.where(i - 1)}; times must be strictly increasing.")
 
 
-def _check_sampling(src: _Source, name: str, t: np.ndarray, fill_gaps: bool, key: str = "time") -> None:
+def check_sampling(src: Source, name: str, t: np.ndarray, fill_gaps: bool, key: str = "time") -> None:
     """One sample rate and no gaps, else one sentence naming where: a change of rate (the resampler would take
     the whole log at one rate, unfiltered) is refused; a gap (a step over :data:`GAP_STEPS` median steps) is
     refused, or bridged with a warning when ``fill_gaps``."""
@@ -100,7 +100,7 @@ def _check_sampling(src: _Source, name: str, t: np.ndarray, fill_gaps: bool, key
         _gaps(src, name, t, gaps, median, fill_gaps, key)
 
 
-def _check_one_rate(src: _Source, name: str, t: np.ndarray, steps: np.ndarray, median: float, key: str) -> None:
+def _check_one_rate(src: Source, name: str, t: np.ndarray, steps: np.ndarray, median: float, key: str) -> None:
     """Refuse a log whose local median step leaves the median by :data:`RATE_CHANGE_RATIO` or more."""
     import pandas as pd
 
@@ -115,17 +115,17 @@ def _check_one_rate(src: _Source, name: str, t: np.ndarray, steps: np.ndarray, m
     near = np.abs(np.log(steps[lo:hi] / after)) < np.abs(np.log(steps[lo:hi] / before))
     row = lo + int(np.argmax(near))
     raise InputError(
-        f"{src.label}, {src.where(row)}, {_column_words(src, name, key)}: the sample rate changes at t = "
+        f"{src.label}, {src.where(row)}, {column_words(src, name, key)}: the sample rate changes at t = "
         f"{t[row]:.6g} s from {1 / before:.6g} Hz to {1 / after:.6g} Hz; ehm resamples a log at one rate only: "
         "split the log at that row, or resample it to one rate (with an anti-alias filter) before reading it.")
 
 
-def _gaps(src: _Source, name: str, t: np.ndarray, gaps: np.ndarray, median: float, fill_gaps: bool,
+def _gaps(src: Source, name: str, t: np.ndarray, gaps: np.ndarray, median: float, fill_gaps: bool,
           key: str) -> None:
     """Refuse the first gap in one sentence, or warn once (naming the first and counting the rest)."""
     i = int(gaps[0]) + 1
     length = float(t[i] - t[i - 1])
-    where = (f"{src.label}, {src.where(i)}, {_column_words(src, name, key)}: a gap of {length:.6g} s in the time "
+    where = (f"{src.label}, {src.where(i)}, {column_words(src, name, key)}: a gap of {length:.6g} s in the time "
              f"stamps, from t = {t[i - 1]:.6g} s to {t[i]:.6g} s ({length / median:.0f} median steps of {median:.6g} "
              "s)")
     if not fill_gaps:
@@ -145,7 +145,7 @@ def _gaps(src: _Source, name: str, t: np.ndarray, gaps: np.ndarray, median: floa
 MIN_OVERLAP = 0.9
 
 
-def _check_overlap(src: _Source, use: dict, stamps: dict, start: float, stop: float, step: float) -> None:
+def _check_overlap(src: Source, use: dict, stamps: dict, start: float, stop: float, step: float) -> None:
     """Refuse MDF channels whose common span is less than :data:`MIN_OVERLAP` of their joint span."""
     first = min(float(stamps[k][0]) for k in use)
     last = max(float(stamps[k][-1]) for k in use)
@@ -160,13 +160,13 @@ def _check_overlap(src: _Source, use: dict, stamps: dict, start: float, stop: fl
                      "recorded together, or cut the log to the common span first (asammdf's MDF.cut).")
 
 
-def _common_time(src: _Source, use: dict, data: dict, stamps: dict, fill_gaps: bool = False):
+def common_time(src: Source, use: dict, data: dict, stamps: dict, fill_gaps: bool = False):
     """MDF: one time base for channels that may come from groups with different time stamps."""
     keys = list(use)
     first = stamps[keys[0]]
     for key in keys:
-        _check_times(src, use[key], stamps[key])
-        _check_sampling(src, use[key], stamps[key], fill_gaps, key)
+        check_times(src, use[key], stamps[key])
+        check_sampling(src, use[key], stamps[key], fill_gaps, key)
     if all(stamps[k] is first or (stamps[k].shape == first.shape and np.array_equal(stamps[k], first))
            for k in keys):
         return first, data
@@ -236,7 +236,7 @@ def _assumed_words(origin: str, unit: str) -> str:
             GIVEN: f"in {unit}, as given"}[origin]
 
 
-def _check_time_unit(src: _Source, name: str, t: np.ndarray, unit: str, origin: str, key: str = "time") -> None:
+def check_time_unit(src: Source, name: str, t: np.ndarray, unit: str, origin: str, key: str = "time") -> None:
     """Refuse, in one sentence naming the unit taken and the ``--unit`` that would fix it, time stamps (``key``
     ``"time"``) or steps (``"dt"``) whose median step is outside :data:`MIN_STEP_S` .. :data:`MAX_STEP_S`
     (:data:`TABLE_MAX_STEP_S` for a short table said to be in seconds), or that step at 10 kHz or faster for
@@ -250,7 +250,7 @@ def _check_time_unit(src: _Source, name: str, t: np.ndarray, unit: str, origin: 
     too_fast = step <= FAST_STEP_S and duration < MIN_FAST_DURATION_S
     if MIN_STEP_S <= step <= longest and not too_fast:
         return
-    seconds = step / _factor(unit, key, src.label, name) if unit != "date-time" else step
+    seconds = step / unit_factor(unit, key, src.label, name) if unit != "date-time" else step
     fits = {u: seconds * f for u, f in (("s", 1.0), ("ms", 1e-3), ("us", 1e-6), ("ns", 1e-9))
             if MIN_STEP_S <= seconds * f <= MAX_STEP_S and u != unit}
     fix = min(fits, key=lambda u: abs(np.log(fits[u] / 0.01))) if fits else None  # nearest to a 100 Hz logger
@@ -270,10 +270,10 @@ def _check_time_unit(src: _Source, name: str, t: np.ndarray, unit: str, origin: 
     else:
         hint = (f"ehm reads logs sampled between {1 / MAX_STEP_S:g} Hz and {1e-3 / MIN_STEP_S:g} kHz: resample it, or "
                 "give the time's unit")
-    raise InputError(f"{src.label}, {_column_words(src, name, key)}: {finding} if {what}; {hint}.")
+    raise InputError(f"{src.label}, {column_words(src, name, key)}: {finding} if {what}; {hint}.")
 
 
-def _check_plausible(src: _Source, use: dict, data: dict, origins: dict, acc: bool = True) -> None:
+def check_plausible(src: Source, use: dict, data: dict, origins: dict, acc: bool = True) -> None:
     """Refuse (unit assumed) or warn (unit from the name or the file) about accelerations and angular rates that
     are implausible in m/s^2 and rad/s; channels whose unit the caller gave are checked by
     :func:`_check_given_units`. ``acc=False``: the accelerations are left to the caller (an IMU log's specific
@@ -281,7 +281,7 @@ def _check_plausible(src: _Source, use: dict, data: dict, origins: dict, acc: bo
     if min((v.size for k, v in data.items() if k != "time"), default=0) < 2:
         return  # too short to judge (and refused as such)
     _check_given_units(src, use, data, origins)
-    acc = [k for k in _ACC if acc and k in data and origins[k] != GIVEN]
+    acc = [k for k in ACC_KEYS if acc and k in data and origins[k] != GIVEN]
     if acc:
         norm = np.linalg.norm(np.column_stack([data[k] for k in acc]), axis=1)
         median = float(np.median(norm))
@@ -292,7 +292,7 @@ def _check_plausible(src: _Source, use: dict, data: dict, origins: dict, acc: bo
         elif median > MAX_ACC_MEDIAN_MPS2:
             _implausible(src, use, origins, acc, "mg", f"the norm of the acceleration has a median of {median:.4g} "
                          "m/s^2, over 5 g for half the log")
-    rates = [k for k in _RATES if k in data and origins[k] != GIVEN]
+    rates = [k for k in RATE_KEYS if k in data and origins[k] != GIVEN]
     if rates:
         norm = np.linalg.norm(np.column_stack([data[k] for k in rates]), axis=1)
         median, p99 = float(np.median(norm)), float(np.percentile(norm, 99))
@@ -304,13 +304,13 @@ def _check_plausible(src: _Source, use: dict, data: dict, origins: dict, acc: bo
                          f"{median:.3g} rad/s ({np.degrees(median):.0f} deg/s), beyond a vehicle's")
 
 
-def _check_given_units(src: _Source, use: dict, data: dict, origins: dict) -> None:
+def _check_given_units(src: Source, use: dict, data: dict, origins: dict) -> None:
     """Refuse a channel whose unit the caller gave when the converted values are beyond any vehicle's: a median
     acceleration over 5 g for half the log, or an angular rate over 2000 deg/s (a unit given for data that is
     already in SI, say ``--unit ax=g`` on m/s^2)."""
-    for key in [k for k in (*_ACC, *_RATES) if k in data and origins.get(k) == GIVEN]:
+    for key in [k for k in (*ACC_KEYS, *RATE_KEYS) if k in data and origins.get(k) == GIVEN]:
         values = np.abs(data[key])
-        acc = key in _ACC
+        acc = key in ACC_KEYS
         level = float(np.median(values)) if acc else float(np.percentile(values, 99))
         if level <= (MAX_ACC_MEDIAN_MPS2 if acc else MAX_RATE_P99_RADPS):
             continue
@@ -322,7 +322,7 @@ def _check_given_units(src: _Source, use: dict, data: dict, origins: dict) -> No
                          f"the unit out).")
 
 
-def _implausible(src: _Source, use: dict, origins: dict, keys: list, fix: str, finding: str) -> None:
+def _implausible(src: Source, use: dict, origins: dict, keys: list, fix: str, finding: str) -> None:
     """One sentence: what the values are in the unit taken, and the ``--unit`` that fixes it; refused when a
     channel's unit was assumed, a warning when the name or the file gave it."""
     kinds = {origins[k] for k in keys}

@@ -8,10 +8,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .base import _Source
+from .base import Source
 
 
-class _FrameSource(_Source):
+class FrameSource(Source):
     """A pandas DataFrame: columns by name; its index may be the time."""
 
     def __init__(self, frame, label: str = "DataFrame"):
@@ -46,7 +46,7 @@ class _FrameSource(_Source):
         return repr(value.item() if hasattr(value, "item") else value)
 
 
-class _ParquetSource(_Source):
+class ParquetSource(Source):
     def __init__(self, path: Path, label: str):
         try:
             import pyarrow.parquet as pq

@@ -49,7 +49,7 @@ HELD_RUN_SPREAD = 0.35
 HELD_TOGETHER = 0.25
 
 
-def _signed(channels: dict, has) -> tuple[dict, dict]:
+def signed_channels(channels: dict, has) -> tuple[dict, dict]:
     """``channels`` with each ``-NAME`` turned into NAME, and key -> -1.0 for those; ``has(key, name)``: whether
     the key's source has a channel called exactly ``name`` (then it is taken as it is)."""
     out, signs = dict(channels), {}
@@ -66,11 +66,11 @@ def _signed(channels: dict, has) -> tuple[dict, dict]:
 #: Column-name prefixes of Apple's Core Motion accelerations (iPhone apps such as SensorLog write
 #: ``accelerometerAccelerationX(G)``, ``motionUserAccelerationX(G)``, ``motionGravityX(G)``): Core Motion reports
 #: the negative of the specific force (-1 g on z for a phone lying face up), so they are read with their sign
-#: flipped (:func:`_core_motion`).
+#: flipped (:func:`core_motion_signs`).
 CORE_MOTION_PREFIXES = ("accelerometerAcceleration", "motionUserAcceleration", "motionGravity")
 
 
-def _core_motion(label: str, channels: dict, signs: dict) -> dict:
+def core_motion_signs(label: str, channels: dict, signs: dict) -> dict:
     """``signs`` with each acceleration read from a Core Motion column (:data:`CORE_MOTION_PREFIXES`) flipped,
     and one note naming them; a ``-`` the caller put before such a name flips it back to the file's sign."""
     flipped = [k for k in ("ax", "ay", "az")
@@ -90,12 +90,12 @@ def _core_motion(label: str, channels: dict, signs: dict) -> dict:
     if kept:
         done.append(f"{', '.join(kept)} with the file's sign, as the '-' before the name asks")
     verb = "hold" if len(flipped) > 1 else "holds"
-    _note(f"{label}: {names} {what}, which {verb} the negative of the specific force (-1 g on z for a phone lying "
+    reader_note(f"{label}: {names} {what}, which {verb} the negative of the specific force (-1 g on z for a phone lying "
           f"face up): {'; '.join(done)}.", 3)
     return signs
 
 
-def _window(start_s, end_s):
+def cut_window(start_s, end_s):
     """(start, end) of a cut [s from the first sample], either None, or None for no cut; bad values refused."""
     out = []
     for name, option, value in (("start_s", "--start", start_s), ("end_s", "--end", end_s)):
@@ -118,7 +118,7 @@ def _window(start_s, end_s):
     return tuple(out)
 
 
-def _cut_rows(label: str, t: np.ndarray, window, origin=None, strict: bool = True) -> tuple[int, int]:
+def cut_rows(label: str, t: np.ndarray, window, origin=None, strict: bool = True) -> tuple[int, int]:
     """Rows i0:i1 of the samples within the cut ``window`` (seconds after ``origin``, default the first sample);
     ``strict``: a cut reaching outside the log, or holding fewer than 2 samples, is refused."""
     if window is None or t.size == 0:
@@ -141,7 +141,7 @@ def _cut_rows(label: str, t: np.ndarray, window, origin=None, strict: bool = Tru
     return i0, i1
 
 
-def _held(columns: list) -> tuple[np.ndarray, float, float] | None:
+def held_rows(columns: list) -> tuple[np.ndarray, float, float] | None:
     """(first row of each run, share of rows repeating their predecessor, median run length) of a held sensor
     (see :data:`HELD_SHARE`, :data:`HELD_RUN_MAX`, :data:`HELD_RUN_SPREAD` and :data:`HELD_TOGETHER`), or None."""
     n = columns[0].size
@@ -164,7 +164,7 @@ def _held(columns: list) -> tuple[np.ndarray, float, float] | None:
     return starts, share, run
 
 
-def _held_note(label: str, keys, t: np.ndarray, starts: np.ndarray, share: float, run: float) -> str:
+def held_note(label: str, keys, t: np.ndarray, starts: np.ndarray, share: float, run: float) -> str:
     written = (t.size - 1) / float(t[-1] - t[0])
     own = (starts.size - 1) / float(t[starts[-1]] - t[starts[0]])
     return (f"{label}: {100 * share:.0f} % of the rows repeat the previous row's {', '.join(keys)} exactly (runs of "
@@ -173,7 +173,7 @@ def _held_note(label: str, keys, t: np.ndarray, starts: np.ndarray, share: float
             f"{t.size} rows).")
 
 
-def _irregular(t: np.ndarray):
+def irregular_steps(t: np.ndarray):
     """(median step, spread words) of time stamps departing from the uniform grid through their first and last
     samples by more than :data:`~ehm.resampling.UNIFORM_TOLERANCE` of a step, with no gap; else None."""
     if t.size < 3:
@@ -192,7 +192,7 @@ def _irregular(t: np.ndarray):
     return median, spread
 
 
-def _mounting_matrix(mounting, label: str) -> np.ndarray | None:
+def mounting_matrix_of(mounting, label: str) -> np.ndarray | None:
     """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix, checked as :func:`ehm.from_imu` checks it;
     None when there is none."""
     return None if mounting is None else mounting_matrix(mounting, label)
@@ -214,7 +214,7 @@ def parse_columns(columns) -> list | None:
     return names
 
 
-def _join(label: str, glabel: str, t: np.ndarray, data: dict, tg: np.ndarray, gdata: dict, rate_keys):
+def join_gyro(label: str, glabel: str, t: np.ndarray, data: dict, tg: np.ndarray, gdata: dict, rate_keys):
     """The gyro's channels interpolated (linearly) onto the accelerometer's time stamps over their common span,
     which must cover :data:`MIN_OVERLAP` of the span they reach together; the accelerometer cut to it."""
     first, last = min(t[0], tg[0]), max(t[-1], tg[-1])
@@ -238,6 +238,6 @@ def _join(label: str, glabel: str, t: np.ndarray, data: dict, tg: np.ndarray, gd
     return t, out
 
 
-def _note(text: str, depth: int) -> None:
-    """One note (a warning) pointing at the caller of read_motion, ``depth`` calls above the caller of _note."""
+def reader_note(text: str, depth: int) -> None:
+    """One note (a warning) pointing at the caller of read_motion, ``depth`` calls above the caller of reader_note."""
     warnings.warn(text, EhmWarning, stacklevel=depth + 2)

@@ -7,10 +7,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .base import _Source
+from .base import Source
 
 
-class _MatSource(_Source):
+class MatSource(Source):
     """MATLAB v5 (scipy.io) or v7.3 (pymatreader): numeric variables, struct fields and matrix columns."""
 
     def __init__(self, path: Path, label: str):

@@ -8,10 +8,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .base import _Source
+from .base import Source
 
 
-class _MdfSource(_Source):
+class MdfSource(Source):
     """An ASAM MDF log: channels by name, each with its own time stamps (its group's master) and unit.
 
     A name that is in several data groups is refused unless it is given as ``GROUP/NAME``, GROUP the data

@@ -15,18 +15,18 @@ from ..errors import InputError
 from ..imu import from_imu
 from ..motion import SeatMotion
 from ..resampling import PASS_FRACTION
-from .base import _as_floats, _Source
-from .channels import _ACC, _RATES, CHANNEL_KEYS, DEFAULT_CHANNELS, _listed, _mapping
-from .checks import (_check_finite, _check_not_flag, _check_plausible, _check_sampling, _check_time_unit, _check_times,
-                     _common_time)
-from .frames import _FrameSource, _ParquetSource
+from .base import as_floats, Source
+from .channels import ACC_KEYS, RATE_KEYS, CHANNEL_KEYS, DEFAULT_CHANNELS, listed_names, mapping_arg
+from .checks import (check_finite, check_not_flag, check_plausible, check_sampling, check_time_unit, check_times,
+                     common_time)
+from .frames import FrameSource, ParquetSource
 from .gravity import check_mode, handle_gravity
-from .layout import (_core_motion, _cut_rows, _held, _held_note, _irregular, _join, _mounting_matrix, _note, _signed,
-                     _window, parse_columns)
-from .matlab import _MatSource
-from .mdf import _MdfSource
-from .text import _TextSource
-from .units import MAX_STEP_S, MIN_STEP_S, _factor, _time_seconds, _unit_of
+from .layout import (core_motion_signs, cut_rows, held_rows, held_note, irregular_steps, join_gyro, mounting_matrix_of, reader_note, signed_channels,
+                     cut_window, parse_columns)
+from .matlab import MatSource
+from .mdf import MdfSource
+from .text import TextSource
+from .units import MAX_STEP_S, MIN_STEP_S, unit_factor, time_seconds, channel_unit
 
 _TEXT_SUFFIXES = (".csv", ".txt", ".tsv", ".dat")
 _MAT_SUFFIXES = (".mat",)
@@ -34,7 +34,7 @@ _MDF_SUFFIXES = (".mf4", ".mdf", ".dat4")
 _PARQUET_SUFFIXES = (".parquet", ".pq")
 
 
-def _open(source, label: str | None, columns=None, encoding: str | None = None) -> _Source:
+def _open(source, label: str | None, columns=None, encoding: str | None = None) -> Source:
     try:
         import pandas as pd
     except ImportError:  # pragma: no cover - pandas is a dependency
@@ -46,7 +46,7 @@ def _open(source, label: str | None, columns=None, encoding: str | None = None) 
         if encoding is not None:
             raise InputError(f"{label or 'DataFrame'}: encoding= is the text encoding of a text file; a DataFrame "
                              "holds text already: leave it out.")
-        return _FrameSource(source, label or "DataFrame")
+        return FrameSource(source, label or "DataFrame")
     if not isinstance(source, (str, os.PathLike)):
         raise InputError(f"read_motion: source must be a file path or a pandas DataFrame; got {type(source).__name__}.")
     path = Path(source)
@@ -65,12 +65,12 @@ def _open(source, label: str | None, columns=None, encoding: str | None = None) 
         raise InputError(f"{label}: --encoding (encoding=) is the text encoding of a text file; a {suffix} file is "
                          "not text: leave it out.")
     if suffix in _PARQUET_SUFFIXES:
-        return _ParquetSource(path, label)
+        return ParquetSource(path, label)
     if suffix in _MAT_SUFFIXES:
-        return _MatSource(path, label)
+        return MatSource(path, label)
     if suffix in _MDF_SUFFIXES:
-        return _MdfSource(path, label)
-    return _TextSource(path, label, columns, encoding)  # .csv, .txt and anything else: a text table
+        return MdfSource(path, label)
+    return TextSource(path, label, columns, encoding)  # .csv, .txt and anything else: a text table
 
 
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
@@ -180,8 +180,8 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
       refused, or bridged when asked), the motion is resampled onto a uniform grid at the median step (linear
       interpolation), or at ``rate_hz`` when given; the note gives the spread of the steps.
     """
-    channels = _mapping(channels, "channels")
-    units = _mapping(units, "units")
+    channels = mapping_arg(channels, "channels")
+    units = mapping_arg(units, "units")
     rate_hz = _rate(rate_hz)
     imu, fill_gaps, drop_held = (_flag(v, name, option) for v, name, option in (
         (imu, "imu", "--imu"), (fill_gaps, "fill_gaps", "--fill-gaps"), (drop_held, "drop_held", "--no-drop-held")))
@@ -192,8 +192,8 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     if frame == "earth":
         _check_earth(named, bool(imu), mounting)
     columns = parse_columns(columns)
-    window = _window(start_s, end_s)
-    m = _mounting_matrix(mounting, named)
+    window = cut_window(start_s, end_s)
+    m = mounting_matrix_of(mounting, named)
     encoding = _encoding(encoding)
     src = _open(source, label, columns, encoding)
     gsrc = None
@@ -210,7 +210,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
 
 def _rate(rate_hz) -> float | None:
     """``rate_hz`` checked: a number (not a bool or a string) of samples per second from 2 Hz to 100 kHz, the
-    rates :func:`ehm.readers.checks._check_time_unit` takes from a log's own time stamps (a rate below 2 Hz holds
+    rates :func:`ehm.readers.checks.check_time_unit` takes from a log's own time stamps (a rate below 2 Hz holds
     nothing of the comfort band; resampling to a few Hz is warned about by :func:`_rate_note`)."""
     if rate_hz is None:
         return None
@@ -262,7 +262,7 @@ def _rate_note(label: str, motion: SeatMotion, rate_hz: float) -> None:
     lost = {w: band_share_outside(w, low, kept) - band_share_outside(w, low, held) for w in ("Wk", "Wd")}
     if max(lost.values()) < BAND_WARNING_SHARE:
         return
-    _note(f"{label}: resampled to {rate_hz:g} Hz (rate_hz, --rate), below the log's own {own_hz:.4g} Hz, it covers "
+    reader_note(f"{label}: resampled to {rate_hz:g} Hz (rate_hz, --rate), below the log's own {own_hz:.4g} Hz, it covers "
           f"up to {kept:.3g} Hz instead of {held:.3g} Hz: {100 * lost['Wk']:.1f} % of Wk's power and "
           f"{100 * lost['Wd']:.1f} % of Wd's (|W(f)|^2 on a log-frequency axis) are lost; leave --rate out to keep "
           "the log's own rate.", 3)
@@ -313,7 +313,7 @@ def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
     return read_motion(path)
 
 
-def _resolve(src: _Source, channels: dict, imu: bool, rate_hz, part: str = "all") -> dict:
+def _resolve(src: Source, channels: dict, imu: bool, rate_hz, part: str = "all") -> dict:
     """Key -> source name of every channel to read; missing ones named with what the source has.  ``part``:
     ``"all"`` (one source), ``"acc"`` (the accelerometer's file of two) or ``"rates"`` (the gyro's file)."""
     names = {k: channels.get(k, DEFAULT_CHANNELS[k]) for k in CHANNEL_KEYS}
@@ -322,29 +322,29 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz, part: str = "all"
         name = names[key]
         if name is None:
             return False
-        return src.has(name) or (isinstance(src, _FrameSource) and key == "time" and src.has_index_time(name))
+        return src.has(name) or (isinstance(src, FrameSource) and key == "time" and src.has_index_time(name))
 
-    left_out = [k for k in _RATES if k in channels and channels[k] is None]
+    left_out = [k for k in RATE_KEYS if k in channels and channels[k] is None]
     if part == "rates":
-        wanted = list(_RATES)
+        wanted = list(RATE_KEYS)
         if left_out:
             raise InputError(f"{src.label}: {', '.join(left_out)} {'is' if len(left_out) == 1 else 'are'} left out "
                              "(given empty); a gyro file gives all three angular velocities.")
     else:
         # an IMU log with all three rates left out (wx= wy= wz=) is accelerometer-only: from_imu levels it
-        wanted = list(_ACC) + list(_RATES if imu and part == "all" and not left_out else [])
+        wanted = list(ACC_KEYS) + list(RATE_KEYS if imu and part == "all" and not left_out else [])
     if part == "all" and left_out and len(left_out) < 3:
         raise InputError(f"{src.label}: {', '.join(left_out)} {'is' if len(left_out) == 1 else 'are'} left out (given "
                          "empty); leave out all three angular velocities (wx=, wy=, wz=) or none.")
     if part == "all" and not imu and len(left_out) < 3:
-        rates_found = [k for k in _RATES if present(k)]
-        explicit = [k for k in _RATES if k in channels]
+        rates_found = [k for k in RATE_KEYS if present(k)]
+        explicit = [k for k in RATE_KEYS if k in channels]
         if explicit or rates_found:
             if rates_found and len(rates_found) < 3 and not explicit:
-                absent = ", ".join(names[k] for k in _RATES if not present(k))
+                absent = ", ".join(names[k] for k in RATE_KEYS if not present(k))
                 raise InputError(f"{src.label}: it has {', '.join(names[k] for k in rates_found)} but not {absent}; "
                                  "give all three angular velocities or none.")
-            wanted += list(_RATES)
+            wanted += list(RATE_KEYS)
     time_needed = not src.per_channel_time
     if names["dt"] is not None:
         if not time_needed:
@@ -370,48 +370,48 @@ def _resolve(src: _Source, channels: dict, imu: bool, rate_hz, part: str = "all"
         what = parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
         verb = "is" if len(missing) == 1 else "are"
         raise InputError(f"{src.label}: channel{'s' * (len(missing) > 1)} {what} {verb} not in the "
-                         f"{'file' if not isinstance(src, _FrameSource) else 'DataFrame'}; its {src.kind} are "
-                         f"{_listed(src.names)}.")
+                         f"{'file' if not isinstance(src, FrameSource) else 'DataFrame'}; its {src.kind} are "
+                         f"{listed_names(src.names)}.")
     return {k: names[k] for k in wanted}
 
 
-def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
-          fill_gaps: bool = False, gsrc: _Source | None = None, window=None,
+def _read(src: Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
+          fill_gaps: bool = False, gsrc: Source | None = None, window=None,
           gravity: str = "auto", imu_options: dict | None = None, frame: str = "seat",
           drop_held: bool = True) -> SeatMotion:
     def has(key, name):
-        return (gsrc if gsrc is not None and key in _RATES else src).has(name)
+        return (gsrc if gsrc is not None and key in RATE_KEYS else src).has(name)
 
-    channels, signs = _signed(channels, has)
-    signs = _core_motion(src.label, channels, signs)
+    channels, signs = signed_channels(channels, has)
+    signs = core_motion_signs(src.label, channels, signs)
     use = _resolve(src, channels, imu, rate_hz, "all" if gsrc is None else "acc")
     taken: dict = {}  # channel -> where its unit came from (given, the file, the name, assumed)
-    held_keys = _ACC if drop_held else None
+    held_keys = ACC_KEYS if drop_held else None
     time_s, data, origin, clock = _table(src, use, units, signs, rate_hz, window, None, fill_gaps, held_keys, taken)
-    _check_plausible(src, use, data, taken, acc=not imu)  # (from_imu checks an IMU's gravity itself)
+    check_plausible(src, use, data, taken, acc=not imu)  # (from_imu checks an IMU's gravity itself)
     if "time" not in use and "dt" not in use and not src.per_channel_time:
         rate_hz = None  # the source is at this rate already
     if gsrc is not None:
         guse = _resolve(gsrc, channels, imu, rate_hz, "rates")
         tg, gdata, _, _ = _table(gsrc, guse, units, signs, rate_hz, window, origin, fill_gaps,
-                                 _RATES if drop_held else None, taken, clock)
-        _check_plausible(gsrc, guse, gdata, taken, acc=False)
+                                 RATE_KEYS if drop_held else None, taken, clock)
+        check_plausible(gsrc, guse, gdata, taken, acc=False)
         if tg.size < 2 or time_s.size < 2:
             raise InputError(f"{gsrc.label}: the gyro file holds {tg.size} sample(s) within the accelerometer's "
                              f"{'cut of the ' if window is not None else ''}log ({time_s.size} sample(s)); at least "
                              "2 of each are needed to join them: check the cut (--start, --end) and that both files "
                              "come from one recording.")
-        time_s, data = _join(src.label, gsrc.label, time_s, data, tg, gdata, _RATES)
+        time_s, data = join_gyro(src.label, gsrc.label, time_s, data, tg, gdata, RATE_KEYS)
     if time_s.size:
         time_s = time_s - time_s[0]  # the time axis starts at 0 (epoch and uptime stamps, a file's own clock)
     if time_s.size < 2:
-        where = f", line {src.header_line}" if isinstance(src, _TextSource) and src.header_line else ""
+        where = f", line {src.header_line}" if isinstance(src, TextSource) and src.header_line else ""
         raise InputError(f"{src.label}{where}: motion file has {time_s.size} data row(s)"
                          f"{' after the header' if where else ''}; at least 2 are needed.")
     description = _describe(src, source, time_s, gsrc, window)
-    irregular = _irregular(time_s)
-    acc = _stack(data, _ACC)
-    rates = _stack(data, _RATES) if all(k in data for k in _RATES) else None
+    irregular = irregular_steps(time_s)
+    acc = _stack(data, ACC_KEYS)
+    rates = _stack(data, RATE_KEYS) if all(k in data for k in RATE_KEYS) else None
     if frame == "earth" and rates is not None:
         raise InputError(f"{src.label}: angular rates in earth axes are not the seat's own roll, pitch and yaw rates: "
                          "leave them out (--channel wx= --channel wy= --channel wz=; channels wx, wy, wz set to None).")
@@ -428,7 +428,7 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         description = f"{description}, {levelled}" if levelled else description
         if frame == "earth":
             description += ", earth axes (x east, y north, z up)"
-            _note(f"{src.label}: earth axes (x east, y north, z up) are not the vehicle's, and the log holds no "
+            reader_note(f"{src.label}: earth axes (x east, y north, z up) are not the vehicle's, and the log holds no "
                   "heading to turn them: the seat's a_v, VDV and MSDV do not depend on it and are right, but its x and y "
                   "values and the body's response do, and are given for x east and y north (a log in the vehicle's "
                   "axes gives them).", 2)
@@ -437,7 +437,7 @@ def _read(src: _Source, channels: dict, units: dict, rate_hz, imu: bool, mountin
         step, spread = irregular
         to = f"{rate_hz:g} Hz (rate_hz)" if rate_hz is not None else \
             f"a uniform grid at the median step, {1 / step:.6g} Hz, by linear interpolation"
-        _note(f"{src.label}: the time stamps are irregular ({spread}); the motion is resampled to {to}.", 2)
+        reader_note(f"{src.label}: the time stamps are irregular ({spread}); the motion is resampled to {to}.", 2)
         if rate_hz is None:
             motion = motion.resample(step)
     if rate_hz is not None:
@@ -460,16 +460,16 @@ def _check_earth(label: str, imu: bool, mounting) -> None:
                          "axes: give either --frame earth or --mounting, not both.")
 
 
-def _table(src: _Source, use: dict, units: dict, signs: dict, rate_hz, window, origin, fill_gaps: bool,
+def _table(src: Source, use: dict, units: dict, signs: dict, rate_hz, window, origin, fill_gaps: bool,
            held_keys, taken: dict, clock: float | None = None) -> tuple:
     """(time [s], key -> values in SI with their signs, the first sample's time before the cut, the first
     sample's stamp on the file's own clock [s]) of the channels ``use`` of one source: the time read (or summed
     from ``dt``), checked and cut to ``window`` first; then each channel of the cut, checked; held samples
     dropped; the sampling checked.  A time column counts from its first sample; with ``clock`` (the other
     file's first stamp, for a gyro file of the same clock) it counts from that instead."""
-    if isinstance(src, _TextSource):
+    if isinstance(src, TextSource):
         src.load(list(use.values()))
-    if isinstance(src, _MdfSource):
+    if isinstance(src, MdfSource):
         for key, name in use.items():
             src.check_unique(key, name)
     strict = origin is None  # (the gyro file of two is cut to the accelerometer's window, and joined after)
@@ -479,22 +479,22 @@ def _table(src: _Source, use: dict, units: dict, signs: dict, rate_hz, window, o
     sizes = {}
     start = 0.0
     if tkey == "time":  # seconds (numbers in their unit, date-times), on the file's own clock
-        t, t_unit, t_origin, start = _time_seconds(src, use["time"], src.values(use["time"]), units)
-        _check_finite(src, "time", use["time"], t)
+        t, t_unit, t_origin, start = time_seconds(src, use["time"], src.values(use["time"]), units)
+        check_finite(src, "time", use["time"], t)
         if clock is not None:  # a gyro file: on the accelerometer file's time axis, by their common clock
             t = t + (start - clock)
         sizes["time"] = t.size
-        _check_times(src, use["time"], t)
-        _check_time_unit(src, use["time"], t, t_unit, t_origin)
+        check_times(src, use["time"], t)
+        check_time_unit(src, use["time"], t, t_unit, t_origin)
     elif tkey == "dt":
         t = _channel(src, "dt", use["dt"], units, signs, taken=taken)
         sizes["dt"] = t.size
         t = _from_steps(src, use["dt"], t)
-        _check_time_unit(src, use["dt"], t, _unit_of(src, "dt", use["dt"], units)[0], taken["dt"], "dt")
+        check_time_unit(src, use["dt"], t, channel_unit(src, "dt", use["dt"], units)[0], taken["dt"], "dt")
     else:
         t = np.arange(np.shape(src.values(next(iter(use.values()))))[0]) / rate_hz
     first = float(t[0]) if t.size else 0.0
-    i0, i1 = _cut_rows(src.label, t, window, origin, strict)
+    i0, i1 = cut_rows(src.label, t, window, origin, strict)
     if (i0, i1) != (0, t.size):
         t = t[i0:i1]
         src.rows = i0 if i0 else None  # messages name the source's own rows
@@ -509,11 +509,11 @@ def _table(src: _Source, use: dict, units: dict, signs: dict, rate_hz, window, o
                          f"({', '.join(f'{k} {v}' for k, v in sizes.items())}).")
     t, data = _drop_held(src, t, data, held_keys, i0)
     if tkey is not None:
-        _check_sampling(src, use[tkey], t, fill_gaps, tkey)
+        check_sampling(src, use[tkey], t, fill_gaps, tkey)
     return t, data, first, start
 
 
-def _mdf_table(src: _Source, use: dict, units: dict, signs: dict, window, origin, fill_gaps: bool, strict: bool,
+def _mdf_table(src: Source, use: dict, units: dict, signs: dict, window, origin, fill_gaps: bool, strict: bool,
                held_keys, taken: dict) -> tuple:
     """As :func:`_table` for channels with their own time stamps: each cut to the window (seconds after the
     earliest channel's first sample), then all put on one time base."""
@@ -522,36 +522,36 @@ def _mdf_table(src: _Source, use: dict, units: dict, signs: dict, window, origin
         stamps[key] = np.asarray(src.time_of(name), dtype=float)
     first = min(float(s[0]) for s in stamps.values() if s.size) if any(s.size for s in stamps.values()) else 0.0
     for key, name in use.items():
-        i0, i1 = _cut_rows(src.label, stamps[key], window, first if origin is None else origin,
+        i0, i1 = cut_rows(src.label, stamps[key], window, first if origin is None else origin,
                            strict and key == next(iter(use)))
         stamps[key] = stamps[key][i0:i1]
         data[key] = _channel(src, key, name, units, signs, i0, i1, taken)
-    time_s, data = _common_time(src, use, data, stamps, fill_gaps)
+    time_s, data = common_time(src, use, data, stamps, fill_gaps)
     time_s, data = _drop_held(src, time_s, data, held_keys, 0)
     return time_s, data, first, first
 
 
-def _channel(src: _Source, key: str, name: str, units: dict, signs: dict, i0: int = 0, i1=None,
+def _channel(src: Source, key: str, name: str, units: dict, signs: dict, i0: int = 0, i1=None,
              taken: dict | None = None) -> np.ndarray:
     """Rows i0:i1 of one channel as floats in SI (its sign flipped when asked), checked to be finite; where its
     unit came from (given, the file, the name, assumed) goes into ``taken``."""
     raw = src.values(name)
     if i0 or i1 is not None:
         raw = raw[i0:i1]
-    values = _as_floats(src, name, key, raw)
-    _check_not_flag(src, key, name, raw, values)
-    _check_finite(src, key, name, values)
-    unit, origin = _unit_of(src, key, name, units)
+    values = as_floats(src, name, key, raw)
+    check_not_flag(src, key, name, raw, values)
+    check_finite(src, key, name, values)
+    unit, origin = channel_unit(src, key, name, units)
     if taken is not None:
         taken[key] = origin
-    factor = _factor(unit, key, src.label, name) * signs.get(key, 1.0)
+    factor = unit_factor(unit, key, src.label, name) * signs.get(key, 1.0)
     if factor != 1.0:
-        owned = values is not raw or not isinstance(src, _FrameSource)  # never change a caller's DataFrame
+        owned = values is not raw or not isinstance(src, FrameSource)  # never change a caller's DataFrame
         values = np.multiply(values, factor, out=values if owned and values.flags.writeable else None)
     return values
 
 
-def _from_steps(src: _Source, name: str, dt: np.ndarray) -> np.ndarray:
+def _from_steps(src: Source, name: str, dt: np.ndarray) -> np.ndarray:
     """Time stamps from the time since the previous row: 0 at the first row (whose own step is not used), then
     the cumulative sum; a step that is not positive is refused, naming its row."""
     bad = np.flatnonzero(dt[1:] <= 0)
@@ -566,16 +566,16 @@ def _from_steps(src: _Source, name: str, dt: np.ndarray) -> np.ndarray:
     return t
 
 
-def _drop_held(src: _Source, t: np.ndarray, data: dict, keys, i0: int):
+def _drop_held(src: Source, t: np.ndarray, data: dict, keys, i0: int):
     """Drop held repeats (see ``ehm.readers.HELD_SHARE``), with a note; the source's rows kept for messages.
     ``keys`` None: held samples are not looked for (``drop_held=False``)."""
     if keys is None or not all(k in data for k in keys):
         return t, data
-    held = _held([data[k] for k in keys])
+    held = held_rows([data[k] for k in keys])
     if held is None:
         return t, data
     starts, share, run = held
-    _note(_held_note(src.label, keys, t, starts, share, run), 4 if not src.per_channel_time else 5)
+    reader_note(held_note(src.label, keys, t, starts, share, run), 4 if not src.per_channel_time else 5)
     if not src.per_channel_time:
         src.rows = starts + i0
     return t[starts], {k: v[starts] for k, v in data.items()}
@@ -594,8 +594,8 @@ def _frozen(a: np.ndarray) -> np.ndarray:
     return a
 
 
-def _describe(src: _Source, source, time_s: np.ndarray, gsrc=None, window=None) -> str:
-    base = os.path.basename(str(source)) if not isinstance(src, _FrameSource) else src.label
+def _describe(src: Source, source, time_s: np.ndarray, gsrc=None, window=None) -> str:
+    base = os.path.basename(str(source)) if not isinstance(src, FrameSource) else src.label
     if gsrc is not None:
         base += f" with the gyro of {os.path.basename(gsrc.label)}"
     if window is not None:

@@ -15,12 +15,12 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .base import _Source
+from .base import Source
 
 _ALL_COLUMNS = 32  #: Text tables up to this wide are read whole (so that pandas checks every row's field count).
 
 
-class _TextSource(_Source):
+class TextSource(Source):
     """A CSV or text table, read with pandas after sniffing its dialect."""
 
     def __init__(self, path: Path, label: str, columns=None, encoding: str | None = None):

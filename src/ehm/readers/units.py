@@ -8,7 +8,7 @@ date-time values (a DataFrame's or Parquet file's datetime column) or date-time 
 any other.  The time axis starts at 0 at the first sample.  A number's unit, when neither the caller, the file
 nor the name gives it, is inferred only where nothing else fits (whole numbers under a name counting
 nanoseconds, ``uptimeNanos``; whole numbers of the size of Unix time in ns); otherwise seconds are assumed, and
-:func:`ehm.readers.checks._check_time_unit` refuses a step that is not plausible in seconds.
+:func:`ehm.readers.checks.check_time_unit` refuses a step that is not plausible in seconds.
 """
 
 from __future__ import annotations
@@ -19,11 +19,11 @@ import re
 import numpy as np
 
 from ..errors import InputError
-from .base import _as_floats, _column_words, _Source
-from .channels import _ACC, _KIND, _RATES, ASSUMED, FILE, GIVEN, INFERRED, NAME, SI_UNITS, _name_unit
+from .base import as_floats, column_words, Source
+from .channels import ACC_KEYS, KEY_KINDS, RATE_KEYS, ASSUMED, FILE, GIVEN, INFERRED, NAME, SI_UNITS, name_unit
 
 #: The shortest and the longest plausible median time step [s] (100 kHz to 2 Hz) of a logger's recording: see
-#: :func:`ehm.readers.checks._check_time_unit`.  Here they decide whether a unit inferred from a name fits.
+#: :func:`ehm.readers.checks.check_time_unit`.  Here they decide whether a unit inferred from a name fits.
 MIN_STEP_S = 1e-5
 MAX_STEP_S = 0.5
 #: Unix time in ns from 2000 to 2100: whole numbers in this range are ns since 1970, as no other count of
@@ -46,7 +46,7 @@ def _unit_text(unit: str, key: str) -> str:
     ``dps``, ``°/s`` and ``µs`` as they are meant."""
     text = unit.strip().replace("²", "^2").replace("°", "deg").replace("º", "deg").replace("µ", "u") \
         .replace("μ", "u")
-    if key in _ACC:  # loggers' g is standard gravity, not the gram
+    if key in ACC_KEYS:  # loggers' g is standard gravity, not the gram
         if re.fullmatch(r"[gG][nN0]?", text):
             return "standard_gravity"
         if text in ("mg", "mG"):
@@ -54,7 +54,7 @@ def _unit_text(unit: str, key: str) -> str:
         text = re.sub(r"^m\s*/\s*s\s*\^?\s*2$", "m/s^2", text)
         if text.lower() in ("mps2", "ms2", "m/s/s", "ms^-2", "m s^-2", "m*s^-2", "m.s^-2", "m s-2", "m.s-2"):
             return "m/s^2"
-    if key in _RATES:
+    if key in RATE_KEYS:
         low = text.lower().replace(" ", "")
         if low in ("dps", "deg/sec", "degps", "degree/s", "degrees/s", "degrees/sec"):
             return "deg/s"
@@ -67,14 +67,14 @@ def _unit_text(unit: str, key: str) -> str:
     return text
 
 
-def _factor(unit: str, key: str, label: str, name: str) -> float:
+def unit_factor(unit: str, key: str, label: str, name: str) -> float:
     """Multiplier from ``unit`` to ehm's SI unit of ``key`` (pint)."""
     text = _unit_text(unit, key)
     if text == SI_UNITS[key] or (key in ("time", "dt") and text in ("s", "sec")):
         return 1.0
     import pint
 
-    what, examples = _KIND[key]
+    what, examples = KEY_KINDS[key]
     try:
         q = _registry().Quantity(1.0, text)
     except (pint.errors.UndefinedUnitError, pint.errors.DefinitionSyntaxError, AttributeError, TypeError,
@@ -99,16 +99,16 @@ def _is_unit(text: str, key: str) -> bool:
     return not q.dimensionless or isinstance(q.magnitude, pint.Quantity)
 
 
-def _unit_of(src: _Source, key: str, name: str, units: dict) -> tuple[str, str]:
+def channel_unit(src: Source, key: str, name: str, units: dict) -> tuple[str, str]:
     """(unit, where it came from: GIVEN, FILE, NAME or ASSUMED) of one channel.
 
     The caller's unit wins over the name's; a file's own unit (MDF, Parquet, DataFrame ``attrs``) and a
     different one from the caller are refused in one sentence.  A time count named inside a word
-    (``uptimeNanos``) is left to :func:`_time_seconds`, which checks its values (ASSUMED here).
+    (``uptimeNanos``) is left to :func:`time_seconds`, which checks its values (ASSUMED here).
     """
     own = src.unit_of(name) if hasattr(src, "unit_of") else src.units.get(name, "")
     given = units.get(key)
-    if own and given and "%" not in given and _factor(own, key, src.label, name) != _factor(given, key, src.label,
+    if own and given and "%" not in given and unit_factor(own, key, src.label, name) != unit_factor(given, key, src.label,
                                                                                           name):
         raise InputError(f"{src.label}, channel {key} ({name!r}): the file gives the unit {own!r}, the units argument "
                          f"{given!r}; leave the argument out.")
@@ -116,7 +116,7 @@ def _unit_of(src: _Source, key: str, name: str, units: dict) -> tuple[str, str]:
         return given, GIVEN
     if own:
         return own, FILE
-    text, form = _name_unit(name, key)
+    text, form = name_unit(name, key)
     if form in ("brackets", "word") or (form in ("parens", "in") and _is_unit(text, key)):
         return text, NAME
     return SI_UNITS[key], ASSUMED
@@ -127,7 +127,7 @@ def _unit_of(src: _Source, key: str, name: str, units: dict) -> tuple[str, str]:
 # --------------------------------------------------------------------------
 
 
-def _time_seconds(src: _Source, name: str, raw, units: dict) -> tuple[np.ndarray, str, str, float]:
+def time_seconds(src: Source, name: str, raw, units: dict) -> tuple[np.ndarray, str, str, float]:
     """A time channel as seconds from its first sample: (times, unit, where the unit came from, the first sample's
     own stamp in seconds on the file's clock: to join two files of one clock).
 
@@ -146,13 +146,13 @@ def _time_seconds(src: _Source, name: str, raw, units: dict) -> tuple[np.ndarray
         ns = arr.view(np.int64)
         start = float(ns[0]) / 1e9 if ns.size and not np.isnat(arr[0]) else 0.0
         return _from_ns(ns, np.isnat(arr)), "date-time", GIVEN if given else FILE, start
-    unit, origin = _unit_of(src, "time", name, units)
+    unit, origin = channel_unit(src, "time", name, units)
     if origin == ASSUMED:
         unit, origin = _inferred_time_unit(name, arr)
-    factor = _factor(unit, "time", src.label, name)
+    factor = unit_factor(unit, "time", src.label, name)
     if arr.dtype.kind in "iu" and arr.size:
         return (arr.astype(np.int64) - np.int64(arr[0])).astype(float) * factor, unit, origin, float(arr[0]) * factor
-    values = _as_floats(src, name, "time", arr)
+    values = as_floats(src, name, "time", arr)
     start = 0.0
     if values.size and np.isfinite(values[0]):
         start = float(values[0]) * factor
@@ -188,7 +188,7 @@ def _inferred_time_unit(name: str, arr: np.ndarray) -> tuple[str, str]:
         return "s", ASSUMED
     steps = np.diff(arr.astype(np.int64) if arr.dtype.kind in "iu" else arr)
     step = float(np.median(steps))
-    text, form = _name_unit(name, "time")
+    text, form = name_unit(name, "time")
     candidates = [text] if form == "hint" else ["ns"] if _EPOCH_NS[0] <= float(arr[0]) <= _EPOCH_NS[1] else []
     for unit in candidates:
         if MIN_STEP_S <= step * _TIME_UNITS[unit] <= MAX_STEP_S and not MIN_STEP_S <= step <= MAX_STEP_S:
@@ -196,7 +196,7 @@ def _inferred_time_unit(name: str, arr: np.ndarray) -> tuple[str, str]:
     return "s", ASSUMED
 
 
-def _numbers_or_dates(src: _Source, name: str, arr: np.ndarray, given) -> np.ndarray:
+def _numbers_or_dates(src: Source, name: str, arr: np.ndarray, given) -> np.ndarray:
     """Strings (or objects) of a time column: numbers as floats, else date-times as datetime64[ns]."""
     import pandas as pd
 
@@ -205,10 +205,10 @@ def _numbers_or_dates(src: _Source, name: str, arr: np.ndarray, given) -> np.nda
     filled = series.notna().to_numpy() & (text != "").to_numpy() & (text.str.lower() != "nan").to_numpy()
     numeric = pd.to_numeric(series.where(filled), errors="coerce").isna().to_numpy()
     if not np.any(filled & numeric) or (filled.any() and not numeric[np.flatnonzero(filled)[0]]):
-        return _as_floats(src, name, "time", arr)  # numbers (one of them maybe not): the number's messages
+        return as_floats(src, name, "time", arr)  # numbers (one of them maybe not): the number's messages
     if given:
         i = int(np.flatnonzero(filled)[0])
-        raise InputError(f"{src.label}, {src.where(i)}, {_column_words(src, name, 'time')}: the time stamps are "
+        raise InputError(f"{src.label}, {src.where(i)}, {column_words(src, name, 'time')}: the time stamps are "
                          f"dates and times ({text.iloc[i]!r}), the units argument {given!r}; give their format, e.g. "
                          "--unit 'time=%d/%m/%Y %H:%M:%S', or leave the argument out.")
     first = series[filled].iloc[0]
@@ -233,7 +233,7 @@ def _naive_ns(stamps) -> np.ndarray:
     return stamps.to_numpy().astype("datetime64[ns]")
 
 
-def _date_times(src: _Source, name: str, arr: np.ndarray, formats) -> np.ndarray:
+def _date_times(src: Source, name: str, arr: np.ndarray, formats) -> np.ndarray:
     """Date-time strings as seconds from the first (``formats`` given) or as datetime64[ns] (tried: ISO 8601,
     then :data:`_DATES` x :data:`_CLOCKS`); one sentence when none reads them all, when day-first and
     month-first both do and disagree, or when the stamps repeat (whole seconds at a faster rate)."""
@@ -241,7 +241,7 @@ def _date_times(src: _Source, name: str, arr: np.ndarray, formats) -> np.ndarray
 
     series = pd.Series(arr, dtype=object)
     filled = series.notna().to_numpy() & (series.astype(str).str.strip() != "").to_numpy()
-    where_words = _column_words(src, name, "time")
+    where_words = column_words(src, name, "time")
     i0 = int(np.flatnonzero(filled)[0]) if filled.any() else 0
     tries = formats or ["ISO8601"] + [f"{d}{sep}{c}" if d else c for d in _DATES
                                        for sep in ((" ", "T", ", ") if d else ("",)) for c in _CLOCKS]
@@ -278,7 +278,7 @@ def _date_times(src: _Source, name: str, arr: np.ndarray, formats) -> np.ndarray
     return stamps
 
 
-def _check_repeats(src: _Source, name: str, series, stamps: np.ndarray) -> None:
+def _check_repeats(src: Source, name: str, series, stamps: np.ndarray) -> None:
     """Refuse date-time stamps that repeat (a logger writing whole seconds at a faster rate) in one sentence."""
     ok = ~np.isnat(stamps)
     ns = stamps[ok].view(np.int64)
@@ -290,7 +290,7 @@ def _check_repeats(src: _Source, name: str, series, stamps: np.ndarray) -> None:
     rows = np.flatnonzero(ok)
     i = int(rows[same[0] + 1])
     whole = "whole seconds, " if np.all(ns % 1_000_000_000 == 0) else ""
-    raise InputError(f"{src.label}, {src.where(i)}, {_column_words(src, name, 'time')}: {same.size} of {ns.size} time "
+    raise InputError(f"{src.label}, {src.where(i)}, {column_words(src, name, 'time')}: {same.size} of {ns.size} time "
                      f"stamps repeat the one before ({series.iloc[i]!r}): they are {whole}coarser than the "
                      "samples; take a finer time column (e.g. an uptime in ns) with --channel time=NAME, or none with "
                      "--channel time= and --rate HZ.")
