@@ -518,7 +518,7 @@ class _Hybrid:
             self.checks.append(check)
             seat.correct(y)
         res = linear_result(self.human, self.ss, y, u, np.arange(a, a + n_y) * self.dt, self.dt, self.R0,
-                      self.description, seat=seat, check=check)
+                            self.description, seat=seat, check=check)
         if m < n_y:
             res = res.take(slice(0, m))
         return replace(res, description=self.description, wall_s=wall_s + time.perf_counter() - t0, poses=poses)

@@ -222,6 +222,7 @@ class _Modes:
 
 
 def modes_of(ss: StateSpace) -> _Modes:
+    """The modal form of ``ss`` (eigenvalues, kept modes, static share), computed once and kept in ``ss.cache``."""
     cached = ss.cache.get("modes")
     if cached is None:
         lam, V = np.linalg.eig(ss.A)
@@ -878,7 +879,7 @@ def _orientations(y: np.ndarray, R0: np.ndarray, gravity: np.ndarray | None = No
 
 
 def linear_result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, dt: float, R0: np.ndarray,
-            description: str, seat: SeatRotation | None = None, check: dict | None = None):
+                  description: str, seat: SeatRotation | None = None, check: dict | None = None):
     """Outputs of the linear model (as ``block_chunk`` returns them, corrected by
     :meth:`SeatRotation.correct` if the seat rotates) -> a RunResult in the nonlinear route's terms; ``u`` the
     seat's acceleration (n, 3), ``check`` :func:`ehm.linear.left_out`'s estimate."""

@@ -415,6 +415,7 @@ def _motion(t_s: np.ndarray, axes: tuple[int, ...], columns: dict[int, np.ndarra
 
 
 def check_seed(seed: object, func: str = "random_vibration") -> int | None:
+    """A random seed as an int (or None), refused with InputError naming ``func`` when not an integer >= 0."""
     if seed is None:
         return None
     if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, Integral):

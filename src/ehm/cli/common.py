@@ -12,6 +12,7 @@ from ..tables import load_body
 
 
 def joint_list(values: list[str] | None) -> list[str]:
+    """The joint names of a repeatable, comma-separated option (--lock, --joints), blanks dropped."""
     out: list[str] = []
     for v in values or []:
         out += [x.strip() for x in v.split(",") if x.strip()]
@@ -44,6 +45,7 @@ def _head_control(args):
 
 
 def human_from_args(args, rotating_seat: bool = False) -> SeatedHuman:
+    """The SeatedHuman the shared options describe (parameters, body tables, locks, step, body size)."""
     params = params_from_args(args)
     if getattr(args, "dt", None) is not None:
         params = params.at_step(args.dt, "--dt")
@@ -63,6 +65,7 @@ def size_from_args(args):
 
 
 def checked_band(values) -> tuple[float, float]:
+    """The --band (low, high) in Hz, refused unless 0 < low < high and both finite."""
     lo, hi = values
     if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi):
         raise InputError(f"--band {lo:g} {hi:g}: the band needs two finite frequencies with 0 < low < high [Hz].")

@@ -27,6 +27,7 @@ def seating_options(p: argparse.ArgumentParser) -> None:
 
 
 def model_options(p: argparse.ArgumentParser) -> None:
+    """--params, the seating options, --lock and the body tables: the person a command models."""
     p.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
     seating_options(p)
     p.add_argument("--lock", action="append", metavar="JOINT", help="lock a joint (repeat or comma-separate)")
@@ -45,6 +46,7 @@ def size_options(p: argparse.ArgumentParser) -> None:
 
 
 def excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
+    """--duration (default ``duration``), --rms, --seed: the generated seat motion of a command."""
     p.add_argument("--duration", type=float, default=duration, help=f"simulated time [s] (default {duration:g})")
     p.add_argument("--rms", type=float, default=0.3, help="rms seat acceleration of random input [m/s^2] (default 0.3)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")

@@ -8,6 +8,7 @@ from ..errors import InputError, finite_samples
 
 
 def positive_float(value, arg: str) -> float:
+    """``value`` as a positive finite float; InputError naming ``arg`` otherwise."""
     try:
         out = float(value)
     except (TypeError, ValueError):
@@ -18,6 +19,7 @@ def positive_float(value, arg: str) -> float:
 
 
 def non_negative_float(value, arg: str, what: str = "number") -> float:
+    """``value`` as a finite float >= 0; InputError naming ``arg`` (a ``what``) otherwise."""
     try:
         out = float(value)
     except (TypeError, ValueError):
@@ -28,4 +30,5 @@ def non_negative_float(value, arg: str, what: str = "number") -> float:
 
 
 def signal_1d(values, arg: str):
+    """``values`` as a 1-D array of finite samples (:func:`ehm.errors.finite_samples`), named ``arg``."""
     return finite_samples(arg, values)

@@ -50,6 +50,7 @@ WEIGHTINGS: tuple[str, ...] = tuple(_PARAMETERS)
 
 
 def canonical_name(name, arg: str = "name") -> str:
+    """The weighting's name as :data:`WEIGHTINGS` spells it (case and blanks ignored); InputError if unknown."""
     if isinstance(name, str):
         for key in _PARAMETERS:
             if key.lower() == name.strip().lower():

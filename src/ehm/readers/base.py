@@ -74,6 +74,7 @@ def as_floats(src: Source, name: str, key: str, column) -> np.ndarray:
 
 
 def column_words(src: Source, name: str, key: str) -> str:
+    """How a message names channel ``key`` read as ``name`` from ``src`` (a column, or a named channel)."""
     if src.kind == "columns":  # the channel is named when the column's name does not say it
         return f"column {name}" if name == DEFAULT_CHANNELS[key] else f"column {name} (channel {key})"
     return f"channel {key} ({name!r})"

@@ -40,6 +40,7 @@ def parse_assignments(values, option: str) -> dict:
 
 
 def mapping_arg(value, arg: str) -> dict:
+    """A key -> channel name mapping argument (``channels``, ``units``) checked: known keys, string values."""
     if value is None:
         return {}
     if not isinstance(value, dict):
@@ -56,6 +57,7 @@ def mapping_arg(value, arg: str) -> dict:
 
 
 def listed_names(names) -> str:
+    """Names joined by commas for a message, the first 25 of them (then "and N more")."""
     names = [str(n) for n in names]
     if len(names) > _LISTED:
         return ", ".join(names[:_LISTED]) + f" and {len(names) - _LISTED} more"

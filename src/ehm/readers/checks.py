@@ -32,6 +32,7 @@ RATE_WINDOW = 25
 
 
 def check_finite(src: Source, key: str, name: str, values: np.ndarray) -> None:
+    """Refuse (InputError, naming the row and its time) a channel holding NaN or infinite values."""
     bad = np.flatnonzero(~np.isfinite(values))
     if not bad.size:
         return

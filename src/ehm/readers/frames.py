@@ -47,6 +47,8 @@ class FrameSource(Source):
 
 
 class ParquetSource(Source):
+    """A Parquet file's columns (read with pyarrow) as a source of channels."""
+
     def __init__(self, path: Path, label: str):
         try:
             import pyarrow.parquet as pq

@@ -91,7 +91,7 @@ def core_motion_signs(label: str, channels: dict, signs: dict) -> dict:
         done.append(f"{', '.join(kept)} with the file's sign, as the '-' before the name asks")
     verb = "hold" if len(flipped) > 1 else "holds"
     reader_note(f"{label}: {names} {what}, which {verb} the negative of the specific force (-1 g on z for a phone lying "
-          f"face up): {'; '.join(done)}.", 3)
+                f"face up): {'; '.join(done)}.", 3)
     return signs
 
 
@@ -165,6 +165,7 @@ def held_rows(columns: list) -> tuple[np.ndarray, float, float] | None:
 
 
 def held_note(label: str, keys, t: np.ndarray, starts: np.ndarray, share: float, run: float) -> str:
+    """The note on a held sensor: the share of repeated rows, the sensor's own rate and the rows kept."""
     written = (t.size - 1) / float(t[-1] - t[0])
     own = (starts.size - 1) / float(t[starts[-1]] - t[starts[0]])
     return (f"{label}: {100 * share:.0f} % of the rows repeat the previous row's {', '.join(keys)} exactly (runs of "

@@ -263,9 +263,9 @@ def _rate_note(label: str, motion: SeatMotion, rate_hz: float) -> None:
     if max(lost.values()) < BAND_WARNING_SHARE:
         return
     reader_note(f"{label}: resampled to {rate_hz:g} Hz (rate_hz, --rate), below the log's own {own_hz:.4g} Hz, it covers "
-          f"up to {kept:.3g} Hz instead of {held:.3g} Hz: {100 * lost['Wk']:.1f} % of Wk's power and "
-          f"{100 * lost['Wd']:.1f} % of Wd's (|W(f)|^2 on a log-frequency axis) are lost; leave --rate out to keep "
-          "the log's own rate.", 3)
+                f"up to {kept:.3g} Hz instead of {held:.3g} Hz: {100 * lost['Wk']:.1f} % of Wk's power and "
+                f"{100 * lost['Wd']:.1f} % of Wd's (|W(f)|^2 on a log-frequency axis) are lost; leave --rate out to keep "
+                "the log's own rate.", 3)
 
 
 _IMU_OPTIONS = ("rest_s", "max_tilt_deg")
@@ -429,9 +429,9 @@ def _read(src: Source, channels: dict, units: dict, rate_hz, imu: bool, mounting
         if frame == "earth":
             description += ", earth axes (x east, y north, z up)"
             reader_note(f"{src.label}: earth axes (x east, y north, z up) are not the vehicle's, and the log holds no "
-                  "heading to turn them: the seat's a_v, VDV and MSDV do not depend on it and are right, but its x and y "
-                  "values and the body's response do, and are given for x east and y north (a log in the vehicle's "
-                  "axes gives them).", 2)
+                        "heading to turn them: the seat's a_v, VDV and MSDV do not depend on it and are right, but its x and y "
+                        "values and the body's response do, and are given for x east and y north (a log in the vehicle's "
+                        "axes gives them).", 2)
         motion = SeatMotion(time_s, acc, description, rates)  # takes the read-only arrays as they are
     if irregular is not None:
         step, spread = irregular
@@ -523,7 +523,7 @@ def _mdf_table(src: Source, use: dict, units: dict, signs: dict, window, origin,
     first = min(float(s[0]) for s in stamps.values() if s.size) if any(s.size for s in stamps.values()) else 0.0
     for key, name in use.items():
         i0, i1 = cut_rows(src.label, stamps[key], window, first if origin is None else origin,
-                           strict and key == next(iter(use)))
+                          strict and key == next(iter(use)))
         stamps[key] = stamps[key][i0:i1]
         data[key] = _channel(src, key, name, units, signs, i0, i1, taken)
     time_s, data = common_time(src, use, data, stamps, fill_gaps)
