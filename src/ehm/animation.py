@@ -87,7 +87,8 @@ def load_poses(source) -> dict:
                 poses = {k: npz[k] for k in npz.files}
         except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
             raise InputError(f"{path}: cannot read it as a pose file: it is truncated, damaged or of another kind "
-                             f"({_first_line(exc)}); write the run again with 'ehm simulate ... --out RUN_DIR'.") from None
+                             f"({_first_line(exc)}); write the run again with 'ehm simulate ... --out RUN_DIR'."
+                             ) from None
     missing = [k for k in _POSE_KEYS + _GEOMETRY_KEYS if k not in poses]
     if missing:
         raise InputError(f"{where}: missing {', '.join(missing)}; write the run again with "

@@ -258,7 +258,8 @@ def _check_input(label: str, inp: dict, written_drive=None, written_gyro=None) -
     if inp.get("route", "auto") not in ("nonlinear", "linear", "auto"):
         raise InputError(f"{label}: [input] route {inp['route']!r}: use \"nonlinear\", \"auto\" or \"linear\".")
     axes = inp.get("axes", ["x"])
-    if not isinstance(axes, list) or not axes or any(a not in ("x", "y", "z") for a in axes) or len(set(axes)) < len(axes):
+    if (not isinstance(axes, list) or not axes or any(a not in ("x", "y", "z") for a in axes)
+            or len(set(axes)) < len(axes)):
         raise InputError(f"{label}: [input] axes {axes!r}: use a list of distinct axes from \"x\", \"y\", \"z\".")
     for key in ("duration_s", "rms_mps2"):
         v = inp.get(key, 1.0)

@@ -69,7 +69,8 @@ def relative_gain(gain_exp: np.ndarray) -> np.ndarray:
     return g + 0.05 * g.mean()
 
 
-def residuals(freq_hz: np.ndarray, gain_exp: np.ndarray, gain_model: np.ndarray, label: str = "a measured curve") -> np.ndarray:
+def residuals(freq_hz: np.ndarray, gain_exp: np.ndarray, gain_model: np.ndarray,
+              label: str = "a measured curve") -> np.ndarray:
     """Eq. 3's terms (G_exp - G_model) / (Rel_Gain f^2), one per frequency."""
     f = np.asarray(freq_hz, dtype=float)
     g = np.asarray(gain_exp, dtype=float)

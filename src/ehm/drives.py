@@ -25,8 +25,8 @@ ROAD_CLASS_GD0_M3 = {"A": 16e-6, "B": 64e-6, "C": 256e-6, "D": 1024e-6, "E": 409
 def _check(name: str, value: float, low: float, high: float = np.inf) -> float:
     v = finite_number("drive", name, value)
     if v <= low or v > high:
-        raise InputError(f"{name} must be a number above {low:g}" + (f" and at most {high:g}" if np.isfinite(high) else "")
-                         + f", not {value!r}.")
+        raise InputError(f"{name} must be a number above {low:g}"
+                         + (f" and at most {high:g}" if np.isfinite(high) else "") + f", not {value!r}.")
     return v
 
 

@@ -79,7 +79,8 @@ def bounds(params: Parameters, path: str) -> tuple[float, float]:
     v = float(params.value(path))
     lo, hi = b if b is not None else (v / DEFAULT_BOUND_FACTOR, v * DEFAULT_BOUND_FACTOR)
     if not 0 < lo <= v <= hi:
-        raise InputError(f"parameter {path} = {v:g} lies outside its bounds [{lo:g}, {hi:g}] (or a bound is not positive).")
+        raise InputError(f"parameter {path} = {v:g} lies outside its bounds [{lo:g}, {hi:g}] "
+                         "(or a bound is not positive).")
     return lo, hi
 
 
@@ -147,7 +148,8 @@ class FitResult:
     def improved(self) -> bool:
         """The criterion went down (linear model; and in the time domain, when checked)."""
         linear = bool(self.moved) and self.crit_after < self.crit_before
-        timed = self.crit_after_time is None or self.crit_before_time is None or self.crit_after_time < self.crit_before_time
+        timed = (self.crit_after_time is None or self.crit_before_time is None
+                 or self.crit_after_time < self.crit_before_time)
         return linear and timed
 
     @property

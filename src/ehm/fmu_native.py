@@ -284,7 +284,8 @@ def export_native_fmu(out_path, human=None) -> Path:
              "rotating_seat": rotating, "inputs": list(INPUTS), "outputs": list(OUTPUTS),
              "max_seat_acc_mps2": MAX_SEAT_ACC_MPS2}
     description = (f"Seated human (ehm {__version__}, 12-segment efficient human model on MuJoCo {lib['version']}): "
-                   f"body motion and support forces from seat {'translation and rotation' if rotating else 'translation'}; "
+                   "body motion and support forces from seat "
+                   f"{'translation and rotation' if rotating else 'translation'}; "
                    f"{human.mass_kg:.1f} kg, "
                    f"{human.dof} degrees of freedom, model step {dt:g} s. Native C, no Python needed.")
 
@@ -297,7 +298,8 @@ def export_native_fmu(out_path, human=None) -> Path:
         (res / STATE_RESOURCE).write_text(state, encoding="utf-8")
         (res / PARAMS_RESOURCE).write_text(human.params.to_toml(), encoding="utf-8")
         (res / SETUP_RESOURCE).write_text(json.dumps(setup, indent=2) + "\n", encoding="utf-8")
-        guid = _guid((res / MODEL_RESOURCE).read_bytes(), state.encode(), c_source, "\n".join(INPUTS + OUTPUTS).encode())
+        guid = _guid((res / MODEL_RESOURCE).read_bytes(), state.encode(), c_source,
+                     "\n".join(INPUTS + OUTPUTS).encode())
         (sources / C_SOURCE).write_bytes(c_source)
         (sources / C_CONFIG).write_text(_config_header(guid), encoding="utf-8")
         (sources / "CMakeLists.txt").write_bytes(_native_file("CMakeLists.txt"))

@@ -44,9 +44,9 @@ import numpy as np
 
 from . import engine
 from .errors import EhmWarning, InputError
-from .linear import (BLOCK, SeatRotation, block_chunk, block_form, in_time_order, initial_state, output_layout, modes_of,
-                     linear_result, settled_orientations, advance, carry_of, contact_rows, left_out, seat_body_rates,
-                     state_of)
+from .linear import (BLOCK, SeatRotation, block_chunk, block_form, in_time_order, initial_state, output_layout,
+                     modes_of, linear_result, settled_orientations, advance, carry_of, contact_rows, left_out,
+                     seat_body_rates, state_of)
 from .kinematics import seat_kinematics, seat_rotation_matrices
 from .linear_poses import PoseGrid
 from .resampling import Resampler

@@ -86,8 +86,8 @@ def _array(value, shape_text: str, arg: str, n: int | None = None) -> np.ndarray
 def mounting_matrix(mounting, label: str = "from_imu") -> np.ndarray:
     """A mounting (sensor axes -> seat axes) as a 3x3 rotation matrix: None (the identity), one scipy Rotation, a
     proper 3x3 rotation matrix, or the sensor's (roll, pitch, yaw) in degrees as three numbers or ``"ROLL,PITCH,YAW"``
-    (as ``--mounting`` takes them, :func:`ehm.readers.mounting_rotation`); anything else is refused in one sentence naming
-    ``label``."""
+    (as ``--mounting`` takes them, :func:`ehm.readers.mounting_rotation`); anything else is refused in one sentence
+    naming ``label``."""
     if mounting is None:
         return np.eye(3)
     from scipy.spatial.transform import Rotation

@@ -16,11 +16,11 @@ their rms (tested).  It discretises the rest exactly at the sample step of its i
 seat acceleration linear between samples); :class:`ehm.SeatedHuman` gives it the motion resampled to the
 model's step by the same anti-aliased :class:`ehm.resampling.Resampler` as the nonlinear route, so that both
 routes see the same input (a first-order hold at a low log rate, 20 Hz, would cut the head's rms by a
-fifth).  It arranges the discretised model in blocks of :data:`BLOCK` samples, so that a whole run is one matrix product (block inputs and block start state to
-all the block's outputs) after a recursion over the block starts only (``block_form``).  While it runs
-it checks that the model still holds: every touching contact must keep pressing (normal force > 0) and
-stay inside its friction cone; otherwise it raises :class:`LinearRouteError` saying when, where and by how
-much the input was too large.
+fifth).  It arranges the discretised model in blocks of :data:`BLOCK` samples, so that a whole run is one
+matrix product (block inputs and block start state to all the block's outputs) after a recursion over the
+block starts only (``block_form``).  While it runs it checks that the model still holds: every touching
+contact must keep pressing (normal force > 0) and stay inside its friction cone; otherwise it raises
+:class:`LinearRouteError` saying when, where and by how much the input was too large.
 
 :func:`ehm.linear_frf` evaluates the same model's frequency response exactly; there is one
 linearisation and one state-space model.

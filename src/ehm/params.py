@@ -265,7 +265,8 @@ class Parameters:
 
     def seated(self, posture: str | None = None, back_support: str | None = None) -> "Parameters":
         """A copy with another posture (a name of :meth:`postures`) and/or back support
-        (:data:`ehm.seat.BACK_SUPPORTS`); None keeps the file's.  Either one not known is refused in one sentence naming the known ones."""
+        (:data:`ehm.seat.BACK_SUPPORTS`); None keeps the file's.  Either one not known is refused in one sentence
+        naming the known ones."""
         updates = {}
         if posture is not None:
             if posture not in self.postures():
@@ -382,7 +383,8 @@ class Parameters:
         _check_flat_sections(label, d, sources)
         settle_s, slide_s = self.value("simulation.settle_s"), self.value("simulation.back_slide_s")
         if slide_s > 0 and slide_s >= settle_s:
-            raise InputError(f"{label}: simulation.back_slide_s ({slide_s:g} s) must be shorter than simulation.settle_s "
+            raise InputError(f"{label}: simulation.back_slide_s ({slide_s:g} s) must be shorter than "
+                             "simulation.settle_s "
                              f"({settle_s:g} s): the back needs the rest of the settling time with friction on.")
         _check_joints(label, d, sources)
         _check_contacts(label, d, sources)

@@ -69,13 +69,16 @@ def write_report(summary: dict, figures: dict, path: Path | str, title: str = "M
 <html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>
 <style>
 body {{ font-family: sans-serif; max-width: 1100px; margin: 1.5em auto; color: #222; }}
-table {{ border-collapse: collapse; margin: 0.8em 0; }} th, td {{ border: 1px solid #bbb; padding: 3px 8px; text-align: right; }}
+table {{ border-collapse: collapse; margin: 0.8em 0; }} \
+th, td {{ border: 1px solid #bbb; padding: 3px 8px; text-align: right; }}
 th {{ background: #f0f0f0; }} img {{ max-width: 100%; margin: 0.4em 0; }} .note {{ color: #555; font-size: 0.9em; }}
 </style></head><body>
 <h1>{html.escape(title)}</h1>
-<p><b>Drive:</b> {html.escape(summary['input'])} ({summary['duration_s']:.0f} s, simulated in {summary['wall_s']:.0f} s).<br>
+<p><b>Drive:</b> {html.escape(summary['input'])} ({summary['duration_s']:.0f} s, \
+simulated in {summary['wall_s']:.0f} s).<br>
 <b>Person:</b> ehm seated human model, parameters: {html.escape(str(summary.get('params', 'default')))};
-locked joints: {html.escape(', '.join(summary.get('locked', [])) or 'none')}{html.escape(' (' + summary['scaled'] + ')' if summary.get('scaled') else '')}.
+locked joints: {html.escape(', '.join(summary.get('locked', [])) or 'none')}\
+{html.escape(' (' + summary['scaled'] + ')' if summary.get('scaled') else '')}.
 Seat accelerations in seat axes.</p>
 <h2>Comfort (ISO 2631-1)</h2>
 <table><tr><th>location</th><th>a<sub>w,x</sub></th><th>a<sub>w,y</sub></th><th>a<sub>w,z</sub></th>

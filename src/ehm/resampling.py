@@ -84,7 +84,8 @@ class Resampler:
 
     @classmethod
     def of_motion(cls, motion, dt_s: float) -> Resampler:
-        """A resampler of a :class:`ehm.motion.SeatMotion`'s acceleration (columns 0-2) and angular velocity (3-5, when it has one)."""
+        """A resampler of a :class:`ehm.motion.SeatMotion`'s acceleration (columns 0-2) and angular velocity (3-5,
+        when it has one)."""
         cols = [motion.acc_mps2] + ([motion.angvel_radps] if motion.angvel_radps is not None else [])
         return cls(motion.time_s, cols, dt_s)
 

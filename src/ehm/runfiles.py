@@ -61,7 +61,8 @@ def pyarrow_modules():
         import pyarrow
         import pyarrow.parquet
     except ImportError:
-        raise InputError("the Parquet format needs pyarrow: pip install 'ehm[parquet]' (or write --format csv).") from None
+        raise InputError("the Parquet format needs pyarrow: pip install 'ehm[parquet]' (or write --format csv)."
+                         ) from None
     return pyarrow, pyarrow.parquet
 
 

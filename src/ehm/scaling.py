@@ -228,11 +228,13 @@ def scale_params(params: Parameters, size: BodySize, body: Body | None = None) -
                 updates[path] = v * size.trunk
             else:  # fore-aft positions and pad thicknesses
                 updates[path] = v * size.width
-    about = f"scaled to stature {size.stature_m:g} m, mass {size.mass_kg:g} kg, sitting height {size.sitting_height_m:g} m"
+    about = (f"scaled to stature {size.stature_m:g} m, mass {size.mass_kg:g} kg, "
+             f"sitting height {size.sitting_height_m:g} m")
     return params.with_values(updates).with_about({"scaled": about})
 
 
-def check_buildable(size: BodySize, body: Body, params: Parameters, scaled_body: Body, scaled_params: Parameters) -> None:
+def check_buildable(size: BodySize, body: Body, params: Parameters, scaled_body: Body,
+                    scaled_params: Parameters) -> None:
     """One sentence when a person of ``size`` (``body`` and ``params`` scaled to ``scaled_body`` and
     ``scaled_params``) would have a segment that is no rigid body, naming the segment and the masses that can
     be built at this stature instead."""

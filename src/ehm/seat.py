@@ -9,9 +9,10 @@ The parameter file's ``[seat]`` places the pads for the tables' reference postur
 (``backrest_x_m``, recline ``backrest_angle_deg``), pad heights and thicknesses.  In another posture each pad
 follows its landmark on the body, as the experiment's configurable supports were set to each sitter: it sits
 at the landmark's height, and stands out of the backrest so that the contact presses into it as deep as in the
-reference posture (or just touches it, where the reference posture's pad leaves a gap).  A full backrest is the plane that both back contacts press into that deep; its recline
-follows the back.  A posture whose back would have to be inside the backrest, or that a pad cannot reach, is
-refused in one sentence.  No MuJoCo here: the engine's builder reads the planes.
+reference posture (or just touches it, where the reference posture's pad leaves a gap).  A full backrest is
+the plane that both back contacts press into that deep; its recline follows the back.  A posture whose back
+would have to be inside the backrest, or that a pad cannot reach, is refused in one sentence.  No MuJoCo
+here: the engine's builder reads the planes.
 """
 
 from __future__ import annotations

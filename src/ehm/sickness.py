@@ -482,7 +482,8 @@ def _check_inputs(time_s, gia_mps2, omega_radps):
     if dev > 0.01:
         raise InputError(f"time_s must be uniformly sampled within 1 %, but a step deviates by {100 * dev:.3g} % "
                          f"from the mean step of {h:g} s.")
-    return t, _vectors("gia_mps2", gia_mps2, t.size, "time_s"), _vectors("omega_radps", omega_radps, t.size, "time_s"), h
+    return (t, _vectors("gia_mps2", gia_mps2, t.size, "time_s"), _vectors("omega_radps", omega_radps, t.size, "time_s"),
+            h)
 
 
 def _vectors(name: str, value, n: int | None = None, against: str = "gia_mps2") -> np.ndarray:

@@ -357,7 +357,8 @@ class SeatedHuman:
         for p in POINT_NAMES:
             settled_pos, settled_quat = poses[p]
             world = Rotation.from_quat(raw.sensors[f"{p}_framequat"], scalar_first=True)
-            rel = (world if seat_rot is None else seat_rot.inv() * world) * Rotation.from_quat(settled_quat, scalar_first=True).inv()
+            rel = ((world if seat_rot is None else seat_rot.inv() * world)
+                   * Rotation.from_quat(settled_quat, scalar_first=True).inv())
             acc_world = raw.sensors[f"{p}_acc"]
             points[p] = PointMotion(
                 name=p,

@@ -193,7 +193,8 @@ class CsvTable:
             raise InputError(f"{self.label}: cannot read the file ({exc.strerror or exc}).") from None
         except UnicodeDecodeError:
             raise InputError(f"{self.label}: not a UTF-8 text file.") from None
-        lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
+        lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines())
+                 if ln.strip() and not ln.lstrip().startswith("#")]
         if not lines:
             raise InputError(f"{self.label}: the file has no header row.")
         rows = list(csv.reader([ln for _, ln in lines]))
@@ -222,7 +223,8 @@ class CsvTable:
                     f"{self.label}: column {others[0]!r} has an unknown unit; use one of "
                     f"{', '.join(base + '_' + u for u in _UNITS[quantity])}."
                 )
-            raise InputError(f"{self.label}: missing column {base}_<unit> (e.g. {base}_{next(iter(_UNITS[quantity]))}).")
+            raise InputError(f"{self.label}: missing column {base}_<unit> "
+                             f"(e.g. {base}_{next(iter(_UNITS[quantity]))}).")
         if len(found) > 1:
             raise InputError(f"{self.label}: columns {found[0][0]!r} and {found[1][0]!r} give the same quantity twice.")
         return found[0]
@@ -319,8 +321,8 @@ def load_joints(path: Path | str | None = None) -> tuple[Joint, ...]:
         tilt = t.number(n, r, "axes_pitch", "angle") if t.has("axes_pitch") else 0.0
         if abs(tilt) >= math.pi / 2:
             col = t._column("axes_pitch", "angle")[0]
-            raise InputError(f"{t.label}, line {n}, column {col}: {r[col]} ({math.degrees(tilt):g} deg) must lie strictly "
-                             "between -90 and 90 deg.")
+            raise InputError(f"{t.label}, line {n}, column {col}: {r[col]} ({math.degrees(tilt):g} deg) must lie "
+                             "strictly between -90 and 90 deg.")
         out.append(Joint(
             name=t.text(n, r, "name"), parent=t.text(n, r, "parent"), child=t.text(n, r, "child"), type=jtype,
             pos_m=t.vector(n, r, ("x", "y", "z"), "length"), locked=t.flag(n, r, "locked"),

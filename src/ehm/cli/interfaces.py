@@ -244,8 +244,8 @@ def _export_python_fmu(args, t0: float) -> int:
         raise InputError(f"export-fmu --python takes only --params, --posture, --back-support, --lock and --unlock, "
                          f"not {', '.join(extra)}; "
                          "export the native unit (without --python) for these.")
-    path = export_fmu(args.out, params=params_from_args(args), lock=joint_list(args.lock), unlock=joint_list(args.unlock),
-                      python=True)
+    path = export_fmu(args.out, params=params_from_args(args), lock=joint_list(args.lock),
+                      unlock=joint_list(args.unlock), python=True)
     print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
           f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "
           f"{len(OUTPUTS)} outputs (pelvis, trunk, head, lumbar); the host's Python must be able to import ehm")

@@ -41,7 +41,8 @@ def add_simulate(sub) -> None:
     model_options(p)
     excitation_options(p, 35.0)
     p.add_argument("--axis", default="z", help="excited seat axes: x, y, z or a combination (default z)")
-    p.add_argument("--signal", choices=("random", "sine", "sweep"), default="random", help="generated input (default random)")
+    p.add_argument("--signal", choices=("random", "sine", "sweep"), default="random",
+                   help="generated input (default random)")
     p.add_argument("--amplitude", type=float, default=0.5, help="sine or sweep peak acceleration [m/s^2]")
     p.add_argument("--freq", type=float, default=4.0, help="sine frequency [Hz]")
     p.add_argument("--f0", type=float, default=0.5, help="sweep start frequency [Hz]")
@@ -222,7 +223,8 @@ def _demo_runs(args, human, dt: float, out: Path) -> dict:
             animate(out / axis, out / axis / "animation.gif", exaggerate=20.0, end_s=min(8.0, run.duration_s))
         curves.update(run_curves(run, axis, tuple(args.band), segment_s=DEMO_SEGMENT_S))
         summaries[axis] = run.summary()
-        print(f"  {axis}: {run.duration_s:.0f} s simulated in {run.wall_s:.2f} s ({run.realtime_factor:.0f}x real time)")
+        print(f"  {axis}: {run.duration_s:.0f} s simulated in {run.wall_s:.2f} s "
+              f"({run.realtime_factor:.0f}x real time)")
     table = FrfTable(curves, method="time", meta={"input": "synthetic random vibration"})
     table.to_csv(out / "transmissibility.csv")
     plot_transmissibility(table, out / "transmissibility.png",

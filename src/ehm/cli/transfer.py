@@ -14,7 +14,8 @@ from ..outdir import RunFolder, check_output_file, check_output_folder
 from ..params import Parameters, refuse_defaults
 from ..tables import load_body
 from ..timestep import check_time_step
-from .common import checked_band, human_from_args, input_files, joint_list, params_from_args, read_motion_file, size_from_args
+from .common import (checked_band, human_from_args, input_files, joint_list, params_from_args, read_motion_file,
+                     size_from_args)
 from .options import (KEEP_SMALL_HELP, excitation_options, model_options, motion_file_options,
                       progress_options, seating_options, size_options)
 from .progress import end_progress_line, progress_count
@@ -86,7 +87,8 @@ def cmd_compare(args) -> int:
     from ..criterion import compare
     from ..frf import read_frf
 
-    result = compare(read_frf(args.data), read_frf(args.frf), checked_band(args.band), keep_small=args.keep_small_curves)
+    result = compare(read_frf(args.data), read_frf(args.frf), checked_band(args.band),
+                     keep_small=args.keep_small_curves)
     if args.json:
         print(json.dumps(result.as_dict(), indent=2))
     else:

@@ -74,7 +74,8 @@ def build_error(exc: Exception) -> InputError:
     where = re.search(r"Element name '([^']*)'", text)
     first = text.splitlines()[0].removeprefix("Error:").strip().rstrip(".") if text else type(exc).__name__
     first = re.sub(r";?\s*use '\w+' to fix", "", first)
-    at = f" at model element {where.group(1)!r} (a segment, joint, contact or seat surface of that name)" if where else ""
+    at = (f" at model element {where.group(1)!r} (a segment, joint, contact or seat surface of that name)"
+          if where else "")
     return InputError(f"the model could not be built: MuJoCo refused it{at}: {first}; check that element's values "
                       "in the body tables and the parameter file.")
 

@@ -38,8 +38,9 @@ class LinearModel:
     yaw) [rad] and angular acceleration [rad/s^2], the accelerations over the step as in
     :func:`point_accelerations`; then ``support.<group>.f{x,y,z}``, the force of each support group
     (:data:`SUPPORT_GROUPS`) on the body [N]; then ``contact.<name>.fn``, ``.ft1``, ``.ft2``, the normal and
-    tangential forces [N] of each contact that touches at rest (contact frame, see :func:`contact_forces`).  ``y0`` holds the outputs in the settled state (the support
-    forces carry the body's weight there).  Contacts are linearised as they are at rest: all stuck.
+    tangential forces [N] of each contact that touches at rest (contact frame, see :func:`contact_forces`).
+    ``y0`` holds the outputs in the settled state (the support forces carry the body's weight there).  Contacts
+    are linearised as they are at rest: all stuck.
     With the seat rotation's inputs (:data:`ROTATION_INPUTS`, ``input_names``) the outputs are relative to the
     seat's frame: the accelerations leave out the seat's own alpha x r and S r (added by :mod:`ehm.linear`).
     """

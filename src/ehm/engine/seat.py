@@ -76,7 +76,8 @@ class SeatGeometry:
             else:  # backrest bolster: face turned forward by back_bolster_angle
                 n = np.array([math.sin(b_ang), inward * math.cos(b_ang), 0.0])
             local = rot_y(c.pitch_rad).T @ n
-            support = c.center_m - rot_y(c.pitch_rad) @ (c.semi_axes_m ** 2 * local / np.linalg.norm(c.semi_axes_m * local))
+            support = c.center_m - rot_y(c.pitch_rad) @ (c.semi_axes_m ** 2 * local
+                                                          / np.linalg.norm(c.semi_axes_m * local))
             planes[c.surface] = (support - s["bolster_gap_m"] * n, n)
         return cls(planes)
 

@@ -20,7 +20,8 @@ def settle(model: Model, duration_s: float | None = None) -> dict:
     """Let the person sink into the seat under gravity until the posture controller has converged.
 
     Starts from the reference posture; the integral action of the posture control pulls the open-chain
-    joints back to it.  For the first ``simulation.back_slide_s`` the backrest contacts are frictionless.  The settled state (``qpos``, ``qvel``, ``act``) is stored on the model and returned.
+    joints back to it.  For the first ``simulation.back_slide_s`` the backrest contacts are frictionless.  The
+    settled state (``qpos``, ``qvel``, ``act``) is stored on the model and returned.
     Raises :class:`DivergenceError` if the model does not stay seated.
     """
     slide_s = float(model.params.value("simulation.back_slide_s"))

@@ -17,8 +17,9 @@ DEFAULT_CHANNELS = {"time": "time_s", "ax": "ax_mps2", "ay": "ay_mps2", "az": "a
 SI_UNITS = {"time": "s", "ax": "m/s^2", "ay": "m/s^2", "az": "m/s^2", "wx": "rad/s", "wy": "rad/s", "wz": "rad/s",
             "dt": "s"}
 ACC_KEYS, RATE_KEYS = ("ax", "ay", "az"), ("wx", "wy", "wz")
-KEY_KINDS = {"time": ("a time", "'s' or 'ms'"), "dt": ("a time step", "'s' or 'ms'"), **{k: ("an acceleration", "'m/s^2' or 'g'") for k in ACC_KEYS},
-         **{k: ("an angular rate", "'rad/s' or 'deg/s'") for k in RATE_KEYS}}
+KEY_KINDS = {"time": ("a time", "'s' or 'ms'"), "dt": ("a time step", "'s' or 'ms'"),
+             **{k: ("an acceleration", "'m/s^2' or 'g'") for k in ACC_KEYS},
+             **{k: ("an angular rate", "'rad/s' or 'deg/s'") for k in RATE_KEYS}}
 _LISTED = 25  #: Most channel names listed in a message.
 
 

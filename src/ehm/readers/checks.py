@@ -71,7 +71,8 @@ def check_not_flag(src: Source, key: str, name: str, raw, values: np.ndarray) ->
             return
     what = "True/False" if boolean else f"only 0 and 1 in {int(np.isfinite(values).sum())} of its {values.size} rows"
     raise InputError(f"{src.label}, {column_words(src, name, key)}: the column holds {what}, a flag, not "
-                     f"{KEY_KINDS[key][0]}: map the channel to the column of its measured values (--channel {key}=NAME).")
+                     f"{KEY_KINDS[key][0]}: map the channel to the column of its measured values "
+                     f"(--channel {key}=NAME).")
 
 
 def check_times(src: Source, name: str, t: np.ndarray) -> None:

@@ -90,8 +90,8 @@ def core_motion_signs(label: str, channels: dict, signs: dict) -> dict:
     if kept:
         done.append(f"{', '.join(kept)} with the file's sign, as the '-' before the name asks")
     verb = "hold" if len(flipped) > 1 else "holds"
-    reader_note(f"{label}: {names} {what}, which {verb} the negative of the specific force (-1 g on z for a phone lying "
-                f"face up): {'; '.join(done)}.", 3)
+    reader_note(f"{label}: {names} {what}, which {verb} the negative of the specific force (-1 g on z for a phone "
+                f"lying face up): {'; '.join(done)}.", 3)
     return signs
 
 

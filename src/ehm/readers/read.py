@@ -21,8 +21,8 @@ from .checks import (check_finite, check_not_flag, check_plausible, check_sampli
                      common_time)
 from .frames import FrameSource, ParquetSource
 from .gravity import check_mode, handle_gravity
-from .layout import (core_motion_signs, cut_rows, held_rows, held_note, irregular_steps, join_gyro, mounting_matrix_of, reader_note, signed_channels,
-                     cut_window, parse_columns)
+from .layout import (core_motion_signs, cut_rows, held_rows, held_note, irregular_steps, join_gyro, mounting_matrix_of,
+                     reader_note, signed_channels, cut_window, parse_columns)
 from .matlab import MatSource
 from .mdf import MdfSource
 from .text import TextSource
@@ -116,8 +116,9 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     label : str, optional
         How messages name the source (default: its path, or ``DataFrame``).
     fill_gaps : bool
-        (True or False only, as ``imu`` and ``drop_held``.)  Bridge gaps in the time stamps (steps longer than ``ehm.readers.GAP_STEPS`` median steps) with a straight line,
-        with a warning naming where; by default such a gap is refused.
+        (True or False only, as ``imu`` and ``drop_held``.)  Bridge gaps in the time stamps (steps longer than
+        ``ehm.readers.GAP_STEPS`` median steps) with a straight line, with a warning naming where; by default such
+        a gap is refused.
     columns : list of str or str, optional
         Names of the columns of a text file without a header row, in order (``["x", "y", "z", "delay_ms"]`` or
         ``"x,y,z,delay_ms"``); its first row is then data.  A text file whose first row holds only numbers is
@@ -221,7 +222,8 @@ def _rate(rate_hz) -> float | None:
         raise InputError(f"rate_hz must be a positive number of samples per second from {1 / MAX_STEP_S:g} Hz to "
                          f"{1e-3 / MIN_STEP_S:g} kHz (--rate; a log keeps the comfort band, 0.5-80 Hz, up to "
                          f"{PASS_FRACTION:g} times its rate: at {1 / MAX_STEP_S:g} Hz "
-                         f"0.5-{PASS_FRACTION / MAX_STEP_S:g} Hz of it, with a warning saying how much is lost); got {rate_hz!r}.")
+                         f"0.5-{PASS_FRACTION / MAX_STEP_S:g} Hz of it, with a warning saying how much is lost); "
+                         f"got {rate_hz!r}.")
     return rate
 
 
@@ -262,10 +264,10 @@ def _rate_note(label: str, motion: SeatMotion, rate_hz: float) -> None:
     lost = {w: band_share_outside(w, low, kept) - band_share_outside(w, low, held) for w in ("Wk", "Wd")}
     if max(lost.values()) < BAND_WARNING_SHARE:
         return
-    reader_note(f"{label}: resampled to {rate_hz:g} Hz (rate_hz, --rate), below the log's own {own_hz:.4g} Hz, it covers "
-                f"up to {kept:.3g} Hz instead of {held:.3g} Hz: {100 * lost['Wk']:.1f} % of Wk's power and "
-                f"{100 * lost['Wd']:.1f} % of Wd's (|W(f)|^2 on a log-frequency axis) are lost; leave --rate out to keep "
-                "the log's own rate.", 3)
+    reader_note(f"{label}: resampled to {rate_hz:g} Hz (rate_hz, --rate), below the log's own {own_hz:.4g} Hz, "
+                f"it covers up to {kept:.3g} Hz instead of {held:.3g} Hz: {100 * lost['Wk']:.1f} % of Wk's power and "
+                f"{100 * lost['Wd']:.1f} % of Wd's (|W(f)|^2 on a log-frequency axis) are lost; leave --rate out to "
+                "keep the log's own rate.", 3)
 
 
 _IMU_OPTIONS = ("rest_s", "max_tilt_deg")
@@ -429,9 +431,9 @@ def _read(src: Source, channels: dict, units: dict, rate_hz, imu: bool, mounting
         if frame == "earth":
             description += ", earth axes (x east, y north, z up)"
             reader_note(f"{src.label}: earth axes (x east, y north, z up) are not the vehicle's, and the log holds no "
-                        "heading to turn them: the seat's a_v, VDV and MSDV do not depend on it and are right, but its x and y "
-                        "values and the body's response do, and are given for x east and y north (a log in the vehicle's "
-                        "axes gives them).", 2)
+                        "heading to turn them: the seat's a_v, VDV and MSDV do not depend on it and are right, but "
+                        "its x and y values and the body's response do, and are given for x east and y north (a log "
+                        "in the vehicle's axes gives them).", 2)
         motion = SeatMotion(time_s, acc, description, rates)  # takes the read-only arrays as they are
     if irregular is not None:
         step, spread = irregular

@@ -57,8 +57,8 @@ class TextSource(Source):
         usecols = None if len(self.names) <= _ALL_COLUMNS else cols
         try:
             frame = pd.read_csv(self.path, sep=self.sep, decimal=self.decimal, comment="#", header=None,
-                                skiprows=[self.header_line - 1] if self.header_line else None, usecols=usecols, skip_blank_lines=True,
-                                encoding=self.encoding, skipinitialspace=True,
+                                skiprows=[self.header_line - 1] if self.header_line else None, usecols=usecols,
+                                skip_blank_lines=True, encoding=self.encoding, skipinitialspace=True,
                                 engine="c" if self.sep != r"\s+" else "python", on_bad_lines="error")
         except UnicodeError as exc:
             raise InputError(_undecodable(self.path, self.label, self.encoding, self.given_encoding is not None, exc)

@@ -108,8 +108,8 @@ def channel_unit(src: Source, key: str, name: str, units: dict) -> tuple[str, st
     """
     own = src.unit_of(name) if hasattr(src, "unit_of") else src.units.get(name, "")
     given = units.get(key)
-    if own and given and "%" not in given and unit_factor(own, key, src.label, name) != unit_factor(given, key, src.label,
-                                                                                          name):
+    if (own and given and "%" not in given
+            and unit_factor(own, key, src.label, name) != unit_factor(given, key, src.label, name)):
         raise InputError(f"{src.label}, channel {key} ({name!r}): the file gives the unit {own!r}, the units argument "
                          f"{given!r}; leave the argument out.")
     if given:
