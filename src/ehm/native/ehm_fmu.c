@@ -618,7 +618,7 @@ static void model_step(Ehm *e, const double a[3], const double w[3]) {
     g[2] = G0[2];
 }
 
-/* Why the state is no longer a seated person (ehm.engine._instability), or NULL. */
+/* Why the state is no longer a seated person (ehm.engine.diagnostics.instability), or NULL. */
 static const char *instability(Ehm *e, char *buf, size_t size) {
     const mjData *d = e->d;
     const mjtNum *pelvis = d->qpos + e->pelvis_adr;
