@@ -11,8 +11,7 @@ import numpy as np
 from .. import __version__
 from ..errors import InputError
 from ..outdir import check_output_file, check_output_folder
-from ..tables import load_body
-from .common import _human, _joint_list, _params, _read_motion_file, _size
+from .common import _human, _params, _read_motion_file, person_from_args
 from .options import _model_options, _motion_file_options, _progress_options, _seating_options
 from .progress import _progress_count
 
@@ -121,10 +120,7 @@ def cmd_realtime(args) -> int:
 
     motion = _read_motion_file(args)
     _check_realtime_motion(args, motion)
-    params = _params(args)
-    sim = Simulator(params=params, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
-                    comfort=not args.no_comfort, body=load_body(args.segments, args.joints, args.contacts),
-                    size=_size(args))
+    sim = Simulator(person_from_args(args), comfort=not args.no_comfort)
     m = motion.resample(sim.dt_s)
     acc = m.acc_mps2 if args.duration is None else m.acc_mps2[: int(round(args.duration / sim.dt_s)) + 1]
     print(f"real-time run of {acc.shape[0] * sim.dt_s:.1f} s of '{motion.description}', one {sim.dt_s * 1000:g} ms "
@@ -244,8 +240,7 @@ def _export_python_fmu(args, t0: float) -> int:
         raise InputError(f"export-fmu --python takes only --params, --posture, --back-support, --lock and --unlock, "
                          f"not {', '.join(extra)}; "
                          "export the native unit (without --python) for these.")
-    path = export_fmu(args.out, params=_params(args), lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
-                      python=True)
+    path = export_fmu(args.out, params=person_from_args(args), python=True)
     print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
           f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "
           f"{len(OUTPUTS)} outputs (pelvis, trunk, head, lumbar); the host's Python must be able to import ehm")

@@ -11,10 +11,10 @@ import numpy as np
 from ..errors import InputError
 from ..io import write_json_atomic
 from ..outdir import RunFolder, check_output_file, check_output_folder
-from ..params import Parameters, refuse_defaults
+from ..params import refuse_defaults
 from ..tables import load_body
 from ..timestep import check_time_step
-from .common import _band, _human, _input_files, _joint_list, _params, _read_motion_file, _size
+from .common import _band, _human, _input_files, _joint_list, _params, _read_motion_file, _size, person_from_args
 from .options import (_KEEP_SMALL_HELP, _excitation_options, _model_options, _motion_file_options,
                       _progress_options, _seating_options, _size_options)
 from .progress import _end_progress_line, _progress_count
@@ -236,9 +236,9 @@ def cmd_study_locking(args) -> int:
         name, joints = parse_variant(v)
         variants[name] = joints
     band = _band(args.band)
-    params = _params(args)
+    person = person_from_args(args)
     final = check_output_folder(args.out, inputs=_input_files(args))
-    study = locking_study(params=params, variants=variants, method=args.method, band_hz=band,
+    study = locking_study(params=person, variants=variants, method=args.method, band_hz=band,
                           duration_s=args.duration, progress=print)
     with RunFolder(final) as out:
         findings = _write_locking_study(study, variants, out)
@@ -312,9 +312,7 @@ def cmd_validate(args) -> int:
     if args.dt is not None:
         check_time_step(args.dt, "--dt")
     final = None if args.out is None else check_output_folder(args.out, inputs=_input_files(args))
-    validation = validate(Parameters.load(args.params), size=_size(args), posture=args.posture,
-                          back_support=args.back_support, locking=not args.no_locking, dt_s=args.dt,
-                          progress=_progress_count("linearisations", args.quiet))
+    validation = validate(person_from_args(args), locking=not args.no_locking, progress=_progress_count("linearisations", args.quiet))
     _end_progress_line()
     print(validation.format_table())
     if final is not None:
@@ -359,8 +357,7 @@ def cmd_check_step(args) -> int:
     if any(body_args):
         raise InputError("check-step uses the shipped body tables; --segments, --joints and --contacts are not "
                          "supported here.")
-    check = check_step(_params(args), dt_s=args.dt, lock=_joint_list(args.lock), unlock=_joint_list(args.unlock),
-                       size=_size(args), ratios=args.ratio)
+    check = check_step(person_from_args(args), ratios=args.ratio)
     if args.json:
         _print_step_check_json(check)
     else:
