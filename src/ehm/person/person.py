@@ -11,7 +11,6 @@ True
 
 from __future__ import annotations
 
-import math
 import os
 import pickle
 from collections.abc import Mapping
@@ -20,7 +19,7 @@ from dataclasses import replace as _dataclass_replace
 from typing import Any
 
 from ..errors import InputError, describe
-from ..params import HEAD_CONTROL, Parameters
+from ..params import Parameters
 from ..scaling import BodySize
 from ..seat import BACK_SUPPORTS
 from ..tables import Body, joint_names, load_body, resolve_locks
@@ -28,8 +27,6 @@ from ..timestep import check_time_step, warn_if_coarse
 
 #: The fields of :class:`Person`, in order (what :meth:`Person.replace` accepts).
 FIELDS = ("params", "body", "size", "posture", "back_support", "head_control", "lock", "unlock", "dt_s")
-
-_GAINS = tuple(k for k in HEAD_CONTROL if k != "enabled")
 
 
 @dataclass(frozen=True)
@@ -129,7 +126,7 @@ class Person:
         if self.back_support is not None and self.back_support not in BACK_SUPPORTS:
             raise InputError(f"Person: back_support = {describe(self.back_support)} is not a back support; give one "
                              f"of {', '.join(BACK_SUPPORTS)} (or None for the file's).")
-        set_(self, "head_control", _head_control(self.head_control))
+        set_(self, "head_control", _head_control(self.head_control, params))
         set_(self, "lock", tuple(sorted(set(joint_names(self.lock, "Person: lock")))))
         set_(self, "unlock", tuple(sorted(set(joint_names(self.unlock, "Person: unlock")))))
         resolve_locks(self.body if self.body is not None else load_body(), self.lock, self.unlock)  # names checked
@@ -268,26 +265,20 @@ class Person:
         return cls(body=body if data.get("body") == "custom" else None, **kw)
 
 
-def _head_control(value):
-    """None, a bool, or a mapping of gains checked and kept as sorted (name, value) pairs."""
+def _head_control(value, params: Parameters):
+    """None, a bool, or a mapping of gains checked (by the parameters, as a parameter file's) and kept as sorted
+    (name, value) pairs; an empty mapping is True (on with the file's gains)."""
     if value is None or isinstance(value, bool):
         return value
     if isinstance(value, tuple) and all(isinstance(x, tuple) and len(x) == 2 for x in value):
         value = dict(value)
     if not isinstance(value, Mapping):
-        raise InputError(f"Person: head_control = {describe(value)} is not True, False, None or a mapping of gains; "
+        raise InputError(f"Person: head_control must be True, False, None or a dict of gains, not {describe(value)}; "
                          "give e.g. {'tilt_stiffness_Nm_per_rad': 30.0}.")
     if not value:
-        raise InputError("Person: head_control = {} names no gain; give True for the file's gains or a mapping "
-                         "such as {'tilt_stiffness_Nm_per_rad': 30.0}.")
-    out = []
-    for key, v in value.items():
-        if key not in _GAINS:
-            raise InputError(f"Person: head_control gain {key!r} is unknown; use {', '.join(_GAINS)}.")
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-            raise InputError(f"Person: head_control gain {key} = {describe(v)} is not a finite number; give one.")
-        out.append((key, float(v)))
-    return tuple(sorted(out))
+        return True
+    params.with_head_control(dict(value))  # the gains' names and values, in the parameter file's sentences
+    return tuple(sorted((k, float(v)) for k, v in value.items()))
 
 
 def as_person(person=None, *, lock=(), unlock=(), body=None, size=None, dt_s=None, posture=None,
