@@ -89,10 +89,10 @@ class Person:
     Person(posture='slouched', back_support='none')
     >>> SeatedHuman(person).person == person
     True
-    >>> person.replace(dt_s=2.0)
+    >>> person.replace(dt_s=2.0)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    ehm.errors.InputError: dt_s = 2.0 s is out of range: give a time step from 1e-05 s to 0.005 s.
+    ehm.errors.InputError: dt_s = 2.0 is not a plausible time step: it must be a number of seconds from 1 us to 10 ms ...
     """
 
     params: Parameters | None = None
@@ -220,7 +220,7 @@ class Person:
         dt = self.dt_s if self.dt_s is not None else p.time_step()
         joints = "".join([f", locked {', '.join(self.lock)}" if self.lock else "",
                           f", unlocked {', '.join(self.unlock)}" if self.unlock else ""])
-        return (f"{p.posture} on a {p.back_support} back support, {size}, head control {hc}{joints}, "
+        return (f"{p.posture}, back support {p.back_support}, {size}, head control {hc}{joints}, "
                 f"step {dt * 1e3:g} ms, parameters {self.params.origin}"
                 + ("" if self.body is None else ", custom body tables"))
 
