@@ -21,7 +21,6 @@ from typing import Any
 from ..errors import InputError, describe
 from ..params import Parameters
 from ..scaling import BodySize
-from ..seat import BACK_SUPPORTS
 from ..tables import Body, joint_names, load_body, resolve_locks
 from ..timestep import check_time_step, warn_if_coarse
 
@@ -120,16 +119,17 @@ class Person:
         if self.size is not None and not isinstance(self.size, BodySize):
             raise InputError(f"Person: size = {describe(self.size)} is not a body size; give ehm.BodySize(stature_m, "
                              "mass_kg) or None for the reference person.")
-        if self.posture is not None and self.posture not in params.postures():
-            raise InputError(f"Person: posture = {describe(self.posture)} is not a posture of the parameter file "
-                             f"({params.origin}); give one of {', '.join(params.postures())} (or None for the file's).")
-        if self.back_support is not None and self.back_support not in BACK_SUPPORTS:
-            raise InputError(f"Person: back_support = {describe(self.back_support)} is not a back support; give one "
-                             f"of {', '.join(BACK_SUPPORTS)} (or None for the file's).")
+        for name in ("posture", "back_support"):
+            value = getattr(self, name)
+            if value is not None and not isinstance(value, str):
+                raise InputError(f"Person: {name} = {describe(value)} is not a name; give one, e.g. "
+                                 f"{'slouched' if name == 'posture' else 'none'} (or None for the file's).")
+        params.seated(self.posture, self.back_support)  # an unknown one: one sentence naming the known ones
         set_(self, "head_control", _head_control(self.head_control, params))
         set_(self, "lock", tuple(sorted(set(joint_names(self.lock, "Person: lock")))))
         set_(self, "unlock", tuple(sorted(set(joint_names(self.unlock, "Person: unlock")))))
-        resolve_locks(self.body if self.body is not None else load_body(), self.lock, self.unlock)  # names checked
+        if self.lock or self.unlock:  # the names checked against the tables
+            resolve_locks(self.body if self.body is not None else load_body(), self.lock, self.unlock)
         if self.dt_s is not None:
             set_(self, "dt_s", check_time_step(self.dt_s, "dt_s"))
 
