@@ -405,9 +405,12 @@ def export_fmu(out_path, params: Person | Parameters | str | None = None, lock=(
 
         check_file_destination(out_path, ".fmu", "an FMU")
         return export_native_fmu(out_path, SeatedHuman(person, rotating_seat=rotating_seat))
-    if person.size is not None or person.dt_s is not None or person.body is not None or rotating_seat:
-        raise InputError("the pythonfmu unit (--python) takes no body size, time step, body tables or rotating "
-                         "seat; set the size and step in the parameter file, or export the native unit.")
+    if person.size is not None or person.dt_s is not None or rotating_seat:
+        raise InputError("the pythonfmu unit (--python) takes no body size, time step or rotating seat; set the size "
+                         "and step in the parameter file, or export the native unit.")
+    if person.body is not None:
+        raise InputError("the pythonfmu unit (--python) runs the shipped body tables; export the native unit for a "
+                         "person with their own tables.")
 
     builder = _pythonfmu_builder()
     out = Path(out_path)
