@@ -61,7 +61,7 @@ def test_head_control_gains_are_kept_immutably():
 
 
 @pytest.mark.parametrize("kw, words", [
-    ({"params": 3}, ("params = 3", "parameter file's path")),
+    ({"params": 3}, ("Person: params must be a parameter file's path", "not 3")),
     ({"posture": "lying"}, ("unknown posture 'lying'", "erect, slouched")),
     ({"posture": 3}, ("Person: posture = 3 is not a name",)),
     ({"back_support": "sofa"}, ("unknown back support 'sofa'", "none, low, high, full")),
@@ -71,7 +71,7 @@ def test_head_control_gains_are_kept_immutably():
     ({"lock": 3}, ("Person: lock must be a joint name",)),
     ({"lock": "t12", "unlock": "t12"}, ("both locked and unlocked",)),
     ({"dt_s": 0.5}, ("dt_s = 0.5",)),
-    ({"size": {"stature_m": 1.8}}, ("size = ", "ehm.BodySize")),
+    ({"size": {"stature_m": 1.8}}, ("size must be an ehm.scaling.BodySize", "not a dict")),
     ({"body": "tables"}, ("body = 'tables'", "ehm.load_body")),
 ])
 def test_every_bad_value_is_one_sentence(kw, words):
@@ -118,7 +118,7 @@ def test_as_person_builds_or_changes():
     assert as_person(p, lock=()) is p  # an empty shortcut changes nothing
     assert as_person(p, dt_s=0.0005) == p.replace(dt_s=0.0005)
     assert as_person(None, posture="slouched") == p
-    with pytest.raises(InputError, match="neither an ehm.Person nor parameters"):
+    with pytest.raises(InputError, match="params must be a parameter file's path, an ehm.Parameters, an ehm.Person"):
         as_person(3.0)
 
 

@@ -109,16 +109,16 @@ class Person:
         params = self.params
         if not isinstance(params, Parameters):
             if params is not None and not isinstance(params, (str, os.PathLike)):
-                raise InputError(f"Person: params = {describe(params)} is neither an ehm.Parameters nor a parameter "
-                                 "file's path; give one of them, or None for the shipped defaults.")
+                raise InputError(f"Person: params must be a parameter file's path, an ehm.Parameters or None (the "
+                                 f"shipped defaults), not {describe(params)}.")
             params = Parameters.load(params)
             set_(self, "params", params)
         if self.body is not None and not isinstance(self.body, Body):
             raise InputError(f"Person: body = {describe(self.body)} is not body tables; give ehm.load_body(...) or "
                              "None for the shipped tables.")
         if self.size is not None and not isinstance(self.size, BodySize):
-            raise InputError(f"Person: size = {describe(self.size)} is not a body size; give ehm.BodySize(stature_m, "
-                             "mass_kg) or None for the reference person.")
+            raise InputError(f"Person: size must be an ehm.scaling.BodySize, e.g. BodySize(stature_m=1.7, "
+                             f"mass_kg=70), or None for the reference person, not {describe(self.size)}.")
         for name in ("posture", "back_support"):
             value = getattr(self, name)
             if value is not None and not isinstance(value, str):
@@ -293,8 +293,8 @@ def as_person(person=None, *, lock=(), unlock=(), body=None, size=None, dt_s=Non
     if isinstance(person, Person):
         return person.replace(**changes) if changes else person
     if person is not None and not isinstance(person, (Parameters, str, os.PathLike)):
-        raise InputError(f"the person = {describe(person)} is neither an ehm.Person nor parameters; give an "
-                         "ehm.Person, an ehm.Parameters, a parameter file's path or None.")
+        raise InputError(f"params must be a parameter file's path, an ehm.Parameters, an ehm.Person or None (the "
+                         f"shipped defaults), not {describe(person)}.")
     return Person(params=person, **changes)
 
 
