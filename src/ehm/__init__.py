@@ -6,6 +6,8 @@ contacts to a seat pan, a two-pad backrest and the floor.
 
 Public API
 ----------
+Person             who sits where, as one value (parameters, size, posture, back support, head control, locks,
+                   step): every entry point below takes it
 SeatedHuman        one person on one seat: ``info()``, ``simulate(motion)``, ``stream``, ``linear_model()``
 simulate_parallel  a long nonlinear run in segments on several processes or a Dask cluster
 RunResult          a run's time histories by name: ``run.point("head").acc_mps2``
@@ -57,6 +59,7 @@ __version__ = "0.1.0"
 from .errors import DivergenceError, EhmError, EhmWarning, InputError
 from .motion import SeatMotion, random_vibration, sine, sweep
 from .params import Parameters
+from .person import Person
 from .simulation import PointMotion, RunResult, SeatedHuman
 from .stepping import Simulator, StepState
 from .tables import load_body
@@ -75,7 +78,7 @@ from .validation import Validation, validate
 
 __all__ = [
     "DivergenceError", "EhmError", "EhmWarning", "InputError",
-    "SeatedHuman", "RunResult", "PointMotion", "simulate_parallel", "Simulator", "StepState",
+    "Person", "SeatedHuman", "RunResult", "PointMotion", "simulate_parallel", "Simulator", "StepState",
     "SeatMotion", "random_vibration", "sine", "sweep", "read_motion", "load_motion_csv", "from_imu",
     "city_drive", "rough_road", "assess", "Assessment",
     "FrfTable", "linear_frf", "time_domain_frf", "read_frf", "compare",

@@ -36,6 +36,7 @@ from .comfort import BAND_WARNING_SHARE, WEIGHTING_BANDS_HZ, ComfortAccumulator,
 from .comfort.spine import SpinalDoseAccumulator, SpineExposure, iso2631_5_summary, spinal_dose
 from .errors import EhmWarning, InputError
 from .motion import SeatMotion, require_motion, seat_rotation_matrices
+from .person import Person
 from .resampling import PASS_FRACTION
 from .sickness import SicknessAccumulator
 
@@ -371,8 +372,9 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     ----------
     motion : SeatMotion
         The drive: seat acceleration in seat axes and, optionally, angular velocity.
-    human : SeatedHuman, optional
-        The person (default: the default person, with a rotating seat when the drive rotates).
+    human : SeatedHuman or Person, optional
+        The person (default: the default person): a :class:`ehm.Person` is built here, with a rotating seat when
+        the drive rotates (as the default person is).
     chunk_s : float
         Length of the pieces the drive is simulated and evaluated in [s]: the working memory is about 5 MB per
         second of chunk at a 0.5 ms step (measured; in proportion to the steps per second, so about half at
@@ -404,8 +406,11 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     if motion.duration_s < 2.0:
         raise InputError(f"the drive '{motion.description}' lasts {motion.duration_s:g} s; an assessment needs at "
                          "least 2 s (the running rms alone spans 1 s).")
-    if human is None:
-        human = SeatedHuman(rotating_seat=rotating)
+    if human is None or isinstance(human, Person):
+        human = SeatedHuman(human, rotating_seat=rotating)
+    elif not isinstance(human, SeatedHuman):
+        raise InputError(f"assess: human is {type(human).__name__}; give an ehm.Person, an ehm.SeatedHuman or None "
+                         "(the default person).")
     dt = float(human.params.value("simulation.dt_s"))
     fs = 1.0 / dt
     keep = max(1, int(round(fs / TRACE_RATE_HZ)))

@@ -98,6 +98,15 @@ class RunSpec:
     point_id: str = ""    # the study point alone (its record's file name); run_id adds the input fingerprint
     fingerprint: dict = field(default_factory=dict)  # input -> digest (parameters, drive, tables, versions)
 
+    def build_person(self):
+        """The run's :class:`ehm.Person`: the shipped parameters with the grid's values, the body size and locks."""
+        from .params import Parameters
+        from .person import Person
+        from .scaling import BodySize
+
+        params = Parameters.load().with_values(self.params) if self.params else Parameters.load()
+        return Person(params=params, size=BodySize(**self.person) if self.person else None, lock=self.lock)
+
     def inputs(self) -> dict:
         """The run's inputs as flat columns."""
         out = {"run_id": self.run_id, "lock": "+".join(self.lock) or "none"}
@@ -401,20 +410,18 @@ def run_one(spec: RunSpec) -> dict:
 
 
 def _run_point(spec: RunSpec) -> dict:
-    from .params import Parameters
-    from .scaling import BodySize
     from .simulation import SeatedHuman
 
     record = {"inputs": spec.inputs(), "outputs": {}, "error": None, "simulated_s": 0.0}
     t0 = time.perf_counter()
     try:
-        params = Parameters.load().with_values(spec.params) if spec.params else Parameters.load()
-        size = BodySize(**spec.person) if spec.person else None
+        person = spec.build_person()
+        params = person.params
         inp = spec.input
         if "transmissibility" in spec.compute:
             from .frf import POINTS, linear_frf, time_domain_frf
 
-            human = SeatedHuman(params=params, lock=spec.lock, size=size)
+            human = SeatedHuman(person)
             axes = inp.get("axes", ["x", "y", "z"])
             for axis in axes:
                 if inp.get("method", "linear") == "time":
@@ -433,8 +440,7 @@ def _run_point(spec: RunSpec) -> dict:
 
             motion = _drive(inp, params.time_step())
             route = inp.get("route", "auto")  # the hybrid route, as ehm.assess and ehm assess by default
-            human = SeatedHuman(params=params, lock=spec.lock, size=size,
-                                rotating_seat=needs_rotating_seat(motion, route))
+            human = SeatedHuman(person, rotating_seat=needs_rotating_seat(motion, route))
             result = assess(motion, human, method=route)
             record["simulated_s"] += motion.duration_s
             summary = result.summary()

@@ -27,6 +27,7 @@ import numpy as np
 from .errors import InputError
 from .frf import AXES, DOFS, POINTS, linear_frf
 from .params import Parameters
+from .person.person import Person, as_person
 from .timestep import (  # noqa: F401 - re-exported: ehm.convergence.StepWarning etc.
     CONVERGED_STEP_S,
     DEFAULT_STEP_ERRORS,
@@ -113,19 +114,20 @@ def path_errors(table, reference, small_path: float = SMALL_PATH) -> tuple[dict,
     return errors, at_hz
 
 
-def check_step(params: Parameters | str | None = None, dt_s: float | None = None, lock=(), unlock=(), size=None,
+def check_step(params: Person | Parameters | str | None = None, dt_s: float | None = None, lock=(), unlock=(), size=None,
                ratios=(8, 4), freq_hz: np.ndarray | None = None) -> StepCheck:
     """Compare the linearised model at ``dt_s`` with the same model at ``dt_s / ratio`` for each ratio.
 
     Parameters
     ----------
-    params : Parameters, path or None
-        The person's parameters (default: the shipped defaults).
+    params : Person, Parameters, path or None
+        The person (:class:`ehm.Person`: its posture, back support, head control, locks and size are checked as
+        they are), or its parameters (default: the shipped defaults).
     dt_s : float, optional
-        Step to check [s] (default: the step the person runs at, :meth:`ehm.Parameters.time_step`: for the
-        shipped slouched posture its own 0.5 ms).
+        Step to check [s] (default: the person's own ``dt_s``, else the step it runs at,
+        :meth:`ehm.Parameters.time_step`: for the shipped slouched posture its own 0.5 ms).
     lock, unlock, size
-        As for :class:`ehm.SeatedHuman`.
+        Shortcuts that build (or change) the :class:`ehm.Person`, as for :class:`ehm.SeatedHuman`.
     ratios : sequence of int
         Finer steps to compare with, as divisors of ``dt_s``.
     freq_hz : array, optional
@@ -135,8 +137,10 @@ def check_step(params: Parameters | str | None = None, dt_s: float | None = None
     """
     from .simulation import SeatedHuman
 
-    params = params if isinstance(params, Parameters) else Parameters.load(params)
-    dt = params.time_step() if dt_s is None else check_time_step(dt_s, "dt_s")
+    person = as_person(params, lock=lock, unlock=unlock, size=size)
+    if dt_s is None:
+        dt_s = person.dt_s
+    dt = person.seated_params().time_step() if dt_s is None else check_time_step(dt_s, "dt_s")
     ratios = tuple(int(r) for r in ratios)
     if not ratios or min(ratios) < 2:
         raise InputError(f"the finer steps are given as divisors of the step, each 2 or more; got {ratios}.")
@@ -149,7 +153,7 @@ def check_step(params: Parameters | str | None = None, dt_s: float | None = None
     def table(step_s: float):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", StepWarning)  # the coarse step is what is being checked
-            human = SeatedHuman(params=params, lock=lock, unlock=unlock, size=size, dt_s=step_s)
+            human = SeatedHuman(person.replace(dt_s=step_s))
         return linear_frf(human, freq_hz=f, discrete=True)
 
     tables = {r: table(dt / r) for r in ratios}

@@ -57,7 +57,8 @@ import numpy as np
 
 from .errors import EhmError, InputError
 from .outdir import check_file_destination
-from .tables import joint_names
+from .params import Parameters
+from .person.person import Person, as_person
 
 #: Class name of the slave = the FMU's model identifier (names its binaries).
 MODEL_IDENTIFIER = "EhmSeatedHuman"
@@ -357,8 +358,8 @@ def _install_atomic(built: Path, out: Path) -> None:
     replace_atomically(out, write, "the FMU")
 
 
-def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, size=None,
-               dt_s: float | None = None, rotating_seat: bool = False, posture: str | None = None,
+def export_fmu(out_path, params: Person | Parameters | str | None = None, lock=(), unlock=(), python: bool = False,
+               size=None, dt_s: float | None = None, rotating_seat: bool = False, posture: str | None = None,
                back_support: str | None = None, head_control=None) -> Path:
     """Write an FMI 2.0 co-simulation FMU of the seated person to ``out_path`` (a ``.fmu`` file).
 
@@ -366,9 +367,11 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     ----------
     out_path : str or Path
         Destination file; written whole or not at all (built in a temporary folder, then renamed).
-    params : Parameters, path or None
-        Parameter set to embed (default: the shipped defaults).  The pythonfmu unit's host may select
-        another file with the FMU's ``params_file`` parameter.
+    params : Person, Parameters, path or None
+        The person (:class:`ehm.Person`), or the parameter set to embed (default: the shipped defaults).  The
+        pythonfmu unit's host may select another file with the FMU's ``params_file`` parameter.  The other
+        person arguments (``lock``, ``unlock``, ``size``, ``dt_s``, ``posture``, ``back_support``,
+        ``head_control``) are shortcuts that build (or change) the Person.
     lock, unlock : iterable of str
         Joints to lock or unlock, as for :class:`ehm.SeatedHuman`; embedded in the FMU.
     python : bool
@@ -392,27 +395,29 @@ def export_fmu(out_path, params=None, lock=(), unlock=(), python: bool = False, 
     (``pip install ehm[fmu]``), and the host that runs it needs ehm importable in its Python.
     """
     from . import __version__
-    from .params import Parameters
     from .simulation import SeatedHuman
+
+    person = as_person(params, lock=lock, unlock=unlock, size=size, dt_s=dt_s, posture=posture,
+                       back_support=back_support, head_control=head_control)
 
     if not python:
         from .fmu_native import export_native_fmu
 
         check_file_destination(out_path, ".fmu", "an FMU")
-        human = SeatedHuman(params=params, lock=lock, unlock=unlock, size=size, dt_s=dt_s, rotating_seat=rotating_seat,
-                            posture=posture, back_support=back_support, head_control=head_control)
-        return export_native_fmu(out_path, human)
-    if size is not None or dt_s is not None or rotating_seat:
+        return export_native_fmu(out_path, SeatedHuman(person, rotating_seat=rotating_seat))
+    if person.size is not None or person.dt_s is not None or rotating_seat:
         raise InputError("the pythonfmu unit (--python) takes no body size, time step or rotating seat; set the size "
                          "and step in the parameter file, or export the native unit.")
+    if person.body is not None:
+        raise InputError("the pythonfmu unit (--python) runs the shipped body tables; export the native unit for a "
+                         "person with their own tables.")
 
     builder = _pythonfmu_builder()
     out = Path(out_path)
     check_file_destination(out, ".fmu", "an FMU")
-    lock, unlock = list(joint_names(lock, "lock")), list(joint_names(unlock, "unlock"))
-    p = (params if isinstance(params, Parameters) else Parameters.load(params)).seated(posture, back_support)
-    p = p.with_head_control(head_control)
-    human = SeatedHuman(params=p, lock=lock, unlock=unlock)  # checks the joints and builds the model once
+    lock, unlock = list(person.lock), list(person.unlock)
+    p = person.seated_params()
+    human = SeatedHuman(person)  # builds the model once
     setup = {"format": SETUP_FORMAT, "ehm_version": __version__, "params_origin": p.origin, "lock": lock,
              "unlock": unlock, "locked": sorted(human.locked), "dt_s": float(human.model.mj.opt.timestep),
              "inputs": list(INPUTS), "outputs": list(OUTPUTS)}

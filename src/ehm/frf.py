@@ -281,6 +281,18 @@ def run_curves(run, axis: str, band_hz: tuple[float, float] = (0.1, 12.0), segme
     return curves
 
 
+def _seated(human):
+    """A SeatedHuman for ``human`` (an :class:`ehm.Person` is built; a SeatedHuman is used as it is)."""
+    from .person import Person
+    from .simulation import SeatedHuman
+
+    if isinstance(human, Person):
+        return SeatedHuman(human)
+    if not isinstance(human, SeatedHuman):
+        raise InputError(f"the person is {type(human).__name__}; give an ehm.Person or an ehm.SeatedHuman.")
+    return human
+
+
 def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2: float = 0.3, seed: int = 0,
                     band_hz: tuple[float, float] = (0.1, 12.0), segment_s: float = 10.0,
                     route: str = "nonlinear", motion=None) -> FrfTable:
@@ -290,12 +302,15 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
     ``route`` is the simulation route of the runs: ``nonlinear`` (MuJoCo, the default) or ``linear`` (the
     linearised person, :mod:`ehm.linear`: milliseconds per run; refuses inputs that make a contact slide).
 
+    ``human`` is an :class:`ehm.SeatedHuman` or an :class:`ehm.Person` (built here).
+
     With ``motion`` (a measured seat motion, e.g. from :func:`ehm.read_motion`) the person runs that
     motion once instead, and each requested seat axis that it moves gives its curves (single-input H1:
     when the motion moves several axes at once, correlated inputs bias each other's estimates).
     """
     from .motion import random_vibration
 
+    human = _seated(human)
     if motion is not None:
         if motion.duration_s < segment_s:
             raise InputError(f"the motion '{motion.description}' lasts {motion.duration_s:g} s: it must last at "
@@ -332,11 +347,13 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
     the continuous-time model of the linear route (:meth:`ehm.SeatedHuman.linear_model`, no step error);
     ``discrete=True`` (or an ``ehm.engine.LinearModel`` as ``linear_model``) gives the response of one
     MuJoCo step at the person's own time step, with that step's error (what ``ehm check-step`` compares).
+    ``human`` is an :class:`ehm.SeatedHuman` or an :class:`ehm.Person` (built here).
     """
     from . import engine
     from .linear import frequency_response
     from .transfer import discrete_frequency_response
 
+    human = _seated(human)
     f = np.arange(0.1, 12.0 + 1e-9, 0.05) if freq_hz is None else np.asarray(freq_hz, dtype=float)
     axes = _axes(axis)
     cols = [AXES.index(a) for a in axes]

@@ -27,8 +27,8 @@ from .results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_run
     RunResult,
     concatenate_runs,
 )
-from .tables import Body, load_body, resolve_locks
-from .timestep import warn_if_coarse
+from .person.person import Person, as_person
+from .tables import Body
 
 
 class SeatedHuman:
@@ -36,8 +36,12 @@ class SeatedHuman:
 
     Parameters
     ----------
-    params : Parameters, path or None
-        Parameter set or TOML file (default: the shipped defaults).
+    params : Person, Parameters, path or None
+        The person (:class:`ehm.Person`), or its parameter set or TOML file (default: the shipped defaults).  The
+        other keyword arguments but ``rotating_seat`` are shortcuts that build the :class:`ehm.Person` (given
+        with a Person, they replace its fields); :attr:`person` gives it back.
+    person : Person, optional
+        The person, by name (instead of the first argument).
     lock, unlock : iterable of str
         Joints to lock or unlock on top of the body table's defaults (the waist is locked by default).
     body : Body, optional
@@ -64,23 +68,17 @@ class SeatedHuman:
         default) keeps the file's ``head_control.enabled`` (off in the shipped file).
     """
 
-    def __init__(self, params: Parameters | str | Path | None = None, lock=(), unlock=(),
+    def __init__(self, params: Person | Parameters | str | Path | None = None, lock=(), unlock=(),
                  body: Body | None = None, rotating_seat: bool = False, size=None, dt_s: float | None = None,
-                 posture: str | None = None, back_support: str | None = None, head_control=None):
-        self.body = body if body is not None else load_body()
-        self.params = params if isinstance(params, Parameters) else Parameters.load(params)
-        self.params = self.params.seated(posture, back_support).with_head_control(head_control)
-        self.params = self.params.at_step(dt_s)
-        warn_if_coarse(float(self.params.value("simulation.dt_s")), converged_s=self.params.converged_step(),
-                       posture=self.params.posture)
-        if size is not None:  # an individual body size (ehm.scaling.BodySize)
-            from .scaling import check_buildable, scale_body, scale_params
-
-            body0, params0 = self.body, self.params
-            self.body, self.params = scale_body(self.body, size), scale_params(self.params, size, self.body)
-            check_buildable(size, body0, params0, self.body, self.params)  # one sentence, with masses that work
-        self.size = size
-        self.locked = resolve_locks(self.body, lock, unlock)
+                 posture: str | None = None, back_support: str | None = None, head_control=None, *,
+                 person: Person | None = None):
+        if person is not None and params is not None:
+            raise InputError("SeatedHuman: give the person either first or as person=, not both.")
+        self.person = as_person(person if person is not None else params, lock=lock, unlock=unlock, body=body,
+                                size=size, dt_s=dt_s, posture=posture, back_support=back_support,
+                                head_control=head_control)
+        built = self.person.resolved()  # seated, head control, step (and its warning), size, locks
+        self.body, self.params, self.locked, self.size = built.body, built.params, built.locked, built.size
         self.model = engine.build(self.body, self.params, self.locked, rotating_seat=rotating_seat)
         self._linear = {}  # the linear route's models (translation, rotation), built on first use (linear_model)
         self._static_model = None  # a rotating seat's person on a static seat, for the linearisation
@@ -91,7 +89,7 @@ class SeatedHuman:
         size, and the settled state when the person has settled (so that a rebuilt person need not settle again:
         settling is deterministic, so this is the state it would reach)."""
         settled = self.model.settled
-        return {"body": self.body, "params": self.params, "locked": frozenset(self.locked),
+        return {"person": self.person, "body": self.body, "params": self.params, "locked": frozenset(self.locked),
                 "rotating_seat": self.model.seat is not None, "size": self.size,
                 "settled": None if settled is None else {k: (v.copy() if isinstance(v, np.ndarray) else v)
                                                          for k, v in settled.items()}}
@@ -101,6 +99,7 @@ class SeatedHuman:
         """The person of :meth:`recipe`, built anew (the same MuJoCo model, and settled if it was)."""
         human = cls.__new__(cls)
         human.body, human.params, human.size = recipe["body"], recipe["params"], recipe["size"]
+        human.person = recipe.get("person")
         human.locked = frozenset(recipe["locked"])
         human.model = engine.build(human.body, human.params, human.locked, rotating_seat=recipe["rotating_seat"])
         human._linear, human._static_model = {}, None

@@ -20,6 +20,7 @@ import numpy as np
 from . import engine
 from .errors import InputError
 from .params import Parameters
+from .person import Person
 from .results import POINT_NAMES
 from .simulation import SeatedHuman
 
@@ -85,8 +86,11 @@ class Simulator:
 
     Parameters
     ----------
-    params, lock, unlock, body, size
-        As for :class:`ehm.SeatedHuman`.
+    params : Person, Parameters, path or None
+        The person (:class:`ehm.Person`: its posture, back support, head control and time step apply step by
+        step too), or its parameters, as for :class:`ehm.SeatedHuman`.
+    lock, unlock, body, size
+        Shortcuts that build (or change) the :class:`ehm.Person`, as for :class:`ehm.SeatedHuman`.
     comfort : bool
         Keep running ISO 2631-1 figures (Wd x, y; Wk z) of seat, pelvis, trunk, head and lumbar spine.
     comfort_every : int
@@ -98,9 +102,10 @@ class Simulator:
     in advance (:func:`ehm.assess`), since its orientation is integrated over the record.
     """
 
-    def __init__(self, params: Parameters | str | None = None, lock=(), unlock=(), comfort: bool = True,
+    def __init__(self, params: Person | Parameters | str | None = None, lock=(), unlock=(), comfort: bool = True,
                  comfort_every: int = 10, body=None, size=None):
-        self.human = SeatedHuman(params=params, lock=lock, unlock=unlock, body=body, size=size)
+        self.human = SeatedHuman(params, lock=lock, unlock=unlock, body=body, size=size)
+        self.person = self.human.person
         self.model = self.human.model
         self.dt_s = float(self.model.mj.opt.timestep)
         engine.settle(self.model)

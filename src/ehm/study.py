@@ -14,6 +14,7 @@ import numpy as np
 
 from .errors import InputError
 from .frf import AXES, DOFS, POINTS, FrfTable, gain_unit, linear_frf, time_domain_frf
+from .person.person import as_person
 from .references import LOCKING_FINDINGS
 from .references import LOCKING_VARIANTS as PAPER_VARIANTS  # the paper's variants: name -> joints locked
 from .tables import joint_names
@@ -129,7 +130,9 @@ def locking_study(params=None, variants: dict | None = None, method: str = "line
 
     Parameters
     ----------
-    params : Parameters or path, optional
+    params : Person, Parameters or path, optional
+        The person (:class:`ehm.Person`; each variant locks its joints on top of the person's own locks), or its
+        parameters.
     variants : dict name -> joints to lock
         Default: the paper's (baseline, SL, NL).  A ``baseline`` entry is always added.
     method : ``linear`` (exact, fast) or ``time`` (random-vibration runs, H1 estimates)
@@ -148,7 +151,9 @@ def locking_study(params=None, variants: dict | None = None, method: str = "line
         raise InputError("'baseline' is the unlocked reference of the study; give the variant another name.")
     variants = {"baseline": (), **{k: joint_names(v, f"variant {k!r}") for k, v in variants.items() if k != "baseline"}}
     # built first: every variant's joint names are checked before any linearisation
-    humans = {name: SeatedHuman(params=params, lock=locks, size=size) for name, locks in variants.items()}
+    person = as_person(params, size=size)
+    humans = {name: SeatedHuman(person.replace(lock=person.lock + tuple(locks)) if locks else person)
+              for name, locks in variants.items()}
     tables: dict[str, FrfTable] = {}
     for name, human in humans.items():
         if progress:

@@ -37,6 +37,7 @@ from .errors import InputError
 from .frf import AXES, FrfTable, linear_frf
 from .io import write_text_atomic
 from .params import Parameters
+from .person.person import Person, as_person
 
 #: Frequencies the model is evaluated at [Hz]: 0.1-20 Hz in 0.05 Hz steps (the bands reach 20 Hz).
 FREQ_HZ = np.round(np.arange(0.1, 20.0 + 1e-9, 0.05), 10)
@@ -272,10 +273,10 @@ def locking_checks(study, condition: str) -> list[Check]:
     return out
 
 
-def _person(params, size, posture, back_support, dt_s):
+def _person(person: Person, posture, back_support):
     from .simulation import SeatedHuman
 
-    return SeatedHuman(params, size=size, posture=posture, back_support=back_support, dt_s=dt_s)
+    return SeatedHuman(person.replace(posture=posture, back_support=back_support))
 
 
 def _conditions(params: Parameters, posture, back_support) -> list[tuple[str, str, bool]]:
@@ -289,17 +290,18 @@ def _conditions(params: Parameters, posture, back_support) -> list[tuple[str, st
     return out
 
 
-def validate(params: Parameters | str | None = None, size=None, posture: str | None = None,
+def validate(params: Person | Parameters | str | None = None, size=None, posture: str | None = None,
              back_support: str | None = None, locking: bool = True, dt_s: float | None = None,
              progress=None) -> Validation:
     """The person against every reference of :mod:`ehm.references`.
 
     Parameters
     ----------
-    params : Parameters or path, optional
-        The person's parameters (default: the shipped default person).
+    params : Person, Parameters or path, optional
+        The person (:class:`ehm.Person`: its size, posture, back support, head control, locks and step apply), or
+        its parameters (default: the shipped default person).
     size : ehm.BodySize, optional
-        An individual body size; default the reference person.
+        An individual body size; default the reference person (a shortcut that changes the Person).
     posture, back_support : str, optional
         Evaluate this condition only (every band and the locking findings in it).  Default: the references'
         condition (erect, no back support) for every band, and the person's own seat for the seat-to-head
@@ -307,7 +309,7 @@ def validate(params: Parameters | str | None = None, size=None, posture: str | N
     locking : bool
         Evaluate the paper's joint-locking findings (three more linearisations of the person).
     dt_s : float, optional
-        The time step the person is linearised at (default: its own).
+        The time step the person is linearised at (default: its own; a shortcut that changes the Person).
     progress : callable, optional
         ``progress(done, total)`` after each linearisation (one per condition, and one per locking variant).
 
@@ -316,26 +318,29 @@ def validate(params: Parameters | str | None = None, size=None, posture: str | N
     Validation
         Its checks in order: each condition's bands, then the locking findings (on the person's own seat).
     """
-    p = params if isinstance(params, Parameters) else Parameters.load(params)
-    conditions = _conditions(p, posture, back_support)
+    person = as_person(params, size=size, dt_s=dt_s, posture=posture, back_support=back_support)
+    p = person.params
+    conditions = _conditions(p, person.posture, person.back_support)
     total = len(conditions) + (len(references.LOCKING_VARIANTS) if locking else 0)
     done = _Counter(progress, total)
     checks, tables = [], {}
     for post, back, every in conditions:
         label = _condition_label(post, back)
-        table = linear_frf(_person(p, size, post, back, dt_s), "all", freq_hz=FREQ_HZ)
+        table = linear_frf(_person(person, post, back), "all", freq_hz=FREQ_HZ)
         tables[label] = table
         bands = None if every else [b for b in references.BANDS if b.name in ANY_SEAT_BANDS]
         checks += band_checks(table, label, bands)
         done()
     if locking:
         post, back, _ = conditions[-1]  # the person's own seat (the paper's study ran on its validation seat)
-        checks += locking_checks(_locking_study(p.seated(post, back).at_step(dt_s), size, done),
+        checks += locking_checks(_locking_study(person.replace(posture=post, back_support=back), done),
                                  _condition_label(post, back))
-    person = {"params": p.value("about.name") if _has(p, "about.name") else "custom", "origin": str(p.origin),
-              "size": None if size is None else repr(size), "dt_s": dt_s, "locking": bool(locking),
-              "conditions": [_condition_label(a, b) for a, b, _ in conditions]}
-    return Validation(checks=tuple(checks), tables=tables, person=person)
+    record = {"params": p.value("about.name") if _has(p, "about.name") else "custom", "origin": str(p.origin),
+              "size": None if person.size is None else repr(person.size), "dt_s": person.dt_s,
+              "locking": bool(locking), "conditions": [_condition_label(a, b) for a, b, _ in conditions],
+              "head_control": person.to_dict()["head_control"], "lock": list(person.lock),
+              "unlock": list(person.unlock)}
+    return Validation(checks=tuple(checks), tables=tables, person=record)
 
 
 class _Counter:
@@ -350,7 +355,7 @@ class _Counter:
             self.progress(min(self.done, self.total), self.total)
 
 
-def _locking_study(params: Parameters, size, done: _Counter):
+def _locking_study(person: Person, done: _Counter):
     """The paper's locking study of the person on its own seat (linear method); ``done`` after each variant."""
     from .study import PAPER_VARIANTS, locking_study
 
@@ -361,7 +366,7 @@ def _locking_study(params: Parameters, size, done: _Counter):
             done()
         started.append(True)
 
-    study = locking_study(params=params, variants=dict(PAPER_VARIANTS), method="linear", size=size, progress=step)
+    study = locking_study(params=person, variants=dict(PAPER_VARIANTS), method="linear", progress=step)
     done()
     return study
 

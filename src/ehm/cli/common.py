@@ -7,8 +7,10 @@ import numpy as np
 from ..drives import drive_path
 from ..errors import InputError
 from ..params import Parameters
+from ..person import Person
 from ..simulation import SeatedHuman
 from ..tables import load_body
+from ..timestep import check_time_step
 
 
 def joint_list(values: list[str] | None) -> list[str]:
@@ -19,10 +21,26 @@ def joint_list(values: list[str] | None) -> list[str]:
     return out
 
 
+def person_from_args(args) -> Person:
+    """The one :class:`ehm.Person` of the shared person options, for every command: --params, --posture,
+    --back-support, --head-control, --head-control-gains, --lock, --unlock, --segments/--joints/--contacts,
+    --stature/--mass/--sitting-height and --dt (an option a command does not declare keeps the person's default)."""
+    dt = getattr(args, "dt", None)
+    if dt is not None:
+        check_time_step(dt, "--dt")
+    tables = [getattr(args, k, None) for k in ("segments", "joints", "contacts")]
+    return Person(params=getattr(args, "params", None), body=load_body(*tables) if any(tables) else None,
+                  size=size_from_args(args), posture=getattr(args, "posture", None),
+                  back_support=getattr(args, "back_support", None), head_control=_head_control(args),
+                  lock=joint_list(getattr(args, "lock", None)), unlock=joint_list(getattr(args, "unlock", None)),
+                  dt_s=dt)
+
+
 def params_from_args(args) -> Parameters:
     """The parameter file of --params, in the posture of --posture and with the back support of --back-support, with
-    the head-in-space control of --head-control and --head-control-gains."""
-    return Parameters.load(args.params).seated(args.posture, args.back_support).with_head_control(_head_control(args))
+    the head-in-space control of --head-control and --head-control-gains (the person's, before its step and size)."""
+    return Person(params=getattr(args, "params", None), posture=getattr(args, "posture", None),
+                  back_support=getattr(args, "back_support", None), head_control=_head_control(args)).seated_params()
 
 
 def _head_control(args):
@@ -45,23 +63,19 @@ def _head_control(args):
 
 
 def human_from_args(args, rotating_seat: bool = False) -> SeatedHuman:
-    """The SeatedHuman the shared options describe (parameters, body tables, locks, step, body size)."""
-    params = params_from_args(args)
-    if getattr(args, "dt", None) is not None:
-        params = params.at_step(args.dt, "--dt")
-    body = load_body(args.segments, args.joints, args.contacts)
-    return SeatedHuman(params=params, lock=joint_list(args.lock), unlock=joint_list(args.unlock), body=body,
-                       rotating_seat=rotating_seat, size=size_from_args(args))
+    """The SeatedHuman of :func:`person_from_args`."""
+    return SeatedHuman(person_from_args(args), rotating_seat=rotating_seat)
 
 
 def size_from_args(args):
     """A BodySize from --stature / --mass / --sitting-height, or None for the reference person."""
-    if args.stature is None and args.mass is None and args.sitting_height is None:
+    stature, mass, sitting = (getattr(args, k, None) for k in ("stature", "mass", "sitting_height"))
+    if stature is None and mass is None and sitting is None:
         return None
     from ..scaling import REFERENCE_MASS_KG, REFERENCE_STATURE_M, BodySize
 
-    return BodySize(args.stature if args.stature is not None else REFERENCE_STATURE_M,
-                    args.mass if args.mass is not None else REFERENCE_MASS_KG, args.sitting_height)
+    return BodySize(stature if stature is not None else REFERENCE_STATURE_M,
+                    mass if mass is not None else REFERENCE_MASS_KG, sitting)
 
 
 def checked_band(values) -> tuple[float, float]:

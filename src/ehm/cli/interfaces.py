@@ -11,8 +11,7 @@ import numpy as np
 from .. import __version__
 from ..errors import InputError
 from ..outdir import check_output_file, check_output_folder
-from ..tables import load_body
-from .common import human_from_args, joint_list, params_from_args, read_motion_file, size_from_args
+from .common import human_from_args, params_from_args, person_from_args, read_motion_file
 from .options import model_options, motion_file_options, progress_options, seating_options
 from .progress import progress_count
 
@@ -121,10 +120,7 @@ def cmd_realtime(args) -> int:
 
     motion = read_motion_file(args)
     _check_realtime_motion(args, motion)
-    params = params_from_args(args)
-    sim = Simulator(params=params, lock=joint_list(args.lock), unlock=joint_list(args.unlock),
-                    comfort=not args.no_comfort, body=load_body(args.segments, args.joints, args.contacts),
-                    size=size_from_args(args))
+    sim = Simulator(person_from_args(args), comfort=not args.no_comfort)
     m = motion.resample(sim.dt_s)
     acc = m.acc_mps2 if args.duration is None else m.acc_mps2[: int(round(args.duration / sim.dt_s)) + 1]
     print(f"real-time run of {acc.shape[0] * sim.dt_s:.1f} s of '{motion.description}', one {sim.dt_s * 1000:g} ms "
@@ -244,8 +240,7 @@ def _export_python_fmu(args, t0: float) -> int:
         raise InputError(f"export-fmu --python takes only --params, --posture, --back-support, --lock and --unlock, "
                          f"not {', '.join(extra)}; "
                          "export the native unit (without --python) for these.")
-    path = export_fmu(args.out, params=params_from_args(args), lock=joint_list(args.lock),
-                      unlock=joint_list(args.unlock), python=True)
+    path = export_fmu(args.out, params=person_from_args(args), python=True)
     print(f"wrote {path} in {time.perf_counter() - t0:.1f} s: FMI 2.0 co-simulation unit (pythonfmu), "
           f"{len(INPUTS)} inputs ({', '.join(INPUTS[:3])}; seat angular velocity must stay 0), "
           f"{len(OUTPUTS)} outputs (pelvis, trunk, head, lumbar); the host's Python must be able to import ehm")

@@ -11,11 +11,11 @@ import numpy as np
 from ..errors import InputError
 from ..io import write_json_atomic
 from ..outdir import RunFolder, check_output_file, check_output_folder
-from ..params import Parameters, refuse_defaults
+from ..params import refuse_defaults
 from ..tables import load_body
 from ..timestep import check_time_step
-from .common import (checked_band, human_from_args, input_files, joint_list, params_from_args, read_motion_file,
-                     size_from_args)
+from .common import (checked_band, human_from_args, input_files, joint_list, params_from_args, person_from_args,
+                     read_motion_file, size_from_args)
 from .options import (KEEP_SMALL_HELP, excitation_options, model_options, motion_file_options,
                       progress_options, seating_options, size_options)
 from .progress import end_progress_line, progress_count
@@ -238,9 +238,9 @@ def cmd_study_locking(args) -> int:
         name, joints = parse_variant(v)
         variants[name] = joints
     band = checked_band(args.band)
-    params = params_from_args(args)
+    person = person_from_args(args)
     final = check_output_folder(args.out, inputs=input_files(args))
-    study = locking_study(params=params, variants=variants, method=args.method, band_hz=band,
+    study = locking_study(params=person, variants=variants, method=args.method, band_hz=band,
                           duration_s=args.duration, progress=print)
     with RunFolder(final) as out:
         findings = _write_locking_study(study, variants, out)
@@ -314,8 +314,7 @@ def cmd_validate(args) -> int:
     if args.dt is not None:
         check_time_step(args.dt, "--dt")
     final = None if args.out is None else check_output_folder(args.out, inputs=input_files(args))
-    validation = validate(Parameters.load(args.params), size=size_from_args(args), posture=args.posture,
-                          back_support=args.back_support, locking=not args.no_locking, dt_s=args.dt,
+    validation = validate(person_from_args(args), locking=not args.no_locking,
                           progress=progress_count("linearisations", args.quiet))
     end_progress_line()
     print(validation.format_table())
@@ -361,8 +360,7 @@ def cmd_check_step(args) -> int:
     if any(body_args):
         raise InputError("check-step uses the shipped body tables; --segments, --joints and --contacts are not "
                          "supported here.")
-    check = check_step(params_from_args(args), dt_s=args.dt, lock=joint_list(args.lock), unlock=joint_list(args.unlock),
-                       size=size_from_args(args), ratios=args.ratio)
+    check = check_step(person_from_args(args), ratios=args.ratio)
     if args.json:
         _print_step_check_json(check)
     else:
