@@ -1,4 +1,4 @@
-"""The checked linear route and the hybrid route (ehm.hybrid) against one continuous nonlinear run.
+"""The checked linear route and the hybrid route (ehm.routes.hybrid) against one continuous nonlinear run.
 
 Every drive here is SYNTHETIC (ehm.random_vibration, labelled so by its description)."""
 
@@ -15,8 +15,8 @@ from ehm import engine, hybrid, linear
 from ehm.cli import main
 from ehm.comfort import total_value
 from ehm.drives import city_drive
-from ehm.hybrid import LinearRouteWarning, RouteReport
-from ehm.linear import simulate_linear
+from ehm.routes.hybrid import LinearRouteWarning, RouteReport
+from ehm.routes.linear import simulate_linear
 from ehm.motion import SeatMotion
 
 
@@ -268,7 +268,7 @@ def test_a_drive_whose_contacts_slide_from_the_start_runs_nonlinear_from_the_sta
     assert route["windows_s"] == [[0.0, pytest.approx(30.0, abs=0.002)]]
     assert route["summary_line"].startswith("route: nonlinear model for the whole drive from the start: the seat's "
                                             "horizontal acceleration (in 1 s means) is above 1.5 m/s^2 over ")
-    assert person._linear == {}  # never linearised
+    assert person.built.linear == {}  # never linearised
     nl = person.simulate(motion, method="nonlinear")
     for p in ("pelvis", "head"):
         np.testing.assert_array_equal(hy.point(p).acc_mps2, nl.point(p).acc_mps2)

@@ -1,4 +1,4 @@
-"""The linear route (ehm.linear) against the nonlinear MuJoCo route, its exact discretisation and its
+"""The linear route (ehm.routes.linear) against the nonlinear MuJoCo route, its exact discretisation and its
 validity check."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import ehm
 from ehm import engine
 from ehm.cli import main
 from ehm.frf import linear_frf
-from ehm.linear import LinearRouteError, simulate_linear, stream_linear
+from ehm.routes.linear import LinearRouteError, simulate_linear, stream_linear
 from ehm.motion import SeatMotion
 
 G = 9.81
@@ -320,7 +320,7 @@ def test_the_advised_scale_passes_the_check(human):
 
 
 def test_advised_scale_rounds_down_to_a_factor_that_holds():
-    from ehm.linear import advised_scale
+    from ehm.routes.linear import advised_scale
 
     assert advised_scale(0.7268, lambda f: f <= 0.7268) == 0.72  # rounded down, not to nearest (0.73)
     assert advised_scale(0.7268, lambda f: f <= 0.705) == 0.70  # lowered until the check holds

@@ -65,12 +65,12 @@ from .readers import load_motion_csv, read_motion
 from .imu import from_imu
 from .drives import city_drive, rough_road
 from .assessment import Assessment, assess
-from .segments import simulate_parallel
+from .routes.parallel import simulate_parallel
 from .frf import FrfTable, linear_frf, read_frf, time_domain_frf
 from .criterion import compare
 from .scaling import BodySize
 from .convergence import StepWarning, check_step
-from .linear import LinearRouteError
+from .routes.linear import LinearRouteError
 from .validation import Validation, validate
 
 __all__ = [

@@ -422,16 +422,9 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     standard = spinal_dose_of_seat(motion, exposure)  # before the run: a drive it cannot take fails at once
     description, duration = motion.description, motion.duration_s
     t0 = time.perf_counter()
-    if method != "nonlinear" and (workers != 1 or client is not None):
-        raise InputError(f"workers and client split the nonlinear route into segments; pass method='nonlinear' (the "
-                         f"{method} route runs in one process).")
-    if method == "nonlinear" and (workers != 1 or client is not None):
-        from .segments import stream_parallel
-
-        chunks = stream_parallel(human, motion, workers=workers, lead_in_s=lead_in_s, client=client,
-                                 progress=progress, chunk_s=chunk_s)
-    else:
-        chunks = human.stream(motion, chunk_s=chunk_s, progress=progress, method=method, tolerance=tolerance)
+    # the route by name (ehm.routes.registry); workers, client and lead_in_s are the parallel route's options
+    chunks = human.stream(motion, chunk_s=chunk_s, progress=progress, method=method, tolerance=tolerance,
+                          workers=workers, client=client, lead_in_s=lead_in_s)
     if method != "nonlinear":  # on the model's step, resampled a chunk at a time (the grid t = 0, dt, ...)
         description = f"{motion.description}, resampled to dt {dt:g} s"
         duration = int(np.floor(motion.duration_s / dt + 1e-9)) * dt

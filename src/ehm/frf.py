@@ -334,7 +334,7 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
     MuJoCo step at the person's own time step, with that step's error (what ``ehm check-step`` compares).
     """
     from . import engine
-    from .linear import frequency_response
+    from .routes.linear import frequency_response
     from .transfer import discrete_frequency_response
 
     f = np.arange(0.1, 12.0 + 1e-9, 0.05) if freq_hz is None else np.asarray(freq_hz, dtype=float)

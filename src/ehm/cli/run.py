@@ -133,7 +133,7 @@ class _Parallel:
         return "the Dask cluster's workers" if self.client is not None else f"{self.workers} processes"
 
     def __call__(self, human, motion, **kw):
-        from ..segments import stream_parallel
+        from ..routes.parallel import stream_parallel
 
         return stream_parallel(human, motion, workers=self.workers, client=self.client, lead_in_s=self.lead_in_s,
                                **kw)

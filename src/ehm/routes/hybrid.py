@@ -42,15 +42,33 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from . import engine
-from .errors import EhmWarning, InputError
-from .linear import (BLOCK, SeatRotation, _block_chunk, _block_form, _in_time_order, _initial_state, _layout, _modes,
-                     _result, _settled_orientations, advance, carry_of, contact_rows, left_out, seat_body_rates,
-                     state_of)
-from .kinematics import seat_kinematics, seat_rotation_matrices
-from .linear_poses import PoseGrid
-from .resampling import Resampler
-from .results import POINT_NAMES, merge_linear_checks
+from .. import engine
+from ..errors import EhmWarning, InputError
+from ..kinematics import seat_kinematics, seat_rotation_matrices
+from ..resampling import Resampler
+from ..results import POINT_NAMES, merge_linear_checks
+from .built import built_of
+from .linear import (
+    BLOCK,
+    SeatRotation,
+    advance,
+    block_chunk,
+    block_form,
+    carry_of,
+    contact_rows,
+    in_time_order,
+    initial_state,
+    left_out,
+    linear_model,
+    modal_form,
+    output_layout,
+    run_result,
+    seat_body_rates,
+    settled_orientations,
+    state_of,
+)
+from .nonlinear import chunk_result, stream_span
+from .poses import PoseGrid
 
 #: A contact whose tangential force in the linear model passes this share of its Coulomb limit (mu times its
 #: normal force), or that lifts off, opens a nonlinear window.  Measured on a 219 s city-bus floor log (0.58 /
@@ -235,7 +253,7 @@ def _nonlinear_from_start(human, motion, report: RouteReport):
 def _stream_nonlinear(human, motion, report: RouteReport, chunk_s: float, progress, pose_rate_hz):
     """The whole drive on the nonlinear route; the last chunk carries ``report``."""
     held = None
-    for piece in human._stream_span(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz):
+    for piece in stream_span(human, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz):
         if held is not None:
             yield held
         held = piece
@@ -248,10 +266,10 @@ def _stream_nonlinear(human, motion, report: RouteReport, chunk_s: float, progre
 
 def _near_limit(ss, y: np.ndarray, n: int) -> np.ndarray:
     """(n,) bool: samples where a touching contact comes within NEAR_LIMIT of its Coulomb limit or lifts off
-    (``y`` as :func:`ehm.linear._block_chunk` returns it)."""
+    (``y`` as :func:`ehm.linear.block_chunk` returns it)."""
     if not ss.contacts:
         return np.zeros(n, dtype=bool)
-    fn, ft1, ft2 = (_in_time_order(f)[:, :n] for f in contact_rows(ss, y))
+    fn, ft1, ft2 = (in_time_order(f)[:, :n] for f in contact_rows(ss, y))
     mu = np.array([ss.friction[c] for c in ss.contacts])[:, None]
     return ((fn <= 0) | (np.hypot(ft1, ft2) > NEAR_LIMIT * mu * fn)).any(axis=0)
 
@@ -339,6 +357,7 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     """
     if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
         raise InputError(f"tolerance must be a share of rms between 0 and 1, not {tolerance!r}.")
+    human = built_of(human)
     dt = float(human.model.mj.opt.timestep)
     report = RouteReport(method=method, duration_s=motion.duration_s, tolerance=float(tolerance))
     # a motion that turns the seat: the linear model of the seat's rotation (a person on a rotating seat whose
@@ -349,8 +368,8 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
         return
     rotates = motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))
     description = motion.description
-    ss = human.linear_model(rotation=rotates)
-    blk = _block_form(ss, float(f"{dt:.12g}"))
+    ss = linear_model(human, rotation=rotates)
+    blk = block_form(ss, float(f"{dt:.12g}"))
     drive = _Drive(motion, dt, rotates)
     per_chunk = max(1, int(round(chunk_s / dt)))
     poses = PoseGrid(human, ss, blk, dt, pose_rate_hz, drive.kin) if pose_rate_hz else None
@@ -386,7 +405,7 @@ class _Hybrid:
         self.per_chunk = per_chunk
         self.lead, self.quiet = int(round(LEAD_S / self.dt)), int(round(QUIET_S / self.dt))
         self.look = max(per_chunk, int(round(LOOKAHEAD_S / self.dt)))  # how far a window may run before it is cut
-        self.R0 = _settled_orientations(ss, human.model)
+        self.R0 = settled_orientations(ss, human.model)
         self.models = _Models(human, drive.kin, poses)
         self.contact_blk = _contact_blocks(ss, blk)
         self.sums = _Discrepancy()
@@ -421,7 +440,7 @@ class _Hybrid:
         t_start = time.perf_counter()
         given = self.drive.at(pos, stop)
         if self.carry is None:
-            self.carry = _initial_state(self.blk, given[1][0])
+            self.carry = initial_state(self.blk, given[1][0])
         ahead = self.carry.copy()
         y = self._linear(given[1], ahead)
         flags = _near_limit(self.ss, y, stop - pos)
@@ -475,8 +494,8 @@ class _Hybrid:
         """The linear model continues from the nonlinear state ``x`` (input ``u`` at that sample); its share in
         the modes the time run leaves out becomes the offset."""
         self.carry = carry_of(self.ss, self.blk, x, u)
-        self.offset = _modes(self.ss).P_unreached @ x
-        self.shift = self.ss.C[_layout(self.ss)] @ self.offset
+        self.offset = modal_form(self.ss).P_unreached @ x
+        self.shift = self.ss.C[output_layout(self.ss)] @ self.offset
 
     def _rest_nonlinear(self, pos: int):
         """The rest of the drive on the nonlinear model, chunk by chunk, from the state the last window left."""
@@ -498,7 +517,7 @@ class _Hybrid:
 
     def _linear(self, u: np.ndarray, carry: np.ndarray, contacts_only: bool = False) -> np.ndarray:
         """The linear model's outputs over the inputs ``u`` from ``carry`` (advanced past them), with the offset."""
-        y = _block_chunk(self.contact_blk if contacts_only else self.blk, u, carry)
+        y = block_chunk(self.contact_blk if contacts_only else self.blk, u, carry)
         if self.shift is not None:
             y += self.shift[-y.shape[0]:, None, None]
         return y
@@ -517,7 +536,7 @@ class _Hybrid:
             check = left_out(y, m, seat if m == n_y else _first(seat, m))
             self.checks.append(check)
             seat.correct(y)
-        res = _result(self.human, self.ss, y, u, np.arange(a, a + n_y) * self.dt, self.dt, self.R0,
+        res = run_result(self.human, self.ss, y, u, np.arange(a, a + n_y) * self.dt, self.dt, self.R0,
                       self.description, seat=seat, check=check)
         if m < n_y:
             res = res.take(slice(0, m))
@@ -542,7 +561,7 @@ class _Models:
         self.kin = kin
         self.grid = poses
         self.rotating = human.model.seat is not None  # the windows on a rotating seat (level when kin is None)
-        self.static = human._static_model if self.rotating else human.model
+        self.static = human.static_model
         self.poses = engine.settled_point_poses(human.model)
         self.pivot = human.model.seat["pivot"] if self.rotating else np.zeros(3)
 
@@ -581,7 +600,7 @@ class _Models:
             raw = engine.run(model, acc, d=d, seat_rotation=rotation, pose_every=grid.every if grid else None,
                              pose_first=grid.first(a) if grid else 0)
         wall = time.perf_counter() - t0
-        piece = self.human._chunk_result(raw, t, u, R, angles, self.poses, self.pivot, wall, description)
+        piece = chunk_result(self.human, raw, t, u, R, angles, self.poses, self.pivot, wall, description)
         if grid:
             piece = replace(piece, poses=grid.of_raw(raw, a))
         if self.rotating:  # the state after the last sample, relative to the seat there

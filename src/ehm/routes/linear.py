@@ -17,7 +17,7 @@ seat acceleration linear between samples); :class:`ehm.SeatedHuman` gives it the
 model's step by the same anti-aliased :class:`ehm.resampling.Resampler` as the nonlinear route, so that both
 routes see the same input (a first-order hold at a low log rate, 20 Hz, would cut the head's rms by a
 fifth).  It arranges the discretised model in blocks of :data:`BLOCK` samples, so that a whole run is one matrix product (block inputs and block start state to
-all the block's outputs) after a recursion over the block starts only (``_block_form``).  While it runs
+all the block's outputs) after a recursion over the block starts only (``block_form``).  While it runs
 it checks that the model still holds: every touching contact must keep pressing (normal force > 0) and
 stay inside its friction cone; otherwise it raises :class:`LinearRouteError` saying when, where and by how
 much the input was too large.
@@ -42,10 +42,11 @@ import numpy as np
 from scipy import linalg
 from scipy.spatial.transform import Rotation
 
-from . import engine
-from .errors import InputError
-from .kinematics import seat_kinematics
-from .results import POINT_NAMES, PointMotion, RunResult
+from .. import engine
+from ..errors import InputError
+from ..kinematics import seat_kinematics
+from ..results import POINT_NAMES, PointMotion, RunResult
+from .built import built_of
 
 #: Finer step used for the linearisation: the model's step divided by this.
 REFINE = 8
@@ -172,8 +173,26 @@ def continuous_model(model: engine.Model, refine: int = REFINE, pivot_m: np.ndar
     ss = StateSpace(A=A, B=B, C=C, D=D, y0=np.concatenate(y0),
                     output_names=tuple(out_names), contacts=contacts, friction=friction, linearised_at_step_s=h,
                     input_names=inputs, pivot_m=None if pivot_m is None else np.array(pivot_m, dtype=float))
-    _settled_orientations(ss, model)  # kept with the model: a time run need not know which engine model it was
+    settled_orientations(ss, model)  # kept with the model: a time run need not know which engine model it was
     return ss
+
+
+def linear_model(person, rotation: bool = False) -> StateSpace:
+    """The person linearised at the settled posture, continuous time (:func:`continuous_model`; computed once per
+    person and kept in its :attr:`~ehm.routes.built.BuiltPerson.linear`, about 0.1 s after settling).
+
+    ``rotation`` False: the model of seat translation (three inputs, the seat's acceleration); True: with the
+    seat's rotation about its pivot (``ehm.engine.seat_pivot``) in the seat's own frame, twelve inputs
+    (:func:`stream_linear`).  Both are linearised on the person on a static seat
+    (:attr:`~ehm.routes.built.BuiltPerson.static_model`).  ``person``: a :class:`~ehm.routes.built.BuiltPerson`
+    (or a :class:`ehm.SeatedHuman`, whose is taken).
+    """
+    person = built_of(person)
+    key = "rotation" if rotation else "translation"
+    if key not in person.linear:
+        model = person.static_model  # the linearisation is in the seat's frame: the static seat's model
+        person.linear[key] = continuous_model(model, pivot_m=engine.seat_pivot(model) if rotation else None)
+    return person.linear[key]
 
 
 def frequency_response(ss: StateSpace, freq_hz: np.ndarray, rows=None) -> np.ndarray:
@@ -189,7 +208,7 @@ def frequency_response(ss: StateSpace, freq_hz: np.ndarray, rows=None) -> np.nda
 #: Modes faster than this follow the seat within a fraction of a millisecond: time runs take them as static
 #: (their quasi-static response is added to D, "residualisation") [Hz].
 STATIC_ABOVE_HZ = 250.0
-#: Samples per block of the block form that time runs evaluate (see ``_block_form``).
+#: Samples per block of the block form that time runs evaluate (see ``block_form``).
 BLOCK = 8
 #: A mode with a time constant beyond 1000 s whose input gain (unit eigenvector) is below this share of the
 #: largest is not reached by the input and left out of time runs.
@@ -221,7 +240,7 @@ class _Modes:
     P_unreached: np.ndarray  #: (n_state, n_state) projection of a state onto the modes left out (not reached)
 
 
-def _modes(ss: StateSpace) -> _Modes:
+def modal_form(ss: StateSpace) -> _Modes:
     cached = ss.cache.get("modes")
     if cached is None:
         lam, V = np.linalg.eig(ss.A)
@@ -255,7 +274,7 @@ def _modes(ss: StateSpace) -> _Modes:
 def reduced_model(ss: StateSpace):
     """The model time runs evaluate, as real continuous-time matrices (A, B, C, D): the kept modes (2 x 2
     blocks for complex pairs), the fast modes' static share in D; outputs are deviations from ``ss.y0``."""
-    m = _modes(ss)
+    m = modal_form(ss)
     nr, lam = m.n_real, m.lam
     npair = lam.size - nr
     n = nr + 2 * npair
@@ -293,7 +312,7 @@ _KINDS = (("ax", "ay", "az"), ("x", "y", "z"), ("roll", "pitch", "yaw"), ("roll_
           ("wx", "wy", "wz"))
 _ACC, _DISP, _ROTVEC, _ANGACC, _ANGVEL = range(5)
 #: A model of the seat's rotation also gives each point's velocity relative to the seat (seat axes) [m/s]; a time
-#: run has them after the support forces, before the contacts (see :func:`_layout`).
+#: run has them after the support forces, before the contacts (see :func:`output_layout`).
 _VELOCITY = ("vx", "vy", "vz")
 _NP = len(POINT_NAMES)  #: output points
 _PER_KIND = 3 * _NP  #: rows of one kind of :data:`_KINDS` in a time run's output array (points x axes)
@@ -307,7 +326,7 @@ def _kind(y: np.ndarray, k: int) -> np.ndarray:
     return y[_PER_KIND * k:_PER_KIND * (k + 1)]
 
 
-def _layout(ss: StateSpace) -> np.ndarray:
+def output_layout(ss: StateSpace) -> np.ndarray:
     """Output indices in the order a time run computes them: per kind of :data:`_KINDS` the points'
     three axes, then the support groups' x, y, z, (for a model of the seat's rotation the points' velocities,
     :data:`_VELOCITY`,) then all contacts' fn, all ft1, all ft2."""
@@ -326,7 +345,7 @@ def _layout(ss: StateSpace) -> np.ndarray:
 @dataclass(frozen=True)
 class _Blocks:
     """The modal model discretised at one sample step (first-order hold) and arranged for blocks of
-    :data:`BLOCK` samples (see ``_block_form``)."""
+    :data:`BLOCK` samples (see ``block_form``)."""
 
     dt_s: float
     phi: np.ndarray  #: (m,) modal transition over one step
@@ -337,10 +356,10 @@ class _Blocks:
     drive: np.ndarray  #: (nu L, 2 m) a block's inputs -> the state one block later (Re, Im of each mode in turn)
     phi_block: np.ndarray  #: (m,) transition over one block
     M: np.ndarray  #: (p L, nu L + n + 1): output o at the block's sample j (row o L + j) from [block inputs,
-    #: block start state (real modes, then Re and Im of each pair in turn), 1], outputs in :func:`_layout` order
+    #: block start state (real modes, then Re and Im of each pair in turn), 1], outputs in :func:`output_layout` order
 
 
-def _block_form(ss: StateSpace, dt_s: float) -> _Blocks:
+def block_form(ss: StateSpace, dt_s: float) -> _Blocks:
     """Discretise the kept modes at ``dt_s`` and build the block matrix.
 
     Within a block of L samples starting at state z_b, sample j's outputs are y0 + Dd u[j] + sum_{i<j}
@@ -350,12 +369,12 @@ def _block_form(ss: StateSpace, dt_s: float) -> _Blocks:
     """
     cached = ss.cache.get(("blocks", dt_s))
     if cached is None:
-        m = _modes(ss)
+        m = modal_form(ss)
         L = BLOCK
         phi, gain, g1 = _foh(m.lam, dt_s)
         Bd = gain[:, None] * m.B
         P = phi[None, :] ** np.arange(L + 1)[:, None]  # (L + 1, m): phi^j
-        M = _block_matrix(m, Bd, (m.C * (m.weight * g1)) @ m.B, P)[:, :, _layout(ss)]  # (K, L, p)
+        M = _block_matrix(m, Bd, (m.C * (m.weight * g1)) @ m.B, P)[:, :, output_layout(ss)]  # (K, L, p)
         nu = m.B.shape[1]
         G = (P[L - 1::-1, :, None] * Bd[None, :, :]).transpose(0, 2, 1).reshape(nu * L, -1)  # phi^(L-1-i) Bd
         cached = _Blocks(dt_s=dt_s, phi=phi, Bd=Bd, g1=g1, B=m.B, n_real=m.n_real,
@@ -384,17 +403,17 @@ def _block_matrix(m: _Modes, Bd: np.ndarray, hold_D: np.ndarray, P: np.ndarray) 
     return np.concatenate([Mu.reshape(nu * L, L, p), O.transpose(2, 0, 1), np.tile(m.y0, (1, L, 1))])
 
 
-def _initial_state(blk: _Blocks, u0: np.ndarray) -> np.ndarray:
+def initial_state(blk: _Blocks, u0: np.ndarray) -> np.ndarray:
     """Modal state z~ of the person at rest (z = 0) when the seat acceleration starts at ``u0``."""
     return -blk.g1 * (blk.B @ u0)
 
 
 def state_of(ss: StateSpace, blk: _Blocks, carry: np.ndarray, u: np.ndarray) -> np.ndarray:
     """The full state x of the continuous model (``ehm.engine.linearize``'s, relative to the settled state)
-    from a time run's modal state ``carry`` (z~, as ``_block_chunk`` advances it) at a sample whose input
+    from a time run's modal state ``carry`` (z~, as ``block_chunk`` advances it) at a sample whose input
     is ``u`` (nu,); the modes left out of time runs (not reached by the input) are taken as zero.  Rows of
     ``carry`` (k, m) and ``u`` (k, nu) give the states' rows (k, n_state)."""
-    m = _modes(ss)
+    m = modal_form(ss)
     wz = m.weight * (carry + blk.g1 * (u @ blk.B.T))
     real = np.ascontiguousarray  # Re(V w z) as real products of contiguous arrays: BLAS's, 10x faster for many rows
     return real(wz.real) @ real(m.V.real.T) - real(wz.imag) @ real(m.V.imag.T) + u @ m.X_static.T
@@ -403,12 +422,12 @@ def state_of(ss: StateSpace, blk: _Blocks, carry: np.ndarray, u: np.ndarray) -> 
 def carry_of(ss: StateSpace, blk: _Blocks, x: np.ndarray, u: np.ndarray) -> np.ndarray:
     """The modal state z~ of a time run at a sample whose state is ``x`` and input ``u`` (nu,): the inverse of
     :func:`state_of` on the kept modes (a state's share in the modes left out is dropped)."""
-    m = _modes(ss)
+    m = modal_form(ss)
     return m.W @ x - blk.g1 * (blk.B @ u)
 
 
-def _block_chunk(blk: _Blocks, u: np.ndarray, carry: np.ndarray) -> np.ndarray:
-    """Outputs (absolute, y0 included) at the input samples ``u`` (n, nu), (p, L, blocks) in :func:`_layout`
+def block_chunk(blk: _Blocks, u: np.ndarray, carry: np.ndarray) -> np.ndarray:
+    """Outputs (absolute, y0 included) at the input samples ``u`` (n, nu), (p, L, blocks) in :func:`output_layout`
     order: output o at sample b L + j is [o, j, b]; the last block is padded past n.  ``carry`` holds the
     modal state z~ at the chunk's first sample and is advanced past its last sample (in place)."""
     (n, nu), L = u.shape, BLOCK
@@ -435,7 +454,7 @@ def _carry_past(blk: _Blocks, last_start: np.ndarray, u: np.ndarray, carry: np.n
 
 
 def advance(blk: _Blocks, u: np.ndarray, carry: np.ndarray) -> None:
-    """Advance the modal state ``carry`` (in place) past the input samples ``u`` (n, nu), as ``_block_chunk``
+    """Advance the modal state ``carry`` (in place) past the input samples ``u`` (n, nu), as ``block_chunk``
     does, without computing the outputs."""
     (n, nu), L = u.shape, BLOCK
     U = np.empty((-(-n // L), nu * L))
@@ -457,10 +476,10 @@ def _block_starts(blk: _Blocks, U: np.ndarray, carry: np.ndarray) -> np.ndarray:
     """The modal states at the blocks' first samples (blocks, m), complex: z_(b+1) = phi^L z_b + (block b's
     inputs U[b]) @ drive, from z_0 = ``carry``."""
     e = (U[:-1] @ blk.drive).view(complex)  # (nb - 1, m)
-    return _scan(blk.phi_block, e, carry)
+    return scan(blk.phi_block, e, carry)
 
 
-def _scan(a: np.ndarray, e: np.ndarray, z0: np.ndarray) -> np.ndarray:
+def scan(a: np.ndarray, e: np.ndarray, z0: np.ndarray) -> np.ndarray:
     """s[0] = z0, s[k + 1] = a s[k] + e[k] for all modes at once: (len(e) + 1, m).
 
     Two levels of about sqrt(n) steps each, vectorised over the modes and the other level: the recursion
@@ -492,7 +511,7 @@ def _scan(a: np.ndarray, e: np.ndarray, z0: np.ndarray) -> np.ndarray:
 
 def contact_rows(ss: StateSpace, y: np.ndarray):
     """The touching contacts' normal and tangential forces fn, ft1, ft2 [N] among a time run's outputs ``y`` (as
-    ``_block_chunk`` returns them; the contacts' rows come last): three (contacts, L, blocks) views."""
+    ``block_chunk`` returns them; the contacts' rows come last): three (contacts, L, blocks) views."""
     nc = len(ss.contacts)
     first = y.shape[0] - 3 * nc
     return tuple(y[first + k * nc:first + (k + 1) * nc] for k in range(3))
@@ -500,7 +519,7 @@ def contact_rows(ss: StateSpace, y: np.ndarray):
 
 def _validity(ss: StateSpace, y: np.ndarray, n: int, t: np.ndarray, whole: bool = True) -> None:
     """Raise :class:`LinearRouteError` if a contact lifts off or slides anywhere in the run's ``n`` samples
-    (``y`` as ``_block_chunk`` returns it); ``whole``: these samples end the motion (else the advised scale
+    (``y`` as ``block_chunk`` returns it); ``whole``: these samples end the motion (else the advised scale
     covers the motion up to them only)."""
     if not ss.contacts:
         return
@@ -516,7 +535,7 @@ def _validity(ss: StateSpace, y: np.ndarray, n: int, t: np.ndarray, whole: bool 
         press *= limit[:, None, None]
         if (shear <= press).all():
             return
-    checks = [_ContactCheck(ss, c, *(_in_time_order(f[j])[:n] for f in (fn, ft1, ft2)))
+    checks = [_ContactCheck(ss, c, *(in_time_order(f[j])[:n] for f in (fn, ft1, ft2)))
               for j, c in enumerate(ss.contacts)]
     failed = [ck for ck in checks if not ck.holds(1.0)]
     if not failed:
@@ -588,7 +607,7 @@ def advised_scale(limit: float, holds, digits: int = 2) -> float:
     return 0.0
 
 
-def _in_time_order(x: np.ndarray) -> np.ndarray:
+def in_time_order(x: np.ndarray) -> np.ndarray:
     """(..., L, blocks) -> (..., blocks L): samples in time order (a copy)."""
     return np.ascontiguousarray(np.swapaxes(x, -1, -2)).reshape(*x.shape[:-2], -1)
 
@@ -628,13 +647,14 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
             motion = motion.resample(dt)
         del steps
     else:
-        from .resampling import Resampler
+        from ..resampling import Resampler
 
         dt = float(dt_s)
         grid = Resampler(motion.time_s, motion.acc_mps2, dt)
-    ss = human.linear_model(rotation=True) if rotating else human.linear_model()
-    blk = _block_form(ss, float(f"{dt:.12g}"))  # one discretisation per step, not per rounding of it
-    R0 = _settled_orientations(ss, human.model)
+    human = built_of(human)
+    ss = linear_model(human, rotation=rotating)
+    blk = block_form(ss, float(f"{dt:.12g}"))  # one discretisation per step, not per rounding of it
+    R0 = settled_orientations(ss, human.model)
     n_total = motion.time_s.size if grid is None else grid.n_samples
     description = motion.description if grid is None else f"{motion.description}, resampled to dt {dt:g} s"
     per_chunk = n_total if not np.isfinite(chunk_s) else max(1, int(round(chunk_s / dt)))
@@ -649,14 +669,14 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
         seat = None if kin is None else SeatRotation.at(kin, t, u)
         inputs = u if seat is None else seat.inputs
         if carry is None:
-            carry = _initial_state(blk, inputs[0])
-        y = _block_chunk(blk, inputs, carry)
+            carry = initial_state(blk, inputs[0])
+        y = block_chunk(blk, inputs, carry)
         check = None
         if seat is not None:
             check = left_out(y, len(t), seat)
             seat.correct(y)
         _validity(ss, y, len(t), t, whole=stop == n_total)
-        result = _result(human, ss, y, u, t, dt, R0, description, seat=seat, check=check)
+        result = run_result(human, ss, y, u, t, dt, R0, description, seat=seat, check=check)
         yield replace(result, wall_s=time.perf_counter() - t0)
         del result, y, u, inputs, seat  # the next chunk is made without this one held here
         if progress:
@@ -702,7 +722,7 @@ class SeatRotation:
         return cls(angles_rad=angles, w_radps=w, alpha_radps2=alpha, g_seat_mps2=g, inputs=inputs)
 
     def correct(self, y: np.ndarray) -> None:
-        """Outputs of ``_block_chunk`` (in place) to the nonlinear route's terms.
+        """Outputs of ``block_chunk`` (in place) to the nonlinear route's terms.
 
         The acceleration rows less G0 - R^T G0 (the input's tilt share, which the D matrix's identity put in),
         plus the kinematic terms of the body's own motion in the turning frame, exact given the linear outputs:
@@ -732,7 +752,7 @@ def _add_cross(out: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _to_blocks(v: np.ndarray, L: int, nb: int) -> np.ndarray:
-    """(n, 3) samples -> (3, L, blocks) as ``_block_chunk`` lays outputs out (padding zero)."""
+    """(n, 3) samples -> (3, L, blocks) as ``block_chunk`` lays outputs out (padding zero)."""
     out = np.zeros((nb * L, 3))
     out[:v.shape[0]] = v
     return out.reshape(nb, L, 3).transpose(2, 1, 0)
@@ -758,7 +778,7 @@ def seat_body_rates(angles_rad: np.ndarray, rates_radps: np.ndarray, accs_radps2
 
 def left_out(y: np.ndarray, n: int, seat: SeatRotation) -> dict:
     """What the linear model of the seat's rotation leaves out, per point, from a chunk's outputs ``y`` (as
-    ``_block_chunk`` returns them, before :meth:`SeatRotation.correct`) over its ``n`` samples.
+    ``block_chunk`` returns them, before :meth:`SeatRotation.correct`) over its ``n`` samples.
 
     The outputs carry the turning frame's kinematic terms exactly (:meth:`SeatRotation.correct`); the body's
     dynamics leave out the fictitious loads that are products of the seat's rates with the body's own motion:
@@ -775,10 +795,10 @@ def left_out(y: np.ndarray, n: int, seat: SeatRotation) -> dict:
     level ``share``: the largest share of all points, to compare with a tolerance (e.g. 0.01).  Largest values
     against rms values: an estimate on the safe side.
     """
-    kind = lambda k: _in_time_order(_kind(y, k))[:, :n].reshape(_NP, 3, n)  # noqa: E731
+    kind = lambda k: in_time_order(_kind(y, k))[:, :n].reshape(_NP, 3, n)  # noqa: E731
     acc = kind(_ACC) - (engine.G0 - seat.g_seat_mps2).T[None]
     disp, w_rel, angacc = kind(_DISP), kind(_ANGVEL), kind(_ANGACC)
-    vel = _in_time_order(y[_VELOCITY_ROWS])[:, :n].reshape(_NP, 3, n)
+    vel = in_time_order(y[_VELOCITY_ROWS])[:, :n].reshape(_NP, 3, n)
     w = np.linalg.norm(seat.w_radps, axis=1)
     a = np.linalg.norm(seat.alpha_radps2, axis=1)
     out, worst = {}, 0.0
@@ -797,7 +817,7 @@ def left_out(y: np.ndarray, n: int, seat: SeatRotation) -> dict:
     return out
 
 
-def _settled_orientations(ss: StateSpace, model: engine.Model) -> dict:
+def settled_orientations(ss: StateSpace, model: engine.Model) -> dict:
     """The points' orientation matrices R0 in the settled state (point, 3, 3), kept with the linear model."""
     if "R0" not in ss.cache:
         settled = engine.settled_point_poses(model)
@@ -838,7 +858,7 @@ def _rodrigues_factors(t2: np.ndarray):
 def _orientations(y: np.ndarray, R0: np.ndarray, gravity: np.ndarray | None = None):
     """The points' rotation (roll, pitch, yaw), angular velocity and gravito-inertial acceleration in their own
     axes from the rotation vector r (R = R_rel R0, R_rel = exp([r]x)), all points and axes at once: three
-    arrays (point, axis, L, blocks) like ``y[...]`` of ``_block_chunk``'s layout.  ``gravity``: gravity in
+    arrays (point, axis, L, blocks) like ``y[...]`` of ``block_chunk``'s layout.  ``gravity``: gravity in
     seat axes per sample, (3, L, blocks) (a rotating seat's R^T G0), default G0."""
     kind = lambda k: _kind(y, k).reshape(_NP, 3, *y.shape[1:])  # noqa: E731  (point, axis, L, blocks)
     r, w, acc = kind(_ROTVEC), kind(_ANGVEL), kind(_ACC)
@@ -877,20 +897,20 @@ def _orientations(y: np.ndarray, R0: np.ndarray, gravity: np.ndarray | None = No
     return rot, angvel, gia
 
 
-def _result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, dt: float, R0: np.ndarray,
+def run_result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, dt: float, R0: np.ndarray,
             description: str, seat: SeatRotation | None = None, check: dict | None = None):
-    """Outputs of the linear model (as ``_block_chunk`` returns them, corrected by
+    """Outputs of the linear model (as ``block_chunk`` returns them, corrected by
     :meth:`SeatRotation.correct` if the seat rotates) -> a RunResult in the nonlinear route's terms; ``u`` the
     seat's acceleration (n, 3), ``check`` :func:`ehm.linear.left_out`'s estimate."""
     n = len(t)
     gravity = None if seat is None else _to_blocks(seat.g_seat_mps2, *y.shape[1:])
-    rot, angvel, gia = (_in_time_order(x)[..., :n] for x in _orientations(y, R0, gravity))  # (point, axis, sample)
-    kind = lambda k: _in_time_order(_kind(y, k))[:, :n].reshape(_NP, 3, n)  # noqa: E731
+    rot, angvel, gia = (in_time_order(x)[..., :n] for x in _orientations(y, R0, gravity))  # (point, axis, sample)
+    kind = lambda k: in_time_order(_kind(y, k))[:, :n].reshape(_NP, 3, n)  # noqa: E731
     acc, disp, angacc = kind(_ACC), kind(_DISP), kind(_ANGACC)
     points = {p: PointMotion(name=p, acc_mps2=acc[i].T, disp_m=disp[i].T, rot_rad=rot[i].T,
                              angacc_radps2=angacc[i].T, angvel_radps=angvel[i].T, gia_mps2=gia[i].T)
               for i, p in enumerate(POINT_NAMES)}
-    forces = _in_time_order(y[_SUPPORT_ROWS])[:, :n].reshape(-1, 3, n)
+    forces = in_time_order(y[_SUPPORT_ROWS])[:, :n].reshape(-1, 3, n)
     support = {g: forces[i].T for i, g in enumerate(engine.SUPPORT_GROUPS)}
     return RunResult(time_s=t, seat_acc_mps2=u, points=points, support_N=support, mass_kg=human.mass_kg,
                      dof=human.dof, dt_s=dt, wall_s=0.0, description=f"{description}, linear route",
