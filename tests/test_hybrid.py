@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm import engine, hybrid, linear
+from ehm import engine
+from ehm.routes import hybrid, linear
 from ehm.cli import main
 from ehm.comfort import total_value
 from ehm.drives import city_drive
@@ -44,9 +45,9 @@ def test_state_hand_over_round_trips(human):
     # linear state <-> modal state of a time run, and linear state <-> MuJoCo data: exact inverses on what the
     # time run keeps; a state in the modes it leaves out is what P_unreached projects onto.
     ss = human.linear_model()
-    blk = linear._block_form(ss, 0.001)
+    blk = linear.block_form(ss, 0.001)
     rng = np.random.default_rng(1)
-    m = linear._modes(ss)
+    m = linear.modal_form(ss)
     carry = m.W @ rng.standard_normal(ss.A.shape[0]) * 1e-3
     u = np.array([0.3, -0.2, 0.1])
     x = linear.state_of(ss, blk, carry, u)
@@ -96,7 +97,7 @@ def test_the_left_out_modes_are_carried_over(human, sliding, monkeypatch):
     # assumed person drifted by more than 1.5 times): the hand-over must still be the closer.
     motion, nl, hy = sliding
     ss = human.linear_model()
-    m = linear._modes(ss)
+    m = linear.modal_form(ss)
     monkeypatch.setitem(ss.cache, "modes", linear._Modes(**{**m.__dict__, "P_unreached": 0 * m.P_unreached}))
     dropped = human.simulate(motion, method="auto")
     worse = max(_share(dropped.point(p).acc_mps2, nl.point(p).acc_mps2).max() for p in ("trunk", "head"))

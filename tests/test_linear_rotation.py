@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm import engine, linear
+from ehm import engine
+from ehm.routes import linear
 from ehm.drives import city_drive
 from ehm.motion import SeatMotion
 from ehm.results import concatenate_runs

@@ -196,14 +196,14 @@ def _dlsim(A, B, C, D, u, dt):
 def _block_outputs(ss, u, dt, pieces=1):
     """All outputs of the block form (deviations from y0, samples x outputs in the model's order), the run cut
     into ``pieces`` chunks."""
-    from ehm import linear
+    from ehm.routes import linear
 
-    blk, lay = linear._block_form(ss, dt), linear._layout(ss)
-    carry = linear._initial_state(blk, u[0])
+    blk, lay = linear.block_form(ss, dt), linear.output_layout(ss)
+    carry = linear.initial_state(blk, u[0])
     out = []
     for part in np.array_split(u, pieces):
-        y = linear._block_chunk(blk, part, carry)
-        out.append(linear._in_time_order(y)[:, :len(part)].T)
+        y = linear.block_chunk(blk, part, carry)
+        out.append(linear.in_time_order(y)[:, :len(part)].T)
     y = np.empty((len(u), len(ss.output_names)))
     y[:, lay] = np.concatenate(out)
     return y - ss.y0
@@ -214,7 +214,7 @@ def test_block_form_is_the_discretised_model(human):
     # first-order-hold discretisation of the model it runs, reduced_model: against scipy's cont2discrete +
     # dlsim, every output agrees to round-off, whole and cut into chunks of odd lengths (partial blocks), also
     # for an input that does not start at zero (the person at rest at t = 0).
-    from ehm import linear
+    from ehm.routes import linear
 
     from scipy import signal
 
@@ -248,10 +248,10 @@ def test_left_out_modes_change_little(human):
     # (scipy's exact discretisation and dlsim), every body and support output of a three-axis run stays within
     # 0.1 % of its rms (measured 0.035 % at most, a pelvis angular acceleration), and the contact forces the
     # validity check reads within 0.2 % (with the PGS solver: 0.104 %, the right buttock's shear force).
-    from ehm import linear
+    from ehm.routes import linear
 
     ss = human.linear_model()
-    m = linear._modes(ss)
+    m = linear.modal_form(ss)
     assert m.unreached > 0 and m.static_hz.min() > linear.STATIC_ABOVE_HZ
     for dt in (0.001, 0.0005):
         u = ehm.random_vibration("xyz", 5.0, 0.3, seed=3, dt_s=dt).acc_mps2
@@ -267,7 +267,7 @@ def test_orientations_are_exact():
     # Rotation vectors -> roll, pitch, yaw (intrinsic z-y-x), angular velocity and gravito-inertial acceleration
     # in the segment's axes, as scipy's Rotation computes them: small rotations (series) and large ones.
     from scipy.spatial.transform import Rotation
-    from ehm import linear
+    from ehm.routes import linear
 
     rng = np.random.default_rng(0)
     L, nb, n_points = linear.BLOCK, 40, len(engine.POINTS)
@@ -276,9 +276,9 @@ def test_orientations_are_exact():
     for scale in (1e-3, 0.02, 0.5):
         y = rng.standard_normal((5 * rows + 33, L, nb))
         y[2 * rows:3 * rows] *= scale  # rotation vectors
-        rot, angvel, gia = (linear._in_time_order(x) for x in linear._orientations(y, R0))
+        rot, angvel, gia = (linear.in_time_order(x) for x in linear._orientations(y, R0))
         for p in range(n_points):
-            series = lambda k: linear._in_time_order(y[rows * k + 3 * p:rows * k + 3 * p + 3]).T  # noqa: E731
+            series = lambda k: linear.in_time_order(y[rows * k + 3 * p:rows * k + 3 * p + 3]).T  # noqa: E731
             rel = Rotation.from_rotvec(series(2))
             R = np.einsum("nij,jk->nik", rel.as_matrix(), R0[p])
             # ehm's Rodrigues matrix + arctan2/arcsin against scipy's quaternion route: each angle comes from
@@ -292,7 +292,7 @@ def test_orientations_are_exact():
 
 @pytest.mark.parametrize("n", [1, 2, 3, 17, 64, 65, 100, 1000])
 def test_scan_is_the_recursion(n):
-    from ehm import linear
+    from ehm.routes import linear
 
     rng = np.random.default_rng(n)
     a = np.concatenate([rng.uniform(0.5, 1.0, 3), 0.99 * np.exp(1j * rng.uniform(0, 1, 2))])
@@ -301,7 +301,7 @@ def test_scan_is_the_recursion(n):
     ref = [z0]
     for k in range(n - 1):
         ref.append(a * ref[-1] + e[k])
-    np.testing.assert_allclose(linear._scan(a, e, z0), np.array(ref), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(linear.scan(a, e, z0), np.array(ref), rtol=1e-12, atol=1e-12)
 
 
 def test_the_advised_scale_passes_the_check(human):

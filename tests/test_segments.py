@@ -12,7 +12,7 @@ import ehm
 from ehm.cli import main
 from ehm.errors import InputError
 from ehm.results import concatenate_runs
-from ehm import segments
+from ehm.routes import parallel as segments
 from ehm.routes.parallel import Span, plan_segments, simulate_parallel, stream_parallel
 
 POINTS = tuple(ehm.engine.POINTS)

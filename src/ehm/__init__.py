@@ -43,7 +43,7 @@ ehm.references     reference curves, bands and the paper's findings, with their 
 ehm.validation     the person against them: validate, band_checks, locking_checks
 ehm.sickness       subjective vertical conflict motion sickness model (whole record, or piece by piece:
                    SicknessAccumulator)
-ehm.linear         the linearised person as a state-space model (the linear route)
+ehm.routes.linear         the linearised person as a state-space model (the linear route)
 ehm.convergence    is the time step small enough? (``ehm check-step``)
 ehm.batch          batch studies on Dask; ehm.fmu FMI export; ehm.animation pictures; ehm.plotting figures
 ehm.dataframes     results out: ``to_dataframe()`` (pandas), ``to_xarray()``, the tables a notebook shows

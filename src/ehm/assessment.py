@@ -133,7 +133,7 @@ class Assessment:
     final_displacement_m: dict = field(default_factory=dict)
     input_band_hz: tuple | None = None  # (low, high) the seat input covers, see input_band
     band_outside_share: dict = field(default_factory=dict)  # weighting -> share of its power outside that band
-    route: dict | None = None  # how the drive was run and checked (ehm.hybrid.RouteReport.as_dict)
+    route: dict | None = None  # how the drive was run and checked (ehm.routes.hybrid.RouteReport.as_dict)
     iso2631_5: dict | None = None  # ISO 2631-5 spinal dose (ehm.comfort.spine.iso2631_5_summary)
 
     def total_value(self, location: str) -> float:
@@ -380,10 +380,10 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
         took 0.84 s in 2 s pieces, 0.59 s in 10 s pieces (the default) and 0.44 s in 40 s pieces.
     progress : callable(done_s, total_s), optional
     method : str
-        ``auto`` (default: the hybrid route, :mod:`ehm.hybrid`: the linearised person, with the nonlinear model
+        ``auto`` (default: the hybrid route, :mod:`ehm.routes.hybrid`: the linearised person, with the nonlinear model
         through the windows where a contact reaches its friction limit or lifts off, and for the rest of the drive
         once those windows cover more than half of it so far, or from the start when the drive's manoeuvres hold
-        the contacts at their limit, :func:`ehm.hybrid.sustained_share`), ``nonlinear`` (MuJoCo throughout) or
+        the contacts at their limit, :func:`ehm.routes.hybrid.sustained_share`), ``nonlinear`` (MuJoCo throughout) or
         ``linear`` (the linearised person throughout, checked against the nonlinear model in those windows, with a
         warning above ``tolerance``).  A drive that turns the seat runs the linear model of the seat's rotation and the
         rotating seat in the windows.
@@ -391,9 +391,10 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
         The linear route's tolerance: share of each point acceleration's rms (default 1 %).
     workers, client, lead_in_s
         The nonlinear route in segments on ``workers`` local processes or a Dask ``client``'s cluster, each
-        segment after a lead-in of ``lead_in_s`` (:func:`ehm.segments.stream_parallel`; the comfort and sickness
-        figures within 1 % of the continuous run with the default lead-in).  ``workers=1`` and no client: the
-        continuous run.
+        segment after a lead-in of ``lead_in_s``: the options of the parallel route, passed through to
+        :meth:`ehm.SeatedHuman.stream` (:mod:`ehm.routes.registry`, :func:`ehm.routes.parallel.stream_parallel`; the
+        comfort and sickness figures within 1 % of the continuous run with the default lead-in).  ``workers=1`` and
+        no client: the continuous run.
     exposure : SpineExposure, optional
         The daily exposure and the person of the ISO 2631-5 dose (default ``SpineExposure()``: 8 h a day, the
         standard's Annex C example's man).

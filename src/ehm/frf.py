@@ -288,7 +288,7 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
 
     Each run excites one seat axis with band-limited random acceleration (``band_hz``, ``rms_mps2``).
     ``route`` is the simulation route of the runs: ``nonlinear`` (MuJoCo, the default) or ``linear`` (the
-    linearised person, :mod:`ehm.linear`: milliseconds per run; refuses inputs that make a contact slide).
+    linearised person, :mod:`ehm.routes.linear`: milliseconds per run; refuses inputs that make a contact slide).
 
     With ``motion`` (a measured seat motion, e.g. from :func:`ehm.read_motion`) the person runs that
     motion once instead, and each requested seat axis that it moves gives its curves (single-input H1:

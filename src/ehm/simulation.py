@@ -65,6 +65,12 @@ class SeatedHuman:
         control"): True with the parameter file's gains ([head_control]), a dict of gains (e.g.
         ``{"tilt_stiffness_Nm_per_rad": 30.0, "delay_s": 0.03}``) to switch it on with those, False off; None (the
         default) keeps the file's ``head_control.enabled`` (off in the shipped file).
+
+    Attributes
+    ----------
+    built : ehm.routes.built.BuiltPerson
+        The person as built, what the routes read: the MuJoCo model (also :attr:`model`), the static-seat model of
+        a rotating seat's linearisation, the linear models' cache.
     """
 
     def __init__(self, params: Parameters | str | Path | None = None, lock=(), unlock=(),
@@ -154,7 +160,7 @@ class SeatedHuman:
         engine.settle(self.model)
 
     def linear_model(self, rotation: bool = False):
-        """The person linearised at the settled posture, continuous time (:func:`ehm.linear.continuous_model`;
+        """The person linearised at the settled posture, continuous time (:func:`ehm.routes.linear.continuous_model`;
         computed once, about 0.1 s after settling).
 
         Parameters
@@ -162,7 +168,7 @@ class SeatedHuman:
         rotation : bool
             False: the model of seat translation (three inputs, the seat's acceleration).  True: with the
             seat's rotation about its pivot (``ehm.engine.seat_pivot``) in the seat's own frame, twelve
-            inputs (see :func:`ehm.linear.stream_linear`), what a motion with angular velocities runs on.
+            inputs (see :func:`ehm.routes.linear.stream_linear`), what a motion with angular velocities runs on.
 
         Both are linearised on the person on a static seat: for a person built with ``rotating_seat=True`` a
         static-seat build of the same person is made (and settled) once for it.
@@ -170,7 +176,7 @@ class SeatedHuman:
         return linear_model(self.built, rotation=rotation)
 
     def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None,
-                 method: str = "auto", tolerance: float | None = None) -> RunResult:
+                 method: str = "auto", tolerance: float | None = None, **options) -> RunResult:
         """Run the settled person with a seat motion.
 
         ``method="auto"`` (the default, as for :func:`ehm.assess`, ``ehm simulate`` and ``ehm assess``) is the
@@ -179,22 +185,27 @@ class SeatedHuman:
         motion resampled to the model's time step); a motion with angular velocity needs a person built with
         ``rotating_seat=True``.  For long drives use :meth:`stream`, which holds one chunk at a time.
 
-        ``method="linear"`` runs the person linearised at rest (:mod:`ehm.linear`) on the same input (the
+        ``method="linear"`` runs the person linearised at rest (:mod:`ehm.routes.linear`) on the same input (the
         motion resampled to the model's step, anti-aliased), exactly discretised, about a thousand times
-        faster than real time, and checks it by its effect (:mod:`ehm.hybrid`): wherever a contact reaches its
+        faster than real time, and checks it by its effect (:mod:`ehm.routes.hybrid`): wherever a contact reaches its
         friction limit or lifts off, the nonlinear model runs too and the two answers are compared; above
         ``tolerance`` (share of each point acceleration's rms, default 1 %) it warns
-        (:class:`ehm.hybrid.LinearRouteWarning`) with the figure.  ``method="auto"`` (the hybrid route) keeps the
+        (:class:`ehm.routes.hybrid.LinearRouteWarning`) with the figure.  ``method="auto"`` (the hybrid route) keeps the
         nonlinear answer in those windows and the linear one elsewhere.  Both record what they checked in
-        ``result.extra["route"]`` (:class:`ehm.hybrid.RouteReport`).  Every route records the segments' poses at
+        ``result.extra["route"]`` (:class:`ehm.routes.hybrid.RouteReport`).  Every route records the segments' poses at
         ``pose_rate_hz`` when asked (for ``ehm.animation``; the linear pieces through the model's kinematics,
-        :mod:`ehm.linear_poses`).  A motion that rotates
+        :mod:`ehm.routes.poses`).  A motion that rotates
         the seat runs on the linear model of the seat's rotation in the seat's own frame (whether or not the
-        person was built with ``rotating_seat=True``): see :func:`ehm.linear.stream_linear` for what it assumes;
+        person was built with ``rotating_seat=True``): see :func:`ehm.routes.linear.stream_linear` for what it assumes;
         its estimate of the terms it leaves out is in ``result.extra["linear_check"]``.
+
+        ``method`` names a route of :mod:`ehm.routes.registry`: ``"auto"`` (or ``"hybrid"``, the same route),
+        ``"linear"``, ``"nonlinear"``, or ``"parallel"``, the nonlinear route in segments on several processes or a
+        Dask cluster (:mod:`ehm.routes.parallel`), whose ``options`` are ``workers``, ``client``, ``lead_in_s`` and
+        ``segment_s`` (``workers`` other than 1 or a ``client`` with ``"nonlinear"`` runs it too).
         """
         return concatenate_runs(list(self.stream(motion, progress=progress, method=method, tolerance=tolerance,
-                                                 pose_rate_hz=pose_rate_hz)))
+                                                 pose_rate_hz=pose_rate_hz, **options)))
 
     def simulate_to(self, out_dir: Path | str, motion: SeatMotion, output_rate_hz: float | None = None,
                     formats=("csv",), pose_rate_hz: float | None = 25.0, progress=None, chunk_s: float = 10.0,
@@ -214,7 +225,7 @@ class SeatedHuman:
         folder being written, e.g. ``ehm.plotting.plot_run_preview`` (``time_histories.png``).  Computing
         and drawing stay apart: this module does not import matplotlib.
 
-        ``chunks``: the run's chunks made elsewhere, in order (e.g. :func:`ehm.segments.stream_parallel` with the
+        ``chunks``: the run's chunks made elsewhere, in order (e.g. :func:`ehm.routes.parallel.stream_parallel` with the
         same ``chunk_s`` and ``pose_rate_hz``), written instead of this person's own :meth:`stream`.
         """
         from .outdir import RunFolder, check_output_folder
@@ -245,9 +256,10 @@ class SeatedHuman:
 
         Memory stays constant whatever the motion's length: the motion is resampled onto the model's time
         step (anti-aliased polyphase filter, :class:`ehm.resampling.Resampler`) one chunk at a time.
-        ``progress(done_s, total_s)`` is called after every chunk.  ``method`` as
+        ``progress(done_s, total_s)`` is called after every chunk.  ``method`` and ``options`` as
         for :meth:`simulate` (default ``"auto"``, the hybrid route; every route takes the motion resampled to the
-        model's step).
+        model's step): the route of that name (:func:`ehm.routes.registry.stream`) runs on the person as built,
+        :attr:`built`.
         """
         require_motion("simulate()", motion)
         yield from routes.stream(self.built, motion, method, chunk_s=chunk_s, progress=progress,

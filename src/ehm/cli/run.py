@@ -64,7 +64,7 @@ def add_simulate(sub) -> None:
 
 
 def _route_options(p) -> None:
-    """--method and --tolerance of simulate and assess (ehm.hybrid)."""
+    """--method and --tolerance of simulate and assess (ehm.routes.hybrid)."""
     p.add_argument("--method", choices=("auto", "nonlinear", "linear"), default="auto",
                    help="simulation route: auto (default: the linearised person, with the nonlinear model where a "
                         "contact reaches its friction limit or lifts off, and for the rest of the drive once those "
@@ -124,7 +124,7 @@ def cmd_simulate(args) -> int:
 
 
 class _Parallel:
-    """The nonlinear route in segments as the command line asked for it (:mod:`ehm.segments`)."""
+    """The nonlinear route in segments as the command line asked for it (:mod:`ehm.routes.parallel`)."""
 
     def __init__(self, workers: int, client, lead_in_s):
         self.workers, self.client, self.lead_in_s = workers, client, lead_in_s

@@ -1,7 +1,7 @@
 """The checked linear route and the hybrid route: the linear model where the contacts hold, the nonlinear
 model where they approach their limits, with the state handed over between them.
 
-The linear route (:mod:`ehm.linear`) is exact for the model linearised at rest, and the nonlinear model stays
+The linear route (:mod:`ehm.routes.linear`) is exact for the model linearised at rest, and the nonlinear model stays
 close to it as long as every touching contact keeps pressing and stays inside its friction cone.  Instead of
 refusing a whole drive the first time a contact reaches its Coulomb limit, this module judges the linear
 route by its effect:
@@ -11,7 +11,7 @@ route by its effect:
 2. Each marked stretch becomes a *window*: it opens :data:`LEAD_S` before the first marked sample and
    closes once no sample has been marked for :data:`QUIET_S`.  The nonlinear model (MuJoCo) runs through the
    window, starting from the linear model's state at the window's start (positions, velocities and
-   integral actions: :func:`ehm.linear.state_of`, ``ehm.engine.data_at_deviation``), so it needs no
+   integral actions: :func:`ehm.routes.linear.state_of`, ``ehm.engine.data_at_deviation``), so it needs no
    settling lead-in.  Where a window leaves the body (where it sits and turns on the seat, the preload of a pad
    that stuck while its segment moved: directions the seat's acceleration does not drive, which the linear
    time run leaves out) is carried on as a constant offset of the linear model's state and outputs.
@@ -22,7 +22,7 @@ route by its effect:
    sideways accelerations under vertical input) is measured against that largest rms instead.
 4. ``method="auto"`` (the hybrid route) keeps the nonlinear answer in the windows and hands the nonlinear
    state back to the linear model at each window's end (``ehm.engine.deviation_of``,
-   :func:`ehm.linear.carry_of`), so both pieces join without a jump; once the windows cover more than
+   :func:`ehm.routes.linear.carry_of`), so both pieces join without a jump; once the windows cover more than
    :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`), it runs the rest of the drive on
    the nonlinear model.  A drive whose manoeuvres hold the seat's horizontal acceleration above the back pads'
    friction limit for much of its length (:func:`sustained_share` above ``SUSTAINED_SHARE``) runs on the
@@ -137,7 +137,7 @@ class RouteReport:
         The nonlinear model ran the whole drive, decided from its level before it started (``fallback`` says why).
     left_out : dict
         For a drive that turns the seat: the estimate of the terms the linear model of the seat's rotation
-        leaves out (:func:`ehm.linear.left_out`, merged over the linear pieces); ``share`` its largest share of a
+        leaves out (:func:`ehm.routes.linear.left_out`, merged over the linear pieces); ``share`` its largest share of a
         point's rms.
     """
 
@@ -149,7 +149,7 @@ class RouteReport:
     tolerance: float = TOLERANCE
     fallback: str = ""
     from_start: bool = False
-    #: drives that turn the seat: ehm.linear.left_out over the linear pieces
+    #: drives that turn the seat: ehm.routes.linear.left_out over the linear pieces
     left_out: dict = field(default_factory=dict)
 
     @property
@@ -266,7 +266,7 @@ def _stream_nonlinear(human, motion, report: RouteReport, chunk_s: float, progre
 
 def _near_limit(ss, y: np.ndarray, n: int) -> np.ndarray:
     """(n,) bool: samples where a touching contact comes within NEAR_LIMIT of its Coulomb limit or lifts off
-    (``y`` as :func:`ehm.linear.block_chunk` returns it)."""
+    (``y`` as :func:`ehm.routes.linear.block_chunk` returns it)."""
     if not ss.contacts:
         return np.zeros(n, dtype=bool)
     fn, ft1, ft2 = (in_time_order(f)[:, :n] for f in contact_rows(ss, y))
@@ -327,7 +327,7 @@ def _contact_blocks(ss, blk):
 
 class _Drive:
     """The drive on the model's time step, a stretch at a time: the seat's acceleration (n, 3, seat axes), the
-    linear model's inputs and, when the seat rotates, its rotation (:class:`ehm.linear.SeatRotation`), from the
+    linear model's inputs and, when the seat rotates, its rotation (:class:`ehm.routes.linear.SeatRotation`), from the
     same resampling (:class:`ehm.resampling.Resampler`) and seat kinematics as the nonlinear route."""
 
     def __init__(self, motion, dt: float, rotates: bool):
@@ -353,7 +353,7 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     Yields :class:`ehm.results.RunResult` chunks on the model's time step; the last one carries the
     :class:`RouteReport` as plain data (:meth:`RouteReport.as_dict`) in ``extra["route"]``.  ``tolerance``:
     share of rms the linear route's discrepancy may reach (``method="linear"`` warns above it).  ``pose_rate_hz``:
-    record the segments' poses at about this rate (:mod:`ehm.linear_poses`), as the nonlinear route does.
+    record the segments' poses at about this rate (:mod:`ehm.routes.poses`), as the nonlinear route does.
     """
     if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
         raise InputError(f"tolerance must be a share of rms between 0 and 1, not {tolerance!r}.")

@@ -29,7 +29,7 @@ A motion that rotates the seat runs in the seat's own frame on a second model of
 person, with twelve inputs (:func:`continuous_model` with ``pivot_m``): the uniform field with the tilt taken
 exactly, and the seat's angular acceleration and centripetal matrix as fictitious loads at the bodies' rest
 positions; what that leaves out (Coriolis and the loads' change with the body's displacement) is estimated
-per point in the result (:func:`ehm.linear.left_out`).  See :func:`stream_linear`.
+per point in the result (:func:`ehm.routes.linear.left_out`).  See :func:`stream_linear`.
 """
 
 from __future__ import annotations
@@ -633,7 +633,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
     relative to the seat, and ``seat_angles_rad``; the kinematic terms of the body's own motion in the
     turning frame (Coriolis 2 w x v and the like) are added to the outputs exactly.  What the linear model
     leaves out of the body's dynamics (the fictitious loads that are products of the seat's rates with the
-    body's own motion) is estimated per point in ``result.extra["linear_check"]`` (:func:`ehm.linear.left_out`); a
+    body's own motion) is estimated per point in ``result.extra["linear_check"]`` (:func:`ehm.routes.linear.left_out`); a
     motion without rotation runs exactly as before.
     """
     w_seat = motion.angvel_radps
@@ -901,7 +901,7 @@ def run_result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarra
             description: str, seat: SeatRotation | None = None, check: dict | None = None):
     """Outputs of the linear model (as ``block_chunk`` returns them, corrected by
     :meth:`SeatRotation.correct` if the seat rotates) -> a RunResult in the nonlinear route's terms; ``u`` the
-    seat's acceleration (n, 3), ``check`` :func:`ehm.linear.left_out`'s estimate."""
+    seat's acceleration (n, 3), ``check`` :func:`ehm.routes.linear.left_out`'s estimate."""
     n = len(t)
     gravity = None if seat is None else _to_blocks(seat.g_seat_mps2, *y.shape[1:])
     rot, angvel, gia = (in_time_order(x)[..., :n] for x in _orientations(y, R0, gravity))  # (point, axis, sample)

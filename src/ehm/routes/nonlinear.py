@@ -40,7 +40,7 @@ def stream_span(person: BuiltPerson, motion: SeatMotion, first: int = 0, stop: i
 
     With ``first`` > 0 the person starts from the settled rest ``lead_steps`` steps before ``first`` (at most
     at the motion's start) and is run with the motion's own input over that lead-in, which is not yielded
-    (:mod:`ehm.segments`).  A rotating seat starts level there: its yaw is offset by the yaw at the lead-in's
+    (:mod:`ehm.routes.parallel`).  A rotating seat starts level there: its yaw is offset by the yaw at the lead-in's
     start (a rotation about the vertical changes nothing in seat axes), and its pitch and roll at the
     lead-in's start are faded in over the lead-in (a quintic smoothstep); from ``first`` on the seat's
     attitude is the continuous run's.  ``ramp`` also fades the translational input in over the lead-in.
