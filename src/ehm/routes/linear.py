@@ -16,7 +16,8 @@ their rms (tested).  It discretises the rest exactly at the sample step of its i
 seat acceleration linear between samples); :class:`ehm.SeatedHuman` gives it the motion resampled to the
 model's step by the same anti-aliased :class:`ehm.resampling.Resampler` as the nonlinear route, so that both
 routes see the same input (a first-order hold at a low log rate, 20 Hz, would cut the head's rms by a
-fifth).  It arranges the discretised model in blocks of :data:`BLOCK` samples, so that a whole run is one matrix product (block inputs and block start state to
+fifth).  It arranges the discretised model in blocks of :data:`BLOCK` samples, so that a whole run is one
+matrix product (block inputs and block start state to
 all the block's outputs) after a recursion over the block starts only (``block_form``).  While it runs
 it checks that the model still holds: every touching contact must keep pressing (normal force > 0) and
 stay inside its friction cone; otherwise it raises :class:`LinearRouteError` saying when, where and by how
@@ -633,7 +634,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
     relative to the seat, and ``seat_angles_rad``; the kinematic terms of the body's own motion in the
     turning frame (Coriolis 2 w x v and the like) are added to the outputs exactly.  What the linear model
     leaves out of the body's dynamics (the fictitious loads that are products of the seat's rates with the
-    body's own motion) is estimated per point in ``result.extra["linear_check"]`` (:func:`ehm.routes.linear.left_out`); a
+    body's own motion) is estimated per point in ``result.extra["linear_check"]`` (:func:`left_out`); a
     motion without rotation runs exactly as before.
     """
     w_seat = motion.angvel_radps

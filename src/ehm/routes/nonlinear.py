@@ -33,8 +33,9 @@ def stream(person, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pos
     yield from stream_span(person, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
 
 
-def stream_span(person: BuiltPerson, motion: SeatMotion, first: int = 0, stop: int | None = None, lead_steps: int = 0,
-                 chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None, ramp: bool = False):
+def stream_span(person: BuiltPerson, motion: SeatMotion, first: int = 0, stop: int | None = None,
+                lead_steps: int = 0, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
+                ramp: bool = False):
     """The nonlinear route over grid steps ``first`` ... ``stop - 1`` of the motion resampled to the model's
     step (default: all of it), yielding one :class:`RunResult` per chunk of ``chunk_s`` from ``first``.
 
@@ -44,7 +45,8 @@ def stream_span(person: BuiltPerson, motion: SeatMotion, first: int = 0, stop: i
     start (a rotation about the vertical changes nothing in seat axes), and its pitch and roll at the
     lead-in's start are faded in over the lead-in (a quintic smoothstep); from ``first`` on the seat's
     attitude is the continuous run's.  ``ramp`` also fades the translational input in over the lead-in.
-    ``progress(done_s, total_s)`` after every yielded chunk.  The checks are :meth:`stream`'s.
+    ``progress(done_s, total_s)`` after every yielded chunk.  The checks are :func:`stream`'s (made by the
+    caller).
     """
     dt = float(person.model.mj.opt.timestep)
     rotating = person.model.seat is not None  # a rotating seat without angular velocities stays level
@@ -106,7 +108,8 @@ def chunk_result(person: BuiltPerson, raw, t, acc_seat, R, angles, poses, pivot,
     for p in POINT_NAMES:
         settled_pos, settled_quat = poses[p]
         world = Rotation.from_quat(raw.sensors[f"{p}_framequat"], scalar_first=True)
-        rel = (world if seat_rot is None else seat_rot.inv() * world) * Rotation.from_quat(settled_quat, scalar_first=True).inv()
+        in_seat = world if seat_rot is None else seat_rot.inv() * world
+        rel = in_seat * Rotation.from_quat(settled_quat, scalar_first=True).inv()
         acc_world = raw.sensors[f"{p}_acc"]
         points[p] = PointMotion(
             name=p,

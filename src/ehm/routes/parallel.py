@@ -93,8 +93,8 @@ from ..processes import ONE_THREAD, environ_default, ignore_sigint, sigint_ignor
 from ..resampling import Resampler
 from ..results import RunResult, concatenate_runs
 from .built import BuiltPerson, built_of
-from .nonlinear import stream_span
 from .nonlinear import stream as stream_nonlinear
+from .nonlinear import stream_span
 
 __all__ = ["DEFAULT_LEAD_IN_S", "Span", "plan_segments", "simulate_parallel", "stream_parallel"]
 
@@ -114,7 +114,8 @@ STEPS_PER_WALL_S = {False: 25_000, True: 14_000}
 
 @dataclass(frozen=True)
 class Span:
-    """One segment of a run (a time slice of it): grid steps ``first`` ... ``stop - 1`` are kept, ``lead_steps`` before them run first.
+    """One segment of a run (a time slice of it): grid steps ``first`` ... ``stop - 1`` are kept, ``lead_steps``
+    before them run first.
 
     Attributes
     ----------

@@ -13,7 +13,7 @@ import numpy as np
 
 from .. import engine
 from ..kinematics import seat_rotation_matrices
-from .linear import modal_form, scan, advance, state_of
+from .linear import advance, modal_form, scan, state_of
 
 
 class PoseGrid:
