@@ -27,7 +27,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 import ehm  # noqa: E402
-from ehm import linear  # noqa: E402
+from ehm.routes import linear  # noqa: E402
 
 
 def main() -> None:
@@ -40,7 +40,7 @@ def main() -> None:
     t0 = time.perf_counter()
     ss = human.linear_model()
     built = time.perf_counter() - t0
-    modes = linear.modes_of(ss)
+    modes = linear.modal_form(ss)
     n_states = modes.n_real + 2 * (modes.lam.size - modes.n_real)
     print(f"ehm {ehm.__version__}, BLAS threads {os.environ['OPENBLAS_NUM_THREADS']}: linear model {ss.A.shape[0]} "
           f"states, {len(ss.output_names)} outputs, built in {built:.2f} s after settling (linearised at "

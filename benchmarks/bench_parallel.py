@@ -1,4 +1,4 @@
-"""A long nonlinear run in segments on local processes (:mod:`ehm.segments`): speed-up and accuracy.
+"""A long nonlinear run in segments on local processes (:mod:`ehm.routes.parallel`): speed-up and accuracy.
 
 Usage::
 
@@ -108,9 +108,9 @@ def compare(motion, human, cont, seg, joins_s) -> dict:
 
 def measure_lead_in(args) -> None:
     """Segmented (4 segments on 2 workers) against continuous, for several lead-ins, with and without ramp-in."""
-    from ehm import segments
+    from ehm.routes import parallel as segments
     from ehm.results import concatenate_runs
-    from ehm.segments import stream_parallel
+    from ehm.routes.parallel import stream_parallel
 
     segments.WORKER_START_S = 0.0  # segments of equal length, so that every join sits where the table says
 
@@ -155,7 +155,7 @@ def measure_lead_in(args) -> None:
 def one(args) -> dict:
     """One configuration in this (fresh) process: build, settle, run; wall time and peak memory."""
     from ehm.results import concatenate_runs
-    from ehm.segments import stream_parallel
+    from ehm.routes.parallel import stream_parallel
 
     motion = _motion(args)
     stats = {}

@@ -14,7 +14,7 @@ import ehm
 from ehm.cli import main
 from ehm.cli import progress as cli_progress
 from ehm.cli.parser import build_parser
-from ehm.hybrid import LinearRouteWarning
+from ehm.routes.hybrid import LinearRouteWarning
 from ehm.imu import mounting_matrix
 from ehm.readers import mounting_rotation, read_motion
 
@@ -55,7 +55,7 @@ def test_linear_poses_agree_with_the_nonlinear_route(human, method):
 
     Tolerance: 3 % of the largest segment displacement (about 1 mm here).  The linear model differs from MuJoCo's
     stepping by its linearisation (terms of second order in a displacement of a millimetre) and by its exact
-    discretisation against the integrator's first-order step, which ehm.hybrid measures at about 1 % of rms on the
+    discretisation against the integrator's first-order step, which ehm.routes.hybrid measures at about 1 % of rms on the
     accelerations; measured here: 1.7 % of the displacement, orientations equal within 1e-9."""
     motion = ehm.random_vibration("z", 4.0, 0.3, seed=0)
     nl = human.simulate(motion, method="nonlinear", pose_rate_hz=25.0)

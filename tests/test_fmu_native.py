@@ -25,6 +25,7 @@ import ehm
 from ehm.cli import main
 from ehm.errors import InputError
 from ehm.fmu_native import INPUTS, MAX_SEAT_ACC_MPS2, MODEL_IDENTIFIER, OUTPUTS, PLATFORM, POINTS, SUPPORTS
+from ehm.routes.nonlinear import chunk_result
 
 fmpy = pytest.importorskip("fmpy", reason="the FMI headers and the test host library come from fmpy (pip install -e '.[test]')")
 
@@ -495,8 +496,8 @@ def _rotating_reference(human, acc_seat, w):
     raw = engine.run(model, np.einsum("nij,nj->ni", R, acc_seat), d=engine.settled_data(model),
                      seat_rotation=(angles, rates, accs))
     t = np.arange(n) * dt
-    return human._chunk_result(raw, t, np.asarray(acc_seat, float), R, angles, engine.settled_point_poses(model),
-                               model.seat["pivot"], 0.0, "reference")
+    return chunk_result(human.built, raw, t, np.asarray(acc_seat, float), R, angles,
+                        engine.settled_point_poses(model), model.seat["pivot"], 0.0, "reference")
 
 
 @pytest.fixture(scope="module")

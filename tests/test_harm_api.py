@@ -135,7 +135,7 @@ def test_linear_route_does_not_judge_a_round_off_channel_by_its_own_rms():
     made two on the earlier one, and none now) the sideways accelerations are small beside the vertical ones; every
     channel with content is within 1 % (measured 0.90 %), so a 2 % tolerance must pass and the sideways channels,
     against the run's scale, are far below it (measured 0.03 %; bound 0.1 %)."""
-    from ehm.hybrid import LinearRouteWarning
+    from ehm.routes.hybrid import LinearRouteWarning
 
     human = ehm.SeatedHuman()
     with warnings.catch_warnings():

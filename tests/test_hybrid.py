@@ -1,4 +1,4 @@
-"""The checked linear route and the hybrid route (ehm.hybrid) against one continuous nonlinear run.
+"""The checked linear route and the hybrid route (ehm.routes.hybrid) against one continuous nonlinear run.
 
 Every drive here is SYNTHETIC (ehm.random_vibration, labelled so by its description)."""
 
@@ -11,12 +11,13 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm import engine, hybrid, linear
+from ehm import engine
+from ehm.routes import hybrid, linear
 from ehm.cli import main
 from ehm.comfort import total_value
 from ehm.drives import city_drive
-from ehm.hybrid import LinearRouteWarning, RouteReport
-from ehm.linear import simulate_linear
+from ehm.routes.hybrid import LinearRouteWarning, RouteReport
+from ehm.routes.linear import simulate_linear
 from ehm.motion import SeatMotion
 
 
@@ -46,7 +47,7 @@ def test_state_hand_over_round_trips(human):
     ss = human.linear_model()
     blk = linear.block_form(ss, 0.001)
     rng = np.random.default_rng(1)
-    m = linear.modes_of(ss)
+    m = linear.modal_form(ss)
     carry = m.W @ rng.standard_normal(ss.A.shape[0]) * 1e-3
     u = np.array([0.3, -0.2, 0.1])
     x = linear.state_of(ss, blk, carry, u)
@@ -96,7 +97,7 @@ def test_the_left_out_modes_are_carried_over(human, sliding, monkeypatch):
     # assumed person drifted by more than 1.5 times): the hand-over must still be the closer.
     motion, nl, hy = sliding
     ss = human.linear_model()
-    m = linear.modes_of(ss)
+    m = linear.modal_form(ss)
     monkeypatch.setitem(ss.cache, "modes", linear._Modes(**{**m.__dict__, "P_unreached": 0 * m.P_unreached}))
     dropped = human.simulate(motion, method="auto")
     worse = max(_share(dropped.point(p).acc_mps2, nl.point(p).acc_mps2).max() for p in ("trunk", "head"))
@@ -268,7 +269,7 @@ def test_a_drive_whose_contacts_slide_from_the_start_runs_nonlinear_from_the_sta
     assert route["windows_s"] == [[0.0, pytest.approx(30.0, abs=0.002)]]
     assert route["summary_line"].startswith("route: nonlinear model for the whole drive from the start: the seat's "
                                             "horizontal acceleration (in 1 s means) is above 1.5 m/s^2 over ")
-    assert person._linear == {}  # never linearised
+    assert person.built.linear == {}  # never linearised
     nl = person.simulate(motion, method="nonlinear")
     for p in ("pelvis", "head"):
         np.testing.assert_array_equal(hy.point(p).acc_mps2, nl.point(p).acc_mps2)

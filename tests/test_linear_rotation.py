@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm import engine, linear
+from ehm import engine
+from ehm.routes import linear
 from ehm.drives import city_drive
 from ehm.motion import SeatMotion
 from ehm.results import concatenate_runs
@@ -191,7 +192,7 @@ def test_linear_models_of_a_rotating_seat_person(human):
     plain = human.linear_model()
     assert plain.B.shape[1] == 3 and plain.pivot_m is None
     # the static build's pivot is the rotating build's
-    np.testing.assert_array_equal(engine.seat_pivot(human._static_model), human.model.seat["pivot"])
+    np.testing.assert_array_equal(engine.seat_pivot(human.built.static_model), human.model.seat["pivot"])
     # the uniform field's columns are those of the translation model (same linearisation, a larger logarithm)
     assert np.abs(ss.B[:, :3] - plain.B).max() <= 1e-6 * np.abs(plain.B).max()
     # at a slow rocking of the seat the body turns with it: absolute angular acceleration = the seat's, and the
@@ -199,7 +200,7 @@ def test_linear_models_of_a_rotating_seat_person(human):
     H = linear.frequency_response(ss, np.array([0.2]))[0]
     rows = ss.rows([f"pelvis.{k}_acc" for k in ("roll", "pitch", "yaw")])
     np.testing.assert_allclose(H[np.ix_(rows, [3, 4, 5])].real, np.eye(3), atol=0.05)
-    r = engine.settled_point_poses(human._static_model)["pelvis"][0] - ss.pivot_m
+    r = engine.settled_point_poses(human.built.static_model)["pelvis"][0] - ss.pivot_m
     rows = ss.rows([f"pelvis.a{k}" for k in "xyz"])
     for k in range(3):
         e = np.eye(3)[k]

@@ -1,4 +1,4 @@
-"""The linear route (ehm.linear) against the nonlinear MuJoCo route, its exact discretisation and its
+"""The linear route (ehm.routes.linear) against the nonlinear MuJoCo route, its exact discretisation and its
 validity check."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import ehm
 from ehm import engine
 from ehm.cli import main
 from ehm.frf import linear_frf
-from ehm.linear import LinearRouteError, simulate_linear, stream_linear
+from ehm.routes.linear import LinearRouteError, simulate_linear, stream_linear
 from ehm.motion import SeatMotion
 
 G = 9.81
@@ -196,7 +196,7 @@ def _dlsim(A, B, C, D, u, dt):
 def _block_outputs(ss, u, dt, pieces=1):
     """All outputs of the block form (deviations from y0, samples x outputs in the model's order), the run cut
     into ``pieces`` chunks."""
-    from ehm import linear
+    from ehm.routes import linear
 
     blk, lay = linear.block_form(ss, dt), linear.output_layout(ss)
     carry = linear.initial_state(blk, u[0])
@@ -214,7 +214,7 @@ def test_block_form_is_the_discretised_model(human):
     # first-order-hold discretisation of the model it runs, reduced_model: against scipy's cont2discrete +
     # dlsim, every output agrees to round-off, whole and cut into chunks of odd lengths (partial blocks), also
     # for an input that does not start at zero (the person at rest at t = 0).
-    from ehm import linear
+    from ehm.routes import linear
 
     from scipy import signal
 
@@ -248,10 +248,10 @@ def test_left_out_modes_change_little(human):
     # (scipy's exact discretisation and dlsim), every body and support output of a three-axis run stays within
     # 0.1 % of its rms (measured 0.035 % at most, a pelvis angular acceleration), and the contact forces the
     # validity check reads within 0.2 % (with the PGS solver: 0.104 %, the right buttock's shear force).
-    from ehm import linear
+    from ehm.routes import linear
 
     ss = human.linear_model()
-    m = linear.modes_of(ss)
+    m = linear.modal_form(ss)
     assert m.unreached > 0 and m.static_hz.min() > linear.STATIC_ABOVE_HZ
     for dt in (0.001, 0.0005):
         u = ehm.random_vibration("xyz", 5.0, 0.3, seed=3, dt_s=dt).acc_mps2
@@ -267,7 +267,7 @@ def test_orientations_are_exact():
     # Rotation vectors -> roll, pitch, yaw (intrinsic z-y-x), angular velocity and gravito-inertial acceleration
     # in the segment's axes, as scipy's Rotation computes them: small rotations (series) and large ones.
     from scipy.spatial.transform import Rotation
-    from ehm import linear
+    from ehm.routes import linear
 
     rng = np.random.default_rng(0)
     L, nb, n_points = linear.BLOCK, 40, len(engine.POINTS)
@@ -292,7 +292,7 @@ def test_orientations_are_exact():
 
 @pytest.mark.parametrize("n", [1, 2, 3, 17, 64, 65, 100, 1000])
 def test_scan_is_the_recursion(n):
-    from ehm import linear
+    from ehm.routes import linear
 
     rng = np.random.default_rng(n)
     a = np.concatenate([rng.uniform(0.5, 1.0, 3), 0.99 * np.exp(1j * rng.uniform(0, 1, 2))])
@@ -301,7 +301,7 @@ def test_scan_is_the_recursion(n):
     ref = [z0]
     for k in range(n - 1):
         ref.append(a * ref[-1] + e[k])
-    np.testing.assert_allclose(linear.modal_scan(a, e, z0), np.array(ref), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(linear.scan(a, e, z0), np.array(ref), rtol=1e-12, atol=1e-12)
 
 
 def test_the_advised_scale_passes_the_check(human):
@@ -320,7 +320,7 @@ def test_the_advised_scale_passes_the_check(human):
 
 
 def test_advised_scale_rounds_down_to_a_factor_that_holds():
-    from ehm.linear import advised_scale
+    from ehm.routes.linear import advised_scale
 
     assert advised_scale(0.7268, lambda f: f <= 0.7268) == 0.72  # rounded down, not to nearest (0.73)
     assert advised_scale(0.7268, lambda f: f <= 0.705) == 0.70  # lowered until the check holds

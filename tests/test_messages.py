@@ -166,14 +166,14 @@ def test_a_divergence_names_an_unusual_input_and_the_cut_that_removes_it():
     else:  # the model rode it out: then nothing is blamed, and the cause check has nothing to say
         pass
     # the cause check itself, on a divergence raised by hand
-    from ehm.simulation import _with_input_cause
+    from ehm.routes.nonlinear import with_input_cause
 
-    named = _with_input_cause(DivergenceError("the simulation diverged at t = 0.500 s (a reason); try a smaller time "
+    named = with_input_cause(DivergenceError("the simulation diverged at t = 0.500 s (a reason); try a smaller time "
                                               "step"), motion, 0.6)
     assert str(named).startswith("the simulation diverged at t = 0.500 s: the seat input is out of the ordinary")
     quiet = ehm.SeatMotion(t, 0.1 * rng.standard_normal((t.size, 3)), "SYNTHETIC quiet ride")
     plain = DivergenceError("the simulation diverged at t = 0.500 s (a reason); try a smaller time step")
-    assert _with_input_cause(plain, quiet, 0.6) is plain  # an ordinary input: the time step stays the suspect
+    assert with_input_cause(plain, quiet, 0.6) is plain  # an ordinary input: the time step stays the suspect
 
 
 def test_a_divergence_blames_only_the_input_before_it_and_names_a_tilted_seat(monkeypatch):
@@ -181,7 +181,7 @@ def test_a_divergence_blames_only_the_input_before_it_and_names_a_tilted_seat(mo
     # after, so the time step stays the suspect (it was named "before it"; a real case: a hand-moved IMU whose
     # seat rolled past 30 deg at 15.5 s while a jump came at 81 s); at 6 s the jump is named
     import ehm
-    import ehm.hybrid
+    import ehm.routes.hybrid
     from ehm.errors import DivergenceError
 
     def diverging_at(time_s):
@@ -198,11 +198,11 @@ def test_a_divergence_blames_only_the_input_before_it_and_names_a_tilted_seat(mo
     acc[t >= 5.0, 2] = 15.0
     motion = ehm.SeatMotion(t, acc, "SYNTHETIC log with a jump at 5 s")
     human = ehm.SeatedHuman()
-    monkeypatch.setattr(ehm.hybrid, "stream_checked", diverging_at(1.0))
+    monkeypatch.setattr(ehm.routes.hybrid, "stream_checked", diverging_at(1.0))
     with pytest.raises(DivergenceError) as exc:
         human.simulate(motion, method="auto")
     assert "time step" in str(exc.value) and "jump" not in str(exc.value)
-    monkeypatch.setattr(ehm.hybrid, "stream_checked", diverging_at(6.0))
+    monkeypatch.setattr(ehm.routes.hybrid, "stream_checked", diverging_at(6.0))
     with pytest.raises(DivergenceError, match=r"out of the ordinary before it \(a jump of 15 m/s\^2"):
         human.simulate(motion, method="auto")
     # a motion whose clock starts at 100 s: the divergence's time counts from its first sample
@@ -212,13 +212,13 @@ def test_a_divergence_blames_only_the_input_before_it_and_names_a_tilted_seat(mo
     # a seat that rolls at 10 deg/s passes 30 deg at 3 s: named, with what to check, and no time step
     turning = ehm.SeatMotion(t, np.zeros((t.size, 3)), "SYNTHETIC seat rolling over",
                              np.column_stack([np.radians(10.0) * np.ones(t.size), np.zeros(t.size), np.zeros(t.size)]))
-    from ehm.simulation import _with_input_cause
+    from ehm.routes.nonlinear import with_input_cause
 
     plain = DivergenceError("the simulation diverged at t = 4.000 s (a reason); try a smaller time step")
-    text = str(_with_input_cause(plain, turning, 4.0))
+    text = str(with_input_cause(plain, turning, 4.0))
     assert "the seat is rolled beyond 30 deg from t = 3.0" in text and "up to 40 deg" in text
     assert "--mounting" in text and "time step" not in text
-    assert _with_input_cause(plain, turning, 2.5) is plain  # before 30 deg: ordinary
+    assert with_input_cause(plain, turning, 2.5) is plain  # before 30 deg: ordinary
 
 
 def test_a_seat_pitch_out_of_range_names_the_units_axes_and_frame():

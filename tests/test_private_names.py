@@ -27,14 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src"
 
 # (file under src/ehm, name): reaches that another piece of work removes; nothing else belongs here.
-ALLOWED = {
-    # removed by the routes package (the routes take the person as data, not SeatedHuman's privates)
-    ("hybrid.py", "_stream_span"),
-    ("hybrid.py", "_static_model"),
-    ("hybrid.py", "_chunk_result"),
-    ("linear_poses.py", "_static_model"),
-    ("segments.py", "_stream_span"),
-}
+ALLOWED: set[tuple[str, str]] = set()  # (file name, private name) pairs allowed on purpose: none
 
 
 class Reach(NamedTuple):

@@ -1,4 +1,4 @@
-"""A long nonlinear run in segments on local processes (ehm.segments), against one continuous run.
+"""A long nonlinear run in segments on local processes (ehm.routes.parallel), against one continuous run.
 
 Every motion here is SYNTHETIC (generated random vibration and the generated city drive).
 """
@@ -12,8 +12,8 @@ import ehm
 from ehm.cli import main
 from ehm.errors import InputError
 from ehm.results import concatenate_runs
-from ehm import segments
-from ehm.segments import Segment, plan_segments, simulate_parallel, stream_parallel
+from ehm.routes import parallel as segments
+from ehm.routes.parallel import Span, plan_segments, simulate_parallel, stream_parallel
 
 POINTS = tuple(ehm.engine.POINTS)
 
@@ -48,7 +48,7 @@ def _share(a: np.ndarray, b: np.ndarray) -> float:
 
 def test_plan_covers_the_run_in_aligned_segments_of_equal_work():
     segs = plan_segments(100_001, 2, 5_000, align_steps=2_000)
-    assert segs[0] == Segment(0, segs[0].stop, 0) and segs[-1].stop == 100_001
+    assert segs[0] == Span(0, segs[0].stop, 0) and segs[-1].stop == 100_001
     assert all(a.stop == b.first for a, b in zip(segs, segs[1:]))  # no gap, no overlap
     assert all(s.first % 2_000 == 0 for s in segs) and segs[1].lead_steps == 5_000
     assert abs(segs[0].work_steps - segs[1].work_steps) <= 2_000  # the first is longer by about the lead-in

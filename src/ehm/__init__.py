@@ -45,7 +45,7 @@ ehm.references     reference curves, bands and the paper's findings, with their 
 ehm.validation     the person against them: validate, band_checks, locking_checks
 ehm.sickness       subjective vertical conflict motion sickness model (whole record, or piece by piece:
                    SicknessAccumulator)
-ehm.linear         the linearised person as a state-space model (the linear route)
+ehm.routes.linear         the linearised person as a state-space model (the linear route)
 ehm.convergence    is the time step small enough? (``ehm check-step``)
 ehm.batch          batch studies on Dask; ehm.fmu FMI export; ehm.animation pictures; ehm.plotting figures
 ehm.dataframes     results out: ``to_dataframe()`` (pandas), ``to_xarray()``, the tables a notebook shows
@@ -68,12 +68,12 @@ from .readers import load_motion_csv, read_motion
 from .imu import from_imu
 from .drives import city_drive, rough_road
 from .assessment import Assessment, assess
-from .segments import simulate_parallel
+from .routes.parallel import simulate_parallel
 from .frf import FrfTable, linear_frf, read_frf, time_domain_frf
 from .criterion import compare
 from .scaling import BodySize
 from .convergence import StepWarning, check_step
-from .linear import LinearRouteError
+from .routes.linear import LinearRouteError
 from .validation import Validation, validate
 
 __all__ = [

@@ -134,7 +134,7 @@ class Assessment:
     final_displacement_m: dict = field(default_factory=dict)
     input_band_hz: tuple | None = None  # (low, high) the seat input covers, see input_band
     band_outside_share: dict = field(default_factory=dict)  # weighting -> share of its power outside that band
-    route: dict | None = None  # how the drive was run and checked (ehm.hybrid.RouteReport.as_dict)
+    route: dict | None = None  # how the drive was run and checked (ehm.routes.hybrid.RouteReport.as_dict)
     iso2631_5: dict | None = None  # ISO 2631-5 spinal dose (ehm.comfort.spine.iso2631_5_summary)
 
     def total_value(self, location: str) -> float:
@@ -382,10 +382,10 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
         took 0.84 s in 2 s pieces, 0.59 s in 10 s pieces (the default) and 0.44 s in 40 s pieces.
     progress : callable(done_s, total_s), optional
     method : str
-        ``auto`` (default: the hybrid route, :mod:`ehm.hybrid`: the linearised person, with the nonlinear model
+        ``auto`` (default: the hybrid route, :mod:`ehm.routes.hybrid`: the linearised person, with the nonlinear model
         through the windows where a contact reaches its friction limit or lifts off, and for the rest of the drive
         once those windows cover more than half of it so far, or from the start when the drive's manoeuvres hold
-        the contacts at their limit, :func:`ehm.hybrid.sustained_share`), ``nonlinear`` (MuJoCo throughout) or
+        the contacts at their limit, :func:`ehm.routes.hybrid.sustained_share`), ``nonlinear`` (MuJoCo throughout) or
         ``linear`` (the linearised person throughout, checked against the nonlinear model in those windows, with a
         warning above ``tolerance``).  A drive that turns the seat runs the linear model of the seat's rotation and the
         rotating seat in the windows.
@@ -393,9 +393,10 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
         The linear route's tolerance: share of each point acceleration's rms (default 1 %).
     workers, client, lead_in_s
         The nonlinear route in segments on ``workers`` local processes or a Dask ``client``'s cluster, each
-        segment after a lead-in of ``lead_in_s`` (:func:`ehm.segments.stream_parallel`; the comfort and sickness
-        figures within 1 % of the continuous run with the default lead-in).  ``workers=1`` and no client: the
-        continuous run.
+        segment after a lead-in of ``lead_in_s``: the options of the parallel route, passed through to
+        :meth:`ehm.SeatedHuman.stream` (:mod:`ehm.routes.registry`, :func:`ehm.routes.parallel.stream_parallel`; the
+        comfort and sickness figures within 1 % of the continuous run with the default lead-in).  ``workers=1`` and
+        no client: the continuous run.
     exposure : SpineExposure, optional
         The daily exposure and the person of the ISO 2631-5 dose (default ``SpineExposure()``: 8 h a day, the
         standard's Annex C example's man).
@@ -427,16 +428,9 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     standard = spinal_dose_of_seat(motion, exposure)  # before the run: a drive it cannot take fails at once
     description, duration = motion.description, motion.duration_s
     t0 = time.perf_counter()
-    if method != "nonlinear" and (workers != 1 or client is not None):
-        raise InputError(f"workers and client split the nonlinear route into segments; pass method='nonlinear' (the "
-                         f"{method} route runs in one process).")
-    if method == "nonlinear" and (workers != 1 or client is not None):
-        from .segments import stream_parallel
-
-        chunks = stream_parallel(human, motion, workers=workers, lead_in_s=lead_in_s, client=client,
-                                 progress=progress, chunk_s=chunk_s)
-    else:
-        chunks = human.stream(motion, chunk_s=chunk_s, progress=progress, method=method, tolerance=tolerance)
+    # the route by name (ehm.routes.registry); workers, client and lead_in_s are the parallel route's options
+    chunks = human.stream(motion, chunk_s=chunk_s, progress=progress, method=method, tolerance=tolerance,
+                          workers=workers, client=client, lead_in_s=lead_in_s)
     if method != "nonlinear":  # on the model's step, resampled a chunk at a time (the grid t = 0, dt, ...)
         description = f"{motion.description}, resampled to dt {dt:g} s"
         duration = int(np.floor(motion.duration_s / dt + 1e-9)) * dt

@@ -37,7 +37,7 @@ A study file (TOML) names what varies and what to compute::
     # drop_held = false         keep held samples (default true: a slow sensor's repeated rows are dropped)
     # encoding = "cp1252"       the drive file's text encoding (default: from its byte-order mark, else UTF-8)
     duration_s = 30.0
-    route = "auto"              # simulation route of a drive's runs: "auto" (ehm.hybrid, the default as everywhere),
+    route = "auto"              # simulation route of a drive's runs: "auto" (ehm.routes.hybrid, the default as everywhere),
     #                           "nonlinear" (MuJoCo) or "linear"; transmissibility by method = "time": "nonlinear"
 
 Every run is recorded (its inputs, and its outputs or its error) in ``OUT/runs/<point>.json`` as soon as it

@@ -300,7 +300,7 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
 
     Each run excites one seat axis with band-limited random acceleration (``band_hz``, ``rms_mps2``).
     ``route`` is the simulation route of the runs: ``nonlinear`` (MuJoCo, the default) or ``linear`` (the
-    linearised person, :mod:`ehm.linear`: milliseconds per run; refuses inputs that make a contact slide).
+    linearised person, :mod:`ehm.routes.linear`: milliseconds per run; refuses inputs that make a contact slide).
 
     ``human`` is an :class:`ehm.SeatedHuman` or an :class:`ehm.Person` (built here).
 
@@ -350,7 +350,7 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
     ``human`` is an :class:`ehm.SeatedHuman` or an :class:`ehm.Person` (built here).
     """
     from . import engine
-    from .linear import frequency_response
+    from .routes.linear import frequency_response
     from .transfer import discrete_frequency_response
 
     human = _seated(human)

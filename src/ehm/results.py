@@ -4,7 +4,7 @@ assessment, transfer functions) reads, by name.
 >>> run = human.simulate(motion)                 # a RunResult
 >>> run.point("head").acc_mps2[:, 2]             # absolute vertical head acceleration [m/s^2]
 
-This module stands below everything that produces or consumes runs (:mod:`ehm.simulation`, :mod:`ehm.linear`,
+This module stands below everything that produces or consumes runs (:mod:`ehm.simulation`, :mod:`ehm.routes.linear`,
 :mod:`ehm.plotting`, :mod:`ehm.frf`, ...); it imports only the engine's point names and, for
 :meth:`RunResult.summary` and :meth:`RunResult.write`, the file writers below it (:mod:`ehm.runfiles`,
 :mod:`ehm.outdir`).  ``ehm.RunResult`` and ``ehm.simulation.RunResult`` are the same class.
@@ -151,7 +151,7 @@ class RunResult:
     @property
     def route(self) -> str:
         """The route that made the run: ``auto`` (the hybrid route) or ``linear`` as its report says
-        (``extra["route"]``), ``linear`` for :mod:`ehm.linear`'s own runs, else ``nonlinear``."""
+        (``extra["route"]``), ``linear`` for :mod:`ehm.routes.linear`'s own runs, else ``nonlinear``."""
         if "route" in self.extra:
             return str(self.extra["route"]["method"])
         return "linear" if self.description.endswith(", linear route") else "nonlinear"
@@ -259,7 +259,7 @@ def concatenate_runs(chunks: list) -> RunResult:
     cat = lambda get: np.concatenate([get(c) for c in chunks])  # noqa: E731
     points = {p: PointMotion(p, *(cat(lambda c, f=f: getattr(c.points[p], f)) for f in _POINT_FIELDS))
               for p in first.points}
-    extra = {**first.extra, **chunks[-1].extra}  # the last chunk carries a route's report (ehm.hybrid)
+    extra = {**first.extra, **chunks[-1].extra}  # the last chunk carries a route's report (ehm.routes.hybrid)
     checks = [c.extra["linear_check"] for c in chunks if "linear_check" in c.extra]  # the linear route's pieces
     if checks:
         extra["linear_check"] = merge_linear_checks(checks) if len(checks) > 1 else checks[0]
@@ -275,7 +275,7 @@ def concatenate_runs(chunks: list) -> RunResult:
 
 def merge_linear_checks(checks: list) -> dict:
     """One estimate of what the linear route leaves out (``extra["linear_check"]``, see
-    :func:`ehm.linear.left_out`) from those of consecutive chunks: the largest terms over all chunks, the rms
+    :func:`ehm.routes.linear.left_out`) from those of consecutive chunks: the largest terms over all chunks, the rms
     over all samples, and the shares recomputed from them."""
     out, worst = {}, 0.0
     for p in (k for k in checks[0] if k != "share"):

@@ -118,7 +118,7 @@ class SummaryAccumulator:
         if output_rate_hz is not None:
             out["output_rate_hz"] = output_rate_hz
         out.update(c.extra)
-        out.update(self.last.extra)  # the last chunk carries a route's report (ehm.hybrid)
+        out.update(self.last.extra)  # the last chunk carries a route's report (ehm.routes.hybrid)
         return out
 
 

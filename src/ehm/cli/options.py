@@ -128,7 +128,7 @@ def progress_options(p: argparse.ArgumentParser) -> None:
 
 
 def parallel_options(p: argparse.ArgumentParser) -> None:
-    """--workers, --scheduler, --lead-in: the nonlinear route in segments on several cores (ehm.segments)."""
+    """--workers, --scheduler, --lead-in: the nonlinear route in segments on several cores (ehm.routes.parallel)."""
     p.add_argument("--workers", type=int, metavar="N",
                    help="run the nonlinear route in N segments on N local processes, each after a lead-in (default: "
                         "one continuous run in this process); see 'Long runs on several cores' in the user guide for "
@@ -136,4 +136,4 @@ def parallel_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
                    help="run the segments on this Dask scheduler's workers instead (one segment per worker)")
     p.add_argument("--lead-in", type=float, metavar="S",
-                   help="lead-in of each segment but the first [s] (default: ehm.segments.DEFAULT_LEAD_IN_S)")
+                   help="lead-in of each segment but the first [s] (default: ehm.routes.parallel.DEFAULT_LEAD_IN_S)")

@@ -65,7 +65,7 @@ def add_simulate(sub) -> None:
 
 
 def _route_options(p) -> None:
-    """--method and --tolerance of simulate and assess (ehm.hybrid)."""
+    """--method and --tolerance of simulate and assess (ehm.routes.hybrid)."""
     p.add_argument("--method", choices=("auto", "nonlinear", "linear"), default="auto",
                    help="simulation route: auto (default: the linearised person, with the nonlinear model where a "
                         "contact reaches its friction limit or lifts off, and for the rest of the drive once those "
@@ -125,7 +125,7 @@ def cmd_simulate(args) -> int:
 
 
 class _Parallel:
-    """The nonlinear route in segments as the command line asked for it (:mod:`ehm.segments`)."""
+    """The nonlinear route in segments as the command line asked for it (:mod:`ehm.routes.parallel`)."""
 
     def __init__(self, workers: int, client, lead_in_s):
         self.workers, self.client, self.lead_in_s = workers, client, lead_in_s
@@ -134,7 +134,7 @@ class _Parallel:
         return "the Dask cluster's workers" if self.client is not None else f"{self.workers} processes"
 
     def __call__(self, human, motion, **kw):
-        from ..segments import stream_parallel
+        from ..routes.parallel import stream_parallel
 
         return stream_parallel(human, motion, workers=self.workers, client=self.client, lead_in_s=self.lead_in_s,
                                **kw)

@@ -16,7 +16,7 @@ from .model import Model
 
 #: The control's torque on the head (world axes [N m], the reaction on the upper torso), inputs of the linearisation.
 CONTROL_INPUTS = ("head_torque_x", "head_torque_y", "head_torque_z")
-#: What the law senses among the linear route's outputs (:class:`ehm.linear.StateSpace`): the head's rotation in
+#: What the law senses among the linear route's outputs (:class:`ehm.routes.linear.StateSpace`): the head's rotation in
 #: roll and pitch (the rotation vector's horizontal components: its tilt) and its angular velocity.
 SENSED = ("head.roll", "head.pitch", "head.wx", "head.wy", "head.wz")
 #: Order of the Padé approximant of the delay: its phase is within 1 deg of the delay's up to

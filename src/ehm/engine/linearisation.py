@@ -42,7 +42,7 @@ class LinearModel:
     ``y0`` holds the outputs in the settled state (the support forces carry the body's weight there).  Contacts
     are linearised as they are at rest: all stuck.
     With the seat rotation's inputs (:data:`ROTATION_INPUTS`, ``input_names``) the outputs are relative to the
-    seat's frame: the accelerations leave out the seat's own alpha x r and S r (added by :mod:`ehm.linear`).
+    seat's frame: the accelerations leave out the seat's own alpha x r and S r (added by :mod:`ehm.routes.linear`).
     """
 
     A: np.ndarray

@@ -219,7 +219,7 @@ def static_deviation_of(rotating: Model, static: Model, d: mujoco.MjData, seat_R
 
 def set_seat(model: Model, d: mujoco.MjData, angles_rad: np.ndarray, rates_radps: np.ndarray) -> None:
     """Put a rotating seat's hinges of ``d`` at yaw, pitch, roll ``angles_rad`` turning at ``rates_radps`` (Euler
-    angle rates), the rest of the state as it is (a segment's start, :mod:`ehm.segments`)."""
+    angle rates), the rest of the state as it is (a segment's start, :mod:`ehm.routes.parallel`)."""
     d.qpos[model.seat["qpos"]] = angles_rad
     d.qvel[model.seat["dofs"]] = rates_radps
     mujoco.mj_forward(model.mj, d)

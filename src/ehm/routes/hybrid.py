@@ -1,7 +1,7 @@
 """The checked linear route and the hybrid route: the linear model where the contacts hold, the nonlinear
 model where they approach their limits, with the state handed over between them.
 
-The linear route (:mod:`ehm.linear`) is exact for the model linearised at rest, and the nonlinear model stays
+The linear route (:mod:`ehm.routes.linear`) is exact for the model linearised at rest, and the nonlinear model stays
 close to it as long as every touching contact keeps pressing and stays inside its friction cone.  Instead of
 refusing a whole drive the first time a contact reaches its Coulomb limit, this module judges the linear
 route by its effect:
@@ -11,7 +11,7 @@ route by its effect:
 2. Each marked stretch becomes a *window*: it opens :data:`LEAD_S` before the first marked sample and
    closes once no sample has been marked for :data:`QUIET_S`.  The nonlinear model (MuJoCo) runs through the
    window, starting from the linear model's state at the window's start (positions, velocities and
-   integral actions: :func:`ehm.linear.state_of`, ``ehm.engine.data_at_deviation``), so it needs no
+   integral actions: :func:`ehm.routes.linear.state_of`, ``ehm.engine.data_at_deviation``), so it needs no
    settling lead-in.  Where a window leaves the body (where it sits and turns on the seat, the preload of a pad
    that stuck while its segment moved: directions the seat's acceleration does not drive, which the linear
    time run leaves out) is carried on as a constant offset of the linear model's state and outputs.
@@ -22,7 +22,7 @@ route by its effect:
    sideways accelerations under vertical input) is measured against that largest rms instead.
 4. ``method="auto"`` (the hybrid route) keeps the nonlinear answer in the windows and hands the nonlinear
    state back to the linear model at each window's end (``ehm.engine.deviation_of``,
-   :func:`ehm.linear.carry_of`), so both pieces join without a jump; once the windows cover more than
+   :func:`ehm.routes.linear.carry_of`), so both pieces join without a jump; once the windows cover more than
    :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`), it runs the rest of the drive on
    the nonlinear model.  A drive whose manoeuvres hold the seat's horizontal acceleration above the back pads'
    friction limit for much of its length (:func:`sustained_share` above ``SUSTAINED_SHARE``) runs on the
@@ -42,15 +42,33 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from . import engine
-from .errors import EhmWarning, InputError
-from .linear import (BLOCK, SeatRotation, block_chunk, block_form, in_time_order, initial_state, output_layout,
-                     modes_of, linear_result, settled_orientations, advance, carry_of, contact_rows, left_out,
-                     seat_body_rates, state_of)
-from .kinematics import seat_kinematics, seat_rotation_matrices
-from .linear_poses import PoseGrid
-from .resampling import Resampler
-from .results import POINT_NAMES, merge_linear_checks
+from .. import engine
+from ..errors import EhmWarning, InputError
+from ..kinematics import seat_kinematics, seat_rotation_matrices
+from ..resampling import Resampler
+from ..results import POINT_NAMES, merge_linear_checks
+from .built import built_of
+from .linear import (
+    BLOCK,
+    SeatRotation,
+    advance,
+    block_chunk,
+    block_form,
+    carry_of,
+    contact_rows,
+    in_time_order,
+    initial_state,
+    left_out,
+    linear_model,
+    modal_form,
+    output_layout,
+    run_result,
+    seat_body_rates,
+    settled_orientations,
+    state_of,
+)
+from .nonlinear import chunk_result, stream_span
+from .poses import PoseGrid
 
 #: A contact whose tangential force in the linear model passes this share of its Coulomb limit (mu times its
 #: normal force), or that lifts off, opens a nonlinear window.  Measured on a 219 s city-bus floor log (0.58 /
@@ -119,7 +137,7 @@ class RouteReport:
         The nonlinear model ran the whole drive, decided from its level before it started (``fallback`` says why).
     left_out : dict
         For a drive that turns the seat: the estimate of the terms the linear model of the seat's rotation
-        leaves out (:func:`ehm.linear.left_out`, merged over the linear pieces); ``share`` its largest share of a
+        leaves out (:func:`ehm.routes.linear.left_out`, merged over the linear pieces); ``share`` its largest share of a
         point's rms.
     """
 
@@ -131,7 +149,7 @@ class RouteReport:
     tolerance: float = TOLERANCE
     fallback: str = ""
     from_start: bool = False
-    #: drives that turn the seat: ehm.linear.left_out over the linear pieces
+    #: drives that turn the seat: ehm.routes.linear.left_out over the linear pieces
     left_out: dict = field(default_factory=dict)
 
     @property
@@ -235,7 +253,7 @@ def _nonlinear_from_start(human, motion, report: RouteReport):
 def _stream_nonlinear(human, motion, report: RouteReport, chunk_s: float, progress, pose_rate_hz):
     """The whole drive on the nonlinear route; the last chunk carries ``report``."""
     held = None
-    for piece in human._stream_span(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz):
+    for piece in stream_span(human, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz):
         if held is not None:
             yield held
         held = piece
@@ -248,7 +266,7 @@ def _stream_nonlinear(human, motion, report: RouteReport, chunk_s: float, progre
 
 def _near_limit(ss, y: np.ndarray, n: int) -> np.ndarray:
     """(n,) bool: samples where a touching contact comes within NEAR_LIMIT of its Coulomb limit or lifts off
-    (``y`` as :func:`ehm.linear.block_chunk` returns it)."""
+    (``y`` as :func:`ehm.routes.linear.block_chunk` returns it)."""
     if not ss.contacts:
         return np.zeros(n, dtype=bool)
     fn, ft1, ft2 = (in_time_order(f)[:, :n] for f in contact_rows(ss, y))
@@ -309,7 +327,7 @@ def _contact_blocks(ss, blk):
 
 class _Drive:
     """The drive on the model's time step, a stretch at a time: the seat's acceleration (n, 3, seat axes), the
-    linear model's inputs and, when the seat rotates, its rotation (:class:`ehm.linear.SeatRotation`), from the
+    linear model's inputs and, when the seat rotates, its rotation (:class:`ehm.routes.linear.SeatRotation`), from the
     same resampling (:class:`ehm.resampling.Resampler`) and seat kinematics as the nonlinear route."""
 
     def __init__(self, motion, dt: float, rotates: bool):
@@ -335,10 +353,11 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     Yields :class:`ehm.results.RunResult` chunks on the model's time step; the last one carries the
     :class:`RouteReport` as plain data (:meth:`RouteReport.as_dict`) in ``extra["route"]``.  ``tolerance``:
     share of rms the linear route's discrepancy may reach (``method="linear"`` warns above it).  ``pose_rate_hz``:
-    record the segments' poses at about this rate (:mod:`ehm.linear_poses`), as the nonlinear route does.
+    record the segments' poses at about this rate (:mod:`ehm.routes.poses`), as the nonlinear route does.
     """
     if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
         raise InputError(f"tolerance must be a share of rms between 0 and 1, not {tolerance!r}.")
+    human = built_of(human)
     dt = float(human.model.mj.opt.timestep)
     report = RouteReport(method=method, duration_s=motion.duration_s, tolerance=float(tolerance))
     # a motion that turns the seat: the linear model of the seat's rotation (a person on a rotating seat whose
@@ -349,7 +368,7 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
         return
     rotates = motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))
     description = motion.description
-    ss = human.linear_model(rotation=rotates)
+    ss = linear_model(human, rotation=rotates)
     blk = block_form(ss, float(f"{dt:.12g}"))
     drive = _Drive(motion, dt, rotates)
     per_chunk = max(1, int(round(chunk_s / dt)))
@@ -475,7 +494,7 @@ class _Hybrid:
         """The linear model continues from the nonlinear state ``x`` (input ``u`` at that sample); its share in
         the modes the time run leaves out becomes the offset."""
         self.carry = carry_of(self.ss, self.blk, x, u)
-        self.offset = modes_of(self.ss).P_unreached @ x
+        self.offset = modal_form(self.ss).P_unreached @ x
         self.shift = self.ss.C[output_layout(self.ss)] @ self.offset
 
     def _rest_nonlinear(self, pos: int):
@@ -517,8 +536,8 @@ class _Hybrid:
             check = left_out(y, m, seat if m == n_y else _first(seat, m))
             self.checks.append(check)
             seat.correct(y)
-        res = linear_result(self.human, self.ss, y, u, np.arange(a, a + n_y) * self.dt, self.dt, self.R0,
-                            self.description, seat=seat, check=check)
+        res = run_result(self.human, self.ss, y, u, np.arange(a, a + n_y) * self.dt, self.dt, self.R0,
+                      self.description, seat=seat, check=check)
         if m < n_y:
             res = res.take(slice(0, m))
         return replace(res, description=self.description, wall_s=wall_s + time.perf_counter() - t0, poses=poses)
@@ -542,7 +561,7 @@ class _Models:
         self.kin = kin
         self.grid = poses
         self.rotating = human.model.seat is not None  # the windows on a rotating seat (level when kin is None)
-        self.static = human._static_model if self.rotating else human.model
+        self.static = human.static_model
         self.poses = engine.settled_point_poses(human.model)
         self.pivot = human.model.seat["pivot"] if self.rotating else np.zeros(3)
 
@@ -581,7 +600,7 @@ class _Models:
             raw = engine.run(model, acc, d=d, seat_rotation=rotation, pose_every=grid.every if grid else None,
                              pose_first=grid.first(a) if grid else 0)
         wall = time.perf_counter() - t0
-        piece = self.human._chunk_result(raw, t, u, R, angles, self.poses, self.pivot, wall, description)
+        piece = chunk_result(self.human, raw, t, u, R, angles, self.poses, self.pivot, wall, description)
         if grid:
             piece = replace(piece, poses=grid.of_raw(raw, a))
         if self.rotating:  # the state after the last sample, relative to the seat there

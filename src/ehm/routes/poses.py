@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import engine
-from .kinematics import seat_rotation_matrices
-from .linear import modes_of, modal_scan, advance, state_of
+from .. import engine
+from ..kinematics import seat_rotation_matrices
+from .linear import advance, modal_form, scan, state_of
 
 
 class PoseGrid:
@@ -24,10 +24,10 @@ class PoseGrid:
 
     def __init__(self, human, ss, blk, dt: float, pose_rate_hz: float, kin=None):
         self.model, self.ss, self.blk, self.dt, self.kin = human.model, ss, blk, dt, kin
-        self.static = human._static_model if human.model.seat is not None else None
+        self.static = human.static_model if human.model.seat is not None else None
         self.every = max(1, int(round(1.0 / (pose_rate_hz * dt))))
         self.geometry = {f"geometry_{k}": v for k, v in engine.drawing_geometry(human.model).items()}
-        m = modes_of(ss)
+        m = modal_form(ss)
         # the modal state one pose period on: z~ -> phi^every z~ + sum_i phi^(every-1-i) Bd u[i]
         P = blk.phi[None, :] ** np.arange(self.every - 1, -1, -1)[:, None]  # (every, m)
         G = (P[:, None, :] * blk.Bd.T[None, :, :]).reshape(-1, m.lam.size)  # (every nu, m)
@@ -51,7 +51,7 @@ class PoseGrid:
             advance(self.blk, inputs[:k0], z)
         n_u = inputs.shape[1]
         U = inputs[k0:k0 + (steps.size - 1) * self.every].reshape(steps.size - 1, self.every * n_u)
-        Z = modal_scan(self.phi_every, (U @ self.drive).view(complex), z)  # the modal states at the poses
+        Z = scan(self.phi_every, (U @ self.drive).view(complex), z)  # the modal states at the poses
         x = state_of(self.ss, self.blk, Z, inputs[steps - a]) + offset
         R = angles = None
         if self.static is not None:

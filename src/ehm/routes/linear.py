@@ -17,10 +17,11 @@ seat acceleration linear between samples); :class:`ehm.SeatedHuman` gives it the
 model's step by the same anti-aliased :class:`ehm.resampling.Resampler` as the nonlinear route, so that both
 routes see the same input (a first-order hold at a low log rate, 20 Hz, would cut the head's rms by a
 fifth).  It arranges the discretised model in blocks of :data:`BLOCK` samples, so that a whole run is one
-matrix product (block inputs and block start state to all the block's outputs) after a recursion over the
-block starts only (``block_form``).  While it runs it checks that the model still holds: every touching
-contact must keep pressing (normal force > 0) and stay inside its friction cone; otherwise it raises
-:class:`LinearRouteError` saying when, where and by how much the input was too large.
+matrix product (block inputs and block start state to
+all the block's outputs) after a recursion over the block starts only (``block_form``).  While it runs
+it checks that the model still holds: every touching contact must keep pressing (normal force > 0) and
+stay inside its friction cone; otherwise it raises :class:`LinearRouteError` saying when, where and by how
+much the input was too large.
 
 :func:`ehm.linear_frf` evaluates the same model's frequency response exactly; there is one
 linearisation and one state-space model.
@@ -29,7 +30,7 @@ A motion that rotates the seat runs in the seat's own frame on a second model of
 person, with twelve inputs (:func:`continuous_model` with ``pivot_m``): the uniform field with the tilt taken
 exactly, and the seat's angular acceleration and centripetal matrix as fictitious loads at the bodies' rest
 positions; what that leaves out (Coriolis and the loads' change with the body's displacement) is estimated
-per point in the result (:func:`ehm.linear.left_out`).  See :func:`stream_linear`.
+per point in the result (:func:`ehm.routes.linear.left_out`).  See :func:`stream_linear`.
 """
 
 from __future__ import annotations
@@ -42,10 +43,11 @@ import numpy as np
 from scipy import linalg
 from scipy.spatial.transform import Rotation
 
-from . import engine
-from .errors import InputError
-from .kinematics import seat_kinematics
-from .results import POINT_NAMES, PointMotion, RunResult
+from .. import engine
+from ..errors import InputError
+from ..kinematics import seat_kinematics
+from ..results import POINT_NAMES, PointMotion, RunResult
+from .built import built_of
 
 #: Finer step used for the linearisation: the model's step divided by this.
 REFINE = 8
@@ -176,6 +178,24 @@ def continuous_model(model: engine.Model, refine: int = REFINE, pivot_m: np.ndar
     return ss
 
 
+def linear_model(person, rotation: bool = False) -> StateSpace:
+    """The person linearised at the settled posture, continuous time (:func:`continuous_model`; computed once per
+    person and kept in its :attr:`~ehm.routes.built.BuiltPerson.linear`, about 0.1 s after settling).
+
+    ``rotation`` False: the model of seat translation (three inputs, the seat's acceleration); True: with the
+    seat's rotation about its pivot (``ehm.engine.seat_pivot``) in the seat's own frame, twelve inputs
+    (:func:`stream_linear`).  Both are linearised on the person on a static seat
+    (:attr:`~ehm.routes.built.BuiltPerson.static_model`).  ``person``: a :class:`~ehm.routes.built.BuiltPerson`
+    (or a :class:`ehm.SeatedHuman`, whose is taken).
+    """
+    person = built_of(person)
+    key = "rotation" if rotation else "translation"
+    if key not in person.linear:
+        model = person.static_model  # the linearisation is in the seat's frame: the static seat's model
+        person.linear[key] = continuous_model(model, pivot_m=engine.seat_pivot(model) if rotation else None)
+    return person.linear[key]
+
+
 def frequency_response(ss: StateSpace, freq_hz: np.ndarray, rows=None) -> np.ndarray:
     """H(f) = C (j 2 pi f I - A)^-1 B + D, complex (n_freq, n_outputs, n_inputs); ``rows`` selects outputs."""
     C, D = (ss.C, ss.D) if rows is None else (ss.C[rows], ss.D[rows])
@@ -221,8 +241,7 @@ class _Modes:
     P_unreached: np.ndarray  #: (n_state, n_state) projection of a state onto the modes left out (not reached)
 
 
-def modes_of(ss: StateSpace) -> _Modes:
-    """The modal form of ``ss`` (eigenvalues, kept modes, static share), computed once and kept in ``ss.cache``."""
+def modal_form(ss: StateSpace) -> _Modes:
     cached = ss.cache.get("modes")
     if cached is None:
         lam, V = np.linalg.eig(ss.A)
@@ -256,7 +275,7 @@ def modes_of(ss: StateSpace) -> _Modes:
 def reduced_model(ss: StateSpace):
     """The model time runs evaluate, as real continuous-time matrices (A, B, C, D): the kept modes (2 x 2
     blocks for complex pairs), the fast modes' static share in D; outputs are deviations from ``ss.y0``."""
-    m = modes_of(ss)
+    m = modal_form(ss)
     nr, lam = m.n_real, m.lam
     npair = lam.size - nr
     n = nr + 2 * npair
@@ -351,7 +370,7 @@ def block_form(ss: StateSpace, dt_s: float) -> _Blocks:
     """
     cached = ss.cache.get(("blocks", dt_s))
     if cached is None:
-        m = modes_of(ss)
+        m = modal_form(ss)
         L = BLOCK
         phi, gain, g1 = _foh(m.lam, dt_s)
         Bd = gain[:, None] * m.B
@@ -395,7 +414,7 @@ def state_of(ss: StateSpace, blk: _Blocks, carry: np.ndarray, u: np.ndarray) -> 
     from a time run's modal state ``carry`` (z~, as ``block_chunk`` advances it) at a sample whose input
     is ``u`` (nu,); the modes left out of time runs (not reached by the input) are taken as zero.  Rows of
     ``carry`` (k, m) and ``u`` (k, nu) give the states' rows (k, n_state)."""
-    m = modes_of(ss)
+    m = modal_form(ss)
     wz = m.weight * (carry + blk.g1 * (u @ blk.B.T))
     real = np.ascontiguousarray  # Re(V w z) as real products of contiguous arrays: BLAS's, 10x faster for many rows
     return real(wz.real) @ real(m.V.real.T) - real(wz.imag) @ real(m.V.imag.T) + u @ m.X_static.T
@@ -404,7 +423,7 @@ def state_of(ss: StateSpace, blk: _Blocks, carry: np.ndarray, u: np.ndarray) -> 
 def carry_of(ss: StateSpace, blk: _Blocks, x: np.ndarray, u: np.ndarray) -> np.ndarray:
     """The modal state z~ of a time run at a sample whose state is ``x`` and input ``u`` (nu,): the inverse of
     :func:`state_of` on the kept modes (a state's share in the modes left out is dropped)."""
-    m = modes_of(ss)
+    m = modal_form(ss)
     return m.W @ x - blk.g1 * (blk.B @ u)
 
 
@@ -458,10 +477,10 @@ def _block_starts(blk: _Blocks, U: np.ndarray, carry: np.ndarray) -> np.ndarray:
     """The modal states at the blocks' first samples (blocks, m), complex: z_(b+1) = phi^L z_b + (block b's
     inputs U[b]) @ drive, from z_0 = ``carry``."""
     e = (U[:-1] @ blk.drive).view(complex)  # (nb - 1, m)
-    return modal_scan(blk.phi_block, e, carry)
+    return scan(blk.phi_block, e, carry)
 
 
-def modal_scan(a: np.ndarray, e: np.ndarray, z0: np.ndarray) -> np.ndarray:
+def scan(a: np.ndarray, e: np.ndarray, z0: np.ndarray) -> np.ndarray:
     """s[0] = z0, s[k + 1] = a s[k] + e[k] for all modes at once: (len(e) + 1, m).
 
     Two levels of about sqrt(n) steps each, vectorised over the modes and the other level: the recursion
@@ -615,7 +634,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
     relative to the seat, and ``seat_angles_rad``; the kinematic terms of the body's own motion in the
     turning frame (Coriolis 2 w x v and the like) are added to the outputs exactly.  What the linear model
     leaves out of the body's dynamics (the fictitious loads that are products of the seat's rates with the
-    body's own motion) is estimated per point in ``result.extra["linear_check"]`` (:func:`ehm.linear.left_out`); a
+    body's own motion) is estimated per point in ``result.extra["linear_check"]`` (:func:`left_out`); a
     motion without rotation runs exactly as before.
     """
     w_seat = motion.angvel_radps
@@ -629,11 +648,12 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
             motion = motion.resample(dt)
         del steps
     else:
-        from .resampling import Resampler
+        from ..resampling import Resampler
 
         dt = float(dt_s)
         grid = Resampler(motion.time_s, motion.acc_mps2, dt)
-    ss = human.linear_model(rotation=True) if rotating else human.linear_model()
+    human = built_of(human)
+    ss = linear_model(human, rotation=rotating)
     blk = block_form(ss, float(f"{dt:.12g}"))  # one discretisation per step, not per rounding of it
     R0 = settled_orientations(ss, human.model)
     n_total = motion.time_s.size if grid is None else grid.n_samples
@@ -657,7 +677,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
             check = left_out(y, len(t), seat)
             seat.correct(y)
         _validity(ss, y, len(t), t, whole=stop == n_total)
-        result = linear_result(human, ss, y, u, t, dt, R0, description, seat=seat, check=check)
+        result = run_result(human, ss, y, u, t, dt, R0, description, seat=seat, check=check)
         yield replace(result, wall_s=time.perf_counter() - t0)
         del result, y, u, inputs, seat  # the next chunk is made without this one held here
         if progress:
@@ -878,11 +898,11 @@ def _orientations(y: np.ndarray, R0: np.ndarray, gravity: np.ndarray | None = No
     return rot, angvel, gia
 
 
-def linear_result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, dt: float, R0: np.ndarray,
-                  description: str, seat: SeatRotation | None = None, check: dict | None = None):
+def run_result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarray, dt: float, R0: np.ndarray,
+            description: str, seat: SeatRotation | None = None, check: dict | None = None):
     """Outputs of the linear model (as ``block_chunk`` returns them, corrected by
     :meth:`SeatRotation.correct` if the seat rotates) -> a RunResult in the nonlinear route's terms; ``u`` the
-    seat's acceleration (n, 3), ``check`` :func:`ehm.linear.left_out`'s estimate."""
+    seat's acceleration (n, 3), ``check`` :func:`ehm.routes.linear.left_out`'s estimate."""
     n = len(t)
     gravity = None if seat is None else _to_blocks(seat.g_seat_mps2, *y.shape[1:])
     rot, angvel, gia = (in_time_order(x)[..., :n] for x in _orientations(y, R0, gravity))  # (point, axis, sample)

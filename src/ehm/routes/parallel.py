@@ -1,15 +1,16 @@
 r"""A long nonlinear run in segments on several cores: local processes or a Dask cluster.
 
->>> from ehm.segments import simulate_parallel
+>>> from ehm.routes.parallel import simulate_parallel
 >>> run = simulate_parallel(SeatedHuman(), motion, workers=2)     # the same time axis and fields as simulate()
 
 The motion is split into consecutive segments (at least one per worker).  Each segment is run from the settled
 rest over [start - lead-in, end] with the motion's own input over the lead-in, which is then discarded; the
 pieces are joined (``ehm.results.concatenate_runs``) into one :class:`~ehm.RunResult` on the continuous run's
 time axis, without a gap or a repeated sample.  The first segment starts at the motion's start and is the
-continuous run's first part bit for bit; one worker runs the motion in this process (:meth:`ehm.SeatedHuman.stream`).
-Workers rebuild the person from ``SeatedHuman.recipe`` (the tables, parameters, locks, seat, size and the
-settled state: no MuJoCo object is pickled, and no worker settles again).
+continuous run's first part bit for bit; one worker runs the motion in this process (the nonlinear route,
+:func:`ehm.routes.nonlinear.stream`).  Workers rebuild the person from its recipe
+(:meth:`ehm.routes.built.BuiltPerson.recipe`: the tables, parameters, locks, seat, size and the settled state: no
+MuJoCo object is pickled, and no worker settles again).
 
 The lead-in is needed because the person has memory: the posture controllers' integral action and the positions
 at which the tissue pads' friction holds (stick) carry the past into the present.  A segment started from rest
@@ -86,13 +87,16 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from .errors import InputError
-from .motion import SeatMotion, require_motion
-from .processes import ONE_THREAD, environ_default, ignore_sigint, sigint_ignored
-from .resampling import Resampler
-from .results import RunResult, concatenate_runs
+from ..errors import InputError
+from ..motion import SeatMotion, require_motion
+from ..processes import ONE_THREAD, environ_default, ignore_sigint, sigint_ignored
+from ..resampling import Resampler
+from ..results import RunResult, concatenate_runs
+from .built import BuiltPerson, built_of
+from .nonlinear import stream as stream_nonlinear
+from .nonlinear import stream_span
 
-__all__ = ["DEFAULT_LEAD_IN_S", "Segment", "plan_segments", "simulate_parallel", "stream_parallel"]
+__all__ = ["DEFAULT_LEAD_IN_S", "Span", "plan_segments", "simulate_parallel", "stream_parallel"]
 
 #: Lead-in of every segment but the first [s], chosen by measurement (module docstring).
 DEFAULT_LEAD_IN_S = 10.0
@@ -109,8 +113,9 @@ STEPS_PER_WALL_S = {False: 25_000, True: 14_000}
 
 
 @dataclass(frozen=True)
-class Segment:
-    """One segment of a run: grid steps ``first`` ... ``stop - 1`` are kept, ``lead_steps`` before them run first.
+class Span:
+    """One segment of a run (a time slice of it): grid steps ``first`` ... ``stop - 1`` are kept, ``lead_steps``
+    before them run first.
 
     Attributes
     ----------
@@ -131,7 +136,7 @@ class Segment:
 
 
 def plan_segments(n_steps: int, n_segments: int, lead_steps: int, align_steps: int = 1,
-                  first_extra_steps: int = 0) -> list[Segment]:
+                  first_extra_steps: int = 0) -> list[Span]:
     """Split ``n_steps`` grid steps into at most ``n_segments`` consecutive segments of about equal work.
 
     Every segment but the first runs ``lead_steps`` more steps before its own, and ``first_extra_steps`` more
@@ -151,21 +156,19 @@ def plan_segments(n_steps: int, n_segments: int, lead_steps: int, align_steps: i
         bounds.append(min(max(b, bounds[-1] + align_steps), n_steps))
     bounds.append(n_steps)
     bounds = sorted(set(bounds))
-    return [Segment(lo, hi, 0 if lo == 0 else min(lead_steps, lo)) for lo, hi in zip(bounds[:-1], bounds[1:])]
+    return [Span(lo, hi, 0 if lo == 0 else min(lead_steps, lo)) for lo, hi in zip(bounds[:-1], bounds[1:])]
 
 
-def _run_segment(recipe: dict, motion: SeatMotion, segment: Segment, chunk_s: float, pose_rate_hz, ramp: bool,
+def _run_segment(recipe: dict, motion: SeatMotion, segment: Span, chunk_s: float, pose_rate_hz, ramp: bool,
                  hand_over_dir: str | None = None):
     """A worker's task: the person rebuilt from ``recipe``, run over ``segment``; returns the kept part as its
     chunks (:class:`RunResult` each, not joined here: the joining is done once, by the caller) and the task's
     times: ``start`` and ``end`` (epoch seconds), ``build_s``.  With ``hand_over_dir`` the chunks' arrays go
     into a file there (:func:`_to_file`) and what is returned is the file's description."""
     start = time.time()
-    from .simulation import SeatedHuman
-
-    human = SeatedHuman.from_recipe(recipe)
+    person = BuiltPerson.from_recipe(recipe)
     built = time.time()
-    pieces = list(human._stream_span(motion, segment.first, segment.stop, segment.lead_steps, chunk_s=chunk_s,
+    pieces = list(stream_span(person, motion, segment.first, segment.stop, segment.lead_steps, chunk_s=chunk_s,
                                      pose_rate_hz=pose_rate_hz, ramp=ramp))
     times = {"start": start, "build_s": built - start, "end": time.time()}
     return (pieces if hand_over_dir is None else _to_file(pieces, hand_over_dir)), times
@@ -236,8 +239,9 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
 
     Parameters
     ----------
-    human : SeatedHuman
-        The person (its :meth:`~ehm.SeatedHuman.recipe` goes to the workers; it is settled here first).
+    human : SeatedHuman or BuiltPerson
+        The person (its recipe, :meth:`ehm.routes.built.BuiltPerson.recipe`, goes to the workers; it is settled
+        here first).
     motion : SeatMotion
     workers : int
         Processes to run on: this one (the first segment, streamed chunk by chunk as it is computed, while the
@@ -264,6 +268,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     """
     _check(workers, segment_s, lead_in_s, chunk_s)
     require_motion("simulate_parallel()", motion)
+    human = built_of(human)
     dt = human.check_nonlinear_motion(motion)
     lead_s = DEFAULT_LEAD_IN_S if lead_in_s is None else float(lead_in_s)
     n_steps = Resampler.of_motion(motion, dt).n_samples
@@ -282,8 +287,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     if _stats is not None:
         _stats.update(segments=segments, tasks=[])
     if len(segments) == 1 or (workers == 1 and local):
-        yield from human.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz,
-                                method="nonlinear")
+        yield from stream_nonlinear(human, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
         return
     if human.model.settled is None:
         human.settle()  # once here, not in every worker: the recipe carries the settled state
@@ -295,7 +299,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
         submitted = time.time()
         futures = runner.submit_all(recipe, motion, remote, args)
         if local:  # the first segment here, chunk by chunk: the continuous run's start, bit for bit
-            yield from human._stream_span(motion, 0, segments[0].stop, 0, chunk_s=chunk_s, pose_rate_hz=pose_rate_hz)
+            yield from stream_span(human, motion, 0, segments[0].stop, 0, chunk_s=chunk_s, pose_rate_hz=pose_rate_hz)
             done_s = segments[0].stop * dt
             if _stats is not None:
                 _stats["first_end"] = time.time()
@@ -317,7 +321,7 @@ def simulate_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: fl
                       pose_rate_hz: float | None = None) -> RunResult:
     """The nonlinear run of ``motion`` in segments on ``workers`` processes (or a Dask ``client``'s cluster), as
     one :class:`~ehm.RunResult` with the continuous run's time axis and fields; the arguments are
-    :func:`ehm.segments.stream_parallel`'s.  Within 1 % of the continuous run with the default lead-in (module
+    :func:`stream_parallel`'s.  Within 1 % of the continuous run with the default lead-in (module
     docstring)."""
     return concatenate_runs(list(stream_parallel(human, motion, workers=workers, segment_s=segment_s,
                                                  lead_in_s=lead_in_s, client=client, progress=progress,
