@@ -73,7 +73,8 @@ def test_fit_file_records_provenance(synthetic, tmp_path):
                  "joints.t12.roll.stiffness_Nm_per_rad"):
         assert fitted.provenance(kept) == shipped.provenance(kept), kept
     assert fitted.provenance("joints.t12.roll.stiffness_Nm_per_rad")[0] == "assumed"
-    assert fitted.value("joints.t12.z.stiffness_N_per_m") == pytest.approx(result.final["joints.t12.z.stiffness_N_per_m"])
+    key = "joints.t12.z.stiffness_N_per_m"
+    assert fitted.value(key) == pytest.approx(result.final[key])
     with pytest.raises(InputError, match="shipped default"):
         write_identified(result, path, default_params_path())
 

@@ -102,7 +102,8 @@ def test_body_outside_the_who_classes_is_built_with_a_warning():
     from ehm.errors import EhmWarning
     from ehm.scaling import BodySize
 
-    with pytest.warns(EhmWarning, match=r"body mass index of 42\.4 kg/m\^2, above the 16-40 kg/m\^2 .*obesity class III"):
+    with pytest.warns(EhmWarning,
+                      match=r"body mass index of 42\.4 kg/m\^2, above the 16-40 kg/m\^2 .*obesity class III"):
         BodySize(1.75, 130.0)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -228,7 +229,7 @@ def test_only_ehm_warnings_are_printed_as_ehm_warnings(capsys):
         warnings.simplefilter("always")
         warnings.showwarning = _show_warning
         np.mean(np.array([]))  # numpy: "Mean of empty slice" (RuntimeWarning)
-        warnings.warn("the drive is short.", EhmWarning)
+        warnings.warn("the drive is short.", EhmWarning, stacklevel=1)
         ehm.SeatedHuman(dt_s=0.002)  # a StepWarning
     err = capsys.readouterr().err.splitlines()
     assert any(ln.startswith("ehm: note: RuntimeWarning from numpy/") and "Mean of empty slice" in ln for ln in err)

@@ -18,10 +18,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_user_files import _one_error_line, _tree  # the user-file tests' own helpers
 
 from ehm.cli import main
 from ehm.io import MANIFEST_NAME, read_manifest
-from test_user_files import _one_error_line, _tree  # the user-file tests' own helpers
 
 dask_and_pyarrow = pytest.mark.skipif(
     not all(__import__("importlib").util.find_spec(m) for m in ("dask", "distributed", "pyarrow")),
@@ -252,7 +252,7 @@ def test_a_missing_gyro_file_is_named_as_the_gyro(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["drive.csv", "study.toml"]
 
 
-# --- review of issue 31: batch bookkeeping, a killed study, a study folder of an earlier ehm ---------------------------
+# --- review of issue 31: batch bookkeeping, a killed study, a study folder of an earlier ehm -------------------
 
 def _manifest_writes(monkeypatch) -> list:
     """Count the writes of a manifest made through the atomic JSON writer of ehm.outdir (how it rewrites a folder's

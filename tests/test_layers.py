@@ -32,8 +32,10 @@ def test_import_contracts_are_kept():
 
 
 @pytest.mark.parametrize("module, line, words", [
-    ("results.py", "from .simulation import SeatedHuman  # an import up", "ehm.results is not allowed to import ehm.simulation"),
-    ("motion.py", "from .readers import read_motion  # the old loop", "ehm.motion is not allowed to import ehm.readers"),
+    ("results.py", "from .simulation import SeatedHuman  # an import up",
+     "ehm.results is not allowed to import ehm.simulation"),
+    ("motion.py", "from .readers import read_motion  # the old loop",
+     "ehm.motion is not allowed to import ehm.readers"),
     ("linear.py", "import mujoco  # MuJoCo outside the engine", "Illegal imports of protected package mujoco"),
 ])
 def test_an_import_that_breaks_a_contract_fails_with_its_report(tmp_path, module, line, words):

@@ -206,8 +206,8 @@ def test_a_gyro_in_its_own_file_is_joined_on_the_accelerometers_time_stamps(tmp_
     with pytest.raises(InputError) as exc:
         read_motion(tmp_path / "acc.csv", gyro=tmp_path / "late.csv", channels=channels, units={"time": "ns"})
     assert ("their time stamps overlap for 19.9657 s of the 29.9901 s they span (67 %): the accelerometer's run "
-            "from 0 to 29.98 s, the gyro's from 10.01 to 29.99 s after the accelerometer's first sample; ehm joins them "
-            "over their common span") in one_sentence(exc)
+            "from 0 to 29.98 s, the gyro's from 10.01 to 29.99 s after the accelerometer's first sample; "
+            "ehm joins them over their common span") in one_sentence(exc)
     assert "must cover 90 % of theirs" in str(exc.value)
     # the same on the command line (2 s of the files, gravity taken out: a seat motion)
     short = t_acc < 2.0
@@ -409,6 +409,7 @@ def test_an_earth_axis_log_is_read_as_it_is_with_one_note_and_what_it_cannot_tak
         assert words in one_sentence(exc)
     # the same from the command line
     out = tmp_path / "out"
-    assert main(["simulate", "--motion", str(tmp_path / "earth.csv"), "--frame", "earth", "--channel", "time=uptimeNanos",
-                 "--channel", "ax=x", "--channel", "ay=y", "--channel", "az=z", "--end", "2", "--out", str(out)]) == 0
+    assert main(["simulate", "--motion", str(tmp_path / "earth.csv"), "--frame", "earth",
+                 "--channel", "time=uptimeNanos", "--channel", "ax=x", "--channel", "ay=y", "--channel", "az=z",
+                 "--end", "2", "--out", str(out)]) == 0
     assert "earth axes (x east, y north, z up) are not the vehicle's" in capsys.readouterr().err

@@ -189,7 +189,8 @@ def test_buttock_contact_is_a_linear_spring(human, stiffness):
     assert ratio == pytest.approx(stiffness, rel=0.02)
 
 
-@pytest.mark.parametrize("contact", ["buttock_r", "buttock_l", "thigh_r", "thigh_l", "lower_back", "upper_back", "foot_r", "foot_l"])
+@pytest.mark.parametrize("contact", ["buttock_r", "buttock_l", "thigh_r", "thigh_l", "lower_back", "upper_back",
+                                     "foot_r", "foot_l"])
 def test_every_contact_spring_has_its_configured_stiffness(human, contact):
     # Same law as above for every contact pair of the default model, each against ITS OWN entry in
     # default_params.toml (contacts.<name>.stiffness_N_per_m).  Tolerance 2 %.

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 import ehm
+from ehm import segments
 from ehm.cli import main
 from ehm.errors import InputError
 from ehm.results import concatenate_runs
-from ehm import segments
 from ehm.segments import Segment, plan_segments, simulate_parallel, stream_parallel
 
 POINTS = tuple(ehm.engine.POINTS)

@@ -167,7 +167,6 @@ def test_uptime_in_ns_is_read_from_its_name(tmp_path):
     # SYNTHETIC Android log: uptimeNanos (ns since boot, 3.6 h), irregular steps of 19-21 ms, and a date-time
     # column of whole seconds; the old reader took ns for s and ran out of memory
     t, acc, _ = synthetic(n=2000)
-    rng = np.random.default_rng(1)
     # steps of 19 and 21 ms in turn: irregular, but within 5 % of a step of the uniform grid (more is resampled)
     ns = 12_893_233_616_460 + np.cumsum(np.r_[0, np.where(np.arange(t.size - 1) % 2, 19_000_000, 21_000_000)])
     stamps = pd.to_datetime(1_463_224_629 + (ns - ns[0]) // 1_000_000_000, unit="s").strftime("%d/%m/%Y %H:%M:%S")

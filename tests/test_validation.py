@@ -23,8 +23,7 @@ from ehm.errors import InputError
 from ehm.frf import FrfTable
 from ehm.params import Parameters
 from ehm.transfer import Curve
-from ehm.validation import (ANY_SEAT_BANDS, FREQ_HZ, Check, Validation, band_checks, locking_checks,
-                            validate)
+from ehm.validation import ANY_SEAT_BANDS, FREQ_HZ, Check, Validation, band_checks, locking_checks, validate
 
 REF = "erect, back support none"
 OWN = "erect, back support high"
