@@ -71,10 +71,6 @@ def host(tmp_path_factory):
     return exe
 
 
-@pytest.fixture(scope="module")
-def human():
-    return ehm.SeatedHuman()
-
 
 def _run_host(host, unit, time_s, acc, out_csv):
     """Run the C host with an empty environment: one communication step per row (start time, seat

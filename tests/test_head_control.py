@@ -269,12 +269,14 @@ def test_the_torque_is_a_couple_on_head_and_upper_torso(on):
 # ----------------------------------------------------------------------------- batch studies
 
 
+@pytest.mark.requires_dask
+@pytest.mark.requires_pyarrow
 def test_batch_study_head_control_axis(tmp_path):
     # "head_control in batch studies": a [grid] axis head_control = [false, true] runs the person both ways (the
     # head's lateral weighted acceleration under lateral vibration differs), and a value that is not true or false
     # is refused before any run in one sentence.
-    pytest.importorskip("dask.distributed")
-    pq = pytest.importorskip("pyarrow.parquet")
+    import pyarrow.parquet as pq
+
     from ehm.batch import load_study, run_study
 
     path = tmp_path / "hc.toml"
@@ -295,12 +297,14 @@ def test_batch_study_head_control_axis(tmp_path):
 # ----------------------------------------------------------------------------- the FMUs
 
 
+@pytest.mark.requires_pythonfmu
+@pytest.mark.requires_fmpy
 def test_python_fmu_runs_the_control(tmp_path, on):
     # "head_control in the FMU": the pythonfmu unit exported with head_control=True embeds the switch in its
     # parameters and steps the same engine: its outputs equal a whole run of the controlled person to 1e-9 (the
     # tolerance of test_fmu), and differ from the uncontrolled person's.
-    pytest.importorskip("pythonfmu")
-    fmpy = pytest.importorskip("fmpy")
+    import fmpy
+
     from ehm.fmu import INPUTS, OUTPUTS, export_fmu
 
     path = export_fmu(tmp_path / "hc.fmu", python=True, head_control=True)

@@ -21,13 +21,6 @@ from ehm.motion import SeatMotion
 
 
 @pytest.fixture(scope="module")
-def human():
-    h = ehm.SeatedHuman()
-    h.linear_model()
-    return h
-
-
-@pytest.fixture(scope="module")
 def sliding(human):
     """A SYNTHETIC 20 s three-axis drive at 0.5 m/s^2 rms: the back pads reach their friction limit now and then
     (the plain linear route is off by a few per cent of rms there), run three ways."""

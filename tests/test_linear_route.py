@@ -17,12 +17,6 @@ from ehm.motion import SeatMotion
 G = 9.81
 
 
-@pytest.fixture(scope="module")
-def human():
-    h = ehm.SeatedHuman()
-    h.settle()
-    return h
-
 
 def _rms(x):
     return np.sqrt(np.mean(x ** 2, axis=0))

@@ -36,12 +36,6 @@ def expected_dof(locked: set[str]) -> int:
     return 6 + sum(DOF_PER_TYPE[t] for j, t in PAPER_JOINT_TYPES.items() if j not in locked)
 
 
-@pytest.fixture(scope="module")
-def human() -> SeatedHuman:
-    h = SeatedHuman()
-    h.settle()
-    return h
-
 
 def _geom(m, name: str) -> int:
     gid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, name)

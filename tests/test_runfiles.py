@@ -39,12 +39,6 @@ def _siblings(path: Path) -> list[str]:
     return sorted(p.name for p in path.parent.iterdir() if p.name.startswith(f".{path.name}."))
 
 
-@pytest.fixture(scope="module")
-def human():
-    h = ehm.SeatedHuman()
-    h.settle()
-    return h
-
 
 # ------------------------------------------------------------------------------------------ run folders
 def test_rerun_replaces_the_folder_whole(tmp_path, capsys):

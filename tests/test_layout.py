@@ -12,8 +12,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+import ehm
 from ehm.cli import main
 from ehm.errors import InputError
+from ehm.imu import mounting_matrix
 from ehm.readers import HELD_RUN_MAX, HELD_SHARE, mounting_rotation, read_motion
 
 G = 9.80665
@@ -413,3 +415,21 @@ def test_an_earth_axis_log_is_read_as_it_is_with_one_note_and_what_it_cannot_tak
                  "--channel", "time=uptimeNanos", "--channel", "ax=x", "--channel", "ay=y", "--channel", "az=z",
                  "--end", "2", "--out", str(out)]) == 0
     assert "earth axes (x east, y north, z up) are not the vehicle's" in capsys.readouterr().err
+
+
+def test_mounting_as_roll_pitch_yaw_in_degrees():
+    """Issue 32: read_motion(..., mounting=(0, 90, -180)) was refused ("mounting must be a scipy Rotation or a 3x3
+    rotation matrix") while --mounting=0,90,-180 is the documented way on the command line.  Exact: the same
+    rotation applied to the same samples."""
+    t = np.arange(0, 3.0, 0.01)
+    rng = np.random.default_rng(0)
+    acc = 0.3 * rng.standard_normal((t.size, 3))
+    frame = pd.DataFrame({"time_s": t, "ax_mps2": acc[:, 0], "ay_mps2": acc[:, 1], "az_mps2": acc[:, 2]})
+    R = mounting_rotation("0,90,-180").as_matrix()
+    expected = read_motion(frame, mounting=mounting_rotation(0, 90, -180)).acc_mps2
+    np.testing.assert_allclose(expected, acc @ R.T, atol=1e-12)
+    for mounting in ((0, 90, -180), [0, 90, -180], np.array([0.0, 90.0, -180.0]), "0,90,-180"):
+        np.testing.assert_array_equal(read_motion(frame, mounting=mounting).acc_mps2, expected)
+    np.testing.assert_array_equal(mounting_matrix((0, 90, -180)), R)  # ehm.from_imu takes it the same way
+    with pytest.raises(ehm.errors.InputError, match=r"give three angles ROLL,PITCH,YAW \(degrees\)"):
+        read_motion(frame, mounting=(0, 90))
