@@ -14,7 +14,7 @@ import pytest
 
 import ehm
 from ehm.cli import main
-from ehm.errors import InputError
+from ehm.errors import EhmWarning, InputError
 from ehm.imu import mounting_matrix
 from ehm.readers import HELD_RUN_MAX, HELD_SHARE, mounting_rotation, read_motion
 
@@ -336,11 +336,13 @@ def test_a_cut_comes_before_the_checks(tmp_path):
     bad = frame.astype(object)
     bad.loc[10, "AccX"] = "x"
     bad.to_csv(path, index=False)
-    assert read_motion(path, channels=NAMES, start_s=1.0).n_samples == t.size - 100
+    with pytest.warns(EhmWarning, match="taken to include gravity and is levelled"):
+        assert read_motion(path, channels=NAMES, start_s=1.0).n_samples == t.size - 100
     with pytest.raises(InputError, match=r"log.csv, line 12, column AccX \(channel ax\): 'x' is not a number\."):
         read_motion(path, channels=NAMES, start_s=0.05)
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_the_cut_on_the_command_line_and_in_a_study_file(tmp_path, capsys):
     path = tmp_path / "phone.csv"
     phone_log(path, duration_s=12.0, settle_s=3.0, gravity=False)  # (the linear route's small inputs)
@@ -385,6 +387,7 @@ def test_a_gyro_file_with_nothing_inside_the_cut_is_refused_not_dropped():
 # --------------------------------------------------------------------------
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_an_earth_axis_log_is_read_as_it_is_with_one_note_and_what_it_cannot_take_is_refused(tmp_path, capsys):
     # SYNTHETIC Android log already turned into earth axes by the phone (x east, y north, z up, gravity on z)
     clock0 = 12_893_233_616_460

@@ -13,6 +13,7 @@ import ehm
 from ehm.cli import main
 from ehm.cli import progress as cli_progress
 from ehm.cli.parser import build_parser
+from ehm.errors import EhmWarning
 
 
 def _write_drive(path, motion):
@@ -20,6 +21,7 @@ def _write_drive(path, motion):
                   "az_mps2": motion.acc_mps2[:, 2]}).to_csv(path, index=False)
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_piped_assess_prints_no_carriage_returns(tmp_path, capsys):
     """Issue 32: piped into a file or a CI log (stderr not a terminal, as here), ehm assess printed its progress
     updates joined by carriage returns on one line."""
@@ -28,6 +30,7 @@ def test_piped_assess_prints_no_carriage_returns(tmp_path, capsys):
     assert main(["assess", "--motion", str(log), "--out", str(tmp_path / "a")]) == 0
     out, err = capsys.readouterr()
     assert "\r" not in out + err and "a_v" in out
+    assert "ehm: warning: from drive.csv" in err and "not all of the Wk band" in err  # 12 s at 100 Hz
 
 
 def test_progress_on_a_pipe_is_a_few_lines(monkeypatch, capsys):
@@ -70,7 +73,8 @@ def test_quiet_prints_no_progress_and_a_short_pipe_run_none(tmp_path, capsys):
 def test_library_calls_print_nothing_unless_asked(human, capsys):
     """Issue 32: library calls print nothing unless given progress=."""
     motion = ehm.random_vibration("z", 2.0, 0.3, seed=0)
-    ehm.assess(motion, human)
+    with pytest.warns(EhmWarning, match="not all of the Wf band"):  # 2 s: no motion-sickness band
+        ehm.assess(motion, human)
     assert capsys.readouterr() == ("", "")
     seen = []
     human.simulate(motion, progress=lambda done, total: seen.append(done))

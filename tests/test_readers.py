@@ -18,7 +18,7 @@ from scipy import signal
 import ehm
 from ehm.cli import main
 from ehm.comfort import metrics
-from ehm.errors import InputError
+from ehm.errors import EhmWarning, InputError
 from ehm.readers import read_motion
 
 G = 9.80665  # standard gravity: a logger's "g" [m/s^2]
@@ -110,6 +110,7 @@ def test_dataframe_time_from_its_index_and_column_units_in_brackets():
     np.testing.assert_allclose(m.acc_mps2, acc, atol=1e-12)
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_mat_matrix_columns_by_index_v5_and_v73(tmp_path, capsys):
     # SYNTHETIC MATLAB files holding one n x 3 matrix "acc" [g] and a time vector: acc[0] is column 0 (it was
     # refused: "'0' is not a unit"); a unit in brackets is still a unit.
@@ -128,6 +129,7 @@ def test_mat_matrix_columns_by_index_v5_and_v73(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["assess", "--motion", str(tmp_path / "log5.mat"), "--method", "linear", "--out", str(out),
                  *[f"--channel={k}={v}" for k, v in columns.items()], *[f"--unit={k}=g" for k in IN_G]]) == 0
+    assert "ehm: warning: from log5.mat" in capsys.readouterr().err  # a 3 s log: not all of the Wk band
     assert (out / "assessment.json").exists()
     df = pd.DataFrame({"t": t, "a[g]": acc[:, 0] / G, "b[2]": acc[:, 1], "c": acc[:, 2]})
     m = read_motion(df, {"time": "t", "ax": "a[g]", "ay": "b[2]", "az": "c"})
@@ -154,11 +156,13 @@ def test_rate_hz_for_a_source_without_time_and_for_resampling(tmp_path):
     np.testing.assert_allclose(m.time_s, t)
     with pytest.raises(InputError, match="without a time channel the sample rate is needed"):
         read_motion(df, {"time": None})
-    down = read_motion(frame_in_g(t, acc), NAMES, IN_G, rate_hz=100.0)   # resampled, anti-aliased
+    with pytest.warns(EhmWarning, match="resampled to 100 Hz .* below the log's own 200 Hz"):
+        down = read_motion(frame_in_g(t, acc), NAMES, IN_G, rate_hz=100.0)   # resampled, anti-aliased
     assert down.time_s[1] == pytest.approx(0.01) and down.n_samples == 601
 
 
-def test_a_100_hz_mdf_log_in_g_assessed_like_the_same_signal_at_1_khz(tmp_path):
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
+def test_a_100_hz_mdf_log_in_g_assessed_like_the_same_signal_at_1_khz(tmp_path, capsys):
     """The issue's "done when": a 100 Hz MDF4 log in g with logger channel names through `ehm assess`; the
     seat's a_w and VDV equal those of the same signal at 1 kHz within 2 % and 3 %.
 
@@ -172,6 +176,7 @@ def test_a_100_hz_mdf_log_in_g_assessed_like_the_same_signal_at_1_khz(tmp_path):
     for k in ("ax", "ay", "az"):
         argv += ["--channel", f"{k}={NAMES[k]}"]
     assert main(argv) == 0
+    assert "not all of the Wk band" in capsys.readouterr().err  # 100 Hz: up to 40 Hz of Wk's 80 Hz
     seat = json.loads((out / "assessment.json").read_text())["locations"]["seat"]["axes"]
     span = acc1k[: 10 * (t1k[::10].size - 1) + 1]  # the log's span: 0 to 19.99 s
     for j, (a, w) in enumerate((("x", "Wd"), ("y", "Wd"), ("z", "Wk"))):
@@ -375,6 +380,7 @@ def test_jittery_time_stamps_and_a_dropped_sample_are_read():
     np.testing.assert_allclose(m.acc_mps2[:, 2], np.sin(m.time_s), atol=5e-4)  # linear: h^2/8
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_a_gap_is_refused_or_bridged_with_a_warning(tmp_path, capsys):
     # SYNTHETIC 100 Hz log with a 2 s dropout after 3 s
     t = np.arange(0, 8.0, 0.01)
