@@ -12,7 +12,7 @@ from ehm.assessment import assess
 from ehm.cli import main
 from ehm.comfort import ComfortAccumulator, frequency_weighting, metrics
 from ehm.drives import city_drive, rough_road
-from ehm.errors import InputError
+from ehm.errors import EhmWarning, InputError
 from ehm.motion import SeatMotion, seat_kinematics
 
 
@@ -109,7 +109,8 @@ def test_sine_drive_metrics_closed_form():
 
 def test_city_drive_assessment(tmp_path):
     drive = city_drive(40.0, seed=1)
-    res = assess(drive)
+    with pytest.warns(EhmWarning, match="not all of the Wk band"):  # a 100 Hz drive: up to 40 Hz
+        res = assess(drive)
     s = res.summary()
     assert "SYNTHETIC" in s["input"]
     # the seat metrics equal the ISO metrics of the input itself (independent route: the whole drive resampled
@@ -204,9 +205,11 @@ def test_linear_assessment_resamples_chunk_by_chunk():
     acc = drive.acc_mps2
     motion = SeatMotion(drive.time_s, acc, "SYNTHETIC small drive", np.zeros_like(acc))
     human = ehm.SeatedHuman()
-    streamed = assess(motion, human, method="linear")
+    with pytest.warns(EhmWarning, match="not all of the Wf band"):  # 6 s: short of motion sickness's band
+        streamed = assess(motion, human, method="linear")
     dt = float(human.params.value("simulation.dt_s"))
-    whole = assess(SeatMotion(drive.time_s, acc, "SYNTHETIC small drive").resample(dt), human, method="linear")
+    with pytest.warns(EhmWarning, match="not all of the Wf band"):
+        whole = assess(SeatMotion(drive.time_s, acc, "SYNTHETIC small drive").resample(dt), human, method="linear")
     assert streamed.description == f"SYNTHETIC small drive, resampled to dt {dt:g} s"
     assert streamed.duration_s == pytest.approx(whole.duration_s, abs=1e-12)
     for loc in ("seat", "pelvis", "trunk", "head", "lumbar"):

@@ -17,6 +17,7 @@ from ehm.errors import DivergenceError, InputError
 from ehm.motion import random_vibration
 from ehm.params import Parameters
 from ehm.simulation import POINT_NAMES, SeatedHuman
+from ehm.timestep import StepWarning
 
 G = 9.81  # m/s^2, the project's standard gravity (engine.G0), also the paper's MADYMO default
 PAPER_TOTAL_MASS_KG = 70.882  # paper Table 2, sum of the mass column
@@ -264,7 +265,8 @@ def _stiff_at_coarsest_step() -> Parameters:
 def test_large_time_step_diverges_with_simulated_time(tmp_path, monkeypatch):
     # MuJoCo may write MUJOCO_LOG.TXT into the working directory on a warning, so run in tmp_path.
     monkeypatch.chdir(tmp_path)
-    h = SeatedHuman(_stiff_at_coarsest_step())
+    with pytest.warns(StepWarning, match="coarser than the 1 ms"):
+        h = SeatedHuman(_stiff_at_coarsest_step())
     with pytest.raises(DivergenceError) as exc:
         h.simulate(random_vibration("z", 2, 0.3, seed=0, dt_s=0.01, band_hz=(0.1, 4.0)), method="nonlinear")
     msg = str(exc.value)

@@ -210,7 +210,8 @@ def test_validation_table_outputs_agree(default_validation, tmp_path):
     assert lines[-1] == f"{len(v.checks) - len(v.failed)} of {len(v.checks)} checks pass."
     assert sum(("FAIL" in line) for line in lines[1:-1]) == len(v.failed)
     v.to_csv(tmp_path / "v.csv")
-    rows = list(csv.DictReader(open(tmp_path / "v.csv", encoding="utf-8")))
+    with open(tmp_path / "v.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
     assert [r["name"] for r in rows] == [c.name for c in v.checks]
     assert [r["passed"] for r in rows] == [("true" if c.passed else "false") for c in v.checks]
     assert rows[-1]["at_hz"] == "" and float(rows[0]["value"]) == pytest.approx(v.checks[0].value, rel=1e-5)
