@@ -380,6 +380,7 @@ def test_the_command_line_takes_a_date_time_format_as_the_time_unit(tmp_path):
     assert parse_assignments(["time=%d/%m/%Y %H:%M:%S.%f"], "--unit") == {"time": "%d/%m/%Y %H:%M:%S.%f"}
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_the_command_line_refuses_in_one_line_and_reads_with_unit(tmp_path, capsys):
     from ehm.cli import main
 
@@ -396,3 +397,4 @@ def test_the_command_line_refuses_in_one_line_and_reads_with_unit(tmp_path, caps
     assert main([*argv, "--channel", "time=Zeitstempel", "--unit", "time=%Y|%m|%d %H:%M:%S.%f",
                  "--out", str(tmp_path / "b")]) == 0
     assert (tmp_path / "b" / "assessment.json").exists()
+    assert "not all of the Wk band" in capsys.readouterr().err  # the log's 100 Hz: up to 40 Hz

@@ -304,7 +304,8 @@ def test_cli_writes_the_table_and_figures_and_exits_1_when_a_check_fails(tmp_pat
     assert f"{data['n_checks'] - data['n_failed']} of {data['n_checks']} checks pass." in cap.out
     failed = [c["name"] for c in data["checks"] if not c["passed"]]
     assert cap.err.startswith(f"ehm: validate: {len(failed)} of {data['n_checks']} checks fail: {failed[0]}")
-    rows = list(csv.DictReader(open(out / "validation.csv", encoding="utf-8")))
+    with open(out / "validation.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
     assert [r["name"] for r in rows] == [c["name"] for c in data["checks"]] == BAND_NAMES
     for axis in "zxy":
         assert (out / f"validation_{axis}.png").stat().st_size > 10_000
