@@ -95,6 +95,7 @@ def test_small_measured_curves_are_left_out_with_a_warning(human):
     assert SMALL_CURVE_FRACTION == 0.1
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_cli_compare_keep_small_curves(human, tmp_path, capsys):
     model = linear_frf(human, "x", freq_hz=np.arange(0.5, 12.01, 0.5))
     big = model.curve("x", "head", "x").gain

@@ -92,6 +92,7 @@ def test_free_patterns_and_bounds():
         free_parameters(p, ["simulation.dt_s"])
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_cli_fit(synthetic, tmp_path, capsys):
     _, path = synthetic
     out = tmp_path / "fit.toml"
@@ -146,6 +147,7 @@ def test_budget_is_never_exceeded_and_a_budget_stop_is_not_identified(synthetic)
         assert ("needs 5 evaluations with 3 free values" in r.message) == (budget < 5)
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_budget_stopped_fit_exits_3_and_grades_moved_values_assumed(synthetic, tmp_path, capsys):
     _, path = synthetic
     out = tmp_path / "fit.toml"
@@ -192,6 +194,7 @@ def test_converged_fit_identifies_the_values_it_moved_and_validated(synthetic):
     assert "converged" in r.verdict and r.n_eval <= r.max_evals
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_fit_pinned_on_its_bound_is_graded_at_bound_and_exits_3(synthetic, tmp_path, capsys):
     # The synthetic t12 z stiffness is 21000 N/m (fitted alone, the other two values at their defaults: 23350); a
     # bound of [25000, 40000] (the start, 32510, inside) keeps the optimum outside.

@@ -141,6 +141,7 @@ def test_linear_frf_is_the_converged_step_response(human):
     assert fz == pytest.approx(human.mass_kg * G, rel=1e-3)
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_cli_linear_route(tmp_path, capsys):
     out = tmp_path / "lin"
     assert main(["simulate", "--axis", "xyz", "--duration", "5", "--method", "linear", "--out", str(out)]) == 0

@@ -226,6 +226,7 @@ def test_result_files_frames_and_figures_carry_lumbar(tmp_path, human, xz_run):
     plt.close(fig)
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_cli_simulate_and_assess_write_lumbar(tmp_path, capsys):
     # "Result files (... written by ehm simulate/assess) carry lumbar columns": timeseries.csv has them, and
     # assessment.json, the console and the weighted-spectra figure have the lumbar location.

@@ -398,6 +398,7 @@ def _drive_with_a_gap(path: Path) -> None:
         f"{ti:.3f},{a:.4f},{b:.4f},{c:.4f}\n" for ti, (a, b, c) in zip(t, acc)))
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 @pytest.mark.requires_dask
 @pytest.mark.requires_pyarrow
 def test_batch_warnings_are_ehm_warnings_on_their_own_lines(tmp_path, capfd):

@@ -334,6 +334,7 @@ def test_memory_does_not_grow_with_the_run(tmp_path, human, monkeypatch):
     assert peaks["memory", 16.0] > 2 * peaks["memory", 4.0], peaks
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_output_rate_must_divide_the_model_rate(tmp_path, capsys):
     for rate, words in (("300", "does not divide the model's 1000 Hz"), ("0", "above 0"), ("2000", "at most")):
         assert main(["simulate", "--duration", "1", "--dt", "0.001", "--output-rate", rate,
