@@ -34,7 +34,8 @@ def main() -> None:
         for workers in (1, 2):
             res = run_study(specs, Path(tmp) / f"out{workers}", workers=workers)
             rates[workers] = res["throughput_simulated_s_per_s"]
-            print(f"{workers} worker(s): {res['ran']} runs, {res['simulated_s']:.0f} simulated s in {res['wall_s']:.1f} s"
+            print(f"{workers} worker(s): {res['ran']} runs, {res['simulated_s']:.0f} simulated s in "
+                  f"{res['wall_s']:.1f} s"
                   f" = {rates[workers]:.1f} simulated s per wall s")
         print(f"speed-up with 2 workers: {rates[2] / rates[1]:.2f}x")
 

@@ -46,7 +46,9 @@ MUJOCO_ONLY_C = r"""
 #include <stdlib.h>
 #include <time.h>
 static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec + 1e-9 * t.tv_nsec; }
-static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
+static int cmp(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y);
+}
 int main(int argc, char **argv) {  /* MJB, steps; stdin: the settled qpos, qvel, act, then rows of ax ay az */
     mjModel *m = mj_loadModel(argv[1], NULL);
     mjData *d = mj_makeData(m);
@@ -77,7 +79,9 @@ CONTROL_C = r"""
 #include <stdlib.h>
 #include <time.h>
 static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec + 1e-9 * t.tv_nsec; }
-static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
+static int cmp(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y);
+}
 int main(int argc, char **argv) {  /* the same fixed work, n times: sweeps over a 320 kB buffer */
     long n = atol(argv[1]), i, k, N = 40000;
     double *buf = calloc(N, sizeof(double)), *lat = malloc(n * sizeof(double)), s = 0;
@@ -212,8 +216,10 @@ def main() -> None:
         rate, gaps = _interruptions(cc, tmp)
         best = min(native, key=lambda v: v[1])
         print(f"machine interruptions of a busy thread (C clock loop, 3 s): {rate:.0f} per s, median "
-              f"{np.median(gaps) if gaps.size else 0:.1f} us, 90 % under {np.quantile(gaps, 0.9) if gaps.size else 0:.1f} us; "
-              f"{100 * (1 - np.exp(-rate * best[0] * 1e-6)):.1f} % of {best[0]:.1f}-us steps are hit, so even a step of "
+              f"{np.median(gaps) if gaps.size else 0:.1f} us, "
+              f"90 % under {np.quantile(gaps, 0.9) if gaps.size else 0:.1f} us; "
+              f"{100 * (1 - np.exp(-rate * best[0] * 1e-6)):.1f} % of {best[0]:.1f}-us steps are hit, "
+              f"so even a step of "
               f"constant length {best[0]:.1f} us has p99 {p99_floor_us(best[0], rate, gaps):.1f} us here")
 
         control = tmp / "control"
@@ -250,7 +256,8 @@ def main() -> None:
         sim = Simulator(comfort=False)
         before = _load()
         rep = run_realtime(sim, _road(sim.dt_s, args.python_steps), pace=False)
-        print(f"Python ehm.stepping.Simulator.step (comfort off), {rep.n_steps} steps: p50 {rep.median_s * 1e6:.1f} us, "
+        print(f"Python ehm.stepping.Simulator.step (comfort off), {rep.n_steps} steps: "
+              f"p50 {rep.median_s * 1e6:.1f} us, "
               f"p99 {rep.p99_s * 1e6:.1f} us, max {rep.worst_s * 1e6:.0f} us; {before}")
         best = min(native, key=lambda v: v[1])
         r50, r99 = rep.median_s * 1e6 / best[0], rep.p99_s * 1e6 / best[1]

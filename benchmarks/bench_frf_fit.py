@@ -1,7 +1,8 @@
 """Speed of the transfer-function tools: linear FRF, time-domain FRF, and a fit of 24 free parameters.
 
 The fit uses SYNTHETIC gains made by the model itself with 24 neck and spine parameters moved by up to
-a factor exp(U(-0.3, 0.3)), i.e. -26 % to +35 % (seeded), and starts from the defaults.  Usage: python benchmarks/bench_frf_fit.py [--skip-fit]
+a factor exp(U(-0.3, 0.3)), i.e. -26 % to +35 % (seeded), and starts from the defaults.
+Usage: python benchmarks/bench_frf_fit.py [--skip-fit]
 """
 
 from __future__ import annotations
@@ -57,7 +58,8 @@ def main() -> None:
     res = fit(data, free=free, time_check=False)
     wall = time.perf_counter() - t0
     err = max(abs(res.final[k] / truth[k] - 1) for k in free)
-    print(f"fit of {len(free)} free parameters to synthetic gains ({len(STUDY_PATHS)} curves x {freq.size} frequencies): {wall:.0f} s, "
+    print(f"fit of {len(free)} free parameters to synthetic gains "
+          f"({len(STUDY_PATHS)} curves x {freq.size} frequencies): {wall:.0f} s, "
           f"{res.n_eval} model evaluations, criterion {res.crit_before:.4g} -> {res.crit_after:.2g}, "
           f"largest parameter error {100 * err:.3g} %")
 

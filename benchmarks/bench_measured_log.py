@@ -83,7 +83,8 @@ def main() -> None:
         t0 = time.perf_counter()
         n = write_log(path, args.hours, args.rate, args.scale)
         print(f"wrote {path.name}: SYNTHETIC, {n} samples x 3 channels at {args.rate:g} Hz ({args.hours:g} h), "
-              f"{path.stat().st_size / 1e6:.1f} MB, accelerations x {args.scale:g}, in {time.perf_counter() - t0:.1f} s")
+              f"{path.stat().st_size / 1e6:.1f} MB, accelerations x {args.scale:g}, "
+              f"in {time.perf_counter() - t0:.1f} s")
         own_mb = n * 4 * 8 / 1e6  # time and three channels as float64
         human = ehm.SeatedHuman()
         human.settle()
@@ -105,7 +106,8 @@ def main() -> None:
         tracemalloc.stop()
         seat = result.summary()["locations"]["seat"]
         print(f"read: {read_s:.1f} s, peak allocations {read_peak:.0f} MB")
-        print(f"assess ({args.method}): {assess_s:.0f} s for {motion.duration_s:.0f} s ({motion.duration_s / assess_s:.1f}x "
+        print(f"assess ({args.method}): {assess_s:.0f} s for {motion.duration_s:.0f} s "
+              f"({motion.duration_s / assess_s:.1f}x "
               f"real time, model step {human.model.mj.opt.timestep * 1e3:g} ms), peak allocations {assess_peak:.0f} MB "
               f"(the motion included; {assess_peak - own_mb:.0f} MB above it)")
         print(f"the log's own arrays in ehm: {own_mb:.0f} MB; peak / own: read {read_peak / own_mb:.2f}x, assess "

@@ -108,8 +108,8 @@ def compare(motion, human, cont, seg, joins_s) -> dict:
 
 def measure_lead_in(args) -> None:
     """Segmented (4 segments on 2 workers) against continuous, for several lead-ins, with and without ramp-in."""
-    from ehm.routes import parallel as segments
     from ehm.results import concatenate_runs
+    from ehm.routes import parallel as segments
     from ehm.routes.parallel import stream_parallel
 
     segments.WORKER_START_S = 0.0  # segments of equal length, so that every join sits where the table says

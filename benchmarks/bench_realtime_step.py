@@ -24,7 +24,8 @@ def main() -> None:
         acc = load_motion_csv(path).resample(sim.dt_s).acc_mps2[: int(round(args.duration / sim.dt_s))]
         r = run_realtime(sim, acc, pace=True)
         print(f"comfort figures {'on ' if comfort else 'off'}: median {r.median_s * 1e6:.0f} us, 99th percentile "
-              f"{r.p99_s * 1e6:.0f} us, worst {r.worst_s * 1e6:.0f} us per {sim.dt_s * 1e3:g} ms step; overruns {r.overruns} of "
+              f"{r.p99_s * 1e6:.0f} us, worst {r.worst_s * 1e6:.0f} us per {sim.dt_s * 1e3:g} ms step; "
+              f"overruns {r.overruns} of "
               f"{r.n_steps}")
 
 

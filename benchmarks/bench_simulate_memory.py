@@ -21,7 +21,6 @@ import tempfile
 import time
 from pathlib import Path
 
-
 _INPUT_ONLY = """
 import sys
 import ehm
@@ -67,22 +66,26 @@ def main() -> None:
             cmd += ["--output-rate", f"{args.output_rate:g}"]
         code, wall, peak = _run(cmd, env, work / f"run_{duration:g}.log")
         if code != 0:
-            print(f"{duration:g} s: ehm simulate failed (exit {code}): {(work / f'run_{duration:g}.log').read_text()[-500:]}")
+            log = (work / f"run_{duration:g}.log").read_text()[-500:]
+            print(f"{duration:g} s: ehm simulate failed (exit {code}): {log}")
             continue
         summary = json.loads((out / "summary.json").read_text())
         sizes = ", ".join(f"{p.name} {p.stat().st_size / 2**20:.0f} MB" for p in sorted(out.iterdir()))
         peaks[duration] = peak
-        print(f"city drive {duration / 60:g} min (SYNTHETIC, with rotation): peak RSS {peak:.0f} MB (reading the drive "
+        print(f"city drive {duration / 60:g} min (SYNTHETIC, with rotation): peak RSS {peak:.0f} MB "
+              f"(reading the drive "
               f"and integrating its rotation alone: {input_peak:.0f} MB), wall {wall:.0f} s "
-              f"({summary['realtime_factor']:.1f}x real time in the run), {summary['output_rate_hz']:g} rows/s; {sizes}")
+              f"({summary['realtime_factor']:.1f}x real time in the run), "
+              f"{summary['output_rate_hz']:g} rows/s; {sizes}")
         if not args.keep:
             for p in out.iterdir():
                 p.unlink()
             out.rmdir()
     if len(peaks) >= 2:
         lo, hi = min(peaks), max(peaks)
+        met = peaks[hi] / peaks[lo] <= 1.2 and peaks[hi] < 500
         print(f"peak RSS ratio {hi / 60:g} min / {lo / 60:g} min: {peaks[hi] / peaks[lo]:.2f} "
-              f"(goal: at most 1.2, and under 500 MB: {'met' if peaks[hi] / peaks[lo] <= 1.2 and peaks[hi] < 500 else 'NOT met'})")
+              f"(goal: at most 1.2, and under 500 MB: {'met' if met else 'NOT met'})")
     print(f"files in {work}" if args.keep else "")
 
 

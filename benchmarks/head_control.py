@@ -23,8 +23,8 @@ from scipy.spatial.transform import Rotation
 
 import ehm
 from ehm import engine
-from ehm.readers import read_motion
 from ehm.drives import drive_path
+from ehm.readers import read_motion
 
 BANDS = ((0.1, 0.5), (0.5, 1.0), (1.0, 2.0))
 
@@ -89,7 +89,7 @@ def main() -> None:
     print("2. delay margin (least damped mode below 20 Hz)")
     on.settle()
     off.settle()
-    for name, h, T in [("off", off, None)] + [("on", on, T) for T in (0.02, 0.05, 0.1, 0.15, 0.2, 0.25, 0.28, 0.29,
+    for _name, h, T in [("off", off, None)] + [("on", on, T) for T in (0.02, 0.05, 0.1, 0.15, 0.2, 0.25, 0.28, 0.29,
                                                                       0.3, 0.31, 0.32, 0.33)]:
         s = closed_rates(h, T)
         slow = s[np.abs(s) < 2 * np.pi * 20]

@@ -26,7 +26,6 @@ from ehm.simulation import SeatedHuman
 from ehm.study import STUDY_PATHS
 
 
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--axis", nargs="+", default=["x", "y", "z"], choices=["x", "y", "z"])
@@ -67,7 +66,8 @@ def main() -> None:
             dev.sort(reverse=True)
             n = motion.time_s.size
             top = ", ".join(f"{name} {100 * v / n:.0f} %" for name, v in sliding.most_common(3)) or "none"
-            print(f"seat {axis}, {rms:g} m/s^2 rms: largest deviation (of the path's peak gain) {100 * dev[0][0]:.0f} % ({dev[0][2]} at "
+            print(f"seat {axis}, {rms:g} m/s^2 rms: largest deviation (of the path's peak gain) "
+                  f"{100 * dev[0][0]:.0f} % ({dev[0][2]} at "
                   f"{dev[0][3]:.1f} Hz), median over paths {100 * np.median([x[1] for x in dev]):.0f} %; "
                   f"friction at its limit in {100 * any_sliding / n:.0f} % of steps ({top}) "
                   f"[{time.perf_counter() - t0:.0f} s]", flush=True)

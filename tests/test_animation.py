@@ -110,8 +110,8 @@ def test_gif_through_the_command_line(runs, capsys):
     assert not [p for p in out.parent.iterdir() if p.name.startswith(".a.")]  # no temporary file left
 
 
+@pytest.mark.requires_ffmpeg
 def test_mp4(runs, tmp_path):
-    pytest.importorskip("imageio_ffmpeg")
     out = animate(runs["sine"], tmp_path / "run.mp4", exaggerate=20, fps=10, start_s=0.5, end_s=1.0)
     data = out.read_bytes()
     assert b"ftyp" in data[:16] and len(data) > 1000

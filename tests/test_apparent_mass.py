@@ -15,13 +15,6 @@ from ehm.frf import FrfTable, linear_frf, read_frf, time_domain_frf
 from ehm.transfer import Curve
 
 
-@pytest.fixture(scope="module")
-def person():
-    human = ehm.SeatedHuman()
-    human.settle()
-    return human
-
-
 def supported_mass_kg(human) -> dict:
     """Mass each support group carries at rest: its vertical force on the settled body over g (linear model's
     outputs at rest), and all groups together."""
@@ -34,13 +27,13 @@ def supported_mass_kg(human) -> dict:
     return {**groups, "support": sum(groups.values())}
 
 
-def test_linear_route_vertical_apparent_mass_at_half_a_hertz_is_the_supported_mass(person):
+def test_linear_route_vertical_apparent_mass_at_half_a_hertz_is_the_supported_mass(human):
     """At 0.5 Hz the body moves with the seat, so all supports together push it with its whole weight's worth
     of mass: within 1.5 % of the supported mass (derived from the support forces at rest; measured +0.6 %,
     the rise towards the 5 Hz mode)."""
-    table = linear_frf(person, "z", freq_hz=np.array([0.5, 1.0, 2.0, 5.0]))
-    mass = supported_mass_kg(person)
-    assert mass["support"] == pytest.approx(person.mass_kg, rel=1e-3)  # the body rests on its supports
+    table = linear_frf(human, "z", freq_hz=np.array([0.5, 1.0, 2.0, 5.0]))
+    mass = supported_mass_kg(human)
+    assert mass["support"] == pytest.approx(human.mass_kg, rel=1e-3)  # the body rests on its supports
     assert table.curve("z", "support", "z").at(0.5) == pytest.approx(mass["support"], rel=0.015)
     # the seat pan's part: positive, below the whole, and its sum with the backrest and floor is the whole
     pan = table.curve("z", "seat_pan", "z")
@@ -48,13 +41,13 @@ def test_linear_route_vertical_apparent_mass_at_half_a_hertz_is_the_supported_ma
     assert np.all(np.abs(table.curve("z", "support", "z").phase_deg[:1]) < 10.0)  # in phase with the seat at 0.5 Hz
 
 
-def test_time_route_apparent_mass_agrees_with_the_linear_route(person):
+def test_time_route_apparent_mass_agrees_with_the_linear_route(human):
     """H1 of the support forces on a 40 s random vertical run at 0.3 m/s^2 (contacts stuck, as linearised): the
     total at 0.5 Hz within 2 % of the supported mass, and both curves within 3 % of the linear route at 0.5-8 Hz
     (measured 1.0 %)."""
-    table = time_domain_frf(person, "z", duration_s=40.0)
-    lin = linear_frf(person, "z")
-    mass = supported_mass_kg(person)
+    table = time_domain_frf(human, "z", duration_s=40.0)
+    lin = linear_frf(human, "z")
+    mass = supported_mass_kg(human)
     assert table.curve("z", "support", "z").at(0.5) == pytest.approx(mass["support"], rel=0.02)
     for p in ("support", "seat_pan"):
         c = table.curve("z", p, "z")
@@ -63,8 +56,8 @@ def test_time_route_apparent_mass_agrees_with_the_linear_route(person):
         np.testing.assert_allclose(c.gain[sel], ref, rtol=0.03)
 
 
-def test_apparent_mass_in_csv_parquet_and_plot(person, tmp_path):
-    table = linear_frf(person, "all", freq_hz=np.arange(0.5, 12.01, 0.5))
+def test_apparent_mass_in_csv_parquet_and_plot(human, tmp_path):
+    table = linear_frf(human, "all", freq_hz=np.arange(0.5, 12.01, 0.5))
     assert {("x", "support", "x"), ("y", "seat_pan", "y"), ("z", "seat_pan", "z")} <= set(table.curves)
     table.write(tmp_path / "m.csv")
     table.write(tmp_path / "m.parquet")
@@ -83,8 +76,8 @@ def _measured(curves: dict) -> FrfTable:
     return FrfTable({k: Curve(f, g, np.full(f.size, np.nan), np.full(f.size, np.nan)) for k, g in curves.items()})
 
 
-def test_small_measured_curves_are_left_out_with_a_warning(person):
-    model = linear_frf(person, "x", freq_hz=np.arange(0.5, 12.01, 0.5))
+def test_small_measured_curves_are_left_out_with_a_warning(human):
+    model = linear_frf(human, "x", freq_hz=np.arange(0.5, 12.01, 0.5))
     big = model.curve("x", "head", "x").gain
     data = _measured({("x", "head", "x"): big, ("x", "trunk", "x"): model.curve("x", "trunk", "x").gain,
                       ("x", "head", "y"): np.full(big.size, 0.02 * big.max()),   # near zero by symmetry
@@ -102,8 +95,9 @@ def test_small_measured_curves_are_left_out_with_a_warning(person):
     assert SMALL_CURVE_FRACTION == 0.1
 
 
-def test_cli_compare_keep_small_curves(person, tmp_path, capsys):
-    model = linear_frf(person, "x", freq_hz=np.arange(0.5, 12.01, 0.5))
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
+def test_cli_compare_keep_small_curves(human, tmp_path, capsys):
+    model = linear_frf(human, "x", freq_hz=np.arange(0.5, 12.01, 0.5))
     big = model.curve("x", "head", "x").gain
     _measured({("x", "head", "x"): big, ("x", "head", "y"): np.full(big.size, 0.01)}).to_csv(tmp_path / "d.csv")
     model.to_csv(tmp_path / "m.csv")

@@ -12,7 +12,7 @@ from ehm.assessment import assess
 from ehm.cli import main
 from ehm.comfort import ComfortAccumulator, frequency_weighting, metrics
 from ehm.drives import city_drive, rough_road
-from ehm.errors import InputError
+from ehm.errors import EhmWarning, InputError
 from ehm.motion import SeatMotion, seat_kinematics
 
 
@@ -109,7 +109,8 @@ def test_sine_drive_metrics_closed_form():
 
 def test_city_drive_assessment(tmp_path):
     drive = city_drive(40.0, seed=1)
-    res = assess(drive)
+    with pytest.warns(EhmWarning, match="not all of the Wk band"):  # a 100 Hz drive: up to 40 Hz
+        res = assess(drive)
     s = res.summary()
     assert "SYNTHETIC" in s["input"]
     # the seat metrics equal the ISO metrics of the input itself (independent route: the whole drive resampled
@@ -135,11 +136,13 @@ def test_rough_road_is_labelled_and_has_the_class_level():
         rough_road(10.0, road_class="Z")
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_cli_assess_writes_report(tmp_path, capsys):
     drive = tmp_path / "drive.csv"
     assert main(["drive", "city", "--duration", "20", "--seed", "2", "--out", str(drive)]) == 0
     out = tmp_path / "assess"
     assert main(["assess", "--motion", str(drive), "--out", str(out)]) == 0
+    assert "not all of the Wk band" in capsys.readouterr().err  # the drive's 100 Hz: up to 40 Hz
     for name in ("assessment.json", "report.html", "weighted_spectra.png", "running_rms.png", "sickness.png"):
         assert (out / name).stat().st_size > 0, name
     summary = json.loads((out / "assessment.json").read_text())
@@ -170,6 +173,7 @@ def test_city_drive_sign_conventions():
     assert speed.min() > 2.0  # the brakes bring the car back to city speeds, never backwards
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_cli_assess_z_only_drive_and_drive_command(tmp_path, capsys):
     # A drive with motion on one axis only (the shipped rough road has none in x and y): undefined ratios
     # are written as null, not NaN.
@@ -177,6 +181,7 @@ def test_cli_assess_z_only_drive_and_drive_command(tmp_path, capsys):
     assert main(["drive", "road", "--duration", "6", "--out", str(drive)]) == 0
     out = tmp_path / "a"
     assert main(["assess", "--motion", str(drive), "--out", str(out)]) == 0
+    assert "not all of the Wf band" in capsys.readouterr().err  # 6 s: short of motion sickness's band
     summary = json.loads((out / "assessment.json").read_text())
     assert summary["locations"]["seat"]["axes"]["x"]["crest_factor"] is None
     assert summary["locations"]["head"]["total_value_mps2"] > 0
@@ -204,9 +209,11 @@ def test_linear_assessment_resamples_chunk_by_chunk():
     acc = drive.acc_mps2
     motion = SeatMotion(drive.time_s, acc, "SYNTHETIC small drive", np.zeros_like(acc))
     human = ehm.SeatedHuman()
-    streamed = assess(motion, human, method="linear")
+    with pytest.warns(EhmWarning, match="not all of the Wf band"):  # 6 s: short of motion sickness's band
+        streamed = assess(motion, human, method="linear")
     dt = float(human.params.value("simulation.dt_s"))
-    whole = assess(SeatMotion(drive.time_s, acc, "SYNTHETIC small drive").resample(dt), human, method="linear")
+    with pytest.warns(EhmWarning, match="not all of the Wf band"):
+        whole = assess(SeatMotion(drive.time_s, acc, "SYNTHETIC small drive").resample(dt), human, method="linear")
     assert streamed.description == f"SYNTHETIC small drive, resampled to dt {dt:g} s"
     assert streamed.duration_s == pytest.approx(whole.duration_s, abs=1e-12)
     for loc in ("seat", "pelvis", "trunk", "head", "lumbar"):

@@ -133,6 +133,7 @@ def _drive_file(path, amplitude_mps2: float) -> None:
     path.write_text("time_s,ax_mps2,ay_mps2,az_mps2\n" + rows)
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_changed_drive_file_reruns_and_is_counted(tmp_path, capsys):
     drive = tmp_path / "drive.csv"
     _drive_file(drive, 0.2)
@@ -228,6 +229,7 @@ def test_scheduler_address_and_reachability_are_one_sentence(tmp_path, capsys):
     assert not out.exists()  # a failed study leaves no empty folder behind
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_relative_drive_path_starts_from_the_study_files_folder(tmp_path, monkeypatch, capsys):
     folder = tmp_path / "studies"
     folder.mkdir()

@@ -116,6 +116,7 @@ def test_bad_segment_table_via_params_file(tmp_path, capsys):
     assert "bad.toml" in err and "upper_neck" in err and "-90" in err
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_divergence_is_reported_with_time_and_no_output(tmp_path, capsys):
     # contacts 30x as stiff at the longest step taken (10 ms): diverges while settling (measured at t = 0.61 s)
     p = Parameters.load()

@@ -34,7 +34,8 @@ def _table(curves: dict, method="model") -> FrfTable:
 
 def test_compare_interpolates_and_weights():
     # The model curve is linear in f, so linear interpolation onto 1.5 Hz is exact: 1.5.
-    model = _table({("z", "head", "z"): ([1.0, 2.0], [1.0, 2.0], 1.0), ("x", "head", "x"): ([1.0, 2.0], [1.0, 1.0], 1.0)})
+    model = _table({("z", "head", "z"): ([1.0, 2.0], [1.0, 2.0], 1.0),
+                    ("x", "head", "x"): ([1.0, 2.0], [1.0, 1.0], 1.0)})
     data = _table({("z", "head", "z"): ([1.5], [1.5], 3.0), ("x", "head", "x"): ([1.0], [2.0], 1.0)}, "measured")
     res = compare(data, model, (0.1, 12))
     crit = {(c.input_axis, c.point, c.dof): c.crit for c in res.curves}

@@ -21,11 +21,6 @@ from ehm.study import STUDY_PATHS, locking_study
 
 
 @pytest.fixture(scope="module")
-def human():
-    return ehm.SeatedHuman()
-
-
-@pytest.fixture(scope="module")
 def run(human):
     """A short linear-route run (milliseconds): every signal a RunResult holds."""
     return human.simulate(ehm.random_vibration("z", 2.0, 0.5, seed=3), method="linear")
@@ -84,9 +79,9 @@ def test_run_wide_frame_is_timeseries_csv(run, tmp_path):
     assert on_disk == list(wide.columns)
 
 
+@pytest.mark.requires_xarray
 def test_run_to_xarray_is_points_by_axes_by_time(run):
     """"to_xarray() where the data are naturally labelled arrays (a run's points x axes x time)"."""
-    pytest.importorskip("xarray")
     ds = run.to_xarray()
     assert ds["acc_mps2"].dims == ("point", "axis", "time_s") and ds["acc_mps2"].attrs["units"] == "m/s^2"
     np.testing.assert_array_equal(ds["acc_mps2"].sel(point="head", axis="z"), run.point("head").acc_mps2[:, 2])
@@ -208,9 +203,10 @@ def test_read_results_without_a_table_is_one_sentence(tmp_path):
         read_results(tmp_path)
 
 
+@pytest.mark.requires_pyarrow
 def test_read_results_names_the_outputs_of_an_earlier_table(tmp_path):
     """A results.parquet written before issue 32 (run_id, output, value, error only) reads in the same shape."""
-    pa = pytest.importorskip("pyarrow")
+    import pyarrow as pa
     import pyarrow.parquet as pq
 
     pq.write_table(pa.table({"run_id": ["a1", "a1"], "output": ["seat.a_v_mps2", "seat_x->trunk_x.peak_gain"],

@@ -7,8 +7,8 @@ from __future__ import annotations
 import json
 import os
 import sys
-import zipfile
 import xml.etree.ElementTree as ET
+import zipfile
 
 import numpy as np
 import pytest

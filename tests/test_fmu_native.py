@@ -16,7 +16,6 @@ import shutil
 import subprocess
 import zipfile
 from importlib import resources
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -27,7 +26,8 @@ from ehm.errors import InputError
 from ehm.fmu_native import INPUTS, MAX_SEAT_ACC_MPS2, MODEL_IDENTIFIER, OUTPUTS, PLATFORM, POINTS, SUPPORTS
 from ehm.routes.nonlinear import chunk_result
 
-fmpy = pytest.importorskip("fmpy", reason="the FMI headers and the test host library come from fmpy (pip install -e '.[test]')")
+fmpy = pytest.importorskip("fmpy",
+                           reason="the FMI headers and the test host library come from fmpy (pip install -e '.[test]')")
 
 from fmpy.fmi1 import FMICallException  # noqa: E402
 from fmpy.fmi2 import FMU2Slave  # noqa: E402
@@ -71,10 +71,6 @@ def host(tmp_path_factory):
                    check=True, capture_output=True, text=True)
     return exe
 
-
-@pytest.fixture(scope="module")
-def human():
-    return ehm.SeatedHuman()
 
 
 def _run_host(host, unit, time_s, acc, out_csv):
@@ -299,7 +295,8 @@ def test_bad_resources_give_errors_not_crashes(unit, tmp_path, capfd):
         "missing model": lambda res: (res / "ehm_model.mjb").unlink(),
         "garbage model": lambda res: (res / "ehm_model.mjb").write_bytes(b"not an MJB" * 100),
         "short state": lambda res: (res / "ehm_state.txt").write_text(
-            re.sub(r"^qpos (\d+) \S+", lambda m: f"qpos {int(m[1]) - 1}", (res / "ehm_state.txt").read_text(), flags=re.M)),
+            re.sub(r"^qpos (\d+) \S+", lambda m: f"qpos {int(m[1]) - 1}", (res / "ehm_state.txt").read_text(),
+                   flags=re.M)),
         "bad number": lambda res: (res / "ehm_state.txt").write_text(
             (res / "ehm_state.txt").read_text().replace("diverged_m 0.5", "diverged_m x", 1)),
     }
@@ -335,7 +332,8 @@ def test_divergence_is_an_error_and_reset_recovers(unit, capfd):
         assert _status(exc) == ERROR
         assert "the simulation diverged at t = " in capfd.readouterr().out
         with pytest.raises(FMICallException) as exc:  # it stays stopped ...
-            s.doStep(currentCommunicationPoint=s.getRealStatus(fmpy.fmi2.fmi2LastSuccessfulTime), communicationStepSize=h)
+            s.doStep(currentCommunicationPoint=s.getRealStatus(fmpy.fmi2.fmi2LastSuccessfulTime),
+                     communicationStepSize=h)
         assert _status(exc) == ERROR and "cannot go on" in capfd.readouterr().out
         s.reset()  # ... until reset: then it runs as a fresh unit
         _start(s)

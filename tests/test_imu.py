@@ -354,9 +354,9 @@ def test_a_gyro_that_misses_the_tilt_from_rest_to_rest_makes_the_filter_lean_on_
     """SYNTHETIC: 10 s at rest, 30 s of driving (1 m/s^2 fore-aft at 0.3 Hz, the seat level), 10 s at rest.  A
     good gyro (1.5 deg/s noise while driving) carries the tilt from one rest to the next within 0.35 deg per
     square root of a second; one with an extra 0.3 deg/s while driving (as a 10 Hz phone gyro on a vibrating
-    mount, measured 1.1) misses it by 9 deg, 1.6 deg/sqrt(s), so the filter leans on gravity (gain 0.1, rejection 10 deg) and
-    says why.  On a real iPhone drive at 10 Hz this brought the horizontal acceleration from 1.10 to 0.73 m/s^2
-    rms off the car's own CAN-bus accelerometer."""
+    mount, measured 1.1) misses it by 9 deg, 1.6 deg/sqrt(s), so the filter leans on gravity (gain 0.1, rejection
+    10 deg) and says why.  On a real iPhone drive at 10 Hz this brought the horizontal acceleration from 1.10 to
+    0.73 m/s^2 rms off the car's own CAN-bus accelerometer."""
     rng = np.random.default_rng(8)
     t = np.arange(0.0, 50.0, 0.02)
     driving = (t >= 10.0) & (t < 40.0)

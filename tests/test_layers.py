@@ -32,8 +32,10 @@ def test_import_contracts_are_kept():
 
 
 @pytest.mark.parametrize("module, line, words", [
-    ("results.py", "from .simulation import SeatedHuman  # an import up", "ehm.results is not allowed to import ehm.simulation"),
-    ("motion.py", "from .readers import read_motion  # the old loop", "ehm.motion is not allowed to import ehm.readers"),
+    ("results.py", "from .simulation import SeatedHuman  # an import up",
+     "ehm.results is not allowed to import ehm.simulation"),
+    ("motion.py", "from .readers import read_motion  # the old loop",
+     "ehm.motion is not allowed to import ehm.readers"),
     ("routes/linear.py", "import mujoco  # MuJoCo outside the engine", "Illegal imports of protected package mujoco"),
     ("routes/hybrid.py", "from ..simulation import SeatedHuman  # a route back into the door",
      "ehm.routes is not allowed to import ehm.simulation"),

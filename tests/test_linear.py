@@ -11,13 +11,6 @@ from ehm.transfer import discrete_frequency_response, h1_estimate
 
 
 @pytest.fixture(scope="module")
-def human():
-    h = ehm.SeatedHuman()
-    h.settle()
-    return h
-
-
-@pytest.fixture(scope="module")
 def linear(human):
     return engine.linearize(human.model)
 

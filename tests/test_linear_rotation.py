@@ -11,10 +11,10 @@ import pytest
 
 import ehm
 from ehm import engine
-from ehm.routes import linear
 from ehm.drives import city_drive
 from ehm.motion import SeatMotion
 from ehm.results import concatenate_runs
+from ehm.routes import linear
 
 #: The city drive scaled to this stays within the linear route (its contacts stuck; 0.35 is the limit).
 SCALE = 0.3
@@ -81,8 +81,8 @@ def test_rotating_drive_agrees_with_the_nonlinear_route(human, drive, nonlinear)
 
 def test_the_rotation_matters_and_a_sign_error_is_caught(human, drive, nonlinear, monkeypatch):
     # The comparison above can fail: the translation alone (measured: head acceleration 1.0 %, twice the
-    # tolerance, gia 10 %, angular velocity 99 %), or the seat's rotation with a sign turned (tilt: acceleration 20 %; alpha: angular
-    # acceleration 77 %), misses the nonlinear route by far more than the tolerance.
+    # tolerance, gia 10 %, angular velocity 99 %), or the seat's rotation with a sign turned (tilt: acceleration
+    # 20 %; alpha: angular acceleration 77 %), misses the nonlinear route by far more than the tolerance.
     still = SeatMotion(drive.time_s, drive.acc_mps2, "translation only")
     errs = _errors(nonlinear, human.simulate(still, method="linear"))
     assert errs[("head", "angvel_radps")] > 10 * TOLERANCE["angvel_radps"]

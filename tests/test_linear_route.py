@@ -11,17 +11,11 @@ import ehm
 from ehm import engine
 from ehm.cli import main
 from ehm.frf import linear_frf
-from ehm.routes.linear import LinearRouteError, simulate_linear, stream_linear
 from ehm.motion import SeatMotion
+from ehm.routes.linear import LinearRouteError, simulate_linear, stream_linear
 
 G = 9.81
 
-
-@pytest.fixture(scope="module")
-def human():
-    h = ehm.SeatedHuman()
-    h.settle()
-    return h
 
 
 def _rms(x):
@@ -147,6 +141,7 @@ def test_linear_frf_is_the_converged_step_response(human):
     assert fz == pytest.approx(human.mass_kg * G, rel=1e-3)
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_cli_linear_route(tmp_path, capsys):
     out = tmp_path / "lin"
     assert main(["simulate", "--axis", "xyz", "--duration", "5", "--method", "linear", "--out", str(out)]) == 0
@@ -214,9 +209,9 @@ def test_block_form_is_the_discretised_model(human):
     # first-order-hold discretisation of the model it runs, reduced_model: against scipy's cont2discrete +
     # dlsim, every output agrees to round-off, whole and cut into chunks of odd lengths (partial blocks), also
     # for an input that does not start at zero (the person at rest at t = 0).
-    from ehm.routes import linear
-
     from scipy import signal
+
+    from ehm.routes import linear
 
     ss = human.linear_model()
     motion = ehm.random_vibration("xyz", 4.0, 0.3, seed=5, dt_s=0.001)
@@ -267,6 +262,7 @@ def test_orientations_are_exact():
     # Rotation vectors -> roll, pitch, yaw (intrinsic z-y-x), angular velocity and gravito-inertial acceleration
     # in the segment's axes, as scipy's Rotation computes them: small rotations (series) and large ones.
     from scipy.spatial.transform import Rotation
+
     from ehm.routes import linear
 
     rng = np.random.default_rng(0)
@@ -278,7 +274,9 @@ def test_orientations_are_exact():
         y[2 * rows:3 * rows] *= scale  # rotation vectors
         rot, angvel, gia = (linear.in_time_order(x) for x in linear._orientations(y, R0))
         for p in range(n_points):
-            series = lambda k: linear.in_time_order(y[rows * k + 3 * p:rows * k + 3 * p + 3]).T  # noqa: E731
+            def series(k, y=y, p=p):
+                return linear.in_time_order(y[rows * k + 3 * p:rows * k + 3 * p + 3]).T
+
             rel = Rotation.from_rotvec(series(2))
             R = np.einsum("nij,jk->nik", rel.as_matrix(), R0[p])
             # ehm's Rodrigues matrix + arctan2/arcsin against scipy's quaternion route: each angle comes from

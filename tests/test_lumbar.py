@@ -19,17 +19,10 @@ from scipy.spatial.transform import Rotation
 
 import ehm
 from ehm import engine
-from ehm.routes import nonlinear
 from ehm.cli import main
 from ehm.frf import linear_frf
+from ehm.routes import nonlinear
 from ehm.transfer import h1_estimate
-
-
-@pytest.fixture(scope="module")
-def human():
-    h = ehm.SeatedHuman()
-    h.settle()
-    return h
 
 
 @pytest.fixture(scope="module")
@@ -145,11 +138,12 @@ def test_step_by_step_simulator_has_the_lumbar_point(human, xz_run):
     assert "lumbar" in states[-1].comfort and states[-1].comfort["lumbar"]["z"][1] > 0
 
 
+@pytest.mark.requires_pythonfmu
+@pytest.mark.requires_fmpy
 def test_python_fmu_has_lumbar_outputs_equal_to_simulate(tmp_path):
     # "The FMU (Python ...) exposes lumbar outputs matching Python's simulate within the tolerance the existing FMU
     # tests use": test_fmu.py's 1e-9 in SI units, its helpers (same input, fmpy as the host).
-    pytest.importorskip("pythonfmu")
-    fmpy = pytest.importorskip("fmpy")
+    import fmpy
     from test_fmu import FIELDS, _on_model_grid, _run  # test_fmu's own helpers
 
     from ehm.fmu import OUTPUTS, export_fmu
@@ -168,18 +162,14 @@ def test_python_fmu_has_lumbar_outputs_equal_to_simulate(tmp_path):
     assert np.abs(res["lumbar_az_mps2"]).max() > 0.1
 
 
+@pytest.mark.requires_native_fmu
 def test_native_fmu_has_lumbar_outputs_equal_to_simulate(tmp_path):
     # "The FMU (... native) exposes lumbar outputs": the C unit reads the lumbar site's sensors as it reads the
     # other points'; through fmpy, within test_fmu_native.py's 1e-9 in SI units (same engine, same input).
-    fmpy = pytest.importorskip("fmpy")
+    import fmpy
+
     from ehm import fmu_native
 
-    if not fmu_native.native_platform_supported():
-        pytest.skip("the native FMU is built for 64-bit Linux on x86")
-    try:
-        fmu_native.find_compiler()
-    except ehm.errors.InputError as exc:
-        pytest.skip(str(exc))
     path = fmu_native.export_native_fmu(tmp_path / "person.fmu")
     whole = ehm.SeatedHuman().simulate(ehm.random_vibration("xz", 1.0, 0.5, seed=4), method="nonlinear")
     sig = np.zeros(whole.time_s.size, dtype=[("time", float)] + [(n, float) for n in fmu_native.INPUTS])
@@ -237,6 +227,7 @@ def test_result_files_frames_and_figures_carry_lumbar(tmp_path, human, xz_run):
     plt.close(fig)
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_cli_simulate_and_assess_write_lumbar(tmp_path, capsys):
     # "Result files (... written by ehm simulate/assess) carry lumbar columns": timeseries.csv has them, and
     # assessment.json, the console and the weighted-spectra figure have the lumbar location.

@@ -18,6 +18,7 @@ from ehm.errors import DivergenceError, InputError
 from ehm.motion import random_vibration
 from ehm.params import Parameters
 from ehm.simulation import POINT_NAMES, SeatedHuman
+from ehm.timestep import StepWarning
 
 G = 9.81  # m/s^2, the project's standard gravity (engine.G0), also the paper's MADYMO default
 PAPER_TOTAL_MASS_KG = 70.882  # paper Table 2, sum of the mass column
@@ -36,12 +37,6 @@ PAPER_JOINT_TYPES = {  # paper Table 1
 def expected_dof(locked: set[str]) -> int:
     return 6 + sum(DOF_PER_TYPE[t] for j, t in PAPER_JOINT_TYPES.items() if j not in locked)
 
-
-@pytest.fixture(scope="module")
-def human() -> SeatedHuman:
-    h = SeatedHuman()
-    h.settle()
-    return h
 
 
 def _geom(m, name: str) -> int:
@@ -190,7 +185,8 @@ def test_buttock_contact_is_a_linear_spring(human, stiffness):
     assert ratio == pytest.approx(stiffness, rel=0.02)
 
 
-@pytest.mark.parametrize("contact", ["buttock_r", "buttock_l", "thigh_r", "thigh_l", "lower_back", "upper_back", "foot_r", "foot_l"])
+@pytest.mark.parametrize("contact", ["buttock_r", "buttock_l", "thigh_r", "thigh_l", "lower_back", "upper_back",
+                                     "foot_r", "foot_l"])
 def test_every_contact_spring_has_its_configured_stiffness(human, contact):
     # Same law as above for every contact pair of the default model, each against ITS OWN entry in
     # default_params.toml (contacts.<name>.stiffness_N_per_m).  Tolerance 2 %.
@@ -270,7 +266,8 @@ def _stiff_at_coarsest_step() -> Parameters:
 def test_large_time_step_diverges_with_simulated_time(tmp_path, monkeypatch):
     # MuJoCo may write MUJOCO_LOG.TXT into the working directory on a warning, so run in tmp_path.
     monkeypatch.chdir(tmp_path)
-    h = SeatedHuman(_stiff_at_coarsest_step())
+    with pytest.warns(StepWarning, match="coarser than the 1 ms"):
+        h = SeatedHuman(_stiff_at_coarsest_step())
     with pytest.raises(DivergenceError) as exc:
         h.simulate(random_vibration("z", 2, 0.3, seed=0, dt_s=0.01, band_hz=(0.1, 4.0)), method="nonlinear")
     msg = str(exc.value)

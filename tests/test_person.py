@@ -24,7 +24,8 @@ def test_default_person_is_the_shipped_one_and_prints_short():
     assert isinstance(p.params, Parameters) and p.params.origin == "default"
     assert repr(p) == "Person()"
     assert repr(Person(posture="slouched", lock="lower_neck")) == "Person(posture='slouched', lock=('lower_neck',))"
-    assert p.describe().startswith("erect, back support high, reference size, head control off") and "step 1 ms" in p.describe()
+    assert p.describe().startswith("erect, back support high, reference size, head control off")
+    assert "step 1 ms" in p.describe()
 
 
 def test_person_is_frozen_and_replace_is_checked():

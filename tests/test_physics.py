@@ -9,13 +9,6 @@ import ehm
 from ehm.transfer import h1_estimate
 
 
-@pytest.fixture(scope="module")
-def human():
-    h = ehm.SeatedHuman()
-    h.settle()
-    return h
-
-
 def _amplitude(x: np.ndarray, t: np.ndarray, f_hz: float) -> float:
     """Amplitude of the f_hz component by least squares on sin and cos."""
     basis = np.column_stack([np.sin(2 * np.pi * f_hz * t), np.cos(2 * np.pi * f_hz * t), np.ones_like(t)])

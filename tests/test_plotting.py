@@ -10,11 +10,6 @@ import ehm
 from ehm.plotting import plot_time_histories
 
 
-@pytest.fixture(scope="module")
-def human():
-    return ehm.SeatedHuman()
-
-
 def _force_panels(fig):
     """{axis letter: axes} of the support-force panels, found by their y label."""
     return {ax.get_ylabel().split()[2]: ax for ax in fig.axes

@@ -320,6 +320,7 @@ def test_a_step_given_or_set_by_the_file_wins_over_the_posture_step(tmp_path):
     assert Parameters.load().with_values({"simulation.dt_s": 0.0008}).seated("slouched").time_step() == 0.0008
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_slouched_person_at_one_ms_warns_with_its_own_converged_step(tmp_path, capsys):
     # "a slouched person at an explicit --dt 0.001 warns that it is coarser than its converged 0.5 ms, with the
     # expected error; erect at 1 ms does not warn (today's behaviour unchanged)".  The expected error is the measured

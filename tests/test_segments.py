@@ -25,12 +25,6 @@ def no_start_up(monkeypatch):
     monkeypatch.setattr(segments, "WORKER_START_S", 0.0)
 
 
-@pytest.fixture(scope="module")
-def person():
-    human = ehm.SeatedHuman()
-    human.settle()
-    return human
-
 
 @pytest.fixture(scope="module")
 def vibration():
@@ -38,8 +32,8 @@ def vibration():
 
 
 @pytest.fixture(scope="module")
-def continuous(person, vibration):
-    return person.simulate(vibration, method="nonlinear")
+def continuous(human, vibration):
+    return human.simulate(vibration, method="nonlinear")
 
 
 def _share(a: np.ndarray, b: np.ndarray) -> float:
@@ -58,17 +52,17 @@ def test_plan_covers_the_run_in_aligned_segments_of_equal_work():
     assert longer[0].stop - segs[0].stop in (4_000, 5_000, 6_000)  # half the start-up's steps more
 
 
-def test_a_short_motion_runs_as_one_segment_here(person, vibration, continuous, monkeypatch):
+def test_a_short_motion_runs_as_one_segment_here(human, vibration, continuous, monkeypatch):
     monkeypatch.setattr(segments, "WORKER_START_S", 1.5)  # 12 s: fewer steps than this process makes meanwhile
     stats = {}
-    run = concatenate_runs(list(stream_parallel(person, vibration, workers=2, _stats=stats)))
+    run = concatenate_runs(list(stream_parallel(human, vibration, workers=2, _stats=stats)))
     assert len(stats["segments"]) == 1
     np.testing.assert_array_equal(run.point("head").acc_mps2, continuous.point("head").acc_mps2)
 
 
-def test_segmented_run_joins_onto_the_continuous_time_axis(person, vibration, continuous):
+def test_segmented_run_joins_onto_the_continuous_time_axis(human, vibration, continuous):
     stats = {}
-    seg = concatenate_runs(list(stream_parallel(person, vibration, workers=2, lead_in_s=2.0, chunk_s=2.0,
+    seg = concatenate_runs(list(stream_parallel(human, vibration, workers=2, lead_in_s=2.0, chunk_s=2.0,
                                                 _stats=stats)))
     first, second = stats["segments"]
     assert second.first > 0 and second.lead_steps == 2000
@@ -82,8 +76,8 @@ def test_segmented_run_joins_onto_the_continuous_time_axis(person, vibration, co
         assert _share(continuous.point(p).acc_mps2, seg.point(p).acc_mps2) < 0.02
 
 
-def test_one_worker_is_the_continuous_run_bit_for_bit(person, vibration, continuous):
-    one = simulate_parallel(person, vibration, workers=1)
+def test_one_worker_is_the_continuous_run_bit_for_bit(human, vibration, continuous):
+    one = simulate_parallel(human, vibration, workers=1)
     np.testing.assert_array_equal(one.time_s, continuous.time_s)
     for p in POINTS:
         for f in ("acc_mps2", "disp_m", "rot_rad", "gia_mps2"):
@@ -108,17 +102,17 @@ def test_rotating_seat_segment_starts_level_and_joins():
     ({"segment_s": 0.0}, "segment_s must be a positive time"),
     ({"lead_in_s": float("nan")}, "lead_in_s must be a time"),
 ])
-def test_bad_arguments_are_one_sentence(person, vibration, kw, words):
+def test_bad_arguments_are_one_sentence(human, vibration, kw, words):
     with pytest.raises(InputError, match=words) as err:
-        simulate_parallel(person, vibration, **kw)
+        simulate_parallel(human, vibration, **kw)
     assert str(err.value).count(". ") == 0 and str(err.value).endswith(".")
 
 
-def test_wrong_motion_or_seat_is_refused(person):
+def test_wrong_motion_or_seat_is_refused(human):
     with pytest.raises(InputError, match="needs a SeatMotion"):
-        simulate_parallel(person, np.zeros((10, 3)))
+        simulate_parallel(human, np.zeros((10, 3)))
     with pytest.raises(InputError, match="rotating_seat=True"):
-        simulate_parallel(person, ehm.city_drive(12.0))  # SYNTHETIC drive with rates, static seat
+        simulate_parallel(human, ehm.city_drive(12.0))  # SYNTHETIC drive with rates, static seat
 
 
 @pytest.mark.parametrize("extra, words", [
@@ -136,21 +130,21 @@ def test_cli_parallel_options_are_checked_in_one_sentence(tmp_path, capsys, extr
     assert not (tmp_path / "run").exists()
 
 
-def test_assess_in_segments_keeps_the_figures(person, vibration):
-    one = ehm.assess(vibration, person, method="nonlinear")
-    two = ehm.assess(vibration, person, method="nonlinear", workers=2, lead_in_s=2.0)
+def test_assess_in_segments_keeps_the_figures(human, vibration):
+    one = ehm.assess(vibration, human, method="nonlinear")
+    two = ehm.assess(vibration, human, method="nonlinear", workers=2, lead_in_s=2.0)
     with pytest.raises(InputError, match="split the nonlinear route into segments"):
-        ehm.assess(vibration, person, workers=2)  # the hybrid route, the default, runs in one process
+        ehm.assess(vibration, human, workers=2)  # the hybrid route, the default, runs in one process
     for p in POINTS:
         assert abs(two.total_value(p) / one.total_value(p) - 1) < 0.01
         assert abs(two.metrics[p]["z"].vdv / one.metrics[p]["z"].vdv - 1) < 0.01
     assert two.trace_time_s.size == one.trace_time_s.size
 
 
-def test_a_rebuilt_person_is_the_same_person(person):
+def test_a_rebuilt_person_is_the_same_person(human):
     # A worker's person, rebuilt from the recipe, has the same settled state and linearises as the original.
     from ehm import SeatedHuman
 
-    again = SeatedHuman.from_recipe(person.recipe())
-    np.testing.assert_array_equal(again.model.settled["qpos"], person.model.settled["qpos"])
-    np.testing.assert_array_equal(again.linear_model().A, person.linear_model().A)
+    again = SeatedHuman.from_recipe(human.recipe())
+    np.testing.assert_array_equal(again.model.settled["qpos"], human.model.settled["qpos"])
+    np.testing.assert_array_equal(again.linear_model().A, human.linear_model().A)

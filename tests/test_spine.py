@@ -223,6 +223,7 @@ def test_exposure_must_be_a_spine_exposure():
 
 # --- ehm assess --------------------------------------------------------------------------------------------------
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_assess_reports_iso2631_5(tmp_path, capsys):
     """"ISO 2631-5 in ehm assess": assessment.json, the console and the report carry the standard's route from the
     drive's own vertical seat acceleration at its own rate; independent route: the drive file read with numpy and
@@ -233,7 +234,8 @@ def test_assess_reports_iso2631_5(tmp_path, capsys):
     out = tmp_path / "a"
     assert main(["assess", "--motion", str(drive), "--out", str(out), "-q", "--daily-exposure-h", "2",
                  "--exposure-years", "10", "--sex", "female"]) == 0
-    printed = capsys.readouterr().out
+    printed, err = capsys.readouterr()
+    assert "not all of the Wf band" in err  # 6 s: short of motion sickness's band
     section = json.loads((out / "assessment.json").read_text())["iso2631_5"]
     assert section["exposure"] == {"daily_exposure_h": 2.0, "start_age_years": 20.0, "exposure_years": 10,
                                    "days_per_year": 120.0, "sex": "female", "m_z_mpa_per_mps2": 0.025}
@@ -276,7 +278,8 @@ def test_assess_model_route_is_the_lumbar_points_dose():
     drive = rough_road(duration_s=6.0)
     drive = type(drive)(drive.time_s, drive.acc_mps2, description="SYNTHETIC rough road, no rotation")
     human = SeatedHuman()
-    a = assess(drive, human=human, method="nonlinear", chunk_s=2.0)
+    with pytest.warns(EhmWarning, match="not all of the Wf band"):  # 6 s: short of motion sickness's band
+        a = assess(drive, human=human, method="nonlinear", chunk_s=2.0)
     run = SeatedHuman().simulate(drive, method="nonlinear")
     dt = float(human.params.value("simulation.dt_s"))
     expected = sp.spinal_dose_from_lumbar(run.point("lumbar").acc_mps2[:, 2], 1.0 / dt, measured_s=a.duration_s)

@@ -77,6 +77,7 @@ def test_neck_locked_lowers_head_pitch(study):
     assert study.row("NL", "z", "head", "pitch").peak_gain_change_pct < 0
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_cli_study_writes_table_and_figure(tmp_path, capsys):
     out = tmp_path / "lock"
     assert main(["study", "locking", "--out", str(out), "--variant", "NL2=lower_neck,upper_neck"]) == 0
@@ -87,7 +88,8 @@ def test_cli_study_writes_table_and_figure(tmp_path, capsys):
     from ehm.frf import read_frf_csv
     from ehm.study import STUDY_PATHS
 
-    rows = list(csv.DictReader(open(out / "locking.csv")))
+    with open(out / "locking.csv") as f:
+        rows = list(csv.DictReader(f))
     assert len(rows) == 4 * len(STUDY_PATHS)  # baseline, SL, NL, NL2
     # Independent route: the peak in the written FRF file equals the table's peak for that path.
     row = next(r for r in rows if (r["variant"], r["input_axis"], r["point"], r["dof"]) == ("SL", "z", "trunk", "z"))

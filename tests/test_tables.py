@@ -21,7 +21,6 @@ import numpy as np
 import pytest
 
 from ehm.errors import InputError
-from ehm.simulation import SeatedHuman
 from ehm.tables import load_body, load_joints, load_segments
 
 DATA = Path(__file__).resolve().parents[1] / "src" / "ehm" / "data"
@@ -74,10 +73,6 @@ def here_m(paper_cm) -> np.ndarray:
     x, y, z = paper_cm
     return np.array([x, -y, z]) * 0.01
 
-
-@pytest.fixture(scope="module")
-def human() -> SeatedHuman:
-    return SeatedHuman()
 
 
 @pytest.fixture(scope="module")

@@ -23,8 +23,7 @@ from ehm.errors import InputError
 from ehm.frf import FrfTable
 from ehm.params import Parameters
 from ehm.transfer import Curve
-from ehm.validation import (ANY_SEAT_BANDS, FREQ_HZ, Check, Validation, band_checks, locking_checks,
-                            validate)
+from ehm.validation import ANY_SEAT_BANDS, FREQ_HZ, Check, Validation, band_checks, locking_checks, validate
 
 REF = "erect, back support none"
 OWN = "erect, back support high"
@@ -211,7 +210,8 @@ def test_validation_table_outputs_agree(default_validation, tmp_path):
     assert lines[-1] == f"{len(v.checks) - len(v.failed)} of {len(v.checks)} checks pass."
     assert sum(("FAIL" in line) for line in lines[1:-1]) == len(v.failed)
     v.to_csv(tmp_path / "v.csv")
-    rows = list(csv.DictReader(open(tmp_path / "v.csv", encoding="utf-8")))
+    with open(tmp_path / "v.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
     assert [r["name"] for r in rows] == [c.name for c in v.checks]
     assert [r["passed"] for r in rows] == [("true" if c.passed else "false") for c in v.checks]
     assert rows[-1]["at_hz"] == "" and float(rows[0]["value"]) == pytest.approx(v.checks[0].value, rel=1e-5)
@@ -304,7 +304,8 @@ def test_cli_writes_the_table_and_figures_and_exits_1_when_a_check_fails(tmp_pat
     assert f"{data['n_checks'] - data['n_failed']} of {data['n_checks']} checks pass." in cap.out
     failed = [c["name"] for c in data["checks"] if not c["passed"]]
     assert cap.err.startswith(f"ehm: validate: {len(failed)} of {data['n_checks']} checks fail: {failed[0]}")
-    rows = list(csv.DictReader(open(out / "validation.csv", encoding="utf-8")))
+    with open(out / "validation.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
     assert [r["name"] for r in rows] == [c["name"] for c in data["checks"]] == BAND_NAMES
     for axis in "zxy":
         assert (out / f"validation_{axis}.png").stat().st_size > 10_000

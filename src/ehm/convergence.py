@@ -14,7 +14,9 @@ at its default step of 1 ms, the paper's step (``DEFAULT_STEP_ERRORS``).
 
 >>> from ehm.convergence import check_step
 >>> check = check_step()                     # the default person at its default step
->>> check.worst(8)                           # (("y", "pelvis", "yaw"), 0.0077): path and error vs step / 8
+>>> path, error = check.worst(8)             # the path furthest from the model at step / 8, and its error
+>>> path, round(error, 3)
+(('y', 'pelvis', 'yaw'), 0.008)
 """
 
 from __future__ import annotations

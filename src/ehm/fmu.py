@@ -1,7 +1,12 @@
 """FMI 2.0 co-simulation export: the seated person as an FMU for vehicle and driving-simulator tools.
 
+>>> import shutil
+>>> from ehm.params import default_params_path
+>>> _ = shutil.copy(default_params_path(), "my.toml")                            # a parameter file of one's own
 >>> export_fmu("ehm.fmu", params="my.toml", lock=["lower_neck"])               # native C unit (default)
+PosixPath('ehm.fmu')
 >>> export_fmu("ehm-py.fmu", params="my.toml", lock=["lower_neck"], python=True)  # pythonfmu unit
+PosixPath('ehm-py.fmu')
 
 The default unit is native: C on the MuJoCo C library, built at export time (``ehm.fmu_native``); it
 needs no Python when it runs.  The rest of this module is the older pythonfmu route, kept behind

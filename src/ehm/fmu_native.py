@@ -1,6 +1,8 @@
 """Native FMI 2.0 co-simulation export: the seated person as a C unit on the MuJoCo C library.
 
+>>> from ehm import SeatedHuman
 >>> export_native_fmu("person.fmu", SeatedHuman(lock=["lower_neck"]))
+PosixPath('person.fmu')
 
 The unit's binary is ``native/ehm_fmu.c`` (shipped with ehm), compiled at export time with the system C
 compiler against the MuJoCo that the ``mujoco`` wheel installed (its headers and ``libmujoco``, which is

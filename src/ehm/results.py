@@ -1,8 +1,11 @@
 """Run results: what every route (nonlinear, linear, step by step) produces and every consumer (files, figures,
 assessment, transfer functions) reads, by name.
 
+>>> import ehm
+>>> human, motion = ehm.SeatedHuman(), ehm.random_vibration("z", duration_s=2, rms_mps2=0.3, seed=0)
 >>> run = human.simulate(motion)                 # a RunResult
->>> run.point("head").acc_mps2[:, 2]             # absolute vertical head acceleration [m/s^2]
+>>> run.point("head").acc_mps2.shape             # absolute head acceleration [m/s^2]: x, y, z of each sample
+(2001, 3)
 
 This module stands below everything that produces or consumes runs (:mod:`ehm.simulation`, :mod:`ehm.routes.linear`,
 :mod:`ehm.plotting`, :mod:`ehm.frf`, ...); it imports only the engine's point names and, for

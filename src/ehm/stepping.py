@@ -2,7 +2,10 @@
 
 >>> sim = Simulator()                       # settles the default person on the default seat
 >>> state = sim.step([0.0, 0.0, 0.3])       # seat acceleration [m/s^2] for one time step (1 ms)
->>> state.head.acc_mps2                     # absolute head acceleration, seat axes
+>>> state.head.acc_mps2.shape               # absolute head acceleration, seat axes
+(3,)
+>>> print(f"{state.head.acc_mps2[2]:.3f} m/s^2")
+0.011 m/s^2
 
 Each step gives the same numbers as a whole run of the same input (``SeatedHuman.simulate``); memory
 stays constant.  With ``comfort=True`` the running ISO 2631-1 figures (1 s running rms, a_w so far) of

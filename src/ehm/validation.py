@@ -17,7 +17,14 @@ back support), where the seat-to-head bands and the locking findings are checked
 >>> import ehm
 >>> v = ehm.validate()                                   # the default person
 >>> v.passed, len(v.checks)
->>> print(v.format_table())
+(True, 26)
+>>> print(v.format_table())                              # doctest: +ELLIPSIS
+condition                 check ...
+erect, back support none  lumbar_gain_vs_iso2631_5 ...
+...
+26 of 26 checks pass.
+>>> import shutil
+>>> _ = shutil.copy(ehm.params.default_params_path(), "my.toml")  # a parameter file of one's own
 >>> v = ehm.validate("my.toml", size=ehm.BodySize(1.62, 58.0))   # a parameter file, a body size
 
 ``ehm validate`` runs it from the command line (:doc:`/validation`), with a figure per seat input axis

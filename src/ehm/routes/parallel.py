@@ -1,7 +1,11 @@
 r"""A long nonlinear run in segments on several cores: local processes or a Dask cluster.
 
+>>> from ehm import SeatedHuman, random_vibration
 >>> from ehm.routes.parallel import simulate_parallel
+>>> motion = random_vibration("z", duration_s=10, rms_mps2=0.3, seed=0)
 >>> run = simulate_parallel(SeatedHuman(), motion, workers=2)     # the same time axis and fields as simulate()
+>>> run.time_s.shape
+(10001,)
 
 The motion is split into consecutive segments (at least one per worker).  Each segment is run from the settled
 rest over [start - lead-in, end] with the motion's own input over the lead-in, which is then discarded; the

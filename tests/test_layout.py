@@ -12,8 +12,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+import ehm
 from ehm.cli import main
-from ehm.errors import InputError
+from ehm.errors import EhmWarning, InputError
+from ehm.imu import mounting_matrix
 from ehm.readers import HELD_RUN_MAX, HELD_SHARE, mounting_rotation, read_motion
 
 G = 9.80665
@@ -206,8 +208,8 @@ def test_a_gyro_in_its_own_file_is_joined_on_the_accelerometers_time_stamps(tmp_
     with pytest.raises(InputError) as exc:
         read_motion(tmp_path / "acc.csv", gyro=tmp_path / "late.csv", channels=channels, units={"time": "ns"})
     assert ("their time stamps overlap for 19.9657 s of the 29.9901 s they span (67 %): the accelerometer's run "
-            "from 0 to 29.98 s, the gyro's from 10.01 to 29.99 s after the accelerometer's first sample; ehm joins them "
-            "over their common span") in one_sentence(exc)
+            "from 0 to 29.98 s, the gyro's from 10.01 to 29.99 s after the accelerometer's first sample; "
+            "ehm joins them over their common span") in one_sentence(exc)
     assert "must cover 90 % of theirs" in str(exc.value)
     # the same on the command line (2 s of the files, gravity taken out: a seat motion)
     short = t_acc < 2.0
@@ -334,11 +336,13 @@ def test_a_cut_comes_before_the_checks(tmp_path):
     bad = frame.astype(object)
     bad.loc[10, "AccX"] = "x"
     bad.to_csv(path, index=False)
-    assert read_motion(path, channels=NAMES, start_s=1.0).n_samples == t.size - 100
+    with pytest.warns(EhmWarning, match="taken to include gravity and is levelled"):
+        assert read_motion(path, channels=NAMES, start_s=1.0).n_samples == t.size - 100
     with pytest.raises(InputError, match=r"log.csv, line 12, column AccX \(channel ax\): 'x' is not a number\."):
         read_motion(path, channels=NAMES, start_s=0.05)
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_the_cut_on_the_command_line_and_in_a_study_file(tmp_path, capsys):
     path = tmp_path / "phone.csv"
     phone_log(path, duration_s=12.0, settle_s=3.0, gravity=False)  # (the linear route's small inputs)
@@ -383,6 +387,7 @@ def test_a_gyro_file_with_nothing_inside_the_cut_is_refused_not_dropped():
 # --------------------------------------------------------------------------
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_an_earth_axis_log_is_read_as_it_is_with_one_note_and_what_it_cannot_take_is_refused(tmp_path, capsys):
     # SYNTHETIC Android log already turned into earth axes by the phone (x east, y north, z up, gravity on z)
     clock0 = 12_893_233_616_460
@@ -409,6 +414,25 @@ def test_an_earth_axis_log_is_read_as_it_is_with_one_note_and_what_it_cannot_tak
         assert words in one_sentence(exc)
     # the same from the command line
     out = tmp_path / "out"
-    assert main(["simulate", "--motion", str(tmp_path / "earth.csv"), "--frame", "earth", "--channel", "time=uptimeNanos",
-                 "--channel", "ax=x", "--channel", "ay=y", "--channel", "az=z", "--end", "2", "--out", str(out)]) == 0
+    assert main(["simulate", "--motion", str(tmp_path / "earth.csv"), "--frame", "earth",
+                 "--channel", "time=uptimeNanos", "--channel", "ax=x", "--channel", "ay=y", "--channel", "az=z",
+                 "--end", "2", "--out", str(out)]) == 0
     assert "earth axes (x east, y north, z up) are not the vehicle's" in capsys.readouterr().err
+
+
+def test_mounting_as_roll_pitch_yaw_in_degrees():
+    """Issue 32: read_motion(..., mounting=(0, 90, -180)) was refused ("mounting must be a scipy Rotation or a 3x3
+    rotation matrix") while --mounting=0,90,-180 is the documented way on the command line.  Exact: the same
+    rotation applied to the same samples."""
+    t = np.arange(0, 3.0, 0.01)
+    rng = np.random.default_rng(0)
+    acc = 0.3 * rng.standard_normal((t.size, 3))
+    frame = pd.DataFrame({"time_s": t, "ax_mps2": acc[:, 0], "ay_mps2": acc[:, 1], "az_mps2": acc[:, 2]})
+    R = mounting_rotation("0,90,-180").as_matrix()
+    expected = read_motion(frame, mounting=mounting_rotation(0, 90, -180)).acc_mps2
+    np.testing.assert_allclose(expected, acc @ R.T, atol=1e-12)
+    for mounting in ((0, 90, -180), [0, 90, -180], np.array([0.0, 90.0, -180.0]), "0,90,-180"):
+        np.testing.assert_array_equal(read_motion(frame, mounting=mounting).acc_mps2, expected)
+    np.testing.assert_array_equal(mounting_matrix((0, 90, -180)), R)  # ehm.from_imu takes it the same way
+    with pytest.raises(ehm.errors.InputError, match=r"give three angles ROLL,PITCH,YAW \(degrees\)"):
+        read_motion(frame, mounting=(0, 90))

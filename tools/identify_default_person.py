@@ -18,11 +18,16 @@ exploratory search reached from the ehm authors' hand-tuned ones):
    with bounds of a quarter either way, through the ``ehm fit`` command as a user would run it.
 
 Then :func:`ehm.validate` on both results; the one that passes every check (stage 2's, when it does) is the
-identified person.  Everything goes to ``--out``: the reference curves, both parameter files, the validation
-tables and their figures (``validation_<stage>_<axis>.png``).  Takes about 6 minutes on two cores (stage 1: 106
-evaluations of about 1.5 s; stage 2: 162 evaluations and a time-domain check).
+identified person.  Everything goes to ``--out``, a new folder: the reference curves, both stages' parameter
+files, the validation tables and their figures (``validation_<stage>_<axis>.png``), and the identified person as a
+whole parameter file, ``identified_params.toml`` (the shipped file's text with the identified values, graded
+``identified``).  Takes about 6 minutes on two cores (stage 1: 106 evaluations of about 1.5 s; stage 2: 162
+evaluations and a time-domain check).
 
-    python benchmarks/identify_default_person.py --out identified/
+    python tools/identify_default_person.py --out identified/
+
+The shipped parameters (``src/ehm/data/default_params.toml``) change only when their path is named:
+``--write-defaults src/ehm/data/default_params.toml`` writes the identified values into that file as well.
 """
 
 from __future__ import annotations
@@ -42,7 +47,7 @@ import ehm
 from ehm import references
 from ehm.cli import main as ehm_main
 from ehm.frf import FrfTable
-from ehm.params import Parameters
+from ehm.params import Parameters, default_params_path
 from ehm.plotting import plot_validation
 from ehm.transfer import Curve
 from ehm.validation import validate
@@ -101,7 +106,8 @@ CURVE_HZ = np.round(np.arange(1.0, 12.0 + 1e-9, 0.25), 6)  # the paper's band fo
 MASS_HZ = np.round(np.arange(1.0, 20.0 + 1e-9, 0.25), 6)
 LOW_HZ = (0.5, 1.5)
 LOW_GAIN_MAX = 1.12
-DEFAULTS = Path(__file__).resolve().parents[1] / "src" / "ehm" / "data" / "default_params.toml"
+#: The shipped parameter file: the template of ``identified_params.toml`` (never written unless named).
+SHIPPED = Path(default_params_path())
 
 
 def paths(name: str) -> list[str]:
@@ -206,10 +212,11 @@ def with_bounds(p: Parameters, factor: float) -> Parameters:
     return q
 
 
-def write_into_defaults(identified: Parameters, path: Path, source: str = "identified") -> None:
-    """Put the free values of ``identified`` into the shipped parameter file's text, graded ``identified`` with
-    ``source`` (its comments and layout kept; each value's line found in its own section)."""
-    lines = path.read_text(encoding="utf-8").splitlines()
+def write_into_defaults(identified: Parameters, template: Path, target: Path, source: str = "identified") -> None:
+    """Write ``target``: the parameter file ``template``'s text with the free values of ``identified`` in it, graded
+    ``identified`` with ``source`` (its comments and layout kept; each value's line found in its own section).
+    ``template`` is only read (unless it is ``target``)."""
+    lines = template.read_text(encoding="utf-8").splitlines()
     section = None
     for i, line in enumerate(lines):
         m = re.match(r"\[([^\]]+)\]", line)
@@ -235,7 +242,7 @@ def write_into_defaults(identified: Parameters, path: Path, source: str = "ident
             body = re.sub(r'grade = "[^"]*"', 'grade = "identified"', body)
             body = re.sub(r'source = "[^"]*"', f'source = "{source}"', body)
             lines[i] = f"{key} = {{{body}}}"
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    target.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
 def _fmt(v: float) -> str:
@@ -243,17 +250,22 @@ def _fmt(v: float) -> str:
     return repr(float(f"{float(v):.4g}"))
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", required=True, type=Path)
     ap.add_argument("--start", type=Path, help="start parameter file (default: the shipped person with START's values)")
     ap.add_argument("--max-evals", type=int, default=300, help="stage 1's evaluations (default 300)")
     ap.add_argument("--skip-search", action="store_true", help="start stage 2 from --start (no stage 1)")
-    ap.add_argument("--write-defaults", action="store_true",
-                    help="write the identified values into src/ehm/data/default_params.toml (grade identified)")
-    args = ap.parse_args()
+    ap.add_argument("--write-defaults", type=Path, metavar="PATH",
+                    help="also write the identified values into this parameter file (grade identified); the shipped "
+                         "one changes only when named: --write-defaults src/ehm/data/default_params.toml")
+    args = ap.parse_args(argv)
     out = args.out
-    out.mkdir(parents=True, exist_ok=False)
+    if args.write_defaults is not None and not args.write_defaults.is_file():
+        ap.error(f"--write-defaults names {args.write_defaults}, which is no parameter file; name an existing one")
+    if out.exists():
+        ap.error(f"--out {out} exists; name a new folder (nothing is written into an earlier result)")
+    out.mkdir(parents=True)
     say = lambda line: print(line, flush=True)  # noqa: E731
     base = Parameters.load(args.start).seated("erect", "none")
     if args.start is None:
@@ -286,10 +298,13 @@ def main() -> int:
     say(f"\nidentified: {chosen or 'none (no stage passes every check)'}")
     (out / "summary.json").write_text(json.dumps({"identified": chosen, **{k: v.as_dict() for k, v in results.items()}},
                                                  indent=1, default=str))
-    if chosen and args.write_defaults:
-        path = {"band search": out / "band_search.toml", "ehm fit": out / "fitted.toml"}[chosen]
-        write_into_defaults(Parameters.load(path), DEFAULTS)
-        say(f"wrote the identified values into {DEFAULTS}")
+    if chosen:
+        identified = Parameters.load({"band search": out / "band_search.toml", "ehm fit": out / "fitted.toml"}[chosen])
+        write_into_defaults(identified, SHIPPED, out / "identified_params.toml")
+        say(f"wrote the identified person to {out / 'identified_params.toml'}")
+        if args.write_defaults is not None:
+            write_into_defaults(identified, args.write_defaults, args.write_defaults)
+            say(f"wrote the identified values into {args.write_defaults}")
     return 0 if chosen else 1
 
 

@@ -1,14 +1,11 @@
-"""Issue 31, part 2: batch folders as safe as run folders, and the output-folder cases a user reported.
-
-Every case is a user's report; each test fails on the ehm before this change and passes after.  Every file here is
-SYNTHETIC (short generated runs, a few bytes of text, a generated drive log).  No test has a numerical tolerance:
-each checks the exit code, the sentence and the files' bytes exactly; the time limits are generous bounds on
-"before any work" (a refusal takes well under a second, the runs it would have started take seconds).
+"""ehm never deletes a file it did not write: an output folder is replaced only when ehm's manifest lists every file
+in it.  Every file here is SYNTHETIC (random bytes or short generated runs).
 """
 
 from __future__ import annotations
 
 import errno
+import hashlib
 import json
 import os
 import stat
@@ -19,13 +16,196 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import ehm
+from ehm import runfiles
 from ehm.cli import main
+from ehm.errors import InputError
 from ehm.io import MANIFEST_NAME, read_manifest
-from test_user_files import _one_error_line, _tree  # the user-file tests' own helpers
+from ehm.outdir import RunFolder
 
-dask_and_pyarrow = pytest.mark.skipif(
-    not all(__import__("importlib").util.find_spec(m) for m in ("dask", "distributed", "pyarrow")),
-    reason="batch studies need ehm[batch]")
+
+def _tree(folder: Path) -> dict[str, str]:
+    """Every file under ``folder`` with the SHA-256 of its bytes."""
+    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def _one_error_line(err: str) -> str:
+    lines = [ln for ln in err.replace("\r", "\n").splitlines() if ln.strip()]
+    assert "Traceback" not in err
+    assert lines[-1].startswith("ehm: error: "), err
+    return lines[-1]
+
+
+def _rerun_is_refused_and_keeps(out: Path, capsys) -> str:
+    """Run simulate into ``out`` again: refused (exit 2) with one sentence, every file left byte-identical."""
+    before = _tree(out)
+    capsys.readouterr()
+    assert main(["simulate", "--duration", "1", "--out", str(out)]) == 2
+    err = _one_error_line(capsys.readouterr().err)
+    assert _tree(out) == before
+    return err
+
+
+def _user_folder(tmp_path: Path, layout: str) -> Path:
+    """The three folders a tester lost: own videos, files that happen to share ehm's names, videos one folder down."""
+    rng = __import__("numpy").random.default_rng(0)
+    files = {"videos": ["holiday.mp4", "clip.gif"],
+             "ehm_names": ["report.html", "summary.json"],
+             "nested": ["2024/wedding.mp4"]}[layout]
+    folder = tmp_path / layout
+    for name in files:
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
+        (folder / name).write_bytes(rng.bytes(100_000))
+    return folder
+
+
+@pytest.mark.parametrize("layout", ["videos", "ehm_names", "nested"])
+@pytest.mark.parametrize("command", [["simulate", "--duration", "3"], ["demo", "--duration", "40"],
+                                     ["assess", "--motion", "road"]])
+def test_a_folder_of_the_users_files_is_refused_and_kept(tmp_path, capsys, layout, command):
+    folder = _user_folder(tmp_path, layout)
+    before = _tree(folder)
+    assert main([*command, "--out", str(folder)]) == 2
+    err = _one_error_line(capsys.readouterr().err)
+    assert "ehm did not write" in err and "give a new or empty folder" in err
+    assert _tree(folder) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == [layout]  # no staging folder left beside it
+
+
+def test_the_manifest_lists_the_command_version_and_every_file(tmp_path):
+    out = tmp_path / "run"
+    assert main(["simulate", "--duration", "1", "--plot", "--out", str(out)]) == 0
+    manifest = read_manifest(out)
+    assert manifest["written_by"] == "ehm" and manifest["state"] == "complete"
+    assert manifest["ehm_version"] == ehm.__version__
+    assert manifest["command"] == f"ehm simulate --duration 1 --plot --out {out}"
+    files = {p.name: p.stat().st_size for p in out.iterdir() if p.name != MANIFEST_NAME}
+    assert manifest["files"] == files and "time_histories.png" in files
+
+
+def test_the_demos_nested_folders_are_listed(tmp_path):
+    out = tmp_path / "demo"
+    assert main(["demo", "--duration", "40", "--axes", "z", "--out", str(out)]) == 0
+    listed = read_manifest(out)["files"]
+    assert {"z/timeseries.csv", "z/animation.gif", "transmissibility.csv"} <= set(listed)
+    assert set(listed) == {p.relative_to(out).as_posix() for p in out.rglob("*")
+                           if p.is_file() and p.relative_to(out).as_posix() != MANIFEST_NAME}
+    assert main(["demo", "--duration", "40", "--axes", "z", "--out", str(out)]) == 0  # its own folder: replaced
+
+
+@pytest.mark.parametrize("change", ["added", "added_below", "resized", "link"])
+def test_an_ehm_folder_that_the_user_changed_is_refused(tmp_path, capsys, change):
+    out = tmp_path / "run"
+    assert main(["simulate", "--duration", "1", "--method", "nonlinear", "--out", str(out)]) == 0
+    if change == "added":
+        (out / "notes.txt").write_text("mine")
+    elif change == "added_below":
+        (out / "mine").mkdir()
+        (out / "mine" / "summary.json").write_text("{}")
+    elif change == "resized":
+        with open(out / "summary.json", "a") as fh:
+            fh.write("\n")
+    else:
+        (out / "link.csv").symlink_to(tmp_path)
+    err = _rerun_is_refused_and_keeps(out, capsys)
+    name = {"added": "notes.txt", "added_below": "mine/summary.json", "resized": "summary.json",
+            "link": "link.csv"}[change]
+    assert name in err and "give a new or empty folder" in err
+
+
+def test_a_folder_without_a_manifest_is_refused_whatever_its_names(tmp_path, capsys):
+    # a folder from an ehm without manifests, or a user's: names alone are no evidence
+    out = tmp_path / "run"
+    assert main(["simulate", "--duration", "1", "--method", "nonlinear", "--out", str(out)]) == 0
+    (out / MANIFEST_NAME).unlink()
+    assert "no ehm manifest" in _rerun_is_refused_and_keeps(out, capsys)
+
+
+def test_an_animation_drawn_into_a_run_folder_joins_its_manifest(tmp_path):
+    out = tmp_path / "run"
+    assert main(["simulate", "--duration", "1", "--method", "nonlinear", "--out", str(out)]) == 0
+    assert main(["animate", str(out), "--out", str(out / "a.gif"), "--max-frames", "3"]) == 0
+    assert read_manifest(out)["files"]["a.gif"] == (out / "a.gif").stat().st_size
+    assert main(["simulate", "--duration", "1", "--method", "nonlinear", "--out", str(out)]) == 0
+    assert not (out / "a.gif").exists()
+
+
+def test_a_file_added_while_the_run_goes_keeps_the_folder(tmp_path):
+    out = tmp_path / "run"
+    with RunFolder(out) as tmp:
+        (tmp / "summary.json").write_text('{"run": 1}')
+    with pytest.raises(InputError, match="added while the run went on") as info:
+        with RunFolder(out) as tmp:
+            (tmp / "summary.json").write_text('{"run": 2}')
+            (out / "holiday.mp4").write_bytes(b"mine")  # the user saves a file there meanwhile
+    assert (out / "holiday.mp4").read_bytes() == b"mine"
+    assert json.loads((out / "summary.json").read_text()) == {"run": 1}
+    kept = Path(str(info.value).rsplit(" is in ", 1)[1].rstrip("."))
+    assert json.loads((kept / "summary.json").read_text()) == {"run": 2}
+
+
+def test_a_full_disk_during_simulate_is_one_sentence(tmp_path, capsys, monkeypatch):
+    # ENOSPC on a write, and again when the half-written files are closed (closing flushes)
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    real_write, calls = runfiles._CsvStream.write, []
+
+    def full_from_the_second_chunk(self, header, data):  # the poses' raw files are open by then
+        calls.append(1)
+        if len(calls) > 1:
+            full()
+        real_write(self, header, data)
+
+    monkeypatch.setattr(runfiles._CsvStream, "write", full_from_the_second_chunk)
+    real_remove_raw = runfiles._PoseStream.remove_raw
+
+    class FullOnClose:  # closing flushes the buffer: on a full disk that fails again
+        def __init__(self, fh):
+            self.fh = fh
+
+        def close(self):
+            self.fh.close()
+            full()
+
+    def remove_raw_on_a_full_disk(self):
+        self.fh = {k: FullOnClose(f) for k, f in self.fh.items()}
+        real_remove_raw(self)
+
+    monkeypatch.setattr(runfiles._PoseStream, "remove_raw", remove_raw_on_a_full_disk)
+    out = tmp_path / "run"
+    assert main(["simulate", "--duration", "30", "--out", str(out)]) == 2
+    assert len(calls) == 2
+    err = _one_error_line(capsys.readouterr().err)
+    assert err == f"ehm: error: {out}: cannot write the run's files (No space left on device)."
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_file_edited_in_place_at_the_same_size_is_the_users(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["simulate", "--duration", "1", "--method", "nonlinear", "--out", str(out)]) == 0
+    text = (out / "summary.json").read_text()
+    (out / "summary.json").write_text(text.replace("0", "1", 1))  # same length, other bytes, a later time
+    assert "summary.json, which was changed after ehm wrote it" in _rerun_is_refused_and_keeps(out, capsys)
+
+
+def test_a_picture_drawn_into_a_demos_run_folder_keeps_the_demo_replaceable(tmp_path):
+    out = tmp_path / "demo"
+    assert main(["demo", "--duration", "40", "--axes", "z", "--out", str(out)]) == 0
+    assert main(["animate", str(out / "z"), "--out", str(out / "z" / "a.gif"), "--max-frames", "3"]) == 0
+    assert read_manifest(out / "z")["files"]["a.gif"] == (out / "z" / "a.gif").stat().st_size
+    assert read_manifest(out)["files"]["z/a.gif"] == (out / "z" / "a.gif").stat().st_size
+    assert main(["demo", "--duration", "40", "--axes", "z", "--out", str(out)]) == 0  # still ehm's: replaced
+    assert not (out / "z" / "a.gif").exists()
+
+
+# ==================================================================================================================
+# Batch folders as safe as run folders, and the output-folder cases users reported.  Every file here is SYNTHETIC
+# (short generated runs, a few bytes of text, a generated drive log).  No test has a numerical tolerance: each
+# checks the exit code, the sentence and the files' bytes exactly; the time limits are generous bounds on "before
+# any work" (a refusal takes well under a second, the runs it would have started take seconds).
+# ==================================================================================================================
 
 #: The smallest study: one linear-model transmissibility run (a fraction of a second in its worker).
 TINY_STUDY = '[study]\nname = "tiny"\ncompute = ["transmissibility"]\n[input]\naxes = ["z"]\n'
@@ -45,7 +225,8 @@ def _run(out: Path, *extra: str) -> int:
 
 # --- ehm batch --out replaces the user's own results.csv --------------------------------------------------------------
 
-@dask_and_pyarrow
+@pytest.mark.requires_dask
+@pytest.mark.requires_pyarrow
 def test_batch_refuses_a_folder_holding_the_users_results_csv_before_any_work(tmp_path, capsys):
     """User case: `ehm batch --out` replaced the user's own results.csv (rc 0, no word).  --out takes a folder only
     (a file there is refused as before); a folder holding a results.csv ehm did not write, or one it wrote that was
@@ -217,7 +398,9 @@ def _drive_with_a_gap(path: Path) -> None:
         f"{ti:.3f},{a:.4f},{b:.4f},{c:.4f}\n" for ti, (a, b, c) in zip(t, acc)))
 
 
-@dask_and_pyarrow
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
+@pytest.mark.requires_dask
+@pytest.mark.requires_pyarrow
 def test_batch_warnings_are_ehm_warnings_on_their_own_lines(tmp_path, capfd):
     """User case: batch warnings printed raw Python with file and line (the workers' default format), glued to the
     progress line.  Two runs on one worker process, each warning that its drive's gap was bridged: the warnings
@@ -238,7 +421,8 @@ def test_batch_warnings_are_ehm_warnings_on_their_own_lines(tmp_path, capfd):
 
 # --- the gyro file of a batch study ----------------------------------------------------------------------------------
 
-@dask_and_pyarrow
+@pytest.mark.requires_dask
+@pytest.mark.requires_pyarrow
 def test_a_missing_gyro_file_is_named_as_the_gyro(tmp_path, capsys):
     """User case: a batch study's missing gyro file was reported as `[input] drive`."""
     _drive_with_a_gap(tmp_path / "drive.csv")
@@ -252,7 +436,7 @@ def test_a_missing_gyro_file_is_named_as_the_gyro(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["drive.csv", "study.toml"]
 
 
-# --- review of issue 31: batch bookkeeping, a killed study, a study folder of an earlier ehm ---------------------------
+# --- review of issue 31: batch bookkeeping, a killed study, a study folder of an earlier ehm -------------------
 
 def _manifest_writes(monkeypatch) -> list:
     """Count the writes of a manifest made through the atomic JSON writer of ehm.outdir (how it rewrites a folder's
@@ -270,7 +454,8 @@ def _manifest_writes(monkeypatch) -> list:
     return writes
 
 
-@dask_and_pyarrow
+@pytest.mark.requires_dask
+@pytest.mark.requires_pyarrow
 def test_a_study_writes_its_manifest_at_most_about_once_a_second(tmp_path, monkeypatch):
     """Review case: batch bookkeeping grew quadratically with the number of runs (every finished run re-read,
     re-wrote and fsynced the whole manifest: 4000 records took 43 s, the runs' results waiting behind it).  300
@@ -329,7 +514,8 @@ if __name__ == "__main__":
 '''
 
 
-@dask_and_pyarrow
+@pytest.mark.requires_dask
+@pytest.mark.requires_pyarrow
 def test_a_study_killed_before_its_manifest_listed_its_records_resumes(tmp_path, capsys):
     """Review case: the manifest is now written at most about once a second, so a study killed in between (SIGKILL,
     a power cut) leaves records that it does not list.  The next `ehm batch` must neither refuse them (ehm wrote
@@ -387,7 +573,8 @@ def test_sigterm_writes_the_manifest_of_a_folder_being_added_to(tmp_path):
     assert set(listed["files"]) == {"runs/0.json", "runs/1.json", "runs/2.json"} and listed["open"] is False
 
 
-@dask_and_pyarrow
+@pytest.mark.requires_dask
+@pytest.mark.requires_pyarrow
 def test_a_study_folder_of_an_earlier_ehm_says_it_cannot_be_resumed_and_what_to_do(tmp_path, capsys):
     """Review case: a study folder written by an earlier ehm (no manifest) was refused with "give a new or empty
     folder" only, with no word of why a study folder of ehm's own could not be resumed.  It is known by its

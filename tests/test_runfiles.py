@@ -20,10 +20,9 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm import runfiles
+from ehm import outdir, runfiles
 from ehm.cli import main
 from ehm.errors import InputError
-from ehm import outdir
 from ehm.io import MANIFEST_NAME
 from ehm.outdir import RunFolder, check_output_folder, signals_held
 
@@ -39,12 +38,6 @@ def _siblings(path: Path) -> list[str]:
     """Hidden staging leftovers of ``path`` in its parent."""
     return sorted(p.name for p in path.parent.iterdir() if p.name.startswith(f".{path.name}."))
 
-
-@pytest.fixture(scope="module")
-def human():
-    h = ehm.SeatedHuman()
-    h.settle()
-    return h
 
 
 # ------------------------------------------------------------------------------------------ run folders
@@ -104,7 +97,6 @@ def test_interrupted_simulate_keeps_the_earlier_run(tmp_path, human):
 @pytest.mark.parametrize("exchange", [True, False])
 def test_swap_with_and_without_an_atomic_exchange(tmp_path, monkeypatch, exchange):
     # Linux exchanges the two folders in one step; elsewhere (or on file systems that cannot) two renames.
-    from ehm import outdir
 
     if not exchange:
         monkeypatch.setattr(outdir, "_exchange", lambda a, b: False)
@@ -114,7 +106,7 @@ def test_swap_with_and_without_an_atomic_exchange(tmp_path, monkeypatch, exchang
             (tmp / "summary.json").write_text(f'{{"run": {n}}}')
             (tmp / f"frf_{n}.csv").write_text("x")
         assert json.loads((out / "summary.json").read_text()) == {"run": n}
-        assert sorted(p.name for p in out.iterdir()) == [MANIFEST_NAME, "frf_%d.csv" % n, "summary.json"]
+        assert sorted(p.name for p in out.iterdir()) == [MANIFEST_NAME, f"frf_{n}.csv", "summary.json"]
         assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]
 
 
@@ -125,7 +117,8 @@ def test_a_linked_run_folder_is_replaced_behind_its_link(tmp_path):
     (tmp_path / "link").symlink_to(real)
     with RunFolder(tmp_path / "link") as tmp:
         (tmp / "summary.json").write_text('{"run": 2}')
-    assert (tmp_path / "link").is_symlink() and json.loads((tmp_path / "link" / "summary.json").read_text()) == {"run": 2}
+    assert (tmp_path / "link").is_symlink()
+    assert json.loads((tmp_path / "link" / "summary.json").read_text()) == {"run": 2}
     assert sorted(p.name for p in tmp_path.iterdir()) == ["link", "real"]
 
 
@@ -166,7 +159,8 @@ def test_stale_staging_of_a_dead_process_is_removed(tmp_path):
                            str(tmp_path)], capture_output=True, text=True, check=True)
     pid, stale = made.stdout.split()
     (Path(stale) / "timeseries.csv").write_text("half a file")
-    empty = tmp_path / f".run.old-{pid}-def"  # an empty folder of that kind of name: no mark, kept (names prove nothing)
+    # an empty folder of that kind of name: no mark, kept (names prove nothing)
+    empty = tmp_path / f".run.old-{pid}-def"
     empty.mkdir()
     lookalike = tmp_path / f".run.partial-{pid}-xyz"  # the same kind of name, but not ehm's: kept
     lookalike.mkdir()
@@ -277,7 +271,8 @@ def test_streamed_run_equals_the_in_memory_run(tmp_path, human):
     every_step_hz = 1 / human.model.mj.opt.timestep  # the in-memory run writes every step
     summary = human.simulate_to(tmp_path / "stream", motion, output_rate_hz=every_step_hz, chunk_s=0.25,
                                 formats=("csv", "parquet"), method="nonlinear")
-    assert (tmp_path / "stream" / "timeseries.csv").read_bytes() == (tmp_path / "memory" / "timeseries.csv").read_bytes()
+    streamed, in_memory = (tmp_path / "stream" / "timeseries.csv"), (tmp_path / "memory" / "timeseries.csv")
+    assert streamed.read_bytes() == in_memory.read_bytes()
     pq = pytest.importorskip("pyarrow.parquet")
     table = pq.read_table(tmp_path / "stream" / "timeseries.parquet")
     header, data = run.columns()
@@ -339,6 +334,7 @@ def test_memory_does_not_grow_with_the_run(tmp_path, human, monkeypatch):
     assert peaks["memory", 16.0] > 2 * peaks["memory", 4.0], peaks
 
 
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_output_rate_must_divide_the_model_rate(tmp_path, capsys):
     for rate, words in (("300", "does not divide the model's 1000 Hz"), ("0", "above 0"), ("2000", "at most")):
         assert main(["simulate", "--duration", "1", "--dt", "0.001", "--output-rate", rate,
