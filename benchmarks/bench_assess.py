@@ -12,8 +12,8 @@ import time
 import tracemalloc
 
 import ehm
-from ehm.assessment import assess
-from ehm.drives import city_drive
+from ehm.analysis.assessment import assess
+from ehm.inputs.drives import city_drive
 
 
 def main() -> None:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
-from ehm.batch import load_study, run_study
+from ehm.interfaces.batch import load_study, run_study
 
 STUDY = """
 [study]

@@ -1,12 +1,12 @@
 """Step latency of the native FMU in a plain C host, against the Python stepping interface.
 
-Exports the default person's native unit (``ehm.fmu_native``), compiles ehm's example C host
+Exports the default person's native unit (``ehm.interfaces.fmu_native``), compiles ehm's example C host
 (``native/fmu_host.c``) and runs it with an empty environment (``env -i``) over STEPS communication steps of
 one model step each (the default step of the parameter file), unpaced: each step is fmi2SetReal (3 inputs),
 fmi2DoStep, fmi2GetReal (all outputs).  Input: the SYNTHETIC rough road shipped with ehm (translation only),
 resampled to the model step.  For reference it also times MuJoCo's own work per step (mj_step plus the
 velocity evaluation the unit does after a communication step) in a small C program on the unit's libmujoco,
-and ``ehm.stepping.Simulator.step`` (comfort figures off) on the same input.
+and ``ehm.analysis.stepping.Simulator.step`` (comfort figures off) on the same input.
 
 The machine may be shared: the load average before and after each measurement is printed with it.  The tail of a
 latency is mostly the machine's: a C loop that only reads the clock measures how often and for how long the machine
@@ -14,7 +14,7 @@ takes the CPU away from a busy thread, and the script prints the p99 that a step
 would have with those interruptions (``p99_floor_us``), for the unit and for the control.
 
 With --rotating, the unit is exported with a rotating seat and driven by the SYNTHETIC city drive with seat
-rotation (ehm.drives.city_drive: translation and angular velocity), and only the unit is timed.
+rotation (ehm.inputs.drives.city_drive: translation and angular velocity), and only the unit is timed.
 
 Usage: python benchmarks/bench_fmu_native.py [--steps 100000] [--python-steps 100000] [--repeat 1] [--rotating]
 """
@@ -35,9 +35,10 @@ from pathlib import Path
 import numpy as np
 
 import ehm
-from ehm import engine, fmu_native
-from ehm.readers import load_motion_csv
-from ehm.stepping import Simulator, run_realtime
+from ehm import engine
+from ehm.analysis.stepping import Simulator, run_realtime
+from ehm.inputs.readers import load_motion_csv
+from ehm.interfaces import fmu_native
 
 MUJOCO_ONLY_C = r"""
 #define _POSIX_C_SOURCE 200809L
@@ -156,7 +157,7 @@ def _road(dt: float, steps: int) -> np.ndarray:
 
 def _city(dt: float, steps: int) -> np.ndarray:
     """Seat acceleration and angular velocity (n, 6) of the SYNTHETIC city drive, resampled to dt, repeated."""
-    from ehm.drives import city_drive
+    from ehm.inputs.drives import city_drive
 
     motion = city_drive(60.0, seed=0).resample(dt)
     rows = np.column_stack([motion.acc_mps2, motion.angvel_radps])
@@ -256,7 +257,7 @@ def main() -> None:
         sim = Simulator(comfort=False)
         before = _load()
         rep = run_realtime(sim, _road(sim.dt_s, args.python_steps), pace=False)
-        print(f"Python ehm.stepping.Simulator.step (comfort off), {rep.n_steps} steps: "
+        print(f"Python ehm.analysis.stepping.Simulator.step (comfort off), {rep.n_steps} steps: "
               f"p50 {rep.median_s * 1e6:.1f} us, "
               f"p99 {rep.p99_s * 1e6:.1f} us, max {rep.worst_s * 1e6:.0f} us; {before}")
         best = min(native, key=lambda v: v[1])

@@ -14,10 +14,10 @@ import numpy as np
 
 import ehm
 from ehm import engine
-from ehm.fit import fit, free_parameters
-from ehm.frf import FrfTable, linear_frf, time_domain_frf
-from ehm.params import Parameters
-from ehm.study import STUDY_PATHS
+from ehm.analysis.fit import fit, free_parameters
+from ehm.analysis.frf import FrfTable, linear_frf, time_domain_frf
+from ehm.analysis.study import STUDY_PATHS
+from ehm.body.params import Parameters
 
 
 def main() -> None:

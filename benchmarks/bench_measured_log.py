@@ -35,7 +35,7 @@ def write_log(path: Path, hours: float, rate_hz: float, scale: float = 1.0) -> i
     """The SYNTHETIC log, written 10 minutes at a time (the writer's memory is not what is measured)."""
     from asammdf import MDF, Signal
 
-    from ehm.drives import city_drive, rough_road
+    from ehm.inputs.drives import city_drive, rough_road
 
     duration = hours * 3600.0
     piece = 600.0
@@ -74,7 +74,7 @@ def main() -> None:
     args = ap.parse_args()
 
     import ehm
-    from ehm.assessment import assess
+    from ehm.analysis.assessment import assess
 
     with tempfile.TemporaryDirectory() as tmp:
         where = Path(args.keep) if args.keep else Path(tmp)

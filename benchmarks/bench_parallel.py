@@ -67,7 +67,7 @@ class _Replay:
 def _figures(motion, human, run) -> dict:
     import warnings
 
-    from ehm.assessment import assess
+    from ehm.analysis.assessment import assess
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -108,7 +108,7 @@ def compare(motion, human, cont, seg, joins_s) -> dict:
 
 def measure_lead_in(args) -> None:
     """Segmented (4 segments on 2 workers) against continuous, for several lead-ins, with and without ramp-in."""
-    from ehm.results import concatenate_runs
+    from ehm.outputs.results import concatenate_runs
     from ehm.routes import parallel as segments
     from ehm.routes.parallel import stream_parallel
 
@@ -154,7 +154,7 @@ def measure_lead_in(args) -> None:
 
 def one(args) -> dict:
     """One configuration in this (fresh) process: build, settle, run; wall time and peak memory."""
-    from ehm.results import concatenate_runs
+    from ehm.outputs.results import concatenate_runs
     from ehm.routes.parallel import stream_parallel
 
     motion = _motion(args)

@@ -17,8 +17,8 @@ import time
 import warnings
 
 import ehm
-from ehm.convergence import StepWarning, check_step
-from ehm.drives import city_drive
+from ehm.analysis.convergence import StepWarning, check_step
+from ehm.inputs.drives import city_drive
 
 
 def main() -> None:

@@ -10,8 +10,8 @@ import argparse
 from importlib import resources
 from pathlib import Path
 
-from ehm.readers import load_motion_csv
-from ehm.stepping import Simulator, run_realtime
+from ehm.analysis.stepping import Simulator, run_realtime
+from ehm.inputs.readers import load_motion_csv
 
 
 def main() -> None:

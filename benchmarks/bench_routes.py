@@ -11,7 +11,7 @@ Drives:
 * ``car``: a phone on a car's windshield mount (406 s, about 51 Hz, gravity removed, earth-frame axes: the
   horizontal axes turn with the car's heading, which the seat-level a_v does not see but the body's response
   does);
-* ``city``: a SYNTHETIC city drive of ``--hours`` (the shipped ``ehm.drives.city_drive``: rotating seat);
+* ``city``: a SYNTHETIC city drive of ``--hours`` (the shipped ``ehm.inputs.drives.city_drive``: rotating seat);
 * ``vib``: SYNTHETIC three-axis random vibration, 1 m/s^2 rms, 60 s (``ehm.random_vibration``, 1 ms): the contacts
   slide under vibration rather than manoeuvres.
 
@@ -41,7 +41,7 @@ LOCATIONS = ("seat", "pelvis", "trunk", "head")
 
 def drives(realdata: Path, hours: float, only: set):
     import ehm
-    from ehm.drives import city_drive
+    from ehm.inputs.drives import city_drive
 
     out = {}
     with warnings.catch_warnings():
@@ -77,7 +77,7 @@ def figures(summary: dict) -> dict:
 def person(motion, method: str, cold: bool):
     """The person for ``method``: built, and unless ``cold`` settled and linearised for it."""
     from ehm import SeatedHuman
-    from ehm.assessment import needs_rotating_seat
+    from ehm.analysis.assessment import needs_rotating_seat
 
     human = SeatedHuman(rotating_seat=needs_rotating_seat(motion, method))
     if not cold:
@@ -89,7 +89,7 @@ def person(motion, method: str, cold: bool):
 
 
 def run(motion, method: str, memory: bool = False, repeat: int = 1, cold: bool = False):
-    from ehm.assessment import assess
+    from ehm.analysis.assessment import assess
 
     human = person(motion, method, cold)
     with warnings.catch_warnings():

@@ -24,8 +24,8 @@ from pathlib import Path
 _INPUT_ONLY = """
 import sys
 import ehm
-from ehm.motion import seat_kinematics
-from ehm.readers import load_motion_csv
+from ehm.inputs.motion import seat_kinematics
+from ehm.inputs.readers import load_motion_csv
 human = ehm.SeatedHuman(rotating_seat=True)
 human.settle()
 motion = load_motion_csv(sys.argv[1])
@@ -52,7 +52,7 @@ def main() -> None:
     args = ap.parse_args()
     src = Path(__file__).resolve().parents[1] / "src"
     env = {**os.environ, "PYTHONPATH": f"{src}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
-    ehm = [sys.executable, "-m", "ehm.cli"]
+    ehm = [sys.executable, "-m", "ehm.interfaces.cli"]
     work = Path(tempfile.mkdtemp(prefix="ehm-bench-memory-"))
     peaks = {}
     for duration in args.durations:

@@ -23,8 +23,8 @@ from scipy.spatial.transform import Rotation
 
 import ehm
 from ehm import engine
-from ehm.drives import drive_path
-from ehm.readers import read_motion
+from ehm.inputs.drives import drive_path
+from ehm.inputs.readers import read_motion
 
 BANDS = ((0.1, 0.5), (0.5, 1.0), (1.0, 2.0))
 

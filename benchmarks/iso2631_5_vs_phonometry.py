@@ -1,4 +1,4 @@
-"""ISO 2631-5 spinal dose: ehm (ehm.comfort.spine) against an independent implementation, phonometry.
+"""ISO 2631-5 spinal dose: ehm (ehm.standards.comfort.spine) against an independent implementation, phonometry.
 
 phonometry (MIT, https://github.com/jmrplens/phonometry) computes the lumbar response in the frequency domain
 (Formula 2), ehm with a causal filter at the record's rate.  Both run on the same SYNTHETIC signals: a shock train
@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 from scipy import signal
 
-from ehm.comfort import spine
+from ehm.standards.comfort import spine
 
 _PHONOMETRY = """
 import json, sys, numpy as np

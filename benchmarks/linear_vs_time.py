@@ -19,11 +19,11 @@ from collections import Counter
 import numpy as np
 
 from ehm import engine
+from ehm.analysis.frf import linear_frf, run_curves
+from ehm.analysis.study import STUDY_PATHS
 from ehm.errors import DivergenceError
-from ehm.frf import linear_frf, run_curves
-from ehm.motion import random_vibration
+from ehm.inputs.motion import random_vibration
 from ehm.simulation import SeatedHuman
-from ehm.study import STUDY_PATHS
 
 
 def main() -> None:

@@ -81,7 +81,7 @@ def main() -> None:
         if args.fmu:
             from fmpy import simulate_fmu
 
-            from ehm.fmu import export_fmu
+            from ehm.interfaces.fmu import export_fmu
 
             unit = export_fmu(Path(tmp) / "person.fmu")
             t = np.arange(0.0, 2.0, 0.001)

@@ -4,9 +4,9 @@ Prints the Markdown tables of docs/model.md "Postures and back supports": for ea
 y, vertical z) and point, the in-axis translation (m/s^2 per m/s^2) and the main rotation (rad/s^2 per m/s^2:
 pitch for x and z, roll for y); per condition the peak gain with its frequency, and the mean gain over 0.5-2 Hz,
 where the measurements (Mirakhorlo et al. 2022) find posture and back support matter most.  The exact frequency
-response of each person linearised at rest (ehm.frf.linear_frf: the response to small inputs such as the
+response of each person linearised at rest (ehm.analysis.frf.linear_frf: the response to small inputs such as the
 measurements' 0.3 m/s^2), 0.1-12 Hz.  Takes about ten seconds.  ``--figures DIR`` also draws the gains, one
-grid per input axis (ehm.plotting.plot_frf_grid), into DIR/posture_gains_{x,y,z}.png.
+grid per input axis (ehm.outputs.plotting.plot_frf_grid), into DIR/posture_gains_{x,y,z}.png.
 
     python benchmarks/posture_gains.py > gains.md
     python benchmarks/posture_gains.py --figures figures > gains.md
@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 import ehm
-from ehm.frf import linear_frf
+from ehm.analysis.frf import linear_frf
 
 POSTURES = ("erect", "slouched")
 SUPPORTS = ("none", "low", "high")
@@ -66,7 +66,7 @@ def markdown(result: dict) -> str:
 
 
 def figures(frfs: dict, folder: Path) -> None:
-    from ehm.plotting import plot_frf_grid
+    from ehm.outputs.plotting import plot_frf_grid
 
     folder.mkdir(parents=True, exist_ok=True)
     labelled = [(f"{p}, {s}", t) for (p, s), t in frfs.items()]

@@ -25,9 +25,9 @@ import numpy as np
 
 import ehm
 from ehm import engine
-from ehm.convergence import path_errors
-from ehm.frf import linear_frf
-from ehm.timestep import StepWarning
+from ehm.analysis.convergence import path_errors
+from ehm.analysis.frf import linear_frf
+from ehm.body.timestep import StepWarning
 
 FREQ_HZ = np.arange(0.2, 12.0 + 1e-9, 0.05)  # check_step's band
 

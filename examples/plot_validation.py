@@ -2,7 +2,7 @@
 The default person against the standards
 ========================================
 
-:func:`ehm.validate` evaluates a person against every reference of :mod:`ehm.references`: ISO 2631-5's
+:func:`ehm.validate` evaluates a person against every reference of :mod:`ehm.standards.references`: ISO 2631-5's
 seat-to-lumbar transfer function, Fairley & Griffin's one-mass fit to the measured apparent mass of 60
 seated people, the whole-body mode near 5 Hz, the seat-to-head ranges reported for seated people, and the
 paper's joint-locking findings. Each check gives the model's figure, the band, and whether it passes.
@@ -14,7 +14,7 @@ parameters this version of ehm ships: they are what ``ehm validate`` prints and 
 """
 
 import ehm
-from ehm.plotting import plot_validation
+from ehm.outputs.plotting import plot_validation
 
 validation = ehm.validate()  # the default person, in the references' condition and on its own seat
 print(validation.format_table())

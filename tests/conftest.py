@@ -39,7 +39,7 @@ def _modules(*names: str):
 
 def _c_compiler() -> bool:
     from ehm.errors import InputError
-    from ehm.fmu_native import find_compiler
+    from ehm.interfaces.fmu_native import find_compiler
 
     try:
         find_compiler()
@@ -49,7 +49,7 @@ def _c_compiler() -> bool:
 
 
 def _native_fmu() -> bool:
-    from ehm.fmu_native import native_platform_supported
+    from ehm.interfaces.fmu_native import native_platform_supported
 
     return _modules("fmpy")() and native_platform_supported() and _c_compiler()
 

@@ -9,9 +9,9 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import ehm
-from ehm.animation import _ellipse_params, animate, render_frames
-from ehm.cli import main
 from ehm.errors import InputError
+from ehm.interfaces.cli import main
+from ehm.outputs.animation import _ellipse_params, animate, render_frames
 
 
 @pytest.fixture(scope="module")

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.cli import main
-from ehm.criterion import SMALL_CURVE_FRACTION, compare
-from ehm.frf import FrfTable, linear_frf, read_frf, time_domain_frf
-from ehm.transfer import Curve
+from ehm.analysis.criterion import SMALL_CURVE_FRACTION, compare
+from ehm.analysis.frf import FrfTable, linear_frf, read_frf, time_domain_frf
+from ehm.interfaces.cli import main
+from ehm.standards.transfer import Curve
 
 
 def supported_mass_kg(human) -> dict:
@@ -112,7 +112,7 @@ def test_cli_compare_keep_small_curves(human, tmp_path, capsys):
 def test_top_level_api():
     from ehm import Simulator  # noqa: F401 - the stepping interface is public API
 
-    assert ehm.Simulator is ehm.stepping.Simulator
+    assert ehm.Simulator is ehm.analysis.stepping.Simulator
     for name in ehm.__all__:
         assert hasattr(ehm, name), name
     assert {"Simulator", "read_motion", "from_imu", "FrfTable", "assess", "compare"} <= set(ehm.__all__)

@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.assessment import assess
-from ehm.cli import main
-from ehm.comfort import ComfortAccumulator, frequency_weighting, metrics
-from ehm.drives import city_drive, rough_road
+from ehm.analysis.assessment import assess
 from ehm.errors import EhmWarning, InputError
-from ehm.motion import SeatMotion, seat_kinematics
+from ehm.inputs.drives import city_drive, rough_road
+from ehm.inputs.motion import SeatMotion, seat_kinematics
+from ehm.interfaces.cli import main
+from ehm.standards.comfort import ComfortAccumulator, frequency_weighting, metrics
 
 
 def test_accumulator_equals_batch_metrics():
@@ -162,7 +162,7 @@ def test_motion_file_with_partial_rotation_is_refused(tmp_path, capsys):
 def test_city_drive_sign_conventions():
     # A left turn accelerates the seat to the left (+y) and yaws it positively about z (up); the car
     # rolls outward (to the right: positive roll about x lifts the left side); braking pitches it nose
-    # down (positive pitch about y, which points left).  ehm.drives docstring.
+    # down (positive pitch about y, which points left).  ehm.inputs.drives docstring.
     drive = city_drive(60.0, seed=0)
     k = seat_kinematics(drive.time_s, drive.angvel_radps)
     left = drive.acc_mps2[:, 1] > 1.5

@@ -10,10 +10,10 @@ import pytest
 pytest.importorskip("dask.distributed")
 pq = pytest.importorskip("pyarrow.parquet")
 
-from ehm.batch import load_study, run_study  # noqa: E402
-from ehm.cli import main  # noqa: E402
 from ehm.errors import InputError  # noqa: E402
-from ehm.outdir import record_in_manifest  # noqa: E402
+from ehm.interfaces.batch import load_study, run_study  # noqa: E402
+from ehm.interfaces.cli import main  # noqa: E402
+from ehm.outputs.outdir import record_in_manifest  # noqa: E402
 
 STUDY = """
 [study]
@@ -109,9 +109,9 @@ def test_fit_evaluates_candidates_on_a_dask_cluster():
     from dask.distributed import Client, LocalCluster
 
     import ehm
-    from ehm.fit import fit
-    from ehm.frf import FrfTable, linear_frf
-    from ehm.params import Parameters
+    from ehm.analysis.fit import fit
+    from ehm.analysis.frf import FrfTable, linear_frf
+    from ehm.body.params import Parameters
 
     human = ehm.SeatedHuman(params=Parameters.load().with_values({"joints.t12.z.stiffness_N_per_m": 21000.0}))
     human.settle()
@@ -182,8 +182,8 @@ def test_run_id_covers_inputs_versions_and_parameter_values(tmp_path, monkeypatc
     changed("MuJoCo version")
     monkeypatch.undo()
     # the parameter values actually used: the defaults with the grid's values (here a default changed under it)
-    from ehm import batch
-    from ehm.params import Parameters
+    from ehm.body.params import Parameters
+    from ehm.interfaces import batch
 
     batch._parameters_digest.cache_clear()
     loaded = Parameters.load()
@@ -196,8 +196,8 @@ def test_run_id_covers_inputs_versions_and_parameter_values(tmp_path, monkeypatc
 def test_drives_are_cut_by_time_not_by_sample_count():
     import numpy as np
 
-    from ehm.batch import cut_by_time
-    from ehm.motion import SeatMotion
+    from ehm.inputs.motion import SeatMotion
+    from ehm.interfaces.batch import cut_by_time
 
     # first interval 0.59 s, then 10 ms: a cut by the first interval's sample count kept 20 s for a 5 s request
     t = np.concatenate([[0.0], np.round(np.arange(0.59, 20.0001, 0.01), 2)])
@@ -271,9 +271,10 @@ def test_ctrl_c_ends_a_batch_with_one_line_and_no_worker_tracebacks(tmp_path):
                      '[input]\ndrive = "random"\naxes = ["z"]\nduration_s = 600.0\n'
                      'route = "nonlinear"\n')  # runs long enough to be interrupted
     env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1]), "PYTHONUNBUFFERED": "1", "MPLBACKEND": "Agg"}
-    proc = subprocess.Popen([sys.executable, "-m", "ehm.cli", "batch", str(study), "--out", str(tmp_path / "res"),
-                             "--workers", "2"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
-                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc = subprocess.Popen([sys.executable, "-m", "ehm.interfaces.cli", "batch", str(study), "--out",
+                             str(tmp_path / "res"), "--workers", "2"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         assert proc.stdout.readline().startswith("study ")  # the study file is read: the cluster starts next
         time.sleep(4.0)  # workers started (about 2 s here) and running

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ehm.cli import main
-from ehm.params import Parameters, default_params_path
+from ehm.body.params import Parameters, default_params_path
+from ehm.interfaces.cli import main
 
 REQUIRED_COLUMNS = ["time_s", "seat_ax_mps2", "seat_ay_mps2", "seat_az_mps2"] + [
     f"{p}_{q}" for p in ("pelvis", "trunk", "head", "lumbar")
@@ -158,7 +158,7 @@ def test_demo_writes_files(tmp_path, capsys):
 
 @pytest.mark.parametrize("duration", ["5", "39.9", "nan"])
 def test_demo_refuses_a_duration_too_short_for_its_resolution(tmp_path, capsys, duration):
-    from ehm.cli import DEMO_MIN_SEGMENTS, DEMO_SEGMENT_S
+    from ehm.interfaces.cli import DEMO_MIN_SEGMENTS, DEMO_SEGMENT_S
 
     out = tmp_path / "demo"
     assert main(["demo", "--out", str(out), "--duration", duration, "--axes", "z"]) == 2

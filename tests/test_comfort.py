@@ -1,4 +1,4 @@
-"""Tests for ehm.comfort: ISO 2631-1 weightings, their digital filters and the evaluation values."""
+"""Tests for ehm.standards.comfort: ISO 2631-1 weightings, their digital filters and the evaluation values."""
 
 from __future__ import annotations
 
@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from ehm.comfort import (
+from ehm.errors import EhmWarning, InputError
+from ehm.standards.comfort import (
     WEIGHTINGS,
     ComfortMetrics,
     WeightingFilter,
@@ -22,7 +23,6 @@ from ehm.comfort import (
     weighting_deviation_db,
     weighting_sos,
 )
-from ehm.errors import EhmWarning, InputError
 
 FS = 1000.0  # [Hz], the simulation rate of the package (dt = 1 ms)
 
@@ -130,7 +130,8 @@ RATES_HZ = (50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 10000.0)
 def test_digital_response_follows_analog_up_to_0_4_fs(name, fs):
     """Within 1 dB of the analog magnitude from f1/10 to 0.4 fs wherever |W| > -100 dB (the issue's target).
 
-    Measured (ehm.comfort.weighting_sos docstring): at most 0.40 dB over 24 log-spaced rates from 50 Hz to 20 kHz.
+    Measured (ehm.standards.comfort.weighting_sos docstring): at most 0.40 dB over 24 log-spaced rates from 50 Hz to 20
+    kHz.
     """
     f1 = {"Wf": 0.08}.get(name, 0.4)
     f = np.union1d(np.geomspace(0.1 * f1, 0.4 * fs, 1500), np.linspace(0.1 * f1, 0.4 * fs, 1500))
@@ -164,7 +165,7 @@ def test_every_tabulated_design_is_a_converged_fit():
     tolerances, not because it ran out of evaluations.  A fit cut short stops where its path happens to be, and
     the path moves with rounding: cut at 100 evaluations, 9 of these 42 designs stopped short, and Wf at 10 Hz
     differed by 0.2 % at 0.2 Hz between scipy 1.17 and 1.18.  No tolerance: a yes/no per design."""
-    from ehm.comfort import weighting
+    from ehm.standards.comfort import weighting
 
     short = [(name, fs) for name in WEIGHTINGS for fs in RATES_HZ + (10.0,)
              if (name == "Wf" or fs > 10.0) and not weighting._design(name, fs).converged]
@@ -205,7 +206,7 @@ def test_a_log_at_100_hz_rates_like_the_same_signal_at_1_khz(name, kind):
 def test_band_beyond_nyquist_warns_once():
     import warnings
 
-    from ehm.comfort import weighting
+    from ehm.standards.comfort import weighting
 
     weighting._WARNED.clear()  # the module tested: its record of warnings given
     with pytest.warns(UserWarning, match=r"Wk reaches up to 100 Hz but data sampled at 100 Hz hold nothing "

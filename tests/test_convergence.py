@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.cli import main
-from ehm.convergence import CONVERGED_STEP_S, TOLERANCE, StepWarning, check_step, expected_error
+from ehm.analysis.convergence import CONVERGED_STEP_S, TOLERANCE, StepWarning, check_step, expected_error
 from ehm.errors import InputError
-from ehm.transfer import h1_estimate
+from ehm.interfaces.cli import main
+from ehm.standards.transfer import h1_estimate
 
 
 @pytest.fixture(scope="module")

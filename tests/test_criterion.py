@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from ehm.criterion import compare, curve_criterion, relative_gain
+from ehm.analysis.criterion import compare, curve_criterion, relative_gain
+from ehm.analysis.frf import Curve, FrfTable, read_frf_csv
 from ehm.errors import InputError
-from ehm.frf import Curve, FrfTable, read_frf_csv
 
 HEADER = "input_axis,point,dof,freq_hz,gain,phase_deg,coherence\n"
 

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.batch import output_fields, read_results, write_table
-from ehm.frf import COLUMNS, read_frf_csv
-from ehm.study import STUDY_PATHS, locking_study
+from ehm.analysis.frf import COLUMNS, read_frf_csv
+from ehm.analysis.study import STUDY_PATHS, locking_study
+from ehm.interfaces.batch import output_fields, read_results, write_table
 
 
 @pytest.fixture(scope="module")

@@ -20,10 +20,10 @@ import pytest
 
 import ehm
 from ehm import engine
-from ehm.cli import main
+from ehm.body.params import Parameters
+from ehm.body.tables import joint_names
 from ehm.errors import DivergenceError, EhmWarning, InputError
-from ehm.params import Parameters
-from ehm.tables import joint_names
+from ehm.interfaces.cli import main
 
 
 def _one_line(err: str) -> str:
@@ -59,10 +59,10 @@ def test_build_errors_are_translated():
 # their body mass index as if the user had asked for them (on the command line an extra "ehm: warning:" line)
 @pytest.mark.filterwarnings(r"ignore:a person of 1\.6 m and [0-9.]+ kg:ehm.errors.EhmWarning")
 def test_impossible_body_size_names_segment_and_masses_that_build(tmp_path, capsys):
-    # Scaled segments stay rigid bodies (ehm.scaling.stretched_inertia), but what is left of a segment once its
+    # Scaled segments stay rigid bodies (ehm.person.scaling.stretched_inertia), but what is left of a segment once its
     # tissue pads are taken out may not be: with 0.9 kg pads the pelvis is no rigid body at any size.  The
     # sentence names the segment and says which masses would build at that stature (here: none).
-    from ehm.scaling import BodySize
+    from ehm.person.scaling import BodySize
 
     pads = ("buttock_r", "buttock_l", "thigh_r", "thigh_l", "lower_back", "upper_back")
     heavy = ehm.Parameters.load().with_values({f"contacts.{c}.pad_mass_kg": 0.9 for c in pads})
@@ -240,7 +240,7 @@ def test_a_divergence_blames_only_the_input_before_it_and_names_a_tilted_seat(mo
 
 def test_a_seat_pitch_out_of_range_names_the_units_axes_and_frame():
     # SYNTHETIC: a 5 deg/s pitch rate written in deg/s and read as rad/s integrates to far beyond 80 deg
-    from ehm.motion import seat_kinematics
+    from ehm.inputs.motion import seat_kinematics
 
     t = np.arange(0.0, 10.0, 0.01)
     w = np.zeros((t.size, 3))
@@ -314,9 +314,10 @@ def test_h1_estimate_names_the_non_finite_sample():
 
 # ------------------------------------------------------------------ 3. bodies outside the scaling's range
 def test_body_outside_the_body_mass_index_range_is_refused(capsys):
-    """'A 30 kg, 2.2 m body is accepted': its body mass index is 6.2 kg/m^2; the scaling builds 13-50 (ehm.scaling).
+    """'A 30 kg, 2.2 m body is accepted': its body mass index is 6.2 kg/m^2; the scaling builds 13-50
+    (ehm.person.scaling).
     The sentence names the masses that fit the stature (13 times 2.2^2, and the 200 kg mass limit)."""
-    from ehm.scaling import BodySize
+    from ehm.person.scaling import BodySize
 
     with pytest.raises(InputError) as info:
         BodySize(stature_m=2.2, mass_kg=30.0)
@@ -332,7 +333,7 @@ def test_body_outside_the_who_classes_is_built_with_a_warning():
     """A real user of 1.75 m and 130 kg (index 42.4, WHO obesity class III) is built, with one warning that the
     scaling keeps the reference's mass fractions (it was refused when the range ended at 40)."""
     from ehm.errors import EhmWarning
-    from ehm.scaling import BodySize
+    from ehm.person.scaling import BodySize
 
     with pytest.warns(EhmWarning,
                       match=r"body mass index of 42\.4 kg/m\^2, above the 16-40 kg/m\^2 .*obesity class III"):
@@ -349,12 +350,12 @@ def test_lock_given_as_one_name_is_that_joint(tmp_path):
     assert ehm.SeatedHuman(lock="t12").locked == {"t12", "waist"}
     with pytest.raises(InputError, match="lock must be a joint name or a list of joint names"):
         ehm.SeatedHuman(lock=5)
-    from ehm.study import locking_study
+    from ehm.analysis.study import locking_study
 
     study = locking_study(variants={"SL": "t12"})
     assert {r.variant: r.locked for r in study.rows} == {"baseline": (), "SL": ("t12",)}
     pytest.importorskip("pythonfmu")
-    from ehm.fmu import SETUP_RESOURCE, export_fmu
+    from ehm.interfaces.fmu import SETUP_RESOURCE, export_fmu
 
     out = export_fmu(tmp_path / "neck.fmu", lock="lower_neck", python=True)
     setup = json.loads(zipfile.ZipFile(out).read(f"resources/{SETUP_RESOURCE}"))
@@ -384,7 +385,7 @@ def test_linear_route_does_not_judge_a_round_off_channel_by_its_own_rms():
 _HOST = textwrap.dedent("""
     import sys
     if sys.argv[2] == "no-ehm":
-        sys.modules["ehm.fmu"] = None  # a host whose Python cannot import ehm
+        sys.modules["ehm.interfaces.fmu"] = None  # a host whose Python cannot import ehm
     import fmpy
     from fmpy.fmi2 import FMU2Slave
     md = fmpy.read_model_description(sys.argv[1])
@@ -412,7 +413,7 @@ _HOST = textwrap.dedent("""
 def python_fmu(tmp_path_factory):
     pytest.importorskip("pythonfmu")
     pytest.importorskip("fmpy")
-    from ehm.fmu import export_fmu
+    from ehm.interfaces.fmu import export_fmu
 
     return export_fmu(tmp_path_factory.mktemp("fmu") / "unit.fmu", python=True)
 
@@ -455,7 +456,7 @@ def test_simulator_refuses_the_step_after_a_divergence(tmp_path, monkeypatch):
 def test_only_ehm_warnings_are_printed_as_ehm_warnings(capsys):
     """'numpy's and matplotlib's own warnings are printed as ehm's': ehm's own (EhmWarning: StepWarning,
     LinearRouteWarning, the readers' notes ...) stay 'ehm: warning:', numpy's keep their origin."""
-    from ehm.cli.entry import _show_warning
+    from ehm.interfaces.cli.entry import _show_warning
 
     with warnings.catch_warnings():
         warnings.simplefilter("always")
@@ -491,7 +492,7 @@ def test_messages_name_a_values_type_not_a_cut_off_repr(call, words):
 def test_a_batch_flag_that_is_no_boolean_is_refused_in_toml_words(tmp_path):
     """Review 5: 'a batch study's drop_held = "no" gets a command-line sentence: "[input] drive: drop_held
     (--no-drop-held) must be True or False"': the study's words instead (true or false, no quotes)."""
-    from ehm.batch import load_study
+    from ehm.interfaces.batch import load_study
 
     for key in ("drop_held", "fill_gaps", "imu"):
         study = tmp_path / "study.toml"
@@ -506,5 +507,5 @@ def test_a_batch_flag_that_is_no_boolean_is_refused_in_toml_words(tmp_path):
 def test_a_size_that_is_no_body_size_is_one_sentence():
     """The reviewer's case: SeatedHuman(size=(1.7, 70)) ended in AttributeError ('tuple' object has no attribute
     'is_reference'), as params=42 did before."""
-    with pytest.raises(InputError, match=r"size must be an ehm\.scaling\.BodySize.*not a tuple"):
+    with pytest.raises(InputError, match=r"size must be an ehm\.person\.scaling\.BodySize.*not a tuple"):
         ehm.SeatedHuman(size=(1.7, 70))

@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.cli import main
+from ehm.analysis.fit import fit, free_parameters, write_identified
+from ehm.analysis.frf import FrfTable, linear_frf
+from ehm.analysis.study import STUDY_PATHS
+from ehm.body.params import Parameters, default_params_path
 from ehm.errors import EhmWarning, InputError
-from ehm.fit import fit, free_parameters, write_identified
-from ehm.frf import FrfTable, linear_frf
-from ehm.params import Parameters, default_params_path
-from ehm.study import STUDY_PATHS
+from ehm.interfaces.cli import main
 
 TRUE = {  # synthetic truth: three parameters moved from the defaults (32510, 67.83, 5.5) by -35 %, +33 %, x4
     "joints.t12.z.stiffness_N_per_m": 21000.0,
@@ -214,14 +214,14 @@ def test_fit_pinned_on_its_bound_is_graded_at_bound_and_exits_3(synthetic, tmp_p
     assert "widen the bound" in verdict[0] and "nothing is marked identified" in verdict[0]
     assert "(at its lower bound)" in captured.out
     fitted = Parameters.load(out)  # written (the criterion went down), graded honestly
-    assert fitted.value(path_k) == pytest.approx(25000.0, rel=ehm.fit.AT_BOUND_REL)
+    assert fitted.value(path_k) == pytest.approx(25000.0, rel=ehm.analysis.fit.AT_BOUND_REL)
     assert fitted.provenance(path_k)[0] == "at bound"
     doc = tomllib.loads(out.read_text())
     assert doc["about"]["fit_identified"] == [] and doc["about"]["fit_at_bound"] == [path_k]
 
 
 def test_on_bounds_uses_a_relative_tolerance():
-    from ehm.fit import AT_BOUND_REL, on_bounds
+    from ehm.analysis.fit import AT_BOUND_REL, on_bounds
 
     limits = {"a": (1500.0, 150000.0)}
     assert on_bounds({"a": 1500.0 * (1 + AT_BOUND_REL / 2)}, limits) == (("a", "lower", 1500.0),)
@@ -235,8 +235,8 @@ def test_fit_onto_the_shipped_defaults_is_refused_before_any_work(synthetic, mon
     def no_fit(*args, **kwargs):
         raise AssertionError("the fit ran before the output was checked")
 
-    monkeypatch.setattr(ehm.fit, "fit", no_fit)
-    monkeypatch.setattr(ehm.frf, "read_frf", no_fit)
+    monkeypatch.setattr(ehm.analysis.fit, "fit", no_fit)
+    monkeypatch.setattr(ehm.analysis.frf, "read_frf", no_fit)
     shipped = default_params_path().read_bytes()
     assert main(["fit", "--data", str(path), "--out", str(default_params_path())]) == 2
     err = capsys.readouterr().err

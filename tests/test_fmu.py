@@ -14,13 +14,13 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.cli import main
 from ehm.errors import InputError
+from ehm.interfaces.cli import main
 
 pytest.importorskip("pythonfmu", reason="FMU export needs pythonfmu (pip install -e '.[test]' or '.[fmu]')")
 fmpy = pytest.importorskip("fmpy", reason="running the exported FMU needs fmpy (pip install -e '.[test]')")
 
-from ehm.fmu import INPUTS, OUTPUTS, PARAMS_RESOURCE, SETUP_RESOURCE, export_fmu  # noqa: E402
+from ehm.interfaces.fmu import INPUTS, OUTPUTS, PARAMS_RESOURCE, SETUP_RESOURCE, export_fmu  # noqa: E402
 
 POINTS = tuple(ehm.engine.POINTS)  # the unit must carry every point the engine has
 DT = float(ehm.Parameters.load().value("simulation.dt_s"))  # the model step of the shipped parameters
@@ -30,7 +30,7 @@ FIELDS = {"acc_mps2": ("ax_mps2", "ay_mps2", "az_mps2"), "rot_rad": ("roll_rad",
 
 @pytest.fixture(scope="module")
 def default_fmu(tmp_path_factory):
-    return export_fmu(tmp_path_factory.mktemp("fmu") / "ehm.fmu", python=True)
+    return export_fmu(tmp_path_factory.mktemp("fmu") / "ehm.interfaces.fmu", python=True)
 
 
 def _input_signal(motion, angvel=None):
@@ -59,7 +59,7 @@ def _run(fmu_path, motion, start_values=None, angvel=None):
 
 
 def _assert_matches(res, whole, atol=1e-9):
-    """The outputs recorded after doStep(t, dt) are the sample at t (see ehm.fmu): row k + 1 of the FMU's
+    """The outputs recorded after doStep(t, dt) are the sample at t (see ehm.interfaces.fmu): row k + 1 of the FMU's
     results is row k of the whole run; row 0 is the response at t = 0 to the start inputs (whole run row 0)."""
     n = whole.time_s.size
     assert res.shape[0] == n

@@ -1,4 +1,4 @@
-"""The native FMU (ehm.fmu_native): a C binary on the MuJoCo C library, no Python when it runs.
+"""The native FMU (ehm.interfaces.fmu_native): a C binary on the MuJoCo C library, no Python when it runs.
 
 Checked here: (a) the binary links no libpython; (b) a plain C host (ehm's native/fmu_host.c, compiled in the
 test, run with an empty environment) gives the outputs of SeatedHuman.simulate for the same input, with one
@@ -21,9 +21,9 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.cli import main
 from ehm.errors import InputError
-from ehm.fmu_native import INPUTS, MAX_SEAT_ACC_MPS2, MODEL_IDENTIFIER, OUTPUTS, PLATFORM, POINTS, SUPPORTS
+from ehm.interfaces.cli import main
+from ehm.interfaces.fmu_native import INPUTS, MAX_SEAT_ACC_MPS2, MODEL_IDENTIFIER, OUTPUTS, PLATFORM, POINTS, SUPPORTS
 from ehm.routes.nonlinear import chunk_result
 
 fmpy = pytest.importorskip("fmpy",
@@ -32,7 +32,7 @@ fmpy = pytest.importorskip("fmpy",
 from fmpy.fmi1 import FMICallException  # noqa: E402
 from fmpy.fmi2 import FMU2Slave  # noqa: E402
 
-from ehm import fmu_native  # noqa: E402
+from ehm.interfaces import fmu_native  # noqa: E402
 
 if not fmu_native.native_platform_supported():
     pytest.skip("the native FMU is built for 64-bit Linux on x86", allow_module_level=True)

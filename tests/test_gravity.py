@@ -13,9 +13,9 @@ import pandas as pd
 import pytest
 
 from ehm import read_motion
-from ehm.comfort import metrics
 from ehm.errors import InputError
-from ehm.motion import SeatMotion
+from ehm.inputs.motion import SeatMotion
+from ehm.standards.comfort import metrics
 
 G = 9.80665
 FS = 200.0
@@ -127,7 +127,7 @@ def test_a_log_that_starts_at_a_level_has_no_start_up_transient():
 
 
 def test_the_band_of_a_20_hz_log_warns_about_wk():
-    from ehm.assessment import band_coverage, band_warnings, input_band
+    from ehm.analysis.assessment import band_coverage, band_warnings, input_band
 
     n = int(60 * 20)
     motion = SeatMotion(np.arange(n) / 20.0, np.zeros((n, 3)), "SYNTHETIC 20 Hz log")
@@ -149,7 +149,7 @@ def test_a_log_resampled_by_the_reader_reports_the_band_of_its_own_rate():
     import pandas as pd
 
     from ehm import read_motion
-    from ehm.assessment import input_band
+    from ehm.analysis.assessment import input_band
 
     rng = np.random.default_rng(4)
     t = np.arange(0.0, 30.0, 0.01)

@@ -14,10 +14,10 @@ from scipy import signal
 
 import ehm
 from ehm import engine
-from ehm.cli import main
+from ehm.analysis.frf import linear_frf
+from ehm.body.params import Parameters
 from ehm.errors import EhmWarning, InputError
-from ehm.frf import linear_frf
-from ehm.params import Parameters
+from ehm.interfaces.cli import main
 
 BANDS = ((0.1, 0.5), (0.5, 1.0), (1.0, 2.0))
 
@@ -151,7 +151,7 @@ def test_stable_with_the_default_delay_and_a_delay_margin(on):
 def test_check_step_holds_with_control():
     # "ehm check-step still within 2 % with control on": the delay converges with the step (the mean of the two oldest
     # torques; the oldest alone measured 2.4 % on seat z -> head pitch).  Measured worst 0.78 % (0.77 % without).
-    from ehm.convergence import check_step
+    from ehm.analysis.convergence import check_step
 
     check = check_step(Parameters.load().with_head_control(True))
     assert check.converged(), check.worst()
@@ -277,7 +277,7 @@ def test_batch_study_head_control_axis(tmp_path):
     # is refused before any run in one sentence.
     import pyarrow.parquet as pq
 
-    from ehm.batch import load_study, run_study
+    from ehm.interfaces.batch import load_study, run_study
 
     path = tmp_path / "hc.toml"
     path.write_text('[study]\nname = "hc"\ncompute = ["comfort"]\n[grid]\nhead_control = [false, true]\n'
@@ -306,7 +306,7 @@ def test_python_fmu_runs_the_control(tmp_path, on):
     # tolerance of test_fmu), and differ from the uncontrolled person's.
     import fmpy
 
-    from ehm.fmu import INPUTS, OUTPUTS, export_fmu
+    from ehm.interfaces.fmu import INPUTS, OUTPUTS, export_fmu
 
     path = export_fmu(tmp_path / "hc.fmu", python=True, head_control=True)
     dt = on.model.mj.opt.timestep
@@ -333,7 +333,7 @@ def test_native_fmu_runs_the_control_as_python_does(tmp_path, on):
     from importlib import resources
 
     tfn = pytest.importorskip("test_fmu_native")  # skips where the native unit cannot be built
-    from ehm import fmu_native
+    from ehm.interfaces import fmu_native
 
     path = fmu_native.export_native_fmu(tmp_path / "hc.fmu", ehm.SeatedHuman(head_control=True))
     unzipped = tmp_path / "unzipped"

@@ -12,13 +12,13 @@ import pytest
 
 import ehm
 from ehm import engine
-from ehm.cli import main
-from ehm.comfort import total_value
-from ehm.drives import city_drive
-from ehm.motion import SeatMotion
+from ehm.inputs.drives import city_drive
+from ehm.inputs.motion import SeatMotion
+from ehm.interfaces.cli import main
 from ehm.routes import hybrid, linear
 from ehm.routes.hybrid import LinearRouteWarning, RouteReport
 from ehm.routes.linear import simulate_linear
+from ehm.standards.comfort import total_value
 
 
 @pytest.fixture(scope="module")
@@ -219,7 +219,7 @@ def test_the_seat_figures_do_not_depend_on_the_route(human, sliding):
     # The seat's own comfort and sickness figures come from the seat motion alone: the hybrid route's pieces of
     # any length must give them exactly as the nonlinear route's whole chunks do (the sickness model's 20 Hz
     # blocks carried across pieces).
-    from ehm.assessment import assess
+    from ehm.analysis.assessment import assess
 
     motion = sliding[0]
     with warnings.catch_warnings():

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from ehm.params import Parameters, default_params_path
+from ehm.body.params import Parameters, default_params_path
 
 SCRIPT = Path(__file__).resolve().parents[1] / "tools" / "identify_default_person.py"
 

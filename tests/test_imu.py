@@ -1,6 +1,6 @@
 """IMU logs: ehm.from_imu on SYNTHETIC rotating-seat drives whose true seat motion is known.
 
-Every log here is SYNTHETIC, generated in the test: a drive's seat motion (ehm.drives or the turning drive
+Every log here is SYNTHETIC, generated in the test: a drive's seat motion (ehm.inputs.drives or the turning drive
 below) and what an IMU fixed to the seat would log for it."""
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ from scipy import signal
 from scipy.spatial.transform import Rotation
 
 import ehm
-from ehm.drives import city_drive, rough_road
 from ehm.errors import InputError
-from ehm.motion import SeatMotion, integrate_attitude, seat_kinematics, seat_rotation_matrices
+from ehm.inputs.drives import city_drive, rough_road
+from ehm.inputs.motion import SeatMotion, integrate_attitude, seat_kinematics, seat_rotation_matrices
 
 pytest.importorskip("imufusion")
 
@@ -271,7 +271,7 @@ def test_imu_options_reach_the_imu_route_from_read_motion_and_the_command_line(t
     import pandas as pd
 
     from ehm import read_motion
-    from ehm.cli import main
+    from ehm.interfaces.cli import main
 
     rng = np.random.default_rng(2)
     t = np.arange(0.0, 20.0, 0.01)
@@ -324,9 +324,9 @@ def test_rests_are_found_when_a_rocking_mount_shortens_the_mean_specific_force()
     w = np.zeros((t.size, 3))
     w[:, 1] = np.gradient(phi, t)
     w += np.radians([0.7, 0.0, 0.0])
-    level = np.linalg.norm(ehm.attitude._window_stats(t, f, 2.0)[2], axis=1)
+    level = np.linalg.norm(ehm.inputs.attitude._window_stats(t, f, 2.0)[2], axis=1)
     assert np.percentile(level, 10) < 0.985 * G  # the old level: the rest lies outside its 1 % band
-    rest = ehm.attitude.find_rests(t, f, w, 2.0)
+    rest = ehm.inputs.attitude.find_rests(t, f, w, 2.0)
     assert rest is not None
     assert rest.stretches[0].t0 >= 59.0 and rest.stretches[-1].t1 > 79.0
     np.testing.assert_allclose(np.degrees(rest.rate_radps[0]), [0.7, 0.0, 0.0], atol=1e-9)
@@ -364,10 +364,10 @@ def test_a_gyro_that_misses_the_tilt_from_rest_to_rest_makes_the_filter_lean_on_
     f[:, 0] += np.where(driving, 1.0 * np.sin(2 * np.pi * 0.3 * (t - 10.0)), 0.0)
     good = np.radians(1.5) * rng.standard_normal((t.size, 3)) * driving[:, None]
     bad = good + np.radians([0.3, 0.0, 0.0]) * driving[:, None]
-    rest = ehm.attitude.find_rests(t, f, good, 2.0)
+    rest = ehm.inputs.attitude.find_rests(t, f, good, 2.0)
     assert rest is not None and len(rest.stretches) == 2
-    assert ehm.imu.gyro_drift(t, f, good, rest) < 0.35
-    assert ehm.imu.gyro_drift(t, f, bad, rest) == pytest.approx(9.0 / np.sqrt(30.0), rel=0.2)
+    assert ehm.inputs.imu.gyro_drift(t, f, good, rest) < 0.35
+    assert ehm.inputs.imu.gyro_drift(t, f, bad, rest) == pytest.approx(9.0 / np.sqrt(30.0), rel=0.2)
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no warning for the good gyro
         m = ehm.from_imu(t, f, good)

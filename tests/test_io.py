@@ -1,4 +1,4 @@
-"""Tests for ehm.io: atomic text, CSV and JSON writers."""
+"""Tests for ehm.files: atomic text, CSV and JSON writers."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from ehm.errors import InputError
-from ehm.io import write_csv_atomic, write_json_atomic, write_text_atomic
+from ehm.files import write_csv_atomic, write_json_atomic, write_text_atomic
 
 
 def listing(directory) -> list[str]:
@@ -191,8 +191,8 @@ def test_figures_and_run_folders_get_umask_permissions(tmp_path):
     # 0o600 / 0o700 of temporary files and folders.
     import matplotlib.pyplot as plt
 
-    from ehm.outdir import RunFolder
-    from ehm.plotting import _save
+    from ehm.outputs.outdir import RunFolder
+    from ehm.outputs.plotting import _save
 
     old = os.umask(0o022)
     try:
@@ -210,7 +210,7 @@ def test_figures_and_run_folders_get_umask_permissions(tmp_path):
 
 
 def test_replace_atomically_failure_leaves_nothing(tmp_path):
-    from ehm.io import replace_atomically
+    from ehm.files import replace_atomically
 
     def fail(tmp):
         with open(tmp, "w") as fh:

@@ -34,12 +34,12 @@ def test_import_contracts_are_kept():
 # The module by its dotted name and the import added to it (absolute), so that neither depends on where files lie;
 # the words are the line of lint-imports' report that names the import.
 @pytest.mark.parametrize("module, line, words", [
-    ("ehm.results",
+    ("ehm.outputs.results",
      "from ehm.simulation import SeatedHuman  # an import up",
-     "ehm.results -> ehm.simulation"),
-    ("ehm.motion",
-     "from ehm.readers import read_motion  # the old loop",
-     "ehm.motion -> ehm.readers"),
+     "ehm.outputs.results -> ehm.simulation"),
+    ("ehm.inputs.motion",
+     "from ehm.inputs.readers import read_motion  # the old loop",
+     "ehm.inputs.motion -> ehm.inputs.readers"),
     ("ehm.routes.linear",
      "import mujoco  # MuJoCo outside the engine",
      "Illegal imports of protected package mujoco"),

@@ -1,4 +1,4 @@
-"""Log layouts read with options only (ehm.readers.layout): headerless text, a column of time since the previous
+"""Log layouts read with options only (ehm.inputs.readers.layout): headerless text, a column of time since the previous
 row, held samples, irregular time stamps, a gyro in a file of its own, sign flips, the sensor's mounting, a cut.
 
 Every log here is SYNTHETIC, made by the tests in the layouts real loggers write (a phone app writing
@@ -13,10 +13,10 @@ import pandas as pd
 import pytest
 
 import ehm
-from ehm.cli import main
 from ehm.errors import EhmWarning, InputError
-from ehm.imu import mounting_matrix
-from ehm.readers import HELD_RUN_MAX, HELD_SHARE, mounting_rotation, read_motion
+from ehm.inputs.imu import mounting_matrix
+from ehm.inputs.readers import HELD_RUN_MAX, HELD_SHARE, mounting_rotation, read_motion
+from ehm.interfaces.cli import main
 
 G = 9.80665
 PHONE = {"ax": "x", "ay": "y", "az": "z", "dt": "delay_ms"}
@@ -356,7 +356,7 @@ def test_the_cut_on_the_command_line_and_in_a_study_file(tmp_path, capsys):
     assert main(argv[:-6] + ["--start", "30", "--method", "linear", "--out", str(out)]) == 2
     assert "--start 30 s (start_s) is not within the log" in capsys.readouterr().err
     # a study file's [input] takes the same options
-    from ehm.batch import load_study
+    from ehm.interfaces.batch import load_study
 
     study = tmp_path / "study.toml"
     study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "phone.csv"\nduration_s = 3.0\n'

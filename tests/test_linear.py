@@ -7,7 +7,7 @@ import pytest
 
 import ehm
 from ehm import engine
-from ehm.transfer import discrete_frequency_response, h1_estimate
+from ehm.standards.transfer import discrete_frequency_response, h1_estimate
 
 
 @pytest.fixture(scope="module")

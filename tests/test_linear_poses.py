@@ -1,6 +1,7 @@
-"""The poses of every route (ehm.linear_poses; the hybrid route's windows are the nonlinear model's).
+"""The poses of every route (ehm.routes.poses; the hybrid route's windows are the nonlinear model's).
 
-Every drive here is SYNTHETIC (ehm.random_vibration, ehm.drives.city_drive, labelled so by their descriptions)."""
+Every drive here is SYNTHETIC (ehm.random_vibration, ehm.inputs.drives.city_drive, labelled so by their
+descriptions)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import pandas as pd
 import pytest
 
 import ehm
-from ehm.cli import main
+from ehm.interfaces.cli import main
 from ehm.routes.hybrid import LinearRouteWarning
 
 

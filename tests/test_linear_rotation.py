@@ -1,6 +1,6 @@
 """The linear route with a rotating seat (issue 22, item 3) against the nonlinear rotating-seat route.
 
-All motions here are SYNTHETIC: the shipped city drive (ehm.drives.city_drive, itself synthetic) scaled so that
+All motions here are SYNTHETIC: the shipped city drive (ehm.inputs.drives.city_drive, itself synthetic) scaled so that
 every contact stays stuck, and a smooth roll or pitch tilt of the seat.
 """
 
@@ -11,9 +11,9 @@ import pytest
 
 import ehm
 from ehm import engine
-from ehm.drives import city_drive
-from ehm.motion import SeatMotion
-from ehm.results import concatenate_runs
+from ehm.inputs.drives import city_drive
+from ehm.inputs.motion import SeatMotion
+from ehm.outputs.results import concatenate_runs
 from ehm.routes import linear
 
 #: The city drive scaled to this stays within the linear route (its contacts stuck; 0.35 is the limit).
@@ -211,7 +211,7 @@ def test_linear_models_of_a_rotating_seat_person(human):
 def test_assessment_of_a_rotating_drive_on_the_linear_route(drive):
     # assess(method="linear") of a rotating drive: the seat turns (its angles and angular velocity feed the
     # seat's motion sickness as in the nonlinear route), and the comfort figures agree with the nonlinear route.
-    from ehm.assessment import assess
+    from ehm.analysis.assessment import assess
 
     lin, nl = assess(drive, method="linear", chunk_s=5.0), assess(drive, chunk_s=5.0)
     for loc in ("seat", *POINTS):

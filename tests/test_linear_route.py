@@ -9,9 +9,9 @@ import pytest
 
 import ehm
 from ehm import engine
-from ehm.cli import main
-from ehm.frf import linear_frf
-from ehm.motion import SeatMotion
+from ehm.analysis.frf import linear_frf
+from ehm.inputs.motion import SeatMotion
+from ehm.interfaces.cli import main
 from ehm.routes.linear import LinearRouteError, simulate_linear, stream_linear
 
 G = 9.81

@@ -19,10 +19,10 @@ from scipy.spatial.transform import Rotation
 
 import ehm
 from ehm import engine
-from ehm.cli import main
-from ehm.frf import linear_frf
+from ehm.analysis.frf import linear_frf
+from ehm.interfaces.cli import main
 from ehm.routes import nonlinear
-from ehm.transfer import h1_estimate
+from ehm.standards.transfer import h1_estimate
 
 
 @pytest.fixture(scope="module")
@@ -49,7 +49,9 @@ def test_every_list_of_points_has_lumbar_last():
     # "in every route, file and figure": the modules that keep their own list of points (fmu and frf do not import
     # the engine) hold the engine's, lumbar last, so that the earlier outputs keep their places (FMU value
     # references, file columns); the assessment's locations and the native FMU's outputs follow.
-    from ehm import assessment, fmu, fmu_native, frf, results
+    from ehm.analysis import assessment, frf
+    from ehm.interfaces import fmu, fmu_native
+    from ehm.outputs import results
 
     points = tuple(engine.POINTS)
     assert points[-1] == "lumbar" and points[:3] == ("pelvis", "trunk", "head")
@@ -146,10 +148,10 @@ def test_python_fmu_has_lumbar_outputs_equal_to_simulate(tmp_path):
     import fmpy
     from test_fmu import FIELDS, _on_model_grid, _run  # test_fmu's own helpers
 
-    from ehm.fmu import OUTPUTS, export_fmu
+    from ehm.interfaces.fmu import OUTPUTS, export_fmu
 
     assert [n for n in OUTPUTS if n.startswith("lumbar_")] == [f"lumbar_{s}" for f in FIELDS.values() for s in f]
-    unit = export_fmu(tmp_path / "ehm.fmu", python=True)
+    unit = export_fmu(tmp_path / "ehm.interfaces.fmu", python=True)
     names = {v.name for v in fmpy.read_model_description(str(unit)).modelVariables}
     assert {"lumbar_az_mps2", "lumbar_pitch_rad", "lumbar_wy_radps"} <= names
     motion = _on_model_grid(ehm.random_vibration("xz", 0.5, 0.5, seed=3))
@@ -168,7 +170,7 @@ def test_native_fmu_has_lumbar_outputs_equal_to_simulate(tmp_path):
     # other points'; through fmpy, within test_fmu_native.py's 1e-9 in SI units (same engine, same input).
     import fmpy
 
-    from ehm import fmu_native
+    from ehm.interfaces import fmu_native
 
     path = fmu_native.export_native_fmu(tmp_path / "person.fmu")
     whole = ehm.SeatedHuman().simulate(ehm.random_vibration("xz", 1.0, 0.5, seed=4), method="nonlinear")
@@ -195,7 +197,7 @@ def test_result_files_frames_and_figures_carry_lumbar(tmp_path, human, xz_run):
     # figures include the lumbar trace."  The CSV's lumbar columns are the run's (9 significant digits).
     import matplotlib.pyplot as plt
 
-    from ehm.plotting import plot_frf_grid, plot_time_histories
+    from ehm.outputs.plotting import plot_frf_grid, plot_time_histories
 
     run = xz_run.take(slice(0, 2000))
     formats = ("csv", "parquet") if _has("pyarrow") else ("csv",)

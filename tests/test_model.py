@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 from ehm import engine
+from ehm.body.params import Parameters
+from ehm.body.timestep import StepWarning
 from ehm.engine.sensors import contact_name
 from ehm.errors import DivergenceError, InputError
-from ehm.motion import random_vibration
-from ehm.params import Parameters
+from ehm.inputs.motion import random_vibration
 from ehm.simulation import POINT_NAMES, SeatedHuman
-from ehm.timestep import StepWarning
 
 G = 9.81  # m/s^2, the project's standard gravity (engine.G0), also the paper's MADYMO default
 PAPER_TOTAL_MASS_KG = 70.882  # paper Table 2, sum of the mass column

@@ -1,4 +1,4 @@
-"""Tests for ehm.motion: generated seat motions, resampling and CSV loading."""
+"""Tests for ehm.inputs.motion: generated seat motions, resampling and CSV loading."""
 
 from __future__ import annotations
 
@@ -9,14 +9,16 @@ import pytest
 from scipy import signal
 
 from ehm.errors import InputError
-from ehm.motion import (
+from ehm.inputs.motion import (
     SeatMotion,
     parse_axes,
     random_vibration,
     sine,
     sweep,
 )
-from ehm.readers import load_motion_csv  # outside data comes in through ehm.readers (also ehm.load_motion_csv)
+from ehm.inputs.readers import (
+    load_motion_csv,  # outside data comes in through ehm.inputs.readers (also ehm.load_motion_csv)
+)
 
 
 def rms(values: np.ndarray) -> float:
@@ -262,7 +264,7 @@ def test_resample_removes_what_would_alias():
 def test_resample_keeps_the_weighted_rms_of_a_100_hz_log():
     # A 100 Hz log of content up to 40 Hz (0.4 fs), brought to the model's 1 kHz: the Wk-weighted rms equals
     # the original 1 kHz signal's within 0.5 % (measured 0.001 %); linear interpolation loses 6.8 % (measured).
-    from ehm.comfort import metrics
+    from ehm.standards.comfort import metrics
 
     rng = np.random.default_rng(2)
     fine = signal.sosfiltfilt(signal.butter(8, [0.5, 40.0], btype="band", fs=1000.0, output="sos"),
@@ -278,7 +280,7 @@ def test_resample_keeps_the_weighted_rms_of_a_100_hz_log():
 
 def test_resample_chunk_by_chunk_equals_whole():
     # Resampler blocks read the record with the filter's margin: any split gives the whole-record samples.
-    from ehm.motion import Resampler
+    from ehm.inputs.motion import Resampler
 
     rng = np.random.default_rng(0)
     for fs_in, dt in ((100.0, 0.001), (1024.0, 0.001), (10_000.0, 0.0005)):
@@ -377,7 +379,7 @@ def test_csv_columns_in_any_order_and_str_path(tmp_path):
 
 
 def test_csv_round_trip_with_generated_motion(tmp_path):
-    from ehm.io import write_csv_atomic
+    from ehm.files import write_csv_atomic
 
     original = random_vibration("xyz", 2.0, 0.3, seed=5, dt_s=0.01)
     path = tmp_path / "out" / "rt.csv"

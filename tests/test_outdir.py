@@ -17,11 +17,11 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm import runfiles
-from ehm.cli import main
 from ehm.errors import InputError
-from ehm.io import MANIFEST_NAME, read_manifest
-from ehm.outdir import RunFolder
+from ehm.files import MANIFEST_NAME, read_manifest
+from ehm.interfaces.cli import main
+from ehm.outputs import runfiles
+from ehm.outputs.outdir import RunFolder
 
 
 def _tree(folder: Path) -> dict[str, str]:
@@ -348,7 +348,7 @@ def test_the_next_run_never_deletes_a_file_it_reads_or_a_file_written_there_from
     folder from Python (where no command line checks first) is not listed, so the next run refuses the folder; an
     input listed there by an earlier ehm (which adopted every file written into a run folder) is refused as an
     input of the run that would replace it."""
-    from ehm.drives import city_drive, write_drive_csv
+    from ehm.inputs.drives import city_drive, write_drive_csv
 
     out = tmp_path / "run"
     assert _run(out) == 0
@@ -359,7 +359,7 @@ def test_the_next_run_never_deletes_a_file_it_reads_or_a_file_written_there_from
     assert main(["simulate", "--motion", str(out / "drive.csv"), "--out", str(out)]) == 2
     assert "drive.csv" in _one_error_line(capsys.readouterr().err)
     assert _tree(out) == before
-    from ehm.outdir import record_in_manifest
+    from ehm.outputs.outdir import record_in_manifest
 
     record_in_manifest(out / "drive.csv", out)  # as the earlier ehm listed it
     before = _tree(out)
@@ -439,9 +439,10 @@ def test_a_missing_gyro_file_is_named_as_the_gyro(tmp_path, capsys):
 # --- review of issue 31: batch bookkeeping, a killed study, a study folder of an earlier ehm -------------------
 
 def _manifest_writes(monkeypatch) -> list:
-    """Count the writes of a manifest made through the atomic JSON writer of ehm.outdir (how it rewrites a folder's
+    """Count the writes of a manifest made through the atomic JSON writer of ehm.outputs.outdir (how it rewrites a
+    folder's
     manifest, before this change and after)."""
-    import ehm.outdir as outdir
+    import ehm.outputs.outdir as outdir
 
     writes, real = [], outdir.write_json_atomic
 
@@ -466,7 +467,7 @@ def test_a_study_writes_its_manifest_at_most_about_once_a_second(tmp_path, monke
 
     from dask.distributed import Client
 
-    import ehm.batch as batch
+    import ehm.interfaces.batch as batch
 
     def no_time_run(spec):
         return {"inputs": spec.inputs(), "outputs": {"x.peak_hz": 1.0}, "error": None, "simulated_s": 0.0,
@@ -497,8 +498,8 @@ def test_a_study_writes_its_manifest_at_most_about_once_a_second(tmp_path, monke
 
 _KILLED_STUDY = '''
 import os, signal, sys
-import ehm.batch as batch
-import ehm.outdir as outdir
+import ehm.interfaces.batch as batch
+import ehm.outputs.outdir as outdir
 
 outdir.FLUSH_INTERVAL_S = 1e9  # no record listed before the kill: every record is one written since the last listing
 
@@ -561,7 +562,8 @@ def test_sigterm_writes_the_manifest_of_a_folder_being_added_to(tmp_path):
     """Review case, continued: the manifest is written once more when the command ends, also on SIGTERM where ehm is
     used from Python (SIGTERM left to its default: the process still ends by it).  Records written within the
     second after the last writing, then SIGTERM: all listed, the manifest closed.  SYNTHETIC records."""
-    code = ("import os, signal, sys\nfrom pathlib import Path\nfrom ehm.outdir import added_folder, write_owned_json\n"
+    code = ("import os, signal, sys\nfrom pathlib import Path\n"
+            "from ehm.outputs.outdir import added_folder, write_owned_json\n"
             "out = Path(sys.argv[1])\nwith added_folder(out, 'results'):\n"
             "    for i in range(3):\n        write_owned_json(out / 'runs' / f'{i}.json', {'i': i}, out)\n"
             "    os.kill(os.getpid(), signal.SIGTERM)\n    print('not ended')\n")

@@ -10,8 +10,8 @@ import math
 
 import pytest
 
+from ehm.body.params import Parameters, default_params_path
 from ehm.errors import InputError
-from ehm.params import Parameters, default_params_path
 
 DEFAULT_TEXT = default_params_path().read_text(encoding="utf-8")
 

@@ -72,7 +72,7 @@ def test_head_control_gains_are_kept_immutably():
     ({"lock": 3}, ("Person: lock must be a joint name",)),
     ({"lock": "t12", "unlock": "t12"}, ("both locked and unlocked",)),
     ({"dt_s": 0.5}, ("dt_s = 0.5",)),
-    ({"size": {"stature_m": 1.8}}, ("size must be an ehm.scaling.BodySize", "not a dict")),
+    ({"size": {"stature_m": 1.8}}, ("size must be an ehm.person.scaling.BodySize", "not a dict")),
     ({"body": "tables"}, ("body = 'tables'", "ehm.load_body")),
 ])
 def test_every_bad_value_is_one_sentence(kw, words):
@@ -187,9 +187,9 @@ def _capture(monkeypatch, module):
 
 
 def test_check_step_honours_posture_and_head_control(monkeypatch):
-    import ehm.convergence
+    import ehm.analysis.convergence
 
-    seen = _capture(monkeypatch, ehm.convergence)
+    seen = _capture(monkeypatch, ehm.analysis.convergence)
     with pytest.raises(_Seen):
         ehm.check_step(Person(posture="slouched", head_control=True))
     human = seen[0]
@@ -198,30 +198,30 @@ def test_check_step_honours_posture_and_head_control(monkeypatch):
 
 
 def test_validate_honours_locks_and_head_control(monkeypatch):
-    import ehm.validation
+    import ehm.analysis.validation
 
-    seen = _capture(monkeypatch, ehm.validation)
+    seen = _capture(monkeypatch, ehm.analysis.validation)
     with pytest.raises(_Seen):
         ehm.validate(Person(head_control=True, lock="lower_neck"))
     assert seen[0].head_control and "lower_neck" in seen[0].locked
 
 
 def test_cli_validate_head_control_applies(monkeypatch):
-    import ehm.validation
-    from ehm.cli.common import person_from_args
-    from ehm.cli.parser import build_parser
+    import ehm.analysis.validation
+    from ehm.interfaces.cli.common import person_from_args
+    from ehm.interfaces.cli.parser import build_parser
 
     args = build_parser().parse_args(["validate", "--head-control", "--posture", "slouched", "--dt", "0.0005"])
     assert person_from_args(args) == Person(head_control=True, posture="slouched", dt_s=0.0005)
-    seen = _capture(monkeypatch, ehm.validation)
+    seen = _capture(monkeypatch, ehm.analysis.validation)
     with pytest.raises(_Seen):
         args.func(args)
     assert seen[0].head_control and seen[0].params.posture == "slouched"
 
 
 def test_cli_builds_one_person_for_every_command():
-    from ehm.cli.common import person_from_args
-    from ehm.cli.parser import build_parser
+    from ehm.interfaces.cli.common import person_from_args
+    from ehm.interfaces.cli.parser import build_parser
 
     parser = build_parser()
     args = parser.parse_args(["check-step", "--lock", "lower_neck,t12", "--head-control-gains", "delay_s=0.03",
@@ -235,25 +235,25 @@ def test_cli_builds_one_person_for_every_command():
 
 
 def test_cli_check_step_posture_and_head_control_apply(monkeypatch):
-    import ehm.convergence
-    from ehm.cli.parser import build_parser
+    import ehm.analysis.convergence
+    from ehm.interfaces.cli.parser import build_parser
 
     args = build_parser().parse_args(["check-step", "--posture", "slouched", "--head-control"])
-    seen = _capture(monkeypatch, ehm.convergence)
+    seen = _capture(monkeypatch, ehm.analysis.convergence)
     with pytest.raises(_Seen):
         args.func(args)
     assert seen[0].params.posture == "slouched" and seen[0].head_control
 
 
 def test_export_fmu_takes_a_person(tmp_path):
-    from ehm.fmu import export_fmu
+    from ehm.interfaces.fmu import export_fmu
 
     with pytest.raises(InputError, match="pythonfmu unit"):
         export_fmu(tmp_path / "p.fmu", Person(dt_s=0.0005), python=True)
 
 
 def test_batch_runs_build_persons():
-    from ehm.batch import RunSpec
+    from ehm.interfaces.batch import RunSpec
 
     spec = RunSpec("r", {"stature_m": 1.9, "mass_kg": 90.0}, {"seat.back_support": "low"}, ("lower_neck",),
                    ("transmissibility",), {})
@@ -263,9 +263,9 @@ def test_batch_runs_build_persons():
 
 
 def test_locking_study_adds_its_locks_to_the_persons(monkeypatch):
-    import ehm.study
+    import ehm.analysis.study
 
-    seen = _capture(monkeypatch, ehm.study)
+    seen = _capture(monkeypatch, ehm.analysis.study)
     with pytest.raises(_Seen):
-        ehm.study.locking_study(Person(lock="lower_neck"), variants={"SL": ("t12",)})
+        ehm.analysis.study.locking_study(Person(lock="lower_neck"), variants={"SL": ("t12",)})
     assert "lower_neck" in seen[0].locked  # the baseline is the person as given

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.transfer import h1_estimate
+from ehm.standards.transfer import h1_estimate
 
 
 def _amplitude(x: np.ndarray, t: np.ndarray, f_hz: float) -> float:

@@ -1,4 +1,4 @@
-"""What the run figures show (ehm.plotting): the support forces in the axes the seat moves in."""
+"""What the run figures show (ehm.outputs.plotting): the support forces in the axes the seat moves in."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.plotting import plot_time_histories
+from ehm.outputs.plotting import plot_time_histories
 
 
 def _force_panels(fig):
@@ -54,7 +54,7 @@ def test_time_histories_of_a_run_in_three_axes_show_three_force_panels(human, tm
 
 
 def test_excited_axes():
-    from ehm.plotting import excited_axes
+    from ehm.outputs.plotting import excited_axes
 
     t = np.arange(1000) * 0.001
     s = np.sin(2 * np.pi * 3 * t)

@@ -1,4 +1,5 @@
-"""Issue 28: postures and back supports (ehm.posture, ehm.seat; SeatedHuman(posture=..., back_support=...)).
+"""Issue 28: postures and back supports (ehm.body.posture, ehm.body.supports; SeatedHuman(posture=...,
+back_support=...)).
 
 Each test names the issue's case it checks.  The people here settle in well under a second each and use the linear
 route, so the file runs in a few tens of seconds on one core.
@@ -13,11 +14,11 @@ import pytest
 
 import ehm
 from ehm import engine
+from ehm.analysis.frf import linear_frf
+from ehm.body.params import Parameters
+from ehm.body.posture import pose_body
+from ehm.body.tables import load_body
 from ehm.errors import InputError
-from ehm.frf import linear_frf
-from ehm.params import Parameters
-from ehm.posture import pose_body
-from ehm.tables import load_body
 
 POSTURES = ("erect", "slouched")
 SUPPORTS = ("none", "low", "high")
@@ -121,8 +122,8 @@ def test_full_backrest_touches_both_back_contacts():
     # "a full car backrest": one plane along the whole back that both back pads press on; its recline follows the
     # back (for the erect person within 1 deg of the paper seat's 9 deg, since the two pads lie on that line).
     human = ehm.SeatedHuman(back_support="full")
-    from ehm.engine.seat import SeatGeometry
-    from ehm.seat import recline_deg
+    from ehm.body.supports import recline_deg
+    from ehm.engine.seat_geometry import SeatGeometry
 
     planes = SeatGeometry.from_params(human.params, human.model.body, human.body).planes
     (p1, n1), (p2, n2) = planes["backrest_lower"], planes["backrest_upper"]
@@ -161,8 +162,8 @@ def test_cli_posture_and_back_support_reach_the_native_fmu(tmp_path, capsys):
     # vibration through fmpy against SeatedHuman.simulate: the same engine, so within 1e-9 in SI units (the
     # tolerance of test_fmu_native's fmpy comparison for the default person).
     fmpy = pytest.importorskip("fmpy", reason="the native FMU's test host comes from fmpy")
-    from ehm import fmu_native
-    from ehm.cli import main
+    from ehm.interfaces import fmu_native
+    from ehm.interfaces.cli import main
 
     if not fmu_native.native_platform_supported():
         pytest.skip("the native FMU is built for 64-bit Linux on x86")
@@ -201,7 +202,7 @@ def test_parameter_file_names_posture_and_back_support(tmp_path, capsys):
     # `ehm params --posture slouched --back-support low --export` writes a file that builds that person; a file
     # written before postures existed (no posture.name, seat.back_support, [postures]) still loads, as erect on the
     # high back support, and can still be asked for the shipped slouched posture.
-    from ehm.cli import main
+    from ehm.interfaces.cli import main
 
     out = tmp_path / "slouched.toml"
     assert main(["params", "--posture", "slouched", "--back-support", "low", "--export", str(out)]) == 0
@@ -226,7 +227,7 @@ def test_batch_study_has_posture_and_back_support_axes(tmp_path):
     # "posture and back_support as axes of a batch study": the grid crosses them like any parameter, each run is
     # built in its posture on its seat (the head's fore-aft peak differs between the runs), and a name that is
     # neither is refused before any run starts.
-    from ehm.batch import load_study, run_one
+    from ehm.interfaces.batch import load_study, run_one
 
     study = tmp_path / "study.toml"
     study.write_text('[grid]\nposture = ["erect", "slouched"]\nback_support = ["none", "high"]\n'
@@ -263,7 +264,7 @@ def test_check_step_holds_for_the_erect_person_without_back_support(capsys):
     # and runs at its own 0.5 ms (test_slouched_person_runs_at_its_own_converged_step).
     import json
 
-    from ehm.cli import main
+    from ehm.interfaces.cli import main
 
     assert main(["check-step", "--posture", "erect", "--back-support", "none", "--ratio", "8", "--json"]) == 0
     worst = json.loads(capsys.readouterr().out)["worst"]["step_over_8"]
@@ -279,10 +280,10 @@ def test_slouched_person_runs_at_its_own_converged_step(capsys):
     # computed.
     import warnings
 
-    from ehm.cli import main
+    from ehm.interfaces.cli import main
 
     with warnings.catch_warnings():
-        warnings.simplefilter("error", ehm.timestep.StepWarning)
+        warnings.simplefilter("error", ehm.body.timestep.StepWarning)
         slouched, erect = ehm.SeatedHuman(posture="slouched"), ehm.SeatedHuman()
     assert slouched.model.mj.opt.timestep == 0.0005 and slouched.info()["dt_s"] == 0.0005
     assert slouched.params.provenance("simulation.dt_s") == ("assumed", "convergence")
@@ -328,8 +329,8 @@ def test_slouched_person_at_one_ms_warns_with_its_own_converged_step(tmp_path, c
     # (a 0.2 s run).
     import warnings
 
-    from ehm.cli import main
-    from ehm.timestep import StepWarning
+    from ehm.body.timestep import StepWarning
+    from ehm.interfaces.cli import main
 
     with pytest.warns(StepWarning, match=r"dt = 1 ms is coarser than the 0\.5 ms at which the model in the slouched "
                                          r"posture is converged: .* about 1 % .*--dt 0\.001 --posture slouched"):

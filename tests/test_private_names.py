@@ -170,12 +170,12 @@ def test_the_allowed_reaches_still_exist():
     assert ALLOWED <= seen, f"stale allow-list entries: {sorted(ALLOWED - seen)}"
 
 
-MODULES = {"ehm", "ehm.engine", "ehm.engine.control", "ehm.linear", "ehm.simulation"}
+MODULES = {"ehm", "ehm.engine", "ehm.engine.control", "ehm.routes.linear", "ehm.simulation"}
 
 SOURCE = '''
 from . import linear
 from .linear import _modes, state_of
-from ehm.linear import _scan
+from ehm.routes.linear import _scan
 from .engine import control as ctl
 import ehm.simulation as sim
 from numpy import _private_numpy_thing
@@ -207,21 +207,21 @@ def use(human, m: Mine):
 
 
 def test_the_check_finds_each_kind_of_reach_by_line_and_name():
-    reaches = private_reaches(SOURCE, "ehm.hybrid", "hybrid.py", MODULES)
+    reaches = private_reaches(SOURCE, "ehm.routes.hybrid", "hybrid.py", MODULES)
     assert [(r.line, r.name) for r in reaches] == [
         (3, "_modes"), (4, "_scan"),
         (27, "_stream_span"), (28, "_gain"), (29, "_gain"), (30, "_helper"), (31, "_block_form")]
-    assert str(reaches[0]) == "hybrid.py:3: _modes (imported from ehm.linear)"
+    assert str(reaches[0]) == "hybrid.py:3: _modes (imported from ehm.routes.linear)"
     assert reaches[2].kind == "private member of an object defined elsewhere"
     assert reaches[3].kind == "private member of module ehm.engine.control"
 
 
 def test_relative_imports_resolve_from_a_package_and_from_a_module():
     source = "from .base import _Source\nfrom ..errors import _x\n"
-    in_package = private_reaches(source, "ehm.readers", "readers/__init__.py", {"ehm"}, is_package=True)
-    in_module = private_reaches(source, "ehm.readers.read", "readers/read.py", {"ehm"})
-    assert [r.kind for r in in_package] == ["imported from ehm.readers.base", "imported from ehm.errors"]
-    assert [r.kind for r in in_module] == ["imported from ehm.readers.base", "imported from ehm.errors"]
+    in_package = private_reaches(source, "ehm.inputs.readers", "readers/__init__.py", {"ehm"}, is_package=True)
+    in_module = private_reaches(source, "ehm.inputs.readers.read", "readers/read.py", {"ehm"})
+    assert [r.kind for r in in_package] == ["imported from ehm.inputs.readers.base", "imported from ehm.errors"]
+    assert [r.kind for r in in_module] == ["imported from ehm.inputs.readers.base", "imported from ehm.errors"]
 
 
 def test_a_module_without_reaches_passes():

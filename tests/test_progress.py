@@ -1,4 +1,4 @@
-"""Progress of the command line (ehm.cli.progress): a bar on a terminal, a few lines on a pipe, nothing with
+"""Progress of the command line (ehm.interfaces.cli.progress): a bar on a terminal, a few lines on a pipe, nothing with
 --quiet, and nothing from library calls unless asked.
 
 Every drive here is SYNTHETIC (ehm.random_vibration)."""
@@ -10,10 +10,10 @@ import pandas as pd
 import pytest
 
 import ehm
-from ehm.cli import main
-from ehm.cli import progress as cli_progress
-from ehm.cli.parser import build_parser
 from ehm.errors import EhmWarning
+from ehm.interfaces.cli import main
+from ehm.interfaces.cli import progress as cli_progress
+from ehm.interfaces.cli.parser import build_parser
 
 
 def _write_drive(path, motion):

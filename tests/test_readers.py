@@ -1,4 +1,4 @@
-"""Measured logs in: ehm.readers.read_motion over every format, names, units, rates and bad input.
+"""Measured logs in: ehm.inputs.readers.read_motion over every format, names, units, rates and bad input.
 
 All logs here are SYNTHETIC (band-limited random vibration made by the tests), written in the formats a
 vehicle data logger or an analysis tool would export.
@@ -16,10 +16,10 @@ import pytest
 from scipy import signal
 
 import ehm
-from ehm.cli import main
-from ehm.comfort import metrics
 from ehm.errors import EhmWarning, InputError
-from ehm.readers import read_motion
+from ehm.inputs.readers import read_motion
+from ehm.interfaces.cli import main
+from ehm.standards.comfort import metrics
 
 G = 9.80665  # standard gravity: a logger's "g" [m/s^2]
 NAMES = {"time": "Zeit", "ax": "SeatPad_AccX", "ay": "SeatPad_AccY", "az": "SeatPad_AccZ"}
@@ -310,7 +310,7 @@ def test_bad_arguments_are_one_sentence():
         read_motion(42)
     with pytest.raises(InputError, match="rate_hz must be a positive number"):
         read_motion(pd.DataFrame(), rate_hz=-1)
-    from ehm.readers import parse_assignments
+    from ehm.inputs.readers import parse_assignments
 
     with pytest.raises(InputError, match=r"--channel 'ax': use KEY=VALUE with KEY one of time, ax, ay, az"):
         parse_assignments(["ax"], "--channel")
@@ -399,7 +399,7 @@ def test_a_gap_is_refused_or_bridged_with_a_warning(tmp_path, capsys):
         f"dropout.csv, line 302, column time_s: {gap} is bridged with a straight line (fill_gaps).")
     np.testing.assert_array_equal(m.time_s, t)
     # a step of up to GAP_STEPS median steps is not a gap
-    from ehm.readers import GAP_STEPS
+    from ehm.inputs.readers import GAP_STEPS
 
     short = np.delete(np.arange(0, 8.0, 0.01), np.arange(300, 300 + GAP_STEPS - 1))  # one step of GAP_STEPS
     zeros = np.zeros(short.size)
@@ -482,7 +482,7 @@ def test_a_truncated_mdf_gives_one_sentence_and_nothing_after_it(tmp_path):
     write_mdf(tmp_path / "whole.mf4", t, acc)
     data = (tmp_path / "whole.mf4").read_bytes()
     (tmp_path / "cut.mf4").write_bytes(data[: len(data) * 2 // 3])
-    run = subprocess.run([sys.executable, "-m", "ehm.cli", "assess", "--motion", str(tmp_path / "cut.mf4"),
+    run = subprocess.run([sys.executable, "-m", "ehm.interfaces.cli", "assess", "--motion", str(tmp_path / "cut.mf4"),
                           "--out", str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
     assert run.returncode == 2 and run.stdout == ""
     assert run.stderr.count("\n") == 1 and run.stderr.startswith(f"ehm: error: {tmp_path / 'cut.mf4'}: not a "
@@ -544,7 +544,7 @@ def test_a_batch_study_reads_the_dt_column_in_ms(tmp_path):
     # Case 1: "in a batch study the same run recorded seat a_v 0.00057 m/s^2": the study reads its drive through
     # the same reader, so the drive lasts 29.99 s (not 29 990 s) and keeps its rms (within the resampling's
     # 1 % of a white-noise log's power near Nyquist: none here, it is read at its own 100 Hz).
-    from ehm.batch import _read_drive
+    from ehm.interfaces.batch import _read_drive
 
     path = tmp_path / "phone.csv"
     _phone_rows().to_csv(path, sep=" ", header=False, index=False)

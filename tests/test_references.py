@@ -1,4 +1,5 @@
-"""ehm.references (issue 29, item 1): the reference curves, bands and findings in the package, each with its source
+"""ehm.standards.references (issue 29, item 1): the reference curves, bands and findings in the package, each with its
+source
 and the condition it describes, as data a validation can evaluate."""
 
 from __future__ import annotations
@@ -10,9 +11,8 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from ehm import references as ref
 from ehm.errors import InputError
-
+from ehm.standards import references as ref
 
 
 def test_iso2631_5_transfer_function_has_the_standards_figures():
@@ -116,7 +116,7 @@ def test_locking_findings_are_the_studys_and_hold_on_the_default_person():
     """"The paper's locking findings; data, not prose": the study reports exactly these findings (and the pelvis
     beside them), each finding holds on the default person's locking study (linear route), and the same
     finding with the values swapped does not (holds() can fail)."""
-    from ehm.study import PAPER_VARIANTS, locking_study
+    from ehm.analysis.study import PAPER_VARIANTS, locking_study
 
     assert PAPER_VARIANTS is ref.LOCKING_VARIANTS
     study = locking_study(method="linear")
@@ -139,7 +139,7 @@ def test_references_is_a_numerical_leaf():
     and ehm.errors, nothing else (import-linter keeps it on its floor; this keeps scipy and the rest out too)."""
     import importlib.util
 
-    name = "ehm.references"  # found by its dotted name, wherever its file lies; relative imports made absolute
+    name = "ehm.standards.references"  # by its dotted name, wherever its file lies; relative imports made absolute
     tree = ast.parse(Path(importlib.util.find_spec(name).origin).read_text(encoding="utf-8"))
     imported = set()
     for node in ast.walk(tree):

@@ -20,11 +20,11 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm import outdir, runfiles
-from ehm.cli import main
 from ehm.errors import InputError
-from ehm.io import MANIFEST_NAME
-from ehm.outdir import RunFolder, check_output_folder, signals_held
+from ehm.files import MANIFEST_NAME
+from ehm.interfaces.cli import main
+from ehm.outputs import outdir, runfiles
+from ehm.outputs.outdir import RunFolder, check_output_folder, signals_held
 
 
 def _one_error_line(err: str) -> str:
@@ -138,8 +138,8 @@ def test_signals_are_held_while_a_folder_is_swapped():
 
 def test_sigterm_during_a_file_write_leaves_no_temporary_file(tmp_path):
     # SIGTERM becomes cli.Terminated (a KeyboardInterrupt) in the command, so the atomic writer's clean-up runs
-    from ehm.cli import Terminated
-    from ehm.io import replace_atomically
+    from ehm.files import replace_atomically
+    from ehm.interfaces.cli import Terminated
 
     def half_then_terminated(tmp):
         with open(tmp, "w") as fh:
@@ -217,8 +217,8 @@ def test_sigterm_removes_temporary_files_and_keeps_the_earlier_run(tmp_path):
     with RunFolder(out) as tmp:
         (tmp / "summary.json").write_text('{"earlier": true}\n')
     env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1])}
-    proc = subprocess.Popen([sys.executable, "-m", "ehm.cli", "simulate", "--duration", "120", "--method", "nonlinear",
-                             "--output-rate", "1000",
+    proc = subprocess.Popen([sys.executable, "-m", "ehm.interfaces.cli", "simulate", "--duration", "120", "--method",
+                             "nonlinear", "--output-rate", "1000",
                              "--out", str(out)], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 120
     grown = False
@@ -347,7 +347,7 @@ def test_output_rate_must_divide_the_model_rate(tmp_path, capsys):
 
 
 def test_plot_of_a_long_run_uses_a_bounded_preview(tmp_path, human, monkeypatch):
-    from ehm import plotting
+    from ehm.outputs import plotting
 
     monkeypatch.setattr(runfiles, "PREVIEW_ROWS", 200)
     drawn = {}

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.cli import main
+from ehm.body.params import Parameters
+from ehm.body.tables import load_body
 from ehm.errors import InputError
-from ehm.params import Parameters
-from ehm.scaling import BodySize, scale_body, scale_params
-from ehm.tables import load_body
+from ehm.interfaces.cli import main
+from ehm.person.scaling import BodySize, scale_body, scale_params
 
 
 def test_reference_size_changes_nothing():
@@ -48,7 +48,7 @@ def test_extremes_settle_and_run(stature, mass, sitting):
     assert np.abs(run.point("pelvis").disp_m).max() < 0.005
     # Hof (1996) scaling keeps natural frequencies ~ sqrt(g / L): the vertical trunk mode moves with
     # 1 / sqrt(sitting-height ratio) from the reference's (linear model), within 10 % (widths scale apart).
-    from ehm.frf import linear_frf
+    from ehm.analysis.frf import linear_frf
 
     ref = linear_frf(ehm.SeatedHuman(), "z").curve("z", "trunk", "z").peak((2, 12))[0]
     got = linear_frf(h, "z").curve("z", "trunk", "z").peak((2, 12))[0]
@@ -71,7 +71,7 @@ def test_cli_info_scaled(capsys):
 def test_stretched_inertia_is_that_of_the_stretched_body():
     # a solid box a x b x c of mass m: I_xx = m (b^2 + c^2) / 12 (hand formula); stretched by (2, 1, 0.5) and
     # with 1.5 times the mass it is a box 2a x b x 0.5c of mass 1.5 m
-    from ehm.scaling import stretched_inertia
+    from ehm.person.scaling import stretched_inertia
 
     def box(m, a, b, c):
         return m / 12 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.cli import main
 from ehm.errors import InputError
-from ehm.results import concatenate_runs
+from ehm.interfaces.cli import main
+from ehm.outputs.results import concatenate_runs
 from ehm.routes import parallel as segments
 from ehm.routes.parallel import Span, plan_segments, simulate_parallel, stream_parallel
 

@@ -12,7 +12,13 @@ import numpy as np
 import pytest
 
 from ehm.errors import InputError
-from ehm.sickness import SicknessAccumulator, SicknessResult, SvcParameters, hill_percent, subjective_vertical_conflict
+from ehm.standards.sickness import (
+    SicknessAccumulator,
+    SicknessResult,
+    SvcParameters,
+    hill_percent,
+    subjective_vertical_conflict,
+)
 
 G = 9.81
 DT = 0.05  # s; coarse but resolves 1 Hz with 20 samples a cycle

@@ -7,7 +7,7 @@ from __future__ import annotations
 import inspect
 
 import ehm
-from ehm.cli.parser import build_parser
+from ehm.interfaces.cli.parser import build_parser
 
 
 def test_the_same_route_by_default_everywhere(human):

@@ -1,4 +1,4 @@
-"""ISO 2631-5:2018 spinal dose (issue 29, item 5: "ISO 2631-5 in ehm assess"): ehm.comfort.spine against the
+"""ISO 2631-5:2018 spinal dose (issue 29, item 5: "ISO 2631-5 in ehm assess"): ehm.standards.comfort.spine against the
 standard's own example, hand computations and the standard's other realisations of its transfer function; and its
 place in ``ehm assess``.  All signals are SYNTHETIC.
 
@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from ehm.cli import main
-from ehm.comfort import spine as sp
 from ehm.errors import EhmWarning, InputError
-from ehm.references import ISO2631_5_ANNEX_D_A, ISO2631_5_ANNEX_D_B, iso2631_5_lumbar_tf
+from ehm.interfaces.cli import main
+from ehm.standards.comfort import spine as sp
+from ehm.standards.references import ISO2631_5_ANNEX_D_A, ISO2631_5_ANNEX_D_B, iso2631_5_lumbar_tf
 
 #: The standard's Annex C example: five lumbar peaks of 40 m/s^2 a day, an 82 kg man exposed from the age of 20 for
 #: 20 years, 120 days a year: D_zd 55.97 m/s^2, R 1.22, P 0.37; NOTE 5, a 64 kg woman: S_d 1.40 MPa, R 0.97.
@@ -217,7 +217,7 @@ def test_implausible_exposure_is_one_sentence(kw, words):
 
 def test_exposure_must_be_a_spine_exposure():
     """The Python API: an exposure given as something else (a dict) is one sentence, not an AttributeError."""
-    with pytest.raises(InputError, match="exposure must be an ehm.comfort.SpineExposure .*not dict"):
+    with pytest.raises(InputError, match="exposure must be an ehm.standards.comfort.SpineExposure .*not dict"):
         sp.spinal_dose(synthetic(500.0, 5.0), 500.0, {"daily_exposure_h": 2.0})
 
 
@@ -254,7 +254,7 @@ def test_assess_reports_iso2631_5(tmp_path, capsys):
     assert section["model_route"]["lumbar_peak_count"] > 10  # the body model's route (test_assess_model_route)
     assert f"S_d {got['daily_compressive_stress_sd_mpa']:.3g} MPa" in printed and "ISO 2631-5" in printed
     assert "Spinal dose (ISO 2631-5)" in (out / "report.html").read_text()
-    from ehm.assessment import _summary_rows
+    from ehm.analysis.assessment import _summary_rows
 
     rows = {(r[0], r[2]): r for r in _summary_rows(json.loads((out / "assessment.json").read_text()))}
     assert rows["seat", "iso2631_5_sd"][3:] == (got["daily_compressive_stress_sd_mpa"], "MPa")
@@ -273,7 +273,7 @@ def test_assess_model_route_is_the_lumbar_points_dose():
     SYNTHETIC road with shocks the two routes both see the shocks: the model's largest peak within a factor 2 of
     the standard's (they are different people: the standard's curve and the model's)."""
     from ehm import SeatedHuman, assess
-    from ehm.drives import rough_road
+    from ehm.inputs.drives import rough_road
 
     drive = rough_road(duration_s=6.0)
     drive = type(drive)(drive.time_s, drive.acc_mps2, description="SYNTHETIC rough road, no rotation")

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm.comfort import ComfortAccumulator
+from ehm.analysis.stepping import Simulator, run_realtime
 from ehm.errors import InputError
-from ehm.stepping import Simulator, run_realtime
+from ehm.standards.comfort import ComfortAccumulator
 
 
 @pytest.fixture(scope="module")

@@ -6,11 +6,11 @@ from pathlib import Path
 
 import pytest
 
-from ehm.cli import main
-from ehm.frf import linear_frf, time_domain_frf
+from ehm.analysis.frf import linear_frf, time_domain_frf
+from ehm.analysis.study import locking_study
+from ehm.body.tables import load_body
+from ehm.interfaces.cli import main
 from ehm.simulation import SeatedHuman
-from ehm.study import locking_study
-from ehm.tables import load_body
 
 DATA = Path(__file__).resolve().parents[1] / "src" / "ehm" / "data"
 
@@ -85,8 +85,8 @@ def test_cli_study_writes_table_and_figure(tmp_path, capsys):
         assert (out / name).stat().st_size > 0
     import csv
 
-    from ehm.frf import read_frf_csv
-    from ehm.study import STUDY_PATHS
+    from ehm.analysis.frf import read_frf_csv
+    from ehm.analysis.study import STUDY_PATHS
 
     with open(out / "locking.csv") as f:
         rows = list(csv.DictReader(f))

@@ -20,8 +20,8 @@ import mujoco
 import numpy as np
 import pytest
 
+from ehm.body.tables import load_body, load_joints, load_segments
 from ehm.errors import InputError
-from ehm.tables import load_body, load_joints, load_segments
 
 DATA = Path(__file__).resolve().parents[1] / "src" / "ehm" / "data"
 

@@ -15,8 +15,8 @@ import pandas as pd
 import pytest
 
 from ehm.errors import EhmWarning, InputError
-from ehm.imu import from_imu
-from ehm.readers import read_motion
+from ehm.inputs.imu import from_imu
+from ehm.inputs.readers import read_motion
 
 G = 9.80665
 DEFAULT = {"time": "time_s", "ax": "ax_mps2", "ay": "ay_mps2", "az": "az_mps2",
@@ -375,14 +375,14 @@ def test_a_gyro_in_deg_s_read_as_rad_s_is_refused(tmp_path, scale, words):
 
 
 def test_the_command_line_takes_a_date_time_format_as_the_time_unit(tmp_path):
-    from ehm.readers import parse_assignments
+    from ehm.inputs.readers import parse_assignments
 
     assert parse_assignments(["time=%d/%m/%Y %H:%M:%S.%f"], "--unit") == {"time": "%d/%m/%Y %H:%M:%S.%f"}
 
 
 @pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_the_command_line_refuses_in_one_line_and_reads_with_unit(tmp_path, capsys):
-    from ehm.cli import main
+    from ehm.interfaces.cli import main
 
     t, acc, _ = synthetic(n=1500)
     dates = pd.Series(pd.to_datetime("2026-11-25 14:03:07") + pd.to_timedelta(t, unit="s"))

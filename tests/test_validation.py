@@ -17,13 +17,13 @@ import numpy as np
 import pytest
 
 import ehm
-from ehm import references
-from ehm.cli import main
+from ehm.analysis.frf import FrfTable
+from ehm.analysis.validation import ANY_SEAT_BANDS, FREQ_HZ, Check, Validation, band_checks, locking_checks, validate
+from ehm.body.params import Parameters
 from ehm.errors import InputError
-from ehm.frf import FrfTable
-from ehm.params import Parameters
-from ehm.transfer import Curve
-from ehm.validation import ANY_SEAT_BANDS, FREQ_HZ, Check, Validation, band_checks, locking_checks, validate
+from ehm.interfaces.cli import main
+from ehm.standards import references
+from ehm.standards.transfer import Curve
 
 REF = "erect, back support none"
 OWN = "erect, back support high"
@@ -166,7 +166,7 @@ def test_locking_checks_on_a_stub_study():
 
 def _consistent(c: Check) -> bool:
     """The verdict a check's figure and band give: limits included for a band; a locking finding asks for more
-    than its least change (strict, as ehm.references.LockingFinding.holds)."""
+    than its least change (strict, as ehm.standards.references.LockingFinding.holds)."""
     if c.name.startswith("locking_"):
         return bool(c.value > c.low) if np.isnan(c.high) else bool(c.value < c.high)
     return bool((np.isnan(c.low) or c.value >= c.low) and (np.isnan(c.high) or c.value <= c.high))
@@ -236,7 +236,7 @@ def test_validate_one_condition_evaluates_every_band_there():
 def test_the_locking_study_is_the_persons_own_size_and_time_step():
     """A body size and a time step given to validate() reach the locking study too (they were dropped: the study ran
     the reference person at its own step).  Exact: the same linearisations, so the same figures."""
-    from ehm.study import locking_study
+    from ehm.analysis.study import locking_study
 
     size, dt = ehm.BodySize(1.60, 55.0), 0.0005
     v = validate(size=size, back_support="high", dt_s=dt)
@@ -253,7 +253,7 @@ def test_the_locking_study_is_the_persons_own_size_and_time_step():
 def test_figures_count_the_checks_they_draw(tmp_path):
     """A figure per axis (z: three panels, x and y: one), each title counting the checks that pass: the synthetic
     table passes every band but the lateral head peak (3.5 Hz)."""
-    from ehm.plotting import plot_validation
+    from ehm.outputs.plotting import plot_validation
 
     v = Validation(checks=tuple(band_checks(synthetic_table(), REF)), tables={REF: synthetic_table()})
     fig = plot_validation(v, "z")
@@ -316,11 +316,11 @@ def test_cli_writes_the_table_and_figures_and_exits_1_when_a_check_fails(tmp_pat
 def test_cli_exit_status_follows_the_checks(monkeypatch, capsys, passing):
     """Exit status 0 when every check passes, 1 when one fails (validate() replaced by a stub: no parameter set
     passes every band today)."""
-    import ehm.validation
+    import ehm.analysis.validation
 
     check = Check("head_lateral_peak_frequency", REF, "stub", 2.0 if passing else 3.5, 2.0, np.nan, 3.0, "Hz",
                   passing, "stub")
-    monkeypatch.setattr(ehm.validation, "validate", lambda *a, **k: Validation((check,), {}, {}))
+    monkeypatch.setattr(ehm.analysis.validation, "validate", lambda *a, **k: Validation((check,), {}, {}))
     assert main(["validate", "-q"]) == (0 if passing else 1)
     cap = capsys.readouterr()
     assert ("1 of 1 checks pass." if passing else "0 of 1 checks pass.") in cap.out

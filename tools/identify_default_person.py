@@ -1,6 +1,6 @@
 """Identify the default person's vertical path against the standards' reference curves, reproducibly.
 
-The references (:mod:`ehm.references`) describe people sitting erect without a back support, feet supported:
+The references (:mod:`ehm.standards.references`) describe people sitting erect without a back support, feet supported:
 ISO 2631-5:2018's seat-to-lumbar transfer function and the one-mass fit to measured apparent mass of Fairley &
 Griffin (1989).  The person is identified in that condition, in two stages, from ``START`` (the values an
 exploratory search reached from the ehm authors' hand-tuned ones):
@@ -44,13 +44,13 @@ import numpy as np
 from scipy.optimize import least_squares
 
 import ehm
-from ehm import references
-from ehm.cli import main as ehm_main
-from ehm.frf import FrfTable
-from ehm.params import Parameters, default_params_path
-from ehm.plotting import plot_validation
-from ehm.transfer import Curve
-from ehm.validation import validate
+from ehm.analysis.frf import FrfTable
+from ehm.analysis.validation import validate
+from ehm.body.params import Parameters, default_params_path
+from ehm.interfaces.cli import main as ehm_main
+from ehm.outputs.plotting import plot_validation
+from ehm.standards import references
+from ehm.standards.transfer import Curve
 
 SIDES = ("r", "l")
 #: The values identified, those that shape the vertical response: the normal stiffness and damping of the contacts
@@ -310,7 +310,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def _write_reference_csv(table: FrfTable, path: Path) -> None:
     """The table in ehm's long FRF CSV format (what ``ehm fit --data`` reads)."""
-    from ehm.frf import gain_unit
+    from ehm.analysis.frf import gain_unit
 
     lines = ["input_axis,point,dof,freq_hz,gain,phase_deg,coherence"]
     for (a, p, d), c in table.curves.items():

@@ -34,47 +34,54 @@ EhmWarning         the category of ehm's warnings (StepWarning, LinearRouteWarni
 
 Modules
 -------
-ehm.readers        outside data formats (the one door for them)
-ehm.imu            IMU logs to seat motion
-ehm.frf            FRF tables: time_domain_frf, linear_frf, read_frf_csv, read_frf
-ehm.criterion      the paper's criterion (Eqs. 2-3): compare, curve_criterion, small_curves
-ehm.fit            parameter identification: fit, write_identified
-ehm.study          the joint-locking study: locking_study
-ehm.comfort        ISO 2631-1 weightings (any sampling rate) and metrics; ISO 2631-5 spinal dose (ehm.comfort.spine)
-ehm.references     reference curves, bands and the paper's findings, with their sources
-ehm.validation     the person against them: validate, band_checks, locking_checks
-ehm.sickness       subjective vertical conflict motion sickness model (whole record, or piece by piece:
+ehm.inputs.readers  outside data formats (the one door for them)
+ehm.inputs.imu     IMU logs to seat motion
+ehm.analysis.frf   FRF tables: time_domain_frf, linear_frf, read_frf_csv, read_frf
+ehm.analysis.criterion  the paper's criterion (Eqs. 2-3): compare, curve_criterion, small_curves
+ehm.analysis.fit   parameter identification: fit, write_identified
+ehm.analysis.study  the joint-locking study: locking_study
+ehm.standards.comfort  ISO 2631-1 weightings (any sampling rate) and metrics; ISO 2631-5 spinal dose
+(ehm.standards.comfort.spine)
+ehm.standards.references  reference curves, bands and the paper's findings, with their sources
+ehm.analysis.validation  the person against them: validate, band_checks, locking_checks
+ehm.standards.sickness  subjective vertical conflict motion sickness model (whole record, or piece by piece:
                    SicknessAccumulator)
 ehm.routes.linear         the linearised person as a state-space model (the linear route)
-ehm.convergence    is the time step small enough? (``ehm check-step``)
-ehm.batch          batch studies on Dask; ehm.fmu FMI export; ehm.animation pictures; ehm.plotting figures
-ehm.dataframes     results out: ``to_dataframe()`` (pandas), ``to_xarray()``, the tables a notebook shows
+ehm.analysis.convergence  is the time step small enough? (``ehm check-step``)
+ehm.interfaces.batch  batch studies on Dask; ehm.interfaces.fmu FMI export; ehm.outputs.animation pictures;
+ehm.outputs.plotting figures
+ehm.outputs.dataframes  results out: ``to_dataframe()`` (pandas), ``to_xarray()``, the tables a notebook shows
 
 Conventions: SI units, radians inside; axes x forward, y left, z up; origin at the pelvis centre of
 gravity of the reference posture.
 """
 
+from . import _compat
+
+_compat.install()  # the modules' old paths keep working for one release, with a DeprecationWarning
+__getattr__ = _compat.old_attribute
+
 __version__ = "0.1.0"
 
+from .analysis.assessment import Assessment, assess
+from .analysis.convergence import StepWarning, check_step
+from .analysis.criterion import compare
+from .analysis.frf import FrfTable, linear_frf, read_frf, time_domain_frf
+from .analysis.stepping import Simulator, StepState
+from .analysis.validation import Validation, validate
+from .body.params import Parameters
+from .body.tables import load_body
 from .errors import DivergenceError, EhmError, EhmWarning, InputError
-from .motion import SeatMotion, random_vibration, sine, sweep
-from .params import Parameters
+from .inputs.drives import city_drive, rough_road
+from .inputs.imu import from_imu
+from .inputs.motion import SeatMotion, random_vibration, sine, sweep
+from .inputs.readers import load_motion_csv, read_motion
 from .person import Person
-from .simulation import PointMotion, RunResult, SeatedHuman
-from .stepping import Simulator, StepState
-from .tables import load_body
-from .transfer import Curve, h1_estimate
-from .readers import load_motion_csv, read_motion
-from .imu import from_imu
-from .drives import city_drive, rough_road
-from .assessment import Assessment, assess
-from .routes.parallel import simulate_parallel
-from .frf import FrfTable, linear_frf, read_frf, time_domain_frf
-from .criterion import compare
-from .scaling import BodySize
-from .convergence import StepWarning, check_step
+from .person.scaling import BodySize
 from .routes.linear import LinearRouteError
-from .validation import Validation, validate
+from .routes.parallel import simulate_parallel
+from .simulation import PointMotion, RunResult, SeatedHuman
+from .standards.transfer import Curve, h1_estimate
 
 __all__ = [
     "DivergenceError", "EhmError", "EhmWarning", "InputError",

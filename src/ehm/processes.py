@@ -1,7 +1,8 @@
 """Worker processes that leave Ctrl-C to ehm: SIGINT ignored while they are started (they inherit it), and one
 thread each for the numerical libraries (their own thread pools would oversubscribe the cores).
 
-Used by :mod:`ehm.cluster` (Dask's local workers) and :mod:`ehm.routes.parallel` (a long run in segments on local
+Used by :mod:`ehm.interfaces.cluster` (Dask's local workers) and :mod:`ehm.routes.parallel` (a long run in segments on
+local
 processes); a leaf module, importing nothing of ehm.
 """
 

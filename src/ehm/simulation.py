@@ -17,10 +17,11 @@ from pathlib import Path
 import numpy as np
 
 from . import engine
+from .body.params import Parameters
+from .body.tables import Body
 from .errors import InputError
-from .motion import SeatMotion, require_motion
-from .params import Parameters
-from .results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_runs: also importable from here
+from .inputs.motion import SeatMotion, require_motion
+from .outputs.results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_runs: also importable from here
     POINT_NAMES,
     PointMotion,
     RunResult,
@@ -35,7 +36,6 @@ from .routes.nonlinear import (  # noqa: F401 - also importable from here
     UNUSUAL_JUMP_MPS2,
     UNUSUAL_TILT_DEG,
 )
-from .tables import Body
 
 
 class SeatedHuman:
@@ -55,18 +55,19 @@ class SeatedHuman:
         Body tables (default: the paper's Tables 1 and 2 and the shipped contact ellipsoids).
     rotating_seat : bool
         Build the seat so that it can rotate (for motions with angular velocity; about 40 % slower).
-    size : ehm.scaling.BodySize, optional
+    size : ehm.person.scaling.BodySize, optional
         Scale the person (and the seat's fit) to a stature, mass and sitting height.
     dt_s : float, optional
         Time step [s].  Default: the parameter file's ``simulation.dt_s`` when the file sets its own, else the
         posture's own converged step when it has one (the shipped ``slouched``: 0.5 ms), else the shipped 1 ms
         (:meth:`ehm.Parameters.time_step`); the person's ``params`` record the step it runs at.  A step coarser
-        than the one at which the person in its posture is converged gives a :class:`ehm.timestep.StepWarning`
+        than the one at which the person in its posture is converged gives a :class:`ehm.body.timestep.StepWarning`
         with the error to expect; ``ehm check-step`` measures it.
     posture, back_support : str, optional
         The reference posture (``"erect"``, the default, ``"slouched"``, or one the parameter file defines;
-        :mod:`ehm.posture`) and the seat's back support (``"none"``, ``"low"``, ``"high"``, the default, or
-        ``"full"``; :mod:`ehm.seat`).  None: the parameter file's (``posture.name``, ``seat.back_support``); the
+        :mod:`ehm.body.posture`) and the seat's back support (``"none"``, ``"low"``, ``"high"``, the default, or
+        ``"full"``; :mod:`ehm.body.supports`).  None: the parameter file's (``posture.name``, ``seat.back_support``);
+        the
         person's ``params`` record them.
     head_control : bool or dict, optional
         Head-in-space control on top of the joint PID (``ehm.engine.control``, docs/model.md "Head-in-space
@@ -197,7 +198,7 @@ class SeatedHuman:
         (:class:`ehm.routes.hybrid.LinearRouteWarning`) with the figure.  ``method="auto"`` (the hybrid route) keeps the
         nonlinear answer in those windows and the linear one elsewhere.  Both record what they checked in
         ``result.extra["route"]`` (:class:`ehm.routes.hybrid.RouteReport`).  Every route records the segments' poses at
-        ``pose_rate_hz`` when asked (for ``ehm.animation``; the linear pieces through the model's kinematics,
+        ``pose_rate_hz`` when asked (for ``ehm.outputs.animation``; the linear pieces through the model's kinematics,
         :mod:`ehm.routes.poses`).  A motion that rotates
         the seat runs on the linear model of the seat's rotation in the seat's own frame (whether or not the
         person was built with ``rotating_seat=True``): see :func:`ehm.routes.linear.stream_linear` for what it assumes;
@@ -216,28 +217,29 @@ class SeatedHuman:
                     plot=None, method: str = "auto", tolerance: float | None = None, chunks=None) -> dict:
         """Run a seat motion and write its run folder while it runs; returns the summary.
 
-        Chunks of ``chunk_s`` go to disk as they are computed (:mod:`ehm.runfiles`), so memory does not grow
+        Chunks of ``chunk_s`` go to disk as they are computed (:mod:`ehm.outputs.runfiles`), so memory does not grow
         with the motion's length; the folder ``out_dir`` is put in place as one unit when the run has ended
-        (:mod:`ehm.outdir`), and a failure or an interrupt leaves an earlier folder there as it was.
+        (:mod:`ehm.outputs.outdir`), and a failure or an interrupt leaves an earlier folder there as it was.
         ``output_rate_hz`` thins the time series (it must divide the model's rate; default
-        :data:`ehm.runfiles.DEFAULT_OUTPUT_RATE_HZ`, or the nearest whole fraction of the model's rate above it);
+        :data:`ehm.outputs.runfiles.DEFAULT_OUTPUT_RATE_HZ`, or the nearest whole fraction of the model's rate above
+        it);
         ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method`` and ``tolerance`` as for :meth:`simulate` (every
         route records poses at ``pose_rate_hz``).
 
         ``plot`` draws figures into the folder before it is put in place: a callable ``plot(preview, folder)``
-        that gets a :class:`RunResult` of at most :data:`ehm.runfiles.PREVIEW_ROWS` evenly spread rows and the
-        folder being written, e.g. ``ehm.plotting.plot_run_preview`` (``time_histories.png``).  Computing
+        that gets a :class:`RunResult` of at most :data:`ehm.outputs.runfiles.PREVIEW_ROWS` evenly spread rows and the
+        folder being written, e.g. ``ehm.outputs.plotting.plot_run_preview`` (``time_histories.png``).  Computing
         and drawing stay apart: this module does not import matplotlib.
 
         ``chunks``: the run's chunks made elsewhere, in order (e.g. :func:`ehm.routes.parallel.stream_parallel` with the
         same ``chunk_s`` and ``pose_rate_hz``), written instead of this person's own :meth:`stream`.
         """
-        from .outdir import RunFolder, check_output_folder
-        from .runfiles import PREVIEW_ROWS, default_output_every, output_every, pyarrow_modules, write_run
+        from .outputs.outdir import RunFolder, check_output_folder
+        from .outputs.runfiles import PREVIEW_ROWS, default_output_every, output_every, pyarrow_modules, write_run
 
         if plot is not None and plot is not False and not callable(plot):
-            raise InputError("plot must be a function plot(preview, folder), e.g. ehm.plotting.plot_run_preview; "
-                             "simulate_to does not draw by itself.")
+            raise InputError("plot must be a function plot(preview, folder), e.g. "
+                             "ehm.outputs.plotting.plot_run_preview; simulate_to does not draw by itself.")
         dt = float(self.model.mj.opt.timestep)
         every = default_output_every(dt) if output_rate_hz is None else output_every(output_rate_hz, dt)
         if "parquet" in formats:
@@ -259,7 +261,7 @@ class SeatedHuman:
         """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
 
         Memory stays constant whatever the motion's length: the motion is resampled onto the model's time
-        step (anti-aliased polyphase filter, :class:`ehm.resampling.Resampler`) one chunk at a time.
+        step (anti-aliased polyphase filter, :class:`ehm.inputs.resampling.Resampler`) one chunk at a time.
         ``progress(done_s, total_s)`` is called after every chunk.  ``method`` and ``options`` as
         for :meth:`simulate` (default ``"auto"``, the hybrid route; every route takes the motion resampled to the
         model's step): the route of that name (:func:`ehm.routes.registry.stream`) runs on the person as built,

@@ -7,7 +7,7 @@ Map of the package (each module one idea; underscore names are private to the pa
 
 * :mod:`.model`: the :class:`Model` record and the shared names (:data:`G0`, :data:`POINTS` with
   :data:`POINT_JOINTS`, :data:`SUPPORT_GROUPS`).
-* :mod:`.seat`: the seat surfaces as planes (:class:`SeatGeometry`), their checks (:func:`check_seat`) and the
+* :mod:`.seat_geometry`: the seat surfaces as planes (:class:`SeatGeometry`), their checks (:func:`check_seat`) and the
   rotating seat's constants (:data:`SEAT_DOFS`, :data:`SEAT_INERTIA_KGM2`).
 * :mod:`.inertia`: a segment's own mass properties with its tissue pads taken out, and the rigid-body check
   (:func:`inertia_problem`).
@@ -70,14 +70,42 @@ from .diagnostics import CHECK_EVERY, DIVERGED_M, captured_warnings, dof_name, t
 from .export import c_library, drawing_geometry, save_binary
 from .inertia import PAD_INERTIA_KGM2, ImpossibleInertia, inertia_problem, segment_mass_properties
 from .laws import FRICTION_SOFTNESS, TRAPEZOIDAL_JOINTS, contact_solver_params
-from .linearisation import (FIELD_INPUTS, OUTPUT_DOFS, ROTATION_INPUTS, S_ENTRIES, LinearModel, linearize,
-                             rotation_loads, seat_pivot)
+from .linearisation import (
+                             FIELD_INPUTS,
+                             OUTPUT_DOFS,
+                             ROTATION_INPUTS,
+                             S_ENTRIES,
+                             LinearModel,
+                             linearize,
+                             rotation_loads,
+                             seat_pivot,
+)
 from .model import G0, POINT_JOINTS, POINTS, SUPPORT_GROUPS, Model
-from .seat import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, seated_body
-from .sensors import (SENSOR_KINDS, contact_forces, sensor_slices, sliding_contacts, support_forces, support_slices,
-                      touching_contacts)
-from .state import (data_at_deviation, deviation_of, get_state, new_data, qpos_at_deviation, rotating_data_at,
-                    rotating_qpos, set_seat, set_state, settle, settled_data, settled_point_poses, static_deviation_of)
+from .seat_geometry import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, seated_body
+from .sensors import (
+                             SENSOR_KINDS,
+                             contact_forces,
+                             sensor_slices,
+                             sliding_contacts,
+                             support_forces,
+                             support_slices,
+                             touching_contacts,
+)
+from .state import (
+                             data_at_deviation,
+                             deviation_of,
+                             get_state,
+                             new_data,
+                             qpos_at_deviation,
+                             rotating_data_at,
+                             rotating_qpos,
+                             set_seat,
+                             set_state,
+                             settle,
+                             settled_data,
+                             settled_point_poses,
+                             static_deviation_of,
+)
 from .stepper import RawRun, deviation_poses, evaluate_velocities, point_accelerations, run, step
 
 __all__ = [

@@ -9,16 +9,24 @@ import math
 import mujoco
 import numpy as np
 
+from ..body.params import Parameters
+from ..body.tables import Body
 from ..errors import InputError
-from ..params import Parameters
-from ..tables import Body
 from . import control as _control
 from .diagnostics import build_error, captured_warnings
 from .inertia import PAD_INERTIA_KGM2, pad_masses, segment_mass_properties
-from .laws import split_damping, contact_solver_params
+from .laws import contact_solver_params, split_damping
 from .model import G0, POINT_JOINTS, POINTS, Model
-from .seat import (SEAT_BANDWIDTH_HZ, SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, quat_pitch,
-                   quat_z_to, seated_body)
+from .seat_geometry import (
+    SEAT_BANDWIDTH_HZ,
+    SEAT_DOFS,
+    SEAT_INERTIA_KGM2,
+    SeatGeometry,
+    check_seat,
+    quat_pitch,
+    quat_z_to,
+    seated_body,
+)
 from .sensors import REDUCE_NETFORCE, SENSOR_KINDS
 
 #: Half sizes [m] of the static seat surfaces as drawn (planes: the contact is with the infinite plane).
@@ -35,7 +43,7 @@ def build(body: Body, params: Parameters, locked: frozenset | set = frozenset(),
     ----------
     body : Body
         Segments, joints and contact ellipsoids in the tables' reference posture; the model is built in the
-        parameters' posture and with their back support (:func:`~ehm.engine.seat.seated_body`), and its
+        parameters' posture and with their back support (:func:`~ehm.engine.seat_geometry.seated_body`), and its
         ``body`` is that one.
     params : Parameters
         Joint, contact, posture, seat and solver parameters.

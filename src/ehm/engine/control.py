@@ -28,8 +28,8 @@ from dataclasses import dataclass, replace
 import mujoco
 import numpy as np
 
+from ..body.params import Parameters
 from ..errors import InputError
-from ..params import Parameters
 
 #: Name of the MuJoCo numeric holding the law's constants, in the order of :data:`NUMERIC_FIELDS`.
 NUMERIC = "ehm_head_control"

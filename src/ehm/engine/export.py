@@ -9,6 +9,7 @@ import numpy as np
 from ..errors import InputError
 from .model import Model
 
+
 def save_binary(model: Model, path) -> None:
     """Write the compiled model as a MuJoCo binary model file (MJB) at ``path``, for the native FMU.
 

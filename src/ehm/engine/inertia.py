@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..body.params import Parameters
+from ..body.tables import Body, rot_y
 from ..errors import InputError
-from ..params import Parameters
-from ..tables import Body, rot_y
 
 PAD_INERTIA_KGM2 = 1e-6  #: Moment of inertia of a soft-tissue pad about each axis [kg m^2] (nearly a point mass).
 
@@ -50,7 +50,7 @@ def segment_mass_properties(seg, pads: list, pad_mass: dict) -> tuple[float, np.
         raise InputError(f"the tissue pads on segment {seg.name!r} weigh more than the segment ({seg.mass_kg} kg).")
     c_body = (seg.mass_kg * seg.com_m - sum(pad_mass[c.name] * c.center_m for c in pads)) / m_body
     inertia = np.diag(seg.inertia_kgm2).astype(float)
-    if seg.inertia_pitch_rad:  # principal axes pitched with the segment (a posture, ehm.posture)
+    if seg.inertia_pitch_rad:  # principal axes pitched with the segment (a posture, ehm.body.posture)
         rot = rot_y(seg.inertia_pitch_rad)
         inertia = rot @ inertia @ rot.T
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import mujoco
 
-from ..params import Parameters
-from ..tables import Body
+from ..body.params import Parameters
+from ..body.tables import Body
 
 #: Joints whose damping is trapezoidal (:func:`split_damping`): the open chain of trunk and neck, where implicit
 #: damping on light segments (the 1.6 kg neck) was the largest step error left (seat z -> head pitch 2.7 % at

@@ -11,7 +11,7 @@ import numpy as np
 from .control_linear import CONTROL_INPUTS, control_loads
 from .laws import contact_solver_params
 from .model import G0, POINTS, SUPPORT_GROUPS, Model
-from .seat import SeatGeometry
+from .seat_geometry import SeatGeometry
 from .sensors import SENSOR_KINDS, contact_forces, sensor_slices, support_forces, touching_contacts
 from .state import new_data, settle, settled_data, settled_point_poses
 

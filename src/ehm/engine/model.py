@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from ..params import Parameters
-from ..tables import Body
+from ..body.params import Parameters
+from ..body.tables import Body
 
 G0 = np.array([0.0, 0.0, -9.81])  #: Standard gravity in the seat frame [m/s^2].
 #: Output point -> the segment that carries it.  New points go last: the order is that of every output list

@@ -7,7 +7,7 @@ import mujoco
 import numpy as np
 
 from . import control as _control
-from .diagnostics import CHECK_EVERY, divergence_error, instability, captured_warnings
+from .diagnostics import CHECK_EVERY, captured_warnings, divergence_error, instability
 from .model import G0, Model
 
 

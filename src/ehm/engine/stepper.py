@@ -13,9 +13,10 @@ from ..errors import InputError
 from .control import after_step
 from .diagnostics import CHECK_EVERY, divergence_error, instability
 from .model import G0, POINTS, Model
-from .seat import SEAT_INERTIA_KGM2
+from .seat_geometry import SEAT_INERTIA_KGM2
 from .sensors import sensor_slices, support_slices
 from .state import new_data, qpos_at_deviation, rotating_qpos, settled_data
+
 
 def evaluate_velocities(model: Model, d: mujoco.MjData) -> np.ndarray:
     """Velocity-stage kinematics and sensors of the current state of ``d``; returns ``d.sensordata``.

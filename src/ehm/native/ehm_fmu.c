@@ -357,7 +357,7 @@ static int read_seat(Ehm *e, Reader *r) {
     return 0;
 }
 
-/* Read resources/ehm_state.txt (written by ehm.fmu_native): the settled state, the output points with their
+/* Read resources/ehm_state.txt (written by ehm.interfaces.fmu_native): the settled state, the output points with their
  * settled poses, the support groups, the divergence and input limits. */
 static int read_state(Ehm *e, const char *path, char *why, size_t size) {
     Reader r = {NULL, path, why, size};
@@ -549,7 +549,7 @@ static int settled_work(Ehm *e, void *arg) {
 }
 
 /* The seat's hinge set-points and feed-forward torque for the step starting now, from the attitude at its start
- * and the held body rates w [rad/s] (ehm.motion.seat_kinematics, with a backward difference for the angle
+ * and the held body rates w [rad/s] (ehm.inputs.motion.seat_kinematics, with a backward difference for the angle
  * accelerations); then the attitude advances over the step. */
 static void seat_drive(Ehm *e, const double w[3]) {
     Seat *st = &e->seat;

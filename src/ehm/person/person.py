@@ -18,11 +18,11 @@ from dataclasses import dataclass
 from dataclasses import replace as _dataclass_replace
 from typing import Any
 
+from ..body.params import Parameters
+from ..body.tables import Body, joint_names, load_body, resolve_locks
+from ..body.timestep import check_time_step, warn_if_coarse
 from ..errors import InputError, describe
-from ..params import Parameters
-from ..scaling import BodySize
-from ..tables import Body, joint_names, load_body, resolve_locks
-from ..timestep import check_time_step, warn_if_coarse
+from .scaling import BodySize
 
 #: The fields of :class:`Person`, in order (what :meth:`Person.replace` accepts).
 FIELDS = ("params", "body", "size", "posture", "back_support", "head_control", "lock", "unlock", "dt_s")
@@ -70,7 +70,7 @@ class Person:
     posture : str, optional
         The reference posture (``"erect"``, ``"slouched"`` or one the parameter file defines); None: the file's.
     back_support : str, optional
-        ``"none"``, ``"low"``, ``"high"`` or ``"full"`` (:mod:`ehm.seat`); None: the file's.
+        ``"none"``, ``"low"``, ``"high"`` or ``"full"`` (:mod:`ehm.body.supports`); None: the file's.
     head_control : bool or mapping, optional
         Head-in-space control: True or False switch it with the file's gains, a mapping of gains (e.g.
         ``{"tilt_stiffness_Nm_per_rad": 30.0}``) switches it on with those (kept as sorted ``(name, value)`` pairs);
@@ -91,7 +91,7 @@ class Person:
     >>> person.replace(dt_s=2.0)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    ehm.errors.InputError: dt_s = 2.0 is not a plausible time step: it must be a number of seconds from 1 us to 10 ms ...
+    ehm.errors.InputError: dt_s = 2.0 is not a plausible time step: ...
     """
 
     params: Parameters | None = None
@@ -117,7 +117,7 @@ class Person:
             raise InputError(f"Person: body = {describe(self.body)} is not body tables; give ehm.load_body(...) or "
                              "None for the shipped tables.")
         if self.size is not None and not isinstance(self.size, BodySize):
-            raise InputError(f"Person: size must be an ehm.scaling.BodySize, e.g. BodySize(stature_m=1.7, "
+            raise InputError(f"Person: size must be an ehm.person.scaling.BodySize, e.g. BodySize(stature_m=1.7, "
                              f"mass_kg=70), or None for the reference person, not {describe(self.size)}.")
         for name in ("posture", "back_support"):
             value = getattr(self, name)
@@ -194,14 +194,14 @@ class Person:
     def resolved(self) -> Built:
         """What the model builder needs, as plain data (:class:`Built`): the parameters seated in the posture and
         back support, with the head control and the time step (a step coarser than the converged one gives a
-        :class:`ehm.timestep.StepWarning`), the tables and parameters scaled to the body size (refused in one
+        :class:`ehm.body.timestep.StepWarning`), the tables and parameters scaled to the body size (refused in one
         sentence if that body cannot be built), and the locked joints resolved."""
         body = self.body if self.body is not None else load_body()
         params = self.seated_params().at_step(self.dt_s)
         warn_if_coarse(float(params.value("simulation.dt_s")), converged_s=params.converged_step(),
                        posture=params.posture)
         if self.size is not None:
-            from ..scaling import check_buildable, scale_body, scale_params
+            from .scaling import check_buildable, scale_body, scale_params
 
             body0, params0 = body, params
             body, params = scale_body(body, self.size), scale_params(params, self.size, body)

@@ -20,15 +20,15 @@ class BuiltPerson:
 
     Parameters
     ----------
-    body : ehm.tables.Body
+    body : ehm.body.tables.Body
         The body tables as built (scaled when the person has a body size).
-    params : ehm.params.Parameters
+    params : ehm.body.params.Parameters
         The parameters as built (posture, back support, head control, time step).
     locked : frozenset of str
         The locked joints.
     model : ehm.engine.Model
         The MuJoCo model built from them (``ehm.engine.build``).
-    size : ehm.scaling.BodySize, optional
+    size : ehm.person.scaling.BodySize, optional
         The body size the tables were scaled to, if any.
     """
 

@@ -44,9 +44,9 @@ import numpy as np
 
 from .. import engine
 from ..errors import EhmWarning, InputError
-from ..kinematics import seat_kinematics, seat_rotation_matrices
-from ..resampling import Resampler
-from ..results import POINT_NAMES, merge_linear_checks
+from ..inputs.kinematics import seat_kinematics, seat_rotation_matrices
+from ..inputs.resampling import Resampler
+from ..outputs.results import POINT_NAMES, merge_linear_checks
 from .built import built_of
 from .linear import (
     BLOCK,
@@ -328,7 +328,7 @@ def _contact_blocks(ss, blk):
 class _Drive:
     """The drive on the model's time step, a stretch at a time: the seat's acceleration (n, 3, seat axes), the
     linear model's inputs and, when the seat rotates, its rotation (:class:`ehm.routes.linear.SeatRotation`), from the
-    same resampling (:class:`ehm.resampling.Resampler`) and seat kinematics as the nonlinear route."""
+    same resampling (:class:`ehm.inputs.resampling.Resampler`) and seat kinematics as the nonlinear route."""
 
     def __init__(self, motion, dt: float, rotates: bool):
         self.dt = dt
@@ -350,7 +350,7 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     """Run ``motion`` on the hybrid route (``method="auto"``) or the checked linear route (``"linear"``), chunk
     by chunk, as :meth:`ehm.SeatedHuman.stream` does (see the module docstring).
 
-    Yields :class:`ehm.results.RunResult` chunks on the model's time step; the last one carries the
+    Yields :class:`ehm.outputs.results.RunResult` chunks on the model's time step; the last one carries the
     :class:`RouteReport` as plain data (:meth:`RouteReport.as_dict`) in ``extra["route"]``.  ``tolerance``:
     share of rms the linear route's discrepancy may reach (``method="linear"`` warns above it).  ``pose_rate_hz``:
     record the segments' poses at about this rate (:mod:`ehm.routes.poses`), as the nonlinear route does.

@@ -14,7 +14,7 @@ differences' round-off: the integral actuators' neutral directions) are left out
 quasi-static response added to the direct term; against the full model the outputs stay within 0.1 % of
 their rms (tested).  It discretises the rest exactly at the sample step of its input (first-order hold: the
 seat acceleration linear between samples); :class:`ehm.SeatedHuman` gives it the motion resampled to the
-model's step by the same anti-aliased :class:`ehm.resampling.Resampler` as the nonlinear route, so that both
+model's step by the same anti-aliased :class:`ehm.inputs.resampling.Resampler` as the nonlinear route, so that both
 routes see the same input (a first-order hold at a low log rate, 20 Hz, would cut the head's rms by a
 fifth).  It arranges the discretised model in blocks of :data:`BLOCK` samples, so that a whole run is one
 matrix product (block inputs and block start state to
@@ -45,8 +45,8 @@ from scipy.spatial.transform import Rotation
 
 from .. import engine
 from ..errors import InputError
-from ..kinematics import seat_kinematics
-from ..results import POINT_NAMES, PointMotion, RunResult
+from ..inputs.kinematics import seat_kinematics
+from ..outputs.results import POINT_NAMES, PointMotion, RunResult
 from .built import built_of
 
 #: Finer step used for the linearisation: the model's step divided by this.
@@ -400,8 +400,8 @@ def _block_matrix(m: _Modes, Bd: np.ndarray, hold_D: np.ndarray, P: np.ndarray) 
             Mu[i, :, j, :] = H[j - 1 - i].T
     Q = Cw[None, :, :] * P[:L, None, :]  # (L, p, m); a pair gives 2 Re(C z) = 2 Re C Re z - 2 Im C Im z
     pairs = np.stack([Q[:, :, nr:].real, -Q[:, :, nr:].imag], axis=3).reshape(L, p, -1)
-    O = np.concatenate([Q[:, :, :nr].real, pairs], axis=2)  # (L, p, n)
-    return np.concatenate([Mu.reshape(nu * L, L, p), O.transpose(2, 0, 1), np.tile(m.y0, (1, L, 1))])
+    Out = np.concatenate([Q[:, :, :nr].real, pairs], axis=2)  # (L, p, n)
+    return np.concatenate([Mu.reshape(nu * L, L, p), Out.transpose(2, 0, 1), np.tile(m.y0, (1, L, 1))])
 
 
 def initial_state(blk: _Blocks, u0: np.ndarray) -> np.ndarray:
@@ -614,19 +614,20 @@ def in_time_order(x: np.ndarray) -> np.ndarray:
 
 
 def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: float | None = None):
-    """Run ``motion`` (a :class:`ehm.motion.SeatMotion`) through the linear route, chunk by chunk.
+    """Run ``motion`` (a :class:`ehm.inputs.motion.SeatMotion`) through the linear route, chunk by chunk.
 
-    Yields one :class:`ehm.results.RunResult` per chunk (absolute times, the motion's own time step), like
+    Yields one :class:`ehm.outputs.results.RunResult` per chunk (absolute times, the motion's own time step), like
     :meth:`ehm.SeatedHuman.stream`; raises :class:`LinearRouteError` as soon as a contact would lift off or
     slide.  ``progress(done_s, total_s)`` is called after every chunk.  The person starts at rest in the
     settled posture.  ``dt_s`` [s]: run on this step instead, the motion resampled onto it one chunk at a time
-    (:class:`ehm.resampling.Resampler`, as the nonlinear route does), so that no resampled copy of the whole motion
+    (:class:`ehm.inputs.resampling.Resampler`, as the nonlinear route does), so that no resampled copy of the whole
+    motion
     is made.
 
     A motion that rotates the seat (angular velocities not all zero) runs on the model of the seat's rotation
     (``human.linear_model(rotation=True)``, :func:`continuous_model` with the pivot), in the seat's own frame:
     the seat's orientation R, angular velocity w and angular acceleration alpha come from
-    ``ehm.kinematics.seat_kinematics`` as in the nonlinear route; the inputs are the uniform field's change
+    ``ehm.inputs.kinematics.seat_kinematics`` as in the nonlinear route; the inputs are the uniform field's change
     a_seat + G0 - R^T G0 (the tilt exactly, no small-angle approximation), alpha and the centripetal matrix
     ``w w^T - |w|^2 I`` (the fictitious loads at the bodies' rest positions).  The results are in the nonlinear
     route's terms: absolute point accelerations and angular accelerations in seat axes, angular velocities
@@ -648,7 +649,7 @@ def stream_linear(human, motion, chunk_s: float = 10.0, progress=None, dt_s: flo
             motion = motion.resample(dt)
         del steps
     else:
-        from ..resampling import Resampler
+        from ..inputs.resampling import Resampler
 
         dt = float(dt_s)
         grid = Resampler(motion.time_s, motion.acc_mps2, dt)
@@ -689,10 +690,10 @@ class SeatRotation:
     """The seat's rotation over a chunk's samples, as the linear route takes it.
 
     ``angles_rad`` (n, 3) yaw, pitch, roll, as the nonlinear route drives the seat
-    (``ehm.kinematics.seat_kinematics``, linearly interpolated); ``w_radps`` and ``alpha_radps2`` (n, 3) the
+    (``ehm.inputs.kinematics.seat_kinematics``, linearly interpolated); ``w_radps`` and ``alpha_radps2`` (n, 3) the
     seat's angular velocity and acceleration in seat axes (from the Euler angles, their rates and accelerations:
     what the seat's hinges do); ``g_seat_mps2`` (n, 3) gravity in seat axes, R^T G0 with R the rotation of the
-    angles (seat axes -> world axes, ``ehm.kinematics.seat_rotation_matrices``); ``inputs`` (n, 12) the
+    angles (seat axes -> world axes, ``ehm.inputs.kinematics.seat_rotation_matrices``); ``inputs`` (n, 12) the
     linear model's inputs (:func:`continuous_model` with a pivot).
     """
 
@@ -703,7 +704,7 @@ class SeatRotation:
     inputs: np.ndarray
 
     @classmethod
-    def at(cls, kin, t_s: np.ndarray, acc_mps2: np.ndarray) -> "SeatRotation":
+    def at(cls, kin, t_s: np.ndarray, acc_mps2: np.ndarray) -> SeatRotation:
         """The rotation at times ``t_s`` [s] (from the motion's start) with the seat's acceleration ``acc_mps2``
         (n, 3, seat axes)."""
         angles, rates, accs = kin.at(t_s)
@@ -921,7 +922,7 @@ def run_result(human, ss: StateSpace, y: np.ndarray, u: np.ndarray, t: np.ndarra
 
 
 def simulate_linear(human, motion, dt_s: float | None = None):
-    """Run ``motion`` through the linear route in one piece: a :class:`ehm.results.RunResult` sampled at
+    """Run ``motion`` through the linear route in one piece: a :class:`ehm.outputs.results.RunResult` sampled at
     ``dt_s`` [s] (the motion resampled onto it, anti-aliased), or at the motion's own time step when None
     (see :func:`stream_linear`)."""
     (result,) = stream_linear(human, motion, chunk_s=np.inf, dt_s=dt_s)

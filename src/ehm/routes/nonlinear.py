@@ -1,8 +1,8 @@
 """The nonlinear route: the MuJoCo model stepped through a drive chunk by chunk, each chunk's engine output turned
-into a :class:`ehm.results.RunResult` in seat axes (:func:`stream`, :func:`stream_span`, :func:`chunk_result`).
+into a :class:`ehm.outputs.results.RunResult` in seat axes (:func:`stream`, :func:`stream_span`, :func:`chunk_result`).
 
 The motion is resampled onto the model's time step (anti-aliased polyphase filter,
-:class:`ehm.resampling.Resampler`) one chunk at a time, so memory stays constant whatever the drive's length.  A
+:class:`ehm.inputs.resampling.Resampler`) one chunk at a time, so memory stays constant whatever the drive's length.  A
 divergence is told with its likely cause when the seat input before it is out of the ordinary
 (:func:`with_input_cause`).
 """
@@ -18,9 +18,9 @@ from scipy.spatial.transform import Rotation
 
 from .. import engine
 from ..errors import DivergenceError, InputError
-from ..imu import STANDARD_GRAVITY_MPS2
-from ..motion import Resampler, SeatMotion, seat_kinematics, seat_rotation_matrices
-from ..results import POINT_NAMES, PointMotion, RunResult
+from ..inputs.imu import STANDARD_GRAVITY_MPS2
+from ..inputs.motion import Resampler, SeatMotion, seat_kinematics, seat_rotation_matrices
+from ..outputs.results import POINT_NAMES, PointMotion, RunResult
 from .built import BuiltPerson, built_of
 
 

@@ -9,7 +9,7 @@ r"""A long nonlinear run in segments on several cores: local processes or a Dask
 
 The motion is split into consecutive segments (at least one per worker).  Each segment is run from the settled
 rest over [start - lead-in, end] with the motion's own input over the lead-in, which is then discarded; the
-pieces are joined (``ehm.results.concatenate_runs``) into one :class:`~ehm.RunResult` on the continuous run's
+pieces are joined (``ehm.outputs.results.concatenate_runs``) into one :class:`~ehm.RunResult` on the continuous run's
 time axis, without a gap or a repeated sample.  The first segment starts at the motion's start and is the
 continuous run's first part bit for bit; one worker runs the motion in this process (the nonlinear route,
 :func:`ehm.routes.nonlinear.stream`).  Workers rebuild the person from its recipe
@@ -92,10 +92,10 @@ from numbers import Integral, Real
 import numpy as np
 
 from ..errors import InputError
-from ..motion import SeatMotion, require_motion
+from ..inputs.motion import SeatMotion, require_motion
+from ..inputs.resampling import Resampler
+from ..outputs.results import RunResult, concatenate_runs
 from ..processes import ONE_THREAD, environ_default, ignore_sigint, sigint_ignored
-from ..resampling import Resampler
-from ..results import RunResult, concatenate_runs
 from .built import BuiltPerson, built_of
 from .nonlinear import stream as stream_nonlinear
 from .nonlinear import stream_span
@@ -260,7 +260,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
         Lead-in before each segment but the first [s] (default :data:`DEFAULT_LEAD_IN_S`, chosen by measurement:
         see the module docstring).
     client : dask.distributed.Client, optional
-        Run the segments on this Dask cluster instead of local processes (``ehm.cluster`` opens one for the
+        Run the segments on this Dask cluster instead of local processes (``ehm.interfaces.cluster`` opens one for the
         command line's ``--scheduler``).
     progress : callable(done_s, total_s), optional
         Called as segments finish (simulated seconds kept so far).

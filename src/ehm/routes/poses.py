@@ -1,4 +1,4 @@
-"""The segments' poses on the linear and hybrid routes, for pictures (``poses.npz``, ``ehm.animation``).
+"""The segments' poses on the linear and hybrid routes, for pictures (``poses.npz``, ``ehm.outputs.animation``).
 
 The linear model's state holds every joint's deviation from the settled posture, so the poses follow from it
 through the model's kinematics (``ehm.engine.deviation_poses``), only at the pose rate: the modal state is
@@ -12,14 +12,14 @@ from __future__ import annotations
 import numpy as np
 
 from .. import engine
-from ..kinematics import seat_rotation_matrices
+from ..inputs.kinematics import seat_rotation_matrices
 from .linear import advance, modal_form, scan, state_of
 
 
 class PoseGrid:
     """Poses every ``every`` steps of the drive (from step 0) for one person and linear model.
 
-    ``kin``: the drive's seat kinematics (``ehm.kinematics.seat_kinematics``) when it turns the seat, else None.
+    ``kin``: the drive's seat kinematics (``ehm.inputs.kinematics.seat_kinematics``) when it turns the seat, else None.
     """
 
     def __init__(self, human, ss, blk, dt: float, pose_rate_hz: float, kin=None):

@@ -13,7 +13,7 @@ name           route                                                            
 =============  =====================================================================  ===========================
 
 Every route takes the person as built (:class:`ehm.routes.built.BuiltPerson`) and the drive as data, and yields
-the run's chunks (:class:`ehm.results.RunResult`, absolute times) one at a time.  ``workers`` other than 1 or a
+the run's chunks (:class:`ehm.outputs.results.RunResult`, absolute times) one at a time.  ``workers`` other than 1 or a
 ``client`` with ``nonlinear`` is the ``parallel`` route (:func:`choose`).
 """
 

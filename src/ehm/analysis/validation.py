@@ -1,0 +1,389 @@
+"""Is the person like people?  The model against the standards' reference curves, published fits and findings.
+
+:func:`ehm.validate` builds a person (any parameter file, size, posture and seat), computes the exact frequency
+response of its linearised model (:func:`ehm.linear_frf`, 0.1-20 Hz) and evaluates every band of
+:data:`ehm.standards.references.BANDS` (ISO 2631-5's seat-to-lumbar transfer function, the one-mass apparent-mass fit of
+Fairley & Griffin, the vertical whole-body mode, the seat-to-head ranges) and every joint-locking finding of the
+paper (:data:`ehm.standards.references.LOCKING_FINDINGS`, through :func:`ehm.analysis.study.locking_study`).  The result
+is a
+table: each check's figure, its band, and whether it passes.
+
+The references describe people sitting erect without a back support, feet supported (ISO 2631-5, the
+apparent-mass measurements); the seat-to-head ranges and the locking findings hold on the person's own seat
+too.  So by default the person is evaluated twice: in the references' condition (erect, back support
+``none``), where every band is checked, and on its own seat (the default person: the paper's seat with a high
+back support), where the seat-to-head bands and the locking findings are checked.  Giving ``posture`` or
+``back_support`` evaluates that one condition only, with every check.
+
+>>> import ehm
+>>> v = ehm.validate()                                   # the default person
+>>> v.passed, len(v.checks)
+(True, 26)
+>>> print(v.format_table())                              # doctest: +ELLIPSIS
+condition                 check ...
+erect, back support none  lumbar_gain_vs_iso2631_5 ...
+...
+26 of 26 checks pass.
+>>> import shutil
+>>> _ = shutil.copy(ehm.body.params.default_params_path(), "my.toml")  # a parameter file of one's own
+>>> v = ehm.validate("my.toml", size=ehm.BodySize(1.62, 58.0))   # a parameter file, a body size
+
+``ehm validate`` runs it from the command line (:doc:`/validation`), with a figure per seat input axis
+(:func:`ehm.outputs.plotting.plot_validation`).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from ..body.params import Parameters
+from ..errors import InputError
+from ..files import write_text_atomic
+from ..person.person import Person, as_person
+from ..standards import references
+from .frf import AXES, FrfTable, linear_frf
+
+#: Frequencies the model is evaluated at [Hz]: 0.1-20 Hz in 0.05 Hz steps (the bands reach 20 Hz).
+FREQ_HZ = np.round(np.arange(0.1, 20.0 + 1e-9, 0.05), 10)
+#: The condition the reference curves describe: posture and back support.
+REFERENCE_CONDITION = ("erect", "none")
+#: Bands checked on the person's own seat too (they hold for seated people on any seat).
+ANY_SEAT_BANDS = ("head_vertical_peak_gain", "head_vertical_peak_frequency", "head_fore_aft_peak_frequency",
+                  "head_lateral_peak_frequency")
+
+
+@dataclass(frozen=True)
+class Check:
+    """One check of the model against a reference.
+
+    Attributes
+    ----------
+    name : str
+        The band's or finding's name (``ehm.standards.references``).
+    condition : str
+        Where the person was evaluated: ``"erect, back support none"``.
+    what : str
+        The check in words.
+    value : float
+        The model's figure: a frequency [Hz], a gain, a gain's deviation from the reference curve at its
+        worst frequency, or a locking finding's change (Hz, or % of the baseline).
+    at_hz : float
+        Where the figure was taken (the peak's or the worst deviation's frequency) [Hz]; NaN for a locking
+        finding.
+    low, high : float
+        The band (NaN: no limit that side).
+    unit : str
+        The unit of ``value``, ``low`` and ``high``.
+    passed : bool
+    source : str
+        Where the reference comes from.
+    """
+
+    name: str
+    condition: str
+    what: str
+    value: float
+    at_hz: float
+    low: float
+    high: float
+    unit: str
+    passed: bool
+    source: str
+
+
+@dataclass(frozen=True)
+class Validation:
+    """Every check of a person against the references, and the frequency responses they were taken from.
+
+    Attributes
+    ----------
+    checks : tuple of Check
+    tables : dict
+        ``condition -> FrfTable``: the linear route's responses of the person in each condition, with the
+        ``lumbar`` point and the apparent mass (``support``).
+    person : dict
+        What was evaluated: the parameter file's name, size, conditions.
+    """
+
+    checks: tuple
+    tables: dict
+    person: dict = field(default_factory=dict)
+
+    @property
+    def passed(self) -> bool:
+        """Whether every check passes."""
+        return all(c.passed for c in self.checks)
+
+    @property
+    def failed(self) -> tuple:
+        """The checks that do not pass."""
+        return tuple(c for c in self.checks if not c.passed)
+
+    def check(self, name: str, condition: str | None = None) -> Check:
+        """The check called ``name`` (in ``condition``, default the first one evaluated)."""
+        for c in self.checks:
+            if c.name == name and (condition is None or c.condition == condition):
+                return c
+        raise InputError(f"no check {name!r}{'' if condition is None else ' in ' + condition}; the checks are "
+                         f"{', '.join(sorted({c.name for c in self.checks}))}.")
+
+    def on_axis(self, axis: str) -> tuple:
+        """The checks of one seat input axis (``x``, ``y`` or ``z``): the bands on its paths and the locking
+        findings under it."""
+        if axis not in AXES:
+            raise InputError(f"axis {axis!r}: use one of {', '.join(AXES)}.")
+        return tuple(c for c in self.checks if _CHECK_AXIS.get(c.name) == axis)
+
+    def as_dict(self) -> dict:
+        """Plain data for JSON output (a limit a band does not have, or a locking finding's frequency: None)."""
+        plain = lambda v: None if isinstance(v, float) and np.isnan(v) else v  # noqa: E731
+        return {"passed": self.passed, "n_checks": len(self.checks), "n_failed": len(self.failed),
+                "person": self.person, "checks": [{k: plain(v) for k, v in asdict(c).items()} for c in self.checks]}
+
+    def to_dataframe(self):
+        """The checks as a pandas DataFrame, one row each, with the columns of
+        :class:`~ehm.analysis.validation.Check`."""
+        from ..outputs.dataframes import frame
+
+        names = list(Check.__dataclass_fields__)
+        columns = {n: [getattr(c, n) for c in self.checks] for n in names}
+        return frame(columns, {"description": "the person against the standards' reference curves",
+                               "passed": self.passed, **{k: str(v) for k, v in self.person.items()}})
+
+    def to_csv(self, path) -> None:
+        """Write the checks as CSV (whole or not at all), one row each, with the columns of
+        :class:`~ehm.analysis.validation.Check`; a limit a band does not have is an empty cell."""
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        names = list(Check.__dataclass_fields__)
+        writer.writerow(names)
+        for c in self.checks:
+            writer.writerow([_csv_cell(getattr(c, n)) for n in names])
+        write_text_atomic(path, buffer.getvalue())
+
+    def format_table(self) -> str:
+        """The checks as a fixed-width text table, one line each, and a last line with the count."""
+        w = max([len("condition"), *(len(c.condition) for c in self.checks)]) + 2
+        lines = [f"{'condition':<{w}}{'check':<44}{'model':>9}{'at Hz':>7}  {'band':<16}{'':<6}"]
+        for c in self.checks:
+            band = _band_text(c.low, c.high)
+            where = "" if np.isnan(c.at_hz) else f"{c.at_hz:.2f}"
+            lines.append(f"{c.condition:<{w}}{c.name:<44}{c.value:>9.3g}{where:>7}  {band + ' ' + c.unit:<16}"
+                         f"{'pass' if c.passed else 'FAIL'}".rstrip())
+        lines.append(f"{len(self.checks) - len(self.failed)} of {len(self.checks)} checks pass.")
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        return self.to_dataframe().to_html(index=False)
+
+
+def _csv_cell(value) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return "" if np.isnan(value) else f"{value:.6g}"
+    return str(value)
+
+
+def _band_text(low: float, high: float) -> str:
+    if np.isnan(low):
+        return f"<= {high:g}"
+    if np.isnan(high):
+        return f">= {low:g}"
+    return f"{low:g} to {high:g}"
+
+
+def _condition_label(posture: str, back_support: str) -> str:
+    return f"{posture}, back support {back_support}"
+
+
+def band_gain(table: FrfTable, band: references.Band) -> np.ndarray:
+    """The model's curve a band speaks of: the gain of the band's path, over its value at
+    ``band.normalise_at_hz`` when the band says so (the apparent mass over its 0.5 Hz value)."""
+    c = table.curve(*band.path)
+    g = np.asarray(c.gain, dtype=float)
+    if band.normalise_at_hz is not None:
+        g = g / np.interp(band.normalise_at_hz, c.freq_hz, g)
+    return g
+
+
+def band_figure(table: FrfTable, band: references.Band) -> tuple[float, float]:
+    """The model's figure for one band and where it was taken: ``(value, frequency [Hz])``.
+
+    ``peak_hz``/``peak_gain``: the largest gain in the band's frequency range, its frequency or gain;
+    ``gain``: the gain nearest the band's open side over the range (its largest against an upper limit);
+    ``gain_minus_reference``: the deviation from the reference curve with the largest modulus.
+    """
+    f = np.asarray(table.curve(*band.path).freq_hz, dtype=float)
+    g = band_gain(table, band)
+    lo, hi = band.freq_range_hz
+    sel = (f >= lo - 1e-9) & (f <= hi + 1e-9)
+    if not sel.any():
+        raise InputError(f"the model's responses do not reach {lo:g}-{hi:g} Hz for the band {band.name}.")
+    f, g = f[sel], g[sel]
+    if band.quantity in ("peak_hz", "peak_gain"):
+        i = int(np.argmax(g))
+        return (float(f[i]) if band.quantity == "peak_hz" else float(g[i])), float(f[i])
+    if band.quantity == "gain":
+        i = int(np.argmax(g)) if band.low is None else int(np.argmin(g))
+        return float(g[i]), float(f[i])
+    if band.quantity == "gain_minus_reference":
+        d = g - np.abs(getattr(references, band.reference)(f))
+        i = int(np.argmax(np.abs(d)))
+        return float(d[i]), float(f[i])
+    raise InputError(f"band {band.name} has an unknown quantity {band.quantity!r}.")
+
+
+def _unit(band: references.Band) -> str:
+    if band.quantity == "peak_hz":
+        return "Hz"
+    return "-" if band.normalise_at_hz is not None or band.path[1] != "support" else "kg"
+
+
+def band_checks(table: FrfTable, condition: str, bands=None) -> list[Check]:
+    """Every band (default :data:`ehm.standards.references.BANDS`) evaluated on one frequency-response table."""
+    out = []
+    for b in references.BANDS if bands is None else bands:
+        value, at = band_figure(table, b)
+        out.append(Check(b.name, condition, b.describe(), value, at,
+                         np.nan if b.low is None else float(b.low), np.nan if b.high is None else float(b.high),
+                         _unit(b), b.holds(value), b.source))
+    return out
+
+
+def _locking_name(finding: references.LockingFinding, quantity: str) -> str:
+    return f"locking_{finding.variant}_{finding.input_axis}_{finding.point}_{finding.dof}_{quantity}"
+
+
+#: Each check's seat input axis, by name: the bands' paths and the locking findings' input axes.
+_CHECK_AXIS = {**{b.name: b.path[0] for b in references.BANDS},
+               **{_locking_name(f, q): f.input_axis for f in references.LOCKING_FINDINGS for q in f.quantities}}
+
+
+def locking_checks(study, condition: str) -> list[Check]:
+    """The paper's locking findings (:data:`ehm.standards.references.LOCKING_FINDINGS`) in a locking study: one check
+    per
+    finding and quantity, the change from the baseline (Hz, or % of the baseline's gain)."""
+    out = []
+    for finding in references.LOCKING_FINDINGS:
+        key = (finding.input_axis, finding.point, finding.dof)
+        base, var = study.row("baseline", *key), study.row(finding.variant, *key)
+        for q in finding.quantities:
+            change = finding.change(q, getattr(base, q), getattr(var, q))
+            bound = float(finding.least_change) * finding.direction + 0.0  # no -0
+            low, high = (bound, np.nan) if finding.direction > 0 else (np.nan, bound)
+            passed = finding.direction * change > finding.least_change
+            out.append(Check(_locking_name(finding, q), condition, f"{finding.label}: {q} change", float(change),
+                             np.nan, low, high, "Hz" if q == "peak_hz" else "%", bool(passed),
+                             f"{finding.source}: {finding.paper}"))
+    return out
+
+
+def _person(person: Person, posture, back_support):
+    from ..simulation import SeatedHuman
+
+    return SeatedHuman(person.replace(posture=posture, back_support=back_support))
+
+
+def _conditions(params: Parameters, posture, back_support) -> list[tuple[str, str, bool]]:
+    """(posture, back support, every band?) for each condition to evaluate."""
+    if posture is not None or back_support is not None:
+        return [(posture or params.posture, back_support or params.back_support, True)]
+    own = (params.posture, params.back_support)
+    out = [(*REFERENCE_CONDITION, True)]
+    if own != REFERENCE_CONDITION:
+        out.append((*own, False))
+    return out
+
+
+def validate(params: Person | Parameters | str | None = None, size=None, posture: str | None = None,
+             back_support: str | None = None, locking: bool = True, dt_s: float | None = None,
+             progress=None) -> Validation:
+    """The person against every reference of :mod:`ehm.standards.references`.
+
+    Parameters
+    ----------
+    params : Person, Parameters or path, optional
+        The person (:class:`ehm.Person`: its size, posture, back support, head control, locks and step apply), or
+        its parameters (default: the shipped default person).
+    size : ehm.BodySize, optional
+        An individual body size; default the reference person (a shortcut that changes the Person).
+    posture, back_support : str, optional
+        Evaluate this condition only (every band and the locking findings in it).  Default: the references'
+        condition (erect, no back support) for every band, and the person's own seat for the seat-to-head
+        bands and the locking findings.
+    locking : bool
+        Evaluate the paper's joint-locking findings (three more linearisations of the person).
+    dt_s : float, optional
+        The time step the person is linearised at (default: its own; a shortcut that changes the Person).
+    progress : callable, optional
+        ``progress(done, total)`` after each linearisation (one per condition, and one per locking variant).
+
+    Returns
+    -------
+    Validation
+        Its checks in order: each condition's bands, then the locking findings (on the person's own seat).
+    """
+    person = as_person(params, size=size, dt_s=dt_s, posture=posture, back_support=back_support)
+    p = person.params
+    conditions = _conditions(p, person.posture, person.back_support)
+    total = len(conditions) + (len(references.LOCKING_VARIANTS) if locking else 0)
+    done = _Counter(progress, total)
+    checks, tables = [], {}
+    for post, back, every in conditions:
+        label = _condition_label(post, back)
+        table = linear_frf(_person(person, post, back), "all", freq_hz=FREQ_HZ)
+        tables[label] = table
+        bands = None if every else [b for b in references.BANDS if b.name in ANY_SEAT_BANDS]
+        checks += band_checks(table, label, bands)
+        done()
+    if locking:
+        post, back, _ = conditions[-1]  # the person's own seat (the paper's study ran on its validation seat)
+        checks += locking_checks(_locking_study(person.replace(posture=post, back_support=back), done),
+                                 _condition_label(post, back))
+    record = {"params": p.value("about.name") if _has(p, "about.name") else "custom", "origin": str(p.origin),
+              "size": None if person.size is None else repr(person.size), "dt_s": person.dt_s,
+              "locking": bool(locking), "conditions": [_condition_label(a, b) for a, b, _ in conditions],
+              "head_control": person.to_dict()["head_control"], "lock": list(person.lock),
+              "unlock": list(person.unlock)}
+    return Validation(checks=tuple(checks), tables=tables, person=record)
+
+
+class _Counter:
+    """``progress(done, total)`` one step further at each call (nothing without a ``progress``)."""
+
+    def __init__(self, progress, total: int):
+        self.progress, self.total, self.done = progress, total, 0
+
+    def __call__(self, *_) -> None:
+        self.done += 1
+        if self.progress is not None:
+            self.progress(min(self.done, self.total), self.total)
+
+
+def _locking_study(person: Person, done: _Counter):
+    """The paper's locking study of the person on its own seat (linear method); ``done`` after each variant."""
+    from .study import PAPER_VARIANTS, locking_study
+
+    started = []  # the study announces each variant before linearising it: count the previous one as done
+
+    def step(_text):
+        if started:
+            done()
+        started.append(True)
+
+    study = locking_study(params=person, variants=dict(PAPER_VARIANTS), method="linear", progress=step)
+    done()
+    return study
+
+
+def _has(p: Parameters, path: str) -> bool:
+    try:
+        p.value(path)
+    except (KeyError, InputError):
+        return False
+    return True
