@@ -554,6 +554,7 @@ from __future__ import annotations
 import importlib
 import importlib.abc
 import importlib.util
+import inspect
 import sys
 import warnings
 
@@ -580,7 +581,7 @@ def _caller_stacklevel() -> int:
         name = frame.f_code.co_filename
         return "importlib" in name and "_bootstrap" in name
 
-    frame, level = sys._getframe(1), 1
+    frame, level = inspect.currentframe().f_back, 1
     while frame is not None and frame.f_code.co_filename in (__file__, importlib.__file__):
         frame = frame.f_back
         while frame is not None and internal(frame):
