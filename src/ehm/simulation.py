@@ -20,7 +20,7 @@ from . import engine
 from .body.params import Parameters
 from .body.tables import Body
 from .errors import InputError
-from .inputs.motion import SeatMotion, require_motion
+from .inputs.motion import SeatMotion
 from .outputs.results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_runs: also importable from here
     POINT_NAMES,
     PointMotion,
@@ -267,7 +267,6 @@ class SeatedHuman:
         model's step): the route of that name (:func:`ehm.routes.registry.stream`) runs on the person as built,
         :attr:`built`.
         """
-        require_motion("simulate()", motion)
         yield from routes.stream(self.built, motion, method, chunk_s=chunk_s, progress=progress,
                                  pose_rate_hz=pose_rate_hz, tolerance=tolerance, **options)
 

@@ -23,6 +23,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..errors import DivergenceError, InputError
+from ..inputs.motion import require_motion
 from . import hybrid, nonlinear, parallel
 
 
@@ -99,6 +100,8 @@ def choose(method: str = "auto", tolerance: float | None = None, workers: int = 
 def stream(person, motion, method: str = "auto", chunk_s: float = 10.0, progress=None,
            pose_rate_hz: float | None = None, **options):
     """The run of ``motion`` by the route :func:`choose` picks for ``method`` and ``options`` (``tolerance``,
-    ``workers``, ``client``, ``lead_in_s``, ``segment_s``), chunk by chunk."""
+    ``workers``, ``client``, ``lead_in_s``, ``segment_s``), chunk by chunk; a ``motion`` that is no
+    :class:`ehm.SeatMotion` is refused in one sentence."""
+    require_motion("simulate()", motion)
     chosen, kept = choose(method, **options)
     yield from chosen.run(person, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz, **kept)
