@@ -120,7 +120,7 @@ class SeatedHuman:
 
     @property
     def model(self) -> engine.Model:
-        """The MuJoCo model of the person as built (``ehm.engine.build``; :attr:`built`'s)."""
+        """The MuJoCo model of the person as built (``ehm.engine.build``; ``built``'s)."""
         return self.built.model
 
     @property
@@ -265,7 +265,7 @@ class SeatedHuman:
         ``progress(done_s, total_s)`` is called after every chunk.  ``method`` and ``options`` as
         for :meth:`simulate` (default ``"auto"``, the hybrid route; every route takes the motion resampled to the
         model's step): the route of that name (:func:`ehm.routes.registry.stream`) runs on the person as built,
-        :attr:`built`.
+        ``built``.
         """
         yield from routes.stream(self.built, motion, method, chunk_s=chunk_s, progress=progress,
                                  pose_rate_hz=pose_rate_hz, tolerance=tolerance, **options)

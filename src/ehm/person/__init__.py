@@ -1,9 +1,9 @@
 """The person: who sits where, as one value.
 
-:class:`Person` holds the parameters, body tables and size, posture, back support, head control, locked joints
+:class:`ehm.Person` holds the parameters, body tables and size, posture, back support, head control, locked joints
 and time step of one seated person; every entry point (``SeatedHuman``, ``Simulator``, ``assess``, the transfer
 functions, ``check_step``, ``validate``, ``export_fmu``, batch studies, the command line) takes it, and
-:meth:`Person.resolved` hands the model builder what it needs as plain data.
+:meth:`ehm.Person.resolved` hands the model builder what it needs as plain data.
 """
 
 from .person import Person

@@ -192,7 +192,7 @@ class Person:
         return self.params.seated(self.posture, self.back_support).with_head_control(hc)
 
     def resolved(self) -> Built:
-        """What the model builder needs, as plain data (:class:`Built`): the parameters seated in the posture and
+        """What the model builder needs, as plain data (``Built``): the parameters seated in the posture and
         back support, with the head control and the time step (a step coarser than the converged one gives a
         :class:`ehm.body.timestep.StepWarning`), the tables and parameters scaled to the body size (refused in one
         sentence if that body cannot be built), and the locked joints resolved."""

@@ -25,9 +25,9 @@ from .built import BuiltPerson, built_of
 
 
 def stream(person, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None):
-    """The nonlinear route over the whole of ``motion``: one :class:`RunResult` per chunk of ``chunk_s`` (absolute
-    times), after the checks of :meth:`BuiltPerson.check_nonlinear_motion`.  ``person``: a
-    :class:`BuiltPerson` (or a :class:`ehm.SeatedHuman`, whose is taken)."""
+    """The nonlinear route over the whole of ``motion``: one :class:`~ehm.RunResult` per chunk of ``chunk_s`` (absolute
+    times), after the checks of :meth:`~ehm.routes.built.BuiltPerson.check_nonlinear_motion`.  ``person``: a
+    :class:`~ehm.routes.built.BuiltPerson` (or a :class:`ehm.SeatedHuman`, whose is taken)."""
     person = built_of(person)
     person.check_nonlinear_motion(motion)
     yield from stream_span(person, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
@@ -37,7 +37,7 @@ def stream_span(person: BuiltPerson, motion: SeatMotion, first: int = 0, stop: i
                 lead_steps: int = 0, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
                 ramp: bool = False):
     """The nonlinear route over grid steps ``first`` ... ``stop - 1`` of the motion resampled to the model's
-    step (default: all of it), yielding one :class:`RunResult` per chunk of ``chunk_s`` from ``first``.
+    step (default: all of it), yielding one :class:`~ehm.RunResult` per chunk of ``chunk_s`` from ``first``.
 
     With ``first`` > 0 the person starts from the settled rest ``lead_steps`` steps before ``first`` (at most
     at the motion's start) and is run with the motion's own input over that lead-in, which is not yielded
@@ -189,7 +189,7 @@ UNUSUAL_TILT_DEG = 30.0
 
 
 def with_input_cause(exc: DivergenceError, motion: SeatMotion, ran_s: float) -> DivergenceError:
-    """:func:`_input_cause`, once: an error it has already seen passes as it is (a route that runs another inside
+    """``_input_cause``, once: an error it has already seen passes as it is (a route that runs another inside
     it, as the hybrid route runs the nonlinear one from a drive's start, would otherwise name the input twice)."""
     if getattr(exc, "input_checked", False):
         return exc

@@ -325,7 +325,7 @@ def simulate_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: fl
                       pose_rate_hz: float | None = None) -> RunResult:
     """The nonlinear run of ``motion`` in segments on ``workers`` processes (or a Dask ``client``'s cluster), as
     one :class:`~ehm.RunResult` with the continuous run's time axis and fields; the arguments are
-    :func:`stream_parallel`'s.  Within 1 % of the continuous run with the default lead-in (module
+    :func:`~ehm.routes.parallel.stream_parallel`'s.  Within 1 % of the continuous run with the default lead-in (module
     docstring)."""
     return concatenate_runs(list(stream_parallel(human, motion, workers=workers, segment_s=segment_s,
                                                  lead_in_s=lead_in_s, client=client, progress=progress,
