@@ -55,9 +55,6 @@ def test_build_errors_are_translated():
     assert "'pelvis'" in msg and "inertia must satisfy A + B >= C" in msg
 
 
-# ehm's own leak, left as it is in this change: check_buildable's probe sizes (1.6 m and 34, 35 ... kg) warn about
-# their body mass index as if the user had asked for them (on the command line an extra "ehm: warning:" line)
-@pytest.mark.filterwarnings(r"ignore:a person of 1\.6 m and [0-9.]+ kg:ehm.errors.EhmWarning")
 def test_impossible_body_size_names_segment_and_masses_that_build(tmp_path, capsys):
     # Scaled segments stay rigid bodies (ehm.person.scaling.stretched_inertia), but what is left of a segment once its
     # tissue pads are taken out may not be: with 0.9 kg pads the pelvis is no rigid body at any size.  The
@@ -114,9 +111,6 @@ def test_seat_geometry_is_checked(values, words):
         ehm.SeatedHuman(params=Parameters.load().with_values(values))
 
 
-# ehm's own leak, left as it is in this change: the refused pose file stays open until the garbage collector
-# closes it (numpy's NpzFile on a damaged archive), a ResourceWarning pytest reports as unraisable
-@pytest.mark.filterwarnings("ignore::ResourceWarning", "ignore::pytest.PytestUnraisableExceptionWarning")
 @pytest.mark.parametrize("damage", ["truncated", "crc", "random", "empty"])
 def test_truncated_or_foreign_pose_file_is_one_sentence(tmp_path, capsys, damage):
     run = tmp_path / "run"

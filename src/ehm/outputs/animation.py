@@ -83,7 +83,8 @@ def load_poses(source) -> dict:
             raise InputError(f"{path}: no such file; write a run with 'ehm simulate ... --out RUN_DIR'.")
         where = str(path)
         try:
-            with np.load(path, allow_pickle=False) as npz:
+            # the file opened here, so that it is closed also when numpy refuses a damaged archive half-way
+            with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as npz:
                 poses = {k: npz[k] for k in npz.files}
         except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
             raise InputError(f"{path}: cannot read it as a pose file: it is truncated, damaged or of another kind "

@@ -246,7 +246,9 @@ def check_buildable(size: BodySize, body: Body, params: Parameters, scaled_body:
     ok = []
     m_lo, m_hi = mass_range_kg(size.stature_m)
     for m in np.arange(math.ceil(m_lo), m_hi + 1e-9, 1.0):
-        s = BodySize(size.stature_m, m, size.sitting_height_m)
+        with warnings.catch_warnings():  # a probe size's body mass index is no news for the user
+            warnings.simplefilter("ignore", EhmWarning)
+            s = BodySize(size.stature_m, m, size.sitting_height_m)
         if inertia_problem(scale_body(body, s), scale_params(params, s, body)) is None:
             ok.append(m)
     spans, start = [], None
