@@ -111,7 +111,9 @@ def test_frf_frame_reuses_the_csv_columns(human, tmp_path):
     table = ehm.linear_frf(human, "z", freq_hz=np.arange(0.5, 10.01, 0.5))
     df = table.to_dataframe()
     table.to_csv(tmp_path / "frf.csv")
-    header = (tmp_path / "frf.csv").read_text().splitlines()[0].split(",")
+    lines = (tmp_path / "frf.csv").read_text().splitlines()
+    header = lines[2].split(",")  # after the two comment lines that record how ehm made the table
+    assert lines[0].startswith("# ehm FRF table (linear method)") and lines[1].startswith("# ehm: {")
     assert list(df.columns) == header + ["gain_unit"] and header == list(COLUMNS)
     rows = df[(df.point == "head") & (df.dof == "pitch")]
     np.testing.assert_array_equal(rows.gain, table.curve("z", "head", "pitch").gain)

@@ -157,6 +157,35 @@ def _bottom_up(points) -> list:
     return sorted(points, key=lambda p: order.index(p) if p in order else len(order))
 
 
+#: A model path whose peak gain is below this share of the largest gain of its kind (translations, rotations,
+#: apparent masses) under the same input axis has no response: its gains are round-off (e.g. 1e-6 of seat z ->
+#: head y in a symmetric person), drawn as an empty panel, not at full scale.
+NO_RESPONSE_SHARE = 1e-4
+
+
+def _gain_kind(point: str, dof: str) -> str:
+    return "kg" if point in _MASS_ORDER else ("rotation" if dof in ("roll", "pitch", "yaw") else "translation")
+
+
+def empty_paths(tables: list, input_axis: str, band_hz=(0.1, 12.0)) -> dict:
+    """The model paths of one input axis without a response: ``{(point, dof): peak gain}`` of the paths whose
+    largest gain in ``band_hz``, over every model (not measured) table, is below :data:`NO_RESPONSE_SHARE` of the
+    largest gain of their kind (translation, rotation, apparent mass) under that input axis."""
+    peaks: dict = {}
+    for _, t in tables:
+        if t.method == "measured":
+            continue
+        for (a, p, d), c in t.curves.items():
+            sel = band_select(c.freq_hz, band_hz)
+            if a == input_axis and sel.any():
+                g = float(np.nanmax(c.gain[sel]))
+                peaks[(p, d)] = max(peaks.get((p, d), 0.0), g)
+    largest: dict = {}
+    for (p, d), g in peaks.items():
+        largest[_gain_kind(p, d)] = max(largest.get(_gain_kind(p, d), 0.0), g)
+    return {(p, d): g for (p, d), g in peaks.items() if g < NO_RESPONSE_SHARE * largest[_gain_kind(p, d)]}
+
+
 def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None, title: str | None = None,
                   band_hz=(0.1, 12.0)):
     """Gains of one input axis: rows head, trunk, lumbar, pelvis (those the tables hold); one column per output
@@ -164,8 +193,10 @@ def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None,
     supports, seat pan) [kg].
 
     ``tables`` is a list of ``(label, FrfTable)``; a table whose method is ``measured`` is drawn as
-    markers (with gain_sd error bars when given), the others as lines.
+    markers (with gain_sd error bars when given), the others as lines.  A path without a response in the model
+    tables (:func:`empty_paths`: round-off gains) is drawn as an empty grey panel that says so, not at full scale.
     """
+    empty = empty_paths(tables, input_axis, band_hz)
     held = lambda p, d: any((input_axis, p, d) in t.curves for _, t in tables)  # noqa: E731
     points = [p for p in _POINT_ORDER if any(held(p, d) for d in _DOF_ORDER)]
     dofs = [d for d in _DOF_ORDER if any(held(p, d) for p in points)]
@@ -186,8 +217,15 @@ def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None,
             if t.method == "measured":
                 sd = c.gain_sd[sel] if np.isfinite(c.gain_sd[sel]).any() else None
                 ax.errorbar(c.freq_hz[sel], c.gain[sel], yerr=sd, fmt="o", ms=3, color="k", lw=0.8, label=label)
-            else:
+            elif (p, d) not in empty:
                 ax.plot(c.freq_hz[sel], c.gain[sel], lw=1.3, label=label, color=f"C{k}")
+            else:  # keep the label for the legend, draw nothing
+                ax.plot([], [], lw=1.3, label=label, color=f"C{k}")
+        if (p, d) in empty:
+            ax.set_facecolor("0.95")
+            ax.text(0.5, 0.5, f"no response\n(peak gain {empty[(p, d)]:.1g}:\nround-off, not drawn)",
+                    transform=ax.transAxes, ha="center", va="center", fontsize=8, color="0.35")
+            ax.set_yticks([])
         ax.set_xscale("log")
         ax.grid(alpha=0.3, which="both")
         mass = p in _MASS_ORDER
@@ -204,7 +242,9 @@ def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None,
                 axes[i, j].set_visible(False)
     fig.suptitle(title or f"seat {input_axis} input: gains; translations {_DOF_UNITS['x']}, "
                           f"rotations {_DOF_UNITS['roll']}"
-                 + ("; apparent mass: support force per seat acceleration [kg]" if masses else ""))
+                 + ("; apparent mass: support force per seat acceleration [kg]" if masses else "")
+                 + (f"\ngrey panels: no response (peak below {NO_RESPONSE_SHARE:.0e} of the largest gain of its kind)"
+                    if empty else ""))
     fig.tight_layout()
     return _save(fig, path)
 
@@ -297,7 +337,7 @@ _VALIDATION_XLIM_HZ = (0.45, 22.0)  #: a margin round the band, so that marks at
 _REF_COLOR, _BAND_COLOR = "k", "0.55"
 _SOURCES = {"z": "Sources: ISO 2631-5:2018 cl. 5.2 Formula 1 (seat to lumbar spine); Fairley & Griffin 1989, one-mass "
                  "fit to 60 seated people (apparent mass);\nseat-to-head ranges reported for seated people "
-                 "(docs/model); band widths: ehm issue 29.",
+                 "(docs/model); band widths: ehm's choice (docs/validation).",
             "x": "Source: fore-aft head peak below 3 Hz, ranges reported for seated people (docs/model).",
             "y": "Source: lateral head peak below 3 Hz, ranges reported for seated people (docs/model)."}
 
@@ -388,9 +428,10 @@ def _box(ax, f_band, g_band, label, color=_BAND_COLOR):
 
 
 def _peak_limit(ax, high_hz, label, color=_BAND_COLOR):
-    """An upper limit of a peak's frequency: a line, and the frequencies above it shaded."""
+    """An upper limit of a peak's frequency: a line, and the frequencies allowed (up to it) shaded, as the bands'
+    boxes shade what is allowed."""
     ax.axvline(high_hz, color=color, lw=1.0, ls="-.")
-    ax.axvspan(high_hz, _VALIDATION_XLIM_HZ[1], color=color, alpha=0.08, lw=0, label=label)
+    ax.axvspan(_VALIDATION_XLIM_HZ[0], high_hz, color=color, alpha=0.08, lw=0, label=label)
 
 
 def _lumbar_panel(ax, validation):
@@ -439,7 +480,7 @@ def _pelvis_head_panel(ax, validation):
                                          "head_vertical_peak_gain"))
     _box(ax, (hf.low, hf.high), (hg.low, hg.high), f"head peak {hg.low:g}-{hg.high:g} at {hf.low:g}-{hf.high:g} Hz",
          color="tab:red")
-    _peak_limit(ax, pelvis.high, f"no pelvis peak above {pelvis.high:g} Hz", color="tab:blue")
+    _peak_limit(ax, pelvis.high, f"allowed: pelvis peak at most {pelvis.high:g} Hz (shaded)", color="tab:blue")
     _model_lines(ax, validation, pelvis.path, _LOC_COLORS["pelvis"], "model pelvis z", (pelvis.name,))
     _model_lines(ax, validation, hf.path, _LOC_COLORS["head"], "model head z", (hf.name,))
     ax.set_ylabel("gain [(m/s²)/(m/s²)]")
@@ -455,7 +496,7 @@ def _horizontal_panel(axis: str):
 
     def draw(ax, validation):
         b = _band(name)
-        _peak_limit(ax, b.high, f"head peak at most {b.high:g} Hz", color="tab:red")
+        _peak_limit(ax, b.high, f"allowed: head peak at most {b.high:g} Hz (shaded)", color="tab:red")
         for point in ("pelvis", "trunk", "head"):
             _model_lines(ax, validation, (axis, point, axis), _LOC_COLORS[point], f"model {point} {axis}",
                          (name,) if point == "head" else ())
