@@ -39,6 +39,29 @@ def _save(fig, path: Path | str | None):
     return fig
 
 
+#: A figure's title: at most this many lines; a longer one is cut with an ellipsis (the files keep the whole text).
+TITLE_MAX_LINES = 3
+
+
+def fit_title(text: str, width_in: float, fontsize: float = 12.0, max_lines: int = TITLE_MAX_LINES) -> str:
+    """``text`` wrapped to lines that fit ``width_in`` inches at ``fontsize`` points (a character taken as 0.6 of
+    the font size, a generous mean for the DejaVu Sans the figures use), each line of ``text`` on its own; at most
+    ``max_lines`` lines, the last one ending in an ellipsis when the text is longer."""
+    import textwrap
+
+    chars = max(20, int(0.95 * width_in * 72 / (0.6 * fontsize)))
+    lines = [w for part in str(text).splitlines() for w in (textwrap.wrap(part, chars) or [""])]
+    if len(lines) > max_lines:
+        lines = lines[:max_lines]
+        lines[-1] = lines[-1][: chars - 1].rstrip() + "…"
+    return "\n".join(lines)
+
+
+def _suptitle(fig, text: str, fontsize: float = 12.0) -> None:
+    """The figure's title, wrapped to its width (:func:`fit_title`): no title is cut at the figure's sides."""
+    fig.suptitle(fit_title(text, fig.get_figwidth(), fontsize), fontsize=fontsize)
+
+
 _AXIS_NAMES = {"x": "x, fore-aft", "y": "y, lateral", "z": "z, vertical"}
 #: An axis counts as excited when its seat acceleration rms is at least this share of the largest axis's.
 EXCITED_SHARE = 0.1
@@ -104,7 +127,7 @@ def plot_time_histories(run: RunResult, path: Path | str | None = None, title: s
         ax.set_xlabel("time [s]")
     for ax in axes.flat:
         ax.grid(alpha=0.3)
-    fig.suptitle(title or run.description)
+    _suptitle(fig, title or run.description)
     fig.tight_layout()
     return _save(fig, path)
 
@@ -138,7 +161,7 @@ def plot_transmissibility(table, path: Path | str | None = None, band_hz=(0.2, 1
                 ax.set_ylabel("gain [(m/s²)/(m/s²)]")
             if i == len(axes_in) - 1:
                 ax.set_xlabel("frequency [Hz]")
-    fig.suptitle(title)
+    _suptitle(fig, title)
     fig.tight_layout()
     return _save(fig, path)
 
@@ -240,7 +263,7 @@ def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None,
         for j in range(n_cols):
             if (i, j) not in cells:
                 axes[i, j].set_visible(False)
-    fig.suptitle(title or f"seat {input_axis} input: gains; translations {_DOF_UNITS['x']}, "
+    _suptitle(fig, title or f"seat {input_axis} input: gains; translations {_DOF_UNITS['x']}, "
                           f"rotations {_DOF_UNITS['roll']}"
                  + ("; apparent mass: support force per seat acceleration [kg]" if masses else "")
                  + (f"\ngrey panels: no response (peak below {NO_RESPONSE_SHARE:.0e} of the largest gain of its kind)"
@@ -266,7 +289,7 @@ def plot_locking_study(study, path: Path | str | None = None):
         ax.set_xlabel("frequency [Hz]")
     axes[0, 0].legend(fontsize=8)
     how = "linearised model" if study.method == "linear" else "random-vibration runs, H1"
-    fig.suptitle(f"Joint-locking study ({how}): SL = T12 locked, NL = lower neck locked")
+    _suptitle(fig, f"Joint-locking study ({how}): SL = T12 locked, NL = lower neck locked")
     fig.tight_layout()
     return _save(fig, path)
 
@@ -288,7 +311,7 @@ def plot_weighted_spectra(assessment, path: Path | str | None = None):
         ax.grid(alpha=0.3, which="both")
     axes[0].set_ylabel("PSD [(m/s²)²/Hz]")
     axes[0].legend(fontsize=8)
-    fig.suptitle(f"Weighted spectra: {assessment.description}")
+    _suptitle(fig, f"Weighted spectra: {assessment.description}")
     fig.tight_layout()
     return _save(fig, path)
 
@@ -305,7 +328,7 @@ def plot_running_rms(assessment, path: Path | str | None = None):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, ncol=4, loc="upper right")
     axes[-1].set_xlabel("time [s]")
-    fig.suptitle("Running rms of the weighted acceleration (1 s, ISO 2631-1 6.3.1)")
+    _suptitle(fig, "Running rms of the weighted acceleration (1 s, ISO 2631-1 6.3.1)")
     fig.tight_layout()
     return _save(fig, path)
 
@@ -324,7 +347,7 @@ def plot_sickness(assessment, path: Path | str | None = None):
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle("Motion sickness incidence (subjective vertical conflict model)")
+    _suptitle(fig, "Motion sickness incidence (subjective vertical conflict model)")
     fig.tight_layout()
     return _save(fig, path)
 
@@ -371,7 +394,7 @@ def plot_validation(validation, axis: str, path: Path | str | None = None):
     title = f"The person against the references, seat {_AXIS_NAMES[axis]} input: {_count(bands)} band checks pass"
     if locking:
         title += f"\nthe paper's joint-locking findings under it: {_count(locking)} pass (ehm study locking draws them)"
-    fig.suptitle(title, fontsize=10)
+    _suptitle(fig, title, fontsize=10)
     fig.text(0.01, 0.01, _SOURCES[axis] + "\nMarked: where each check takes its figure (dot: passes, cross: fails).",
              fontsize=7, color="0.3")
     fig.tight_layout(rect=(0, 0.05, 1, 1))

@@ -255,7 +255,8 @@ def add_assess(sub) -> None:
                                   "[, wx_radps, wy_radps, wz_radps] unless --channel says) or 'city' / 'road' for the "
                                   "shipped SYNTHETIC drives")
     p.add_argument("--out", required=True, metavar="DIR",
-                   help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
+                   help="output folder: assessment.json, assessment.npz (ehm.read_assessment reads the two back), "
+                        "report.html and figures (replaced whole if ehm wrote it)")
     _route_options(p)
     _exposure_options(p)
     parallel_options(p)
@@ -290,18 +291,43 @@ def cmd_assess(args) -> int:
 
     final = check_output_folder(args.out, inputs=input_files(args))
     exposure = _exposure(args)
-    motion = read_motion_file(args)
-    human = human_from_args(args, rotating_seat=needs_rotating_seat(motion, args.method))
-    with _segments(args) as parallel:
-        kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
-                                          "lead_in_s": parallel.lead_in_s}
-        result = assess(motion, human, progress=progress_bar("assess", args.quiet), method=args.method,
-                        tolerance=_tolerance(args), exposure=exposure, **kw)
+    with _warnings_shown() as shown:  # what the console prints goes into assessment.json and the report too
+        motion = read_motion_file(args)
+        human = human_from_args(args, rotating_seat=needs_rotating_seat(motion, args.method))
+        with _segments(args) as parallel:
+            kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
+                                              "lead_in_s": parallel.lead_in_s}
+            result = assess(motion, human, progress=progress_bar("assess", args.quiet), method=args.method,
+                            tolerance=_tolerance(args), exposure=exposure, **kw)
     summary = _assessment_summary(result, human)
+    summary["warnings"] = list(dict.fromkeys(shown))
     with RunFolder(final) as out:
         _write_assessment(result, summary, out)
     _print_assessment(result, summary, final)
     return 0
+
+
+@contextlib.contextmanager
+def _warnings_shown():
+    """The texts of ehm's warnings (:class:`ehm.errors.EhmWarning`) shown while the block runs, each as the console
+    prints it (the command's warning display is kept and called)."""
+    import warnings
+
+    from ...errors import EhmWarning
+
+    shown: list[str] = []
+    previous = warnings.showwarning
+
+    def show(message, category, *rest, **kw):
+        if issubclass(category, EhmWarning):
+            shown.append(str(message))
+        previous(message, category, *rest, **kw)
+
+    warnings.showwarning = show
+    try:
+        yield shown
+    finally:
+        warnings.showwarning = previous
 
 
 def _assessment_summary(result, human) -> dict:
@@ -315,11 +341,14 @@ def _assessment_summary(result, human) -> dict:
 
 
 def _write_assessment(result, summary: dict, out: Path) -> None:
-    """assessment.json, the three figures and report.html, written into ``out``."""
+    """assessment.json, assessment.npz (the arrays: ehm.read_assessment gives the Assessment back), the three
+    figures and report.html, written into ``out``."""
+    from ...analysis.assessment import ARRAYS_FILE, write_assessment_arrays
     from ...outputs.plotting import plot_running_rms, plot_sickness, plot_weighted_spectra
     from ...outputs.report import write_report
 
     write_json_atomic(out / "assessment.json", summary)
+    write_assessment_arrays(result, out / ARRAYS_FILE)
     figures = {"spectra": out / "weighted_spectra.png", "running_rms": out / "running_rms.png",
                "sickness": out / "sickness.png"}
     plot_weighted_spectra(result, figures["spectra"])
@@ -351,7 +380,8 @@ def _print_assessment(result, summary: dict, out: Path) -> None:
           f"head fixed to the seat {summary['sickness']['seat']['final_msi_percent']:.2f} %")
     for line in _iso2631_5_lines(summary.get("iso2631_5")):
         print(f"  {line}")
-    print(f"wrote {out}/assessment.json, report.html, weighted_spectra.png, running_rms.png, sickness.png")
+    print(f"wrote {out}/assessment.json, assessment.npz, report.html, weighted_spectra.png, running_rms.png, "
+          "sickness.png (in Python: ehm.read_assessment(folder))")
 
 
 def _iso2631_5_lines(section: dict | None) -> list[str]:
