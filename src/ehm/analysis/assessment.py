@@ -545,9 +545,12 @@ def read_assessment(folder, as_frame: bool = False):
     from ..standards.comfort import ComfortMetrics
     from ..standards.sickness import SicknessTrace
 
-    if not isinstance(folder, (str, os.PathLike)) or isinstance(as_frame, (str, bytes)) or as_frame not in (0, 1):
-        raise InputError(f"read_assessment: give the folder of an 'ehm assess --out FOLDER' run as a path (and "
-                         f"as_frame True or False), not {type(folder).__name__} {str(folder)[:40]!r}.")
+    if not isinstance(folder, (str, os.PathLike)):
+        raise InputError(f"read_assessment: give the folder of an 'ehm assess --out FOLDER' run as a path, not "
+                         f"{type(folder).__name__} {str(folder)[:40]!r}.")
+    if not isinstance(as_frame, (bool, np.bool_)):
+        raise InputError(f"read_assessment: as_frame is True (a DataFrame) or False (an Assessment), not "
+                         f"{type(as_frame).__name__} {str(as_frame)[:40]!r}.")
     folder = Path(folder)
     path = folder / "assessment.json"
     if not path.is_file():

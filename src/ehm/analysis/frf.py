@@ -157,7 +157,8 @@ class FrfTable:
         ``pandas.read_csv(path, comment="#")``)."""
         curves = [self.curves[k] for k in self.keys()]
         with_sd, with_w = self._optional_columns()
-        lines = [_CSV_BANNER.format(method=self.method), _RECORD_PREFIX + json.dumps(self.record())]
+        banner = _CSV_MEASURED if self.method == "measured" else _CSV_BANNER.format(method=self.method)
+        lines = [banner, _RECORD_PREFIX + json.dumps(self.record())]
         lines.append(",".join(COLUMNS + ("gain_sd",) * with_sd + ("weight",) * with_w))
         for key, c in zip(self.keys(), curves):
             for f, g, ph, coh, sd in zip(c.freq_hz, c.gain, c.phase_deg, c.coherence, c.gain_sd):
@@ -193,6 +194,7 @@ def gain_unit(point: str, dof: str) -> str:
 
 #: The first line of an FRF CSV that ehm writes, and the prefix of the second (the table's record, JSON).
 _CSV_BANNER = "# ehm FRF table ({method} method): written by ehm, not measured; the line below records how (JSON)"
+_CSV_MEASURED = "# measured gains, written out by ehm; the line below records how (JSON)"
 _RECORD_PREFIX = "# ehm: "
 #: The key of the record in a Parquet file's schema metadata.
 _PARQUET_KEY = b"ehm"
@@ -238,7 +240,9 @@ def read_frf_csv(path: Path | str) -> FrfTable:
 
     Required columns: ``input_axis``, ``point``, ``dof``, ``freq_hz``, ``gain``; optional: ``phase_deg``,
     ``coherence``, ``gain_sd``, ``weight`` (per curve; the same on every row of a curve).  Lines starting with
-    ``#`` are comments.  Rejects, with file and line: unknown axis, point or dof, a non-positive or repeated
+    ``#`` are comments.  A table ehm wrote (:meth:`FrfTable.to_csv`: a ``# ehm:`` line with its record before the
+    header) comes back with its method and record (``meta["person"]``, ``meta["written_by"]``); any other is
+    ``measured``.  Rejects, with file and line: unknown axis, point or dof, a non-positive or repeated
     frequency, a NaN, infinite or negative gain, a non-numeric value, a missing column.
     """
     from ..body.tables import CsvTable
@@ -292,7 +296,8 @@ def read_frf_csv(path: Path | str) -> FrfTable:
 
 def read_frf(path: Path | str) -> FrfTable:
     """An FRF table from CSV (:func:`~ehm.analysis.frf.read_frf_csv`) or from Parquet written by
-    :meth:`FrfTable.to_parquet`."""
+    :meth:`FrfTable.to_parquet`: ehm's own tables with their method and the person they were computed for
+    (``meta["person"]``, :meth:`ehm.Person.to_dict`), any other table as ``measured``."""
     if not str(path).lower().endswith(".parquet"):
         return read_frf_csv(path)
     from ..inputs.readers.frames import ParquetSource

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import zipfile
 import zlib
 from collections.abc import Iterator
@@ -564,6 +565,11 @@ def animate(run_dir, out=None, exaggerate: float | str = "auto", fps: float = 25
     all.  Drawn into ``run_dir`` itself (a run folder of ehm's), it is listed in the folder's manifest, so that the
     next run may still replace the folder whole.
     """
+    if progress is not None and not callable(progress):
+        raise InputError(f"progress must be a function progress(done, total) or None, not {type(progress).__name__}.")
+    if not isinstance(run_dir, (str, os.PathLike)) or not (out is None or isinstance(out, (str, os.PathLike))):
+        raise InputError("animate: give the run folder (and the animation file, or None for RUN_DIR/animation.gif) "
+                         f"as paths, not {type(run_dir).__name__} and {type(out).__name__}.")
     out = Path(run_dir) / DEFAULT_NAME if out is None else Path(out)
     suffix = _check_out(out)
     fps = _check_number("--fps", fps, 0.0, False)
