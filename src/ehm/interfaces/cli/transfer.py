@@ -331,8 +331,9 @@ def add_validate(sub) -> None:
         description="Evaluate a person (parameter file, size, posture, seat) against every reference of "
                     "ehm.standards.references: ISO 2631-5's seat-to-lumbar transfer function, the measured apparent "
                     "mass (Fairley & Griffin's one-mass fit), the whole-body mode, the seat-to-head ranges, and the "
-                    "paper's joint-locking findings.  Prints one line per check (the model's figure, the band, "
-                    "pass or FAIL).  Without --posture and --back-support the person is evaluated in the "
+                    "paper's joint-locking findings.  Prints one line per check (the model's figure and its unit, "
+                    "the band, pass or FAIL, its sources by number) and the sources a reader can look up.  Without "
+                    "--posture and --back-support the person is evaluated in the "
                     "references' condition (erect, back support none: every band) and on its own seat (the "
                     "seat-to-head bands and the locking findings); with either, in that one condition, every "
                     "check.  Exit status: 0 when every check passes, 1 when some check fails, 2 on bad input.")
