@@ -160,9 +160,9 @@ def test_auto_exaggeration_makes_the_motion_visible_and_says_so(runs, tmp_path, 
     assert main(["animate", str(runs["sine"]), "--max-frames", "3"]) == 0
     captured = capsys.readouterr()
     out = runs["sine"] / DEFAULT_NAME
-    drawn = pick_exaggeration(runs["sine"], max_frames=3)  # over the frames drawn: 0-0.08 s moves less
-    assert drawn >= factor
-    assert f"wrote {out}" in captured.out and f"motion x{drawn:g}, chosen to make it visible" in captured.out
+    drawn, why = pick_exaggeration(runs["sine"], max_frames=3)  # over the frames drawn: 0-0.08 s moves less
+    assert drawn >= factor and why.startswith("chosen to make the motion visible: the largest, ")
+    assert f"wrote {out}" in captured.out and f"motion x{drawn:g}, {why}" in captured.out
     with Image.open(out) as im:
         assert im.n_frames == 3
     assert "motion x" in motion_label(factor) and "true scale" in motion_label(1.0)

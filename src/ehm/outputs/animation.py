@@ -386,6 +386,11 @@ def auto_exaggeration(poses: dict, idx: np.ndarray | None = None) -> float:
     pose) travels :data:`AUTO_SHARE` of a view's width, no segment turns by more than :data:`AUTO_MAX_TURN_DEG`;
     one of 1, 2, 5 times a power of ten, from 1 (the motion is visible at true scale, or there is none:
     :data:`AUTO_MIN_MOTION_M`) to :data:`AUTO_MAX`."""
+    return _auto(poses, idx)[0]
+
+
+def _auto(poses: dict, idx: np.ndarray | None) -> tuple[float, str]:
+    """:func:`auto_exaggeration`'s factor and why, in words."""
     idx = np.arange(len(poses["time_s"])) if idx is None else np.asarray(idx, dtype=int)
     idx = np.union1d([0], idx)  # the first pose is the reference of the motion
     k = len(poses["geometry_segments"])
@@ -404,14 +409,16 @@ def auto_exaggeration(poses: dict, idx: np.ndarray | None = None) -> float:
     (xlim, _), _ = _limits(_scene(poses, idx[:1], 1.0))  # the view's width at rest
     width = xlim[1] - xlim[0]
     if moved < AUTO_MIN_MOTION_M:
-        return 1.0
+        return 1.0, f"the body hardly moves ({1e3 * moved:.2g} mm at most): nothing to exaggerate"
     want = AUTO_SHARE * width / moved
     if turn_deg > 0:
         want = min(want, AUTO_MAX_TURN_DEG / turn_deg)
     if want <= 1.0:
-        return 1.0
+        return 1.0, f"the motion ({1e3 * moved:.3g} mm at most) is visible as it is"
     nice = [m * 10 ** e for e in range(4) for m in (1, 2, 5)]
-    return float(max([f for f in nice if f <= min(want, AUTO_MAX)], default=1.0))
+    factor = float(max([f for f in nice if f <= min(want, AUTO_MAX)], default=1.0))
+    return factor, (f"chosen to make the motion visible: the largest, {1e3 * moved:.3g} mm, drawn as "
+                    f"{factor * 1e3 * moved:.3g} mm")
 
 
 def _frame_indices(t: np.ndarray, times_s) -> np.ndarray:
@@ -594,12 +601,12 @@ def animate(run_dir, out=None, exaggerate: float | str = "auto", fps: float = 25
 
 
 def pick_exaggeration(run_dir, fps: float = 25.0, start_s: float | None = None, end_s: float | None = None,
-                      max_frames: int | None = None) -> float:
+                      max_frames: int | None = None) -> tuple[float, str]:
     """The factor ``animate(..., exaggerate="auto")`` draws a run folder's frames with (:func:`auto_exaggeration`
-    over the same frames)."""
+    over the same frames), and why, in words (what ``ehm animate`` prints)."""
     fps = _check_number("--fps", fps, 0.0, False)
     poses = load_poses(run_dir)
-    return auto_exaggeration(poses, _select(poses["time_s"], fps, start_s, end_s, max_frames))
+    return _auto(poses, _select(poses["time_s"], fps, start_s, end_s, max_frames))
 
 
 def _counted(frames: Iterator[np.ndarray], total: int, progress) -> Iterator[np.ndarray]:

@@ -443,11 +443,10 @@ def cmd_animate(args) -> int:
     asked = _exaggeration(args.exaggerate)
     t0 = time.perf_counter()
     window = {"fps": args.fps, "start_s": args.start, "end_s": args.end, "max_frames": args.max_frames}
-    factor = pick_exaggeration(args.run_dir, **window) if asked == "auto" else asked
+    factor, why = pick_exaggeration(args.run_dir, **window) if asked == "auto" else (asked, "")
     path = animate(args.run_dir, out, exaggerate=factor, progress=progress_count("frames", args.quiet), **window)
     end_progress_line()
-    how = ("true scale" if factor == 1 else f"motion x{factor:g}") + (
-        "" if asked != "auto" else ", chosen to make it visible (--exaggerate 1: true scale)"
-        if factor != 1 else ", visible as it is")
+    how = ("true scale" if factor == 1 else f"motion x{factor:g}") + (f", {why}" if why else "") + (
+        " (--exaggerate 1: true scale)" if why and factor != 1 else "")
     print(f"wrote {path} in {time.perf_counter() - t0:.1f} s; {how}")
     return 0
