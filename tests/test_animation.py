@@ -139,3 +139,51 @@ def test_errors(runs, tmp_path, capsys):
         with pytest.raises(InputError, match=what):
             animate(runs["sine"], tmp_path / "a.gif", **kwargs)
     assert not list(tmp_path.iterdir())  # nothing written on error
+
+
+def test_auto_exaggeration_makes_the_motion_visible_and_says_so(runs, tmp_path, capsys):
+    """`ehm animate RUN` without options: RUN/animation.gif, a factor that makes the motion visible (the 2 Hz,
+    1 m/s^2 sine moves the body by millimetres: at true scale few pixels change), stated on the frames and the
+    console, and a progress count on stderr; the run without input stays at true scale (nothing to show)."""
+    from PIL import Image
+
+    from ehm.outputs.animation import DEFAULT_NAME, auto_exaggeration, load_poses, motion_label, pick_exaggeration
+
+    poses = load_poses(runs["sine"])
+    factor = auto_exaggeration(poses)
+    assert factor > 1 and f"{factor:g}"[0] in "125"  # one of 1, 2, 5 times a power of ten
+    assert auto_exaggeration(load_poses(runs["still"])) == 1.0
+    times = [0.0, 0.76, 1.24]
+    true_scale = render_frames(runs["sine"], times_s=times, exaggerate=1)
+    auto = render_frames(runs["sine"], times_s=times, exaggerate=factor)
+    assert _changed_body_pixels(auto[0], auto[1]) > 5 * max(1, _changed_body_pixels(true_scale[0], true_scale[1]))
+    assert main(["animate", str(runs["sine"]), "--max-frames", "3"]) == 0
+    captured = capsys.readouterr()
+    out = runs["sine"] / DEFAULT_NAME
+    drawn, why = pick_exaggeration(runs["sine"], max_frames=3)  # over the frames drawn: 0-0.08 s moves less
+    assert drawn >= factor and why.startswith("chosen to make the motion visible: the largest, ")
+    assert f"wrote {out}" in captured.out and f"motion x{drawn:g}, {why}" in captured.out
+    with Image.open(out) as im:
+        assert im.n_frames == 3
+    assert "motion x" in motion_label(factor) and "true scale" in motion_label(1.0)
+    seen = []
+    animate(runs["sine"], tmp_path / "b.gif", max_frames=4, progress=lambda done, total: seen.append((done, total)))
+    assert seen == [(i, 4) for i in range(1, 5)]
+
+
+def test_no_text_is_drawn_over_another(runs):
+    """The clock and the motion's scale sit in a band below the axis labels: their boxes do not overlap any other
+    text of the figure (the scale note was drawn over the front view's axis label)."""
+    from ehm.outputs.animation import _Renderer, _scene, load_poses
+
+    poses = load_poses(runs["sine"])
+    scene = _scene(poses, np.arange(3), 20.0)
+    r = _Renderer(poses, scene, 20.0, (960, 480), "a title")
+    r.frame(0)
+    renderer = r.canvas.get_renderer()
+    texts = [t for t in r.fig.findobj(lambda a: hasattr(a, "get_text") and a.get_text() and a.get_visible())]
+    boxes = [(t.get_text(), t.get_window_extent(renderer)) for t in texts]
+    for i, (a, box_a) in enumerate(boxes):
+        for b, box_b in boxes[i + 1:]:
+            assert not box_a.overlaps(box_b), (a, b)
+    r.close()

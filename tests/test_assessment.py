@@ -224,3 +224,71 @@ def test_linear_assessment_resamples_chunk_by_chunk():
     for key in ("head", "seat"):
         np.testing.assert_allclose(streamed.sickness[key].msi_percent, whole.sickness[key].msi_percent,
                                    rtol=1e-9, atol=1e-12 * whole.sickness[key].final_msi_percent)
+
+
+def test_read_assessment_gives_the_assessment_back(tmp_path):
+    """ehm.read_assessment(folder) round trip (issue 38, item 4): the arrays and figures written are read back
+    exactly (comfort values, running rms, spectra, sickness traces, summary), and as_frame gives to_dataframe()."""
+    from ehm.analysis.assessment import ARRAYS_FILE, write_assessment_arrays
+    from ehm.files import write_json_atomic
+
+    with pytest.warns(EhmWarning):  # 20 s at 100 Hz: not the whole Wk and Wf bands
+        a = assess(city_drive(20.0, seed=1), method="linear")
+    write_json_atomic(tmp_path / "assessment.json", a.summary())
+    write_assessment_arrays(a, tmp_path / ARRAYS_FILE)
+    b = ehm.read_assessment(tmp_path)
+    assert json.dumps(b.summary(), sort_keys=True) == json.dumps(a.summary(), sort_keys=True)
+    np.testing.assert_array_equal(b.trace_time_s, a.trace_time_s)
+    for loc in a.metrics:
+        for ax in "xyz":
+            m, n = a.metrics[loc][ax], b.metrics[loc][ax]
+            assert (m.a_w, m.mtvv, m.vdv, m.msdv, m.duration_s) == (n.a_w, n.mtvv, n.vdv, n.msdv, n.duration_s)
+            np.testing.assert_array_equal(m.running_rms, n.running_rms)
+            for x, y in zip(a.spectra[loc][ax], b.spectra[loc][ax]):
+                np.testing.assert_array_equal(x, y)
+    for key, trace in a.sickness.items():
+        np.testing.assert_array_equal(b.sickness[key].msi_percent, trace.msi_percent)
+        np.testing.assert_array_equal(b.sickness[key].conflict_magnitude_mps2, trace.conflict_magnitude_mps2)
+    frame = ehm.read_assessment(tmp_path, as_frame=True)
+    expected = a.to_dataframe()
+    assert list(frame.columns) == list(expected.columns)
+    np.testing.assert_array_equal(frame["value"], expected["value"])
+    assert list(frame["metric"]) == list(expected["metric"]) and frame.attrs["description"] == a.description
+    (tmp_path / ARRAYS_FILE).unlink()  # a folder of an older ehm: the figures only
+    assert len(ehm.read_assessment(tmp_path, as_frame=True)) == len(expected)
+    with pytest.raises(InputError, match=r"holds no assessment.npz.*as_frame=True"):
+        ehm.read_assessment(tmp_path)
+    with pytest.raises(InputError, match=r"holds no assessment.json: give the folder an 'ehm assess"):
+        ehm.read_assessment(tmp_path / "nothing")
+    with pytest.raises(InputError, match=r"read_assessment: give the folder"):
+        ehm.read_assessment(1)
+    (tmp_path / "assessment.json").write_text("{not json")
+    with pytest.raises(InputError, match=r"not an assessment ehm wrote"):
+        ehm.read_assessment(tmp_path, as_frame=True)
+
+
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
+def test_cli_assess_folder_reads_back_and_its_report_says_what_the_console_said(tmp_path, capsys):
+    """The folder of `ehm assess` reads back with read_assessment; the report carries the route line and every
+    warning the console printed, and points to the documentation pages."""
+    from ehm.outputs.report import DOC_PAGES
+
+    drive = tmp_path / "drive.csv"
+    assert main(["drive", "city", "--duration", "20", "--seed", "2", "--out", str(drive)]) == 0
+    out = tmp_path / "assess"
+    assert main(["assess", "--motion", str(drive), "--out", str(out)]) == 0
+    captured = capsys.readouterr()
+    warnings = [line[len("ehm: warning: "):] for line in captured.err.splitlines()
+                if line.startswith("ehm: warning: ")]
+    assert warnings and "ehm.read_assessment(folder)" in captured.out
+    summary = json.loads((out / "assessment.json").read_text())
+    assert summary["warnings"] == warnings
+    back = ehm.read_assessment(out)
+    assert back.total_value("seat") == pytest.approx(summary["locations"]["seat"]["total_value_mps2"], rel=1e-15)
+    import html
+
+    page = (out / "report.html").read_text()
+    assert all(html.escape(w) in page for w in warnings)
+    route_line = summary["route"]["summary_line"]
+    assert route_line in captured.out and html.escape(route_line.removeprefix("route: ")) in page
+    assert all(f"docs/{p}" in page for p, _ in DOC_PAGES)

@@ -111,7 +111,9 @@ def test_frf_frame_reuses_the_csv_columns(human, tmp_path):
     table = ehm.linear_frf(human, "z", freq_hz=np.arange(0.5, 10.01, 0.5))
     df = table.to_dataframe()
     table.to_csv(tmp_path / "frf.csv")
-    header = (tmp_path / "frf.csv").read_text().splitlines()[0].split(",")
+    lines = (tmp_path / "frf.csv").read_text().splitlines()
+    header = lines[2].split(",")  # after the two comment lines that record how ehm made the table
+    assert lines[0].startswith("# ehm FRF table (linear method)") and lines[1].startswith("# ehm: {")
     assert list(df.columns) == header + ["gain_unit"] and header == list(COLUMNS)
     rows = df[(df.point == "head") & (df.dof == "pitch")]
     np.testing.assert_array_equal(rows.gain, table.curve("z", "head", "pitch").gain)
@@ -215,3 +217,19 @@ def test_read_results_names_the_outputs_of_an_earlier_table(tmp_path):
     df = read_results(tmp_path)
     assert list(df.columns) == ["run_id", "output", "location", "axis", "metric", "value", "unit", "error", "lock"]
     assert list(df.unit) == ["m/s^2", "(m/s^2)/(m/s^2)"] and list(df.location) == ["seat", "trunk"]
+
+
+def test_reprs_are_one_line_with_the_key_figures(run, assessment):
+    """repr() outside a notebook (issue 38, item 4: 12 kB of arrays for a RunResult, 94 kB for an Assessment): one
+    line with what was run and the headline figures, each computed here independently of the repr."""
+    text = repr(run)
+    rms = float(np.sqrt(np.mean(run.seat_acc_mps2[:, 2] ** 2)))
+    head = float(np.sqrt(np.mean(run.point("head").acc_mps2[:, 2] ** 2)))
+    assert "\n" not in text and len(text) < 400 and text.startswith("<RunResult 'band-limited random")
+    assert f"rms a_z seat {rms:.3g}, head {head:.3g} m/s^2" in text and "(linear route)" in text
+    text = repr(assessment)
+    s = assessment.summary()["locations"]
+    assert "\n" not in text and len(text) < 400
+    assert f"a_v seat {s['seat']['total_value_mps2']:.3g} m/s^2 ({s['seat']['comfort_reaction']})" in text
+    assert f"head {s['head']['total_value_mps2']:.3g} m/s^2" in text
+    assert f"VDV_z seat {s['seat']['axes']['z']['vdv_mps175']:.3g}" in text

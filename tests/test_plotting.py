@@ -62,3 +62,34 @@ def test_excited_axes():
     assert excited_axes(np.column_stack([0.05 * s, s, 0.2 * s])) == "yz"  # 5 % of the largest: not excited
     assert excited_axes(np.column_stack([s, s, s])) == "xyz"
     assert excited_axes(np.zeros((10, 3))) == "z"  # a seat at rest: the forces that carry the weight
+
+
+def o_is_title(artist, fig) -> bool:
+    """Whether ``artist`` is the figure's title (its text, a direct child of the figure)."""
+    return artist.get_text() == fig.get_suptitle() and artist in fig.get_children()
+
+
+def test_long_titles_fit_the_figure(human):
+    """A measured log's description runs to 300 characters (the weighted spectra's title was cut at both sides on
+    every real log): drawn, the title lies inside the figure, on at most three lines; a short one stays one line."""
+    from dataclasses import replace
+
+    from ehm.outputs.plotting import TITLE_MAX_LINES, fit_title, plot_weighted_spectra
+
+    with pytest.warns(ehm.EhmWarning):  # 3 s cannot cover the Wf band
+        a = ehm.assess(ehm.random_vibration("z", 3.0, 0.3, seed=1), human, method="linear")
+    long = ("from SYNTHETIC_phone_log.csv (cut from 10 s to 285 s), 14030 samples, 274.994 s, levelled: tilt 1.02 "
+            "deg, g 9.544 m/s^2 removed, from the quietest window 203.199-208.255 s, resampled to dt 0.02 s, "
+            "resampled to dt 0.001 s")
+    for description, lines in ((long, (2, TITLE_MAX_LINES)), ("short", (1, 1))):
+        fig = plot_weighted_spectra(replace(a, description=description))
+        try:
+            fig.canvas.draw()
+            title = next(t for t in fig.findobj(lambda o: hasattr(o, "get_text")) if o_is_title(t, fig))
+            box, page = title.get_window_extent(), fig.bbox
+            assert box.x0 >= page.x0 and box.x1 <= page.x1 and box.y1 <= page.y1, description
+            assert lines[0] <= title.get_text().count("\n") + 1 <= lines[1]
+        finally:
+            plt.close(fig)
+    cut = fit_title("word " * 400, 5.0)
+    assert cut.count("\n") == TITLE_MAX_LINES - 1 and cut.endswith("…")

@@ -18,7 +18,16 @@ import pytest
 
 import ehm
 from ehm.analysis.frf import FrfTable
-from ehm.analysis.validation import ANY_SEAT_BANDS, FREQ_HZ, Check, Validation, band_checks, locking_checks, validate
+from ehm.analysis.validation import (
+    ANY_SEAT_BANDS,
+    FREQ_HZ,
+    Check,
+    Validation,
+    band_checks,
+    citations,
+    locking_checks,
+    validate,
+)
 from ehm.body.params import Parameters
 from ehm.errors import InputError
 from ehm.interfaces.cli import main
@@ -75,7 +84,7 @@ def test_a_curve_equal_to_iso2631_5_passes_its_deviation_band():
     """The lumbar gain equal to |ISO 2631-5| deviates by 0 (round-off only: same function, same frequencies)."""
     c = _by_name(band_checks(synthetic_table(), REF))["lumbar_gain_vs_iso2631_5"]
     assert abs(c.value) < 1e-12 and c.passed
-    assert (c.low, c.high, c.unit) == (-0.20, 0.20, "-")
+    assert (c.low, c.high, c.unit) == (-0.20, 0.20, "(m/s^2)/(m/s^2)")
 
 
 def test_a_deviation_of_025_fails_with_its_value_at_its_frequency():
@@ -118,7 +127,7 @@ def test_apparent_mass_is_taken_over_its_value_at_05_hz():
     for kg in (70.0, 45.0):
         checks = _by_name(band_checks(synthetic_table(support_kg=kg), REF))
         peak = checks["apparent_mass_peak"]
-        assert peak.value == pytest.approx(fit[sel].max(), rel=1e-9) and peak.passed and peak.unit == "-"
+        assert peak.value == pytest.approx(fit[sel].max(), rel=1e-9) and peak.passed and peak.unit == "1"
         assert peak.value == pytest.approx(1.49, abs=0.01)  # the docstring's figure for the fit at 0.5 Hz
         assert checks["apparent_mass_peak_frequency"].value == pytest.approx(FREQ_HZ[sel][np.argmax(fit[sel])])
         assert checks["apparent_mass_10hz"].value == pytest.approx(fit[_at(10.0)], rel=1e-9)
@@ -206,9 +215,18 @@ def test_validation_table_outputs_agree(default_validation, tmp_path):
     (no NaN: None); on_axis splits the checks by seat input axis without losing one."""
     v, _ = default_validation
     lines = v.format_table().splitlines()
-    assert len(lines) == len(v.checks) + 2
-    assert lines[-1] == f"{len(v.checks) - len(v.failed)} of {len(v.checks)} checks pass."
-    assert sum(("FAIL" in line) for line in lines[1:-1]) == len(v.failed)
+    sources = v.sources()
+    assert len(lines) == len(v.checks) + 3 + len(sources)
+    assert lines[len(v.checks) + 1] == f"{len(v.checks) - len(v.failed)} of {len(v.checks)} checks pass."
+    assert sum(("FAIL" in line) for line in lines[1:len(v.checks) + 1]) == len(v.failed)
+    # each check names its unit and its source by number; the sources are listed under the table, none an issue
+    for c, line in zip(v.checks, lines[1:]):
+        numbers = ", ".join(str(sources.index(w) + 1) for w in citations(c.source))
+        assert f" {c.unit} " in line and line.endswith(f"[{numbers}]")
+    assert lines[len(v.checks) + 2].startswith("sources") and all("issue" not in s for s in sources)
+    assert any("ISO 2631-5:2018" in s for s in sources) and any("Fairley & Griffin 1989" in s for s in sources)
+    assert len(sources) == 5 and any("Desai" in s for s in sources)
+    assert repr(v).startswith(f"<Validation: {len(v.checks) - len(v.failed)} of {len(v.checks)} checks pass")
     v.to_csv(tmp_path / "v.csv")
     with open(tmp_path / "v.csv", encoding="utf-8") as f:
         rows = list(csv.DictReader(f))

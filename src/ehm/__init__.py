@@ -20,6 +20,7 @@ read_motion        a measured motion from .csv/.txt, .parquet, .mat, .mf4/.mdf o
 from_imu           the seat's motion from an IMU log (specific force and gyro rates)
 city_drive, rough_road    SYNTHETIC drives
 assess, Assessment       ISO 2631-1 comfort, ISO 2631-5 spinal dose and motion sickness of a drive, seat and body
+read_assessment    an ``ehm assess`` run folder back as an Assessment (or a DataFrame, ``as_frame=True``)
 FrfTable, linear_frf, time_domain_frf, read_frf    transmissibility and apparent mass tables
 compare            the paper's criterion (Eqs. 2-3) of measured against model curves
 check_step, StepWarning    transfer functions at a time step against the same model at finer steps
@@ -63,7 +64,7 @@ __getattr__ = _compat.old_attribute
 
 __version__ = "0.1.0"
 
-from .analysis.assessment import Assessment, assess
+from .analysis.assessment import Assessment, assess, read_assessment
 from .analysis.convergence import StepWarning, check_step
 from .analysis.criterion import compare
 from .analysis.frf import FrfTable, linear_frf, read_frf, time_domain_frf
@@ -87,7 +88,7 @@ __all__ = [
     "DivergenceError", "EhmError", "EhmWarning", "InputError",
     "Person", "SeatedHuman", "RunResult", "PointMotion", "simulate_parallel", "Simulator", "StepState",
     "SeatMotion", "random_vibration", "sine", "sweep", "read_motion", "load_motion_csv", "from_imu",
-    "city_drive", "rough_road", "assess", "Assessment",
+    "city_drive", "rough_road", "assess", "Assessment", "read_assessment",
     "FrfTable", "linear_frf", "time_domain_frf", "read_frf", "compare",
     "Parameters", "BodySize", "load_body", "Curve", "h1_estimate", "check_step", "StepWarning",
     "LinearRouteError", "validate", "Validation", "__version__",

@@ -205,6 +205,16 @@ class Assessment:
         columns["value"] = np.array([np.nan if v is None else v for v in columns["value"]], dtype=float)
         return frame(columns, self._attrs(), labels={"location": LOCATIONS, "axis": ("x", "y", "z", "xyz")})
 
+    def __repr__(self) -> str:
+        """One line with the headline figures: the seat's and the head's total value and comfort reaction, the
+        seat's VDV_z, the motion sickness incidence from the head, the route (``summary()`` has every figure)."""
+        seat, head = self.total_value("seat"), self.total_value("head")
+        msi = getattr(self.sickness.get("head"), "final_msi_percent", float("nan"))
+        route = (self.route or {}).get("method", "nonlinear")
+        return (f"<Assessment {self.description!r} ({route} route): {self.duration_s:g} s; a_v seat {seat:.3g} m/s^2 "
+                f"({comfort_reaction(seat)}), head {head:.3g} m/s^2; VDV_z seat "
+                f"{self.metrics['seat']['z'].vdv:.3g} m/s^1.75; motion sickness (head) {msi:.3g} %>")
+
     def _repr_html_(self) -> str:
         from ..outputs.dataframes import html_table
 
@@ -483,3 +493,111 @@ def _evaluate(running: _Running, chunks, rotating_motion, description: str, dura
         trace_time_s=np.arange(n_trace) * keep * dt, max_displacement_m=running.max_disp,
         final_displacement_m=running.final_disp, input_band_hz=band, band_outside_share=shares, route=route,
     )
+
+
+# --- an assessment on disk and back ------------------------------------------------------------------------------
+
+#: The arrays of an assessment beside its ``assessment.json``: the comfort values, running rms, weighted spectra and
+#: sickness traces, what :func:`read_assessment` needs to give the whole Assessment back.
+ARRAYS_FILE = "assessment.npz"
+_METRIC_FIELDS = ("a_w", "mtvv", "vdv", "crest_factor", "msdv", "duration_s")
+
+
+def write_assessment_arrays(result: Assessment, path) -> None:
+    """Write an assessment's arrays (``assessment.npz``: comfort values, running rms, weighted spectra, sickness
+    traces) whole or not at all; with ``assessment.json`` (its ``summary()``) they are the Assessment."""
+    from ..files import replace_atomically
+
+    arrays = {"trace_time_s": np.asarray(result.trace_time_s, dtype=float)}
+    for loc, by_axis in result.metrics.items():
+        for a, m in by_axis.items():
+            arrays[f"metrics/{loc}/{a}"] = np.array([np.nan if getattr(m, f) is None else getattr(m, f)
+                                                     for f in _METRIC_FIELDS], dtype=float)
+            arrays[f"running_rms/{loc}/{a}"] = np.asarray(m.running_rms, dtype=float)
+    for loc, by_axis in result.spectra.items():
+        for a, (f, psd) in by_axis.items():
+            arrays[f"spectra/{loc}/{a}"] = np.vstack([f, psd]).astype(float)
+    for key, trace in result.sickness.items():
+        arrays[f"sickness/{key}"] = np.vstack([trace.time_s, trace.msi_percent,
+                                               trace.conflict_magnitude_mps2]).astype(float)
+
+    def write(tmp):
+        with open(tmp, "wb") as fh:  # a file object: numpy adds no .npz to the temporary name
+            np.savez_compressed(fh, **arrays)
+
+    replace_atomically(path, write, "the assessment's arrays")
+
+
+def read_assessment(folder, as_frame: bool = False):
+    """The :class:`Assessment` of an ``ehm assess --out FOLDER`` run folder, back in Python.
+
+    From ``assessment.json`` (the figures, the drive, the route, the ISO 2631-5 dose) and ``assessment.npz`` (the
+    running rms, weighted spectra and sickness traces the figures are drawn from): ``summary()``, ``to_dataframe()``
+    and the plotting functions give what they gave for the run.  ``as_frame=True``: the figures as
+    ``Assessment.to_dataframe()`` gives them (location, axis, metric, value, unit), read from ``assessment.json``
+    alone (so also from a folder written before ``assessment.npz`` was).  A folder that is not an assessment's is
+    refused in one sentence."""
+    import json
+    import os
+    import zipfile
+    from pathlib import Path
+
+    from ..standards.comfort import ComfortMetrics
+    from ..standards.sickness import SicknessTrace
+
+    if not isinstance(folder, (str, os.PathLike)):
+        raise InputError(f"read_assessment: give the folder of an 'ehm assess --out FOLDER' run as a path, not "
+                         f"{type(folder).__name__} {str(folder)[:40]!r}.")
+    if not isinstance(as_frame, (bool, np.bool_)):
+        raise InputError(f"read_assessment: as_frame is True (a DataFrame) or False (an Assessment), not "
+                         f"{type(as_frame).__name__} {str(as_frame)[:40]!r}.")
+    folder = Path(folder)
+    path = folder / "assessment.json"
+    if not path.is_file():
+        raise InputError(f"{folder} holds no assessment.json: give the folder an 'ehm assess --out FOLDER' run "
+                         "wrote.")
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+        locations = summary["locations"]
+        description, duration = str(summary["input"]), float(summary["duration_s"])
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as exc:
+        raise InputError(f"{path}: not an assessment ehm wrote ({type(exc).__name__}: {exc}); run 'ehm assess' "
+                         "again.") from None
+    if as_frame:
+        from ..outputs.dataframes import frame
+
+        rows = _summary_rows(summary)
+        columns = {c: [r[i] for r in rows] for i, c in enumerate(("location", "axis", "metric", "value", "unit"))}
+        columns["value"] = np.array([np.nan if v is None else v for v in columns["value"]], dtype=float)
+        attrs = {"description": description, "route": (summary.get("route") or {}).get("method", "nonlinear"),
+                 "duration_s": duration, "weightings": "Wd (x, y), Wk (z), Wf (MSDV)", "folder": str(folder)}
+        return frame(columns, attrs, labels={"location": LOCATIONS, "axis": ("x", "y", "z", "xyz")})
+    arrays_path = folder / ARRAYS_FILE
+    if not arrays_path.is_file():
+        raise InputError(f"{folder} holds no {ARRAYS_FILE} (an older ehm wrote it): read its figures with "
+                         "read_assessment(folder, as_frame=True), or run 'ehm assess' again for the whole assessment.")
+    try:
+        with np.load(arrays_path, allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files}
+
+        def metric(loc, a):
+            v = arrays[f"metrics/{loc}/{a}"]
+            fields = dict(zip(_METRIC_FIELDS, (float(x) for x in v)))
+            fields["msdv"] = None if np.isnan(fields["msdv"]) else fields["msdv"]
+            return ComfortMetrics(running_rms=arrays[f"running_rms/{loc}/{a}"], **fields)
+
+        metrics = {loc: {a: metric(loc, a) for a in "xyz"} for loc in locations}
+        spectra = {loc: {a: tuple(arrays[f"spectra/{loc}/{a}"]) for a in "xyz"} for loc in locations}
+        sickness = {k[len("sickness/"):]: SicknessTrace(*arrays[k]) for k in arrays if k.startswith("sickness/")}
+        band = summary.get("input_band_hz")
+        return Assessment(
+            description=description, duration_s=duration, wall_s=float(summary["wall_s"]), metrics=metrics,
+            spectra=spectra, sickness=sickness, trace_time_s=arrays["trace_time_s"],
+            max_displacement_m={k: np.asarray(v, float) for k, v in summary["body_displacement_max_m"].items()},
+            final_displacement_m={k: np.asarray(v, float) for k, v in summary["body_displacement_final_m"].items()},
+            input_band_hz=None if band is None else tuple(band),
+            band_outside_share=dict(summary.get("band_outside_share") or {}), route=summary.get("route"),
+            iso2631_5=summary.get("iso2631_5"))
+    except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile) as exc:
+        raise InputError(f"{arrays_path}: not the arrays of this assessment ({type(exc).__name__}: {exc}); run "
+                         "'ehm assess' again.") from None

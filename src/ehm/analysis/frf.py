@@ -17,6 +17,7 @@ response of the model linearised around its settled posture).
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -68,6 +69,30 @@ class FrfTable:
         """Curve keys in the canonical order (axis, point, dof)."""
         return sorted(self.curves, key=lambda k: (AXES.index(k[0]), ALL_POINTS.index(k[1]), DOFS.index(k[2])))
 
+    def peaks(self) -> list[tuple[tuple, float, float, str]]:
+        """The peak of every path along its input axis (seat x -> point x, ..., and the apparent masses):
+        ``[((input_axis, point, dof), peak_hz, peak_gain, unit), ...]`` in :meth:`keys` order, what ``ehm frf``
+        prints and the reprs show."""
+        out = []
+        for key in self.keys():
+            c = self.curves[key]
+            if key[2] == key[0] and c.freq_hz.size:
+                f, g = c.peak((float(c.freq_hz[0]), float(c.freq_hz[-1])))
+                out.append((key, float(f), float(g), gain_unit(key[1], key[2])))
+        return out
+
+    def __repr__(self) -> str:
+        f = np.concatenate([c.freq_hz for c in self.curves.values()]) if self.curves else np.zeros(0)
+        axes = sorted({k[0] for k in self.curves}, key=AXES.index)
+        band = f", {f.min():.3g}-{f.max():.3g} Hz" if f.size else ""
+        head = [f"{k[0]}: {g:.3g} at {fp:.3g} Hz" for k, fp, g, _ in self.peaks() if k[1] == "head"]
+        seated = self.meta.get("seated")
+        who = "" if not isinstance(seated, dict) else (
+            f", {seated.get('posture')}, back support {seated.get('back_support')}, head control "
+            f"{'on' if seated.get('head_control') else 'off'}")
+        return (f"<FrfTable {self.method}{who}: {len(self.curves)} curves, seat {'/'.join(axes) or '-'}{band}"
+                + (f"; head peaks {', '.join(head)}" if head else "") + ">")
+
     def _optional_columns(self) -> tuple[bool, bool]:
         """Whether ``gain_sd`` and ``weight`` carry data (measured tables), so the long forms hold them."""
         curves = self.curves.values()
@@ -110,12 +135,7 @@ class FrfTable:
     def _repr_html_(self) -> str:
         from ..outputs.dataframes import html_table
 
-        rows = []
-        for key in self.keys():
-            c = self.curves[key]
-            if key[2] in AXES and (key[0] == key[2]) and c.freq_hz.size:
-                f, g = c.peak((float(c.freq_hz[0]), float(c.freq_hz[-1])))
-                rows.append([f"seat {key[0]} -> {key[1]} {key[2]}", f, g, gain_unit(key[1], key[2])])
+        rows = [[f"seat {k[0]} -> {k[1]} {k[2]}", f, g, unit] for k, f, g, unit in self.peaks()]
         attrs = self._attrs()
         f = np.concatenate([c.freq_hz for c in self.curves.values()]) if self.curves else np.zeros(0)
         facts = {"input": attrs["description"], "route": attrs.get("route") or "", "method": self.method,
@@ -123,11 +143,23 @@ class FrfTable:
         return html_table("ehm FrfTable", facts, ["path (along the input axis)", "peak [Hz]", "peak gain", "unit"],
                           rows)
 
+    def record(self) -> dict:
+        """What the file records of the table besides its curves: the method and what produced it (the person as
+        :meth:`ehm.Person.to_dict` gives it, the route and the excitation), JSON-ready."""
+        keep = {k: v for k, v in self.meta.items() if k != "file" and _json_ready(v)}
+        return {"method": self.method, **keep}
+
     def to_csv(self, path: Path | str) -> None:
-        """Write the long-format CSV (whole or not at all); ``gain_sd`` and ``weight`` only when they carry data."""
+        """Write the long-format CSV (whole or not at all); ``gain_sd`` and ``weight`` only when they carry data.
+
+        Two comment lines (``#``) come first: what wrote the file and, as JSON after ``# ehm:``, the method and
+        the person (:meth:`record`), so :func:`read_frf` tells ehm's own tables from measured ones (with pandas:
+        ``pandas.read_csv(path, comment="#")``)."""
         curves = [self.curves[k] for k in self.keys()]
         with_sd, with_w = self._optional_columns()
-        lines = [",".join(COLUMNS + ("gain_sd",) * with_sd + ("weight",) * with_w)]
+        banner = _CSV_MEASURED if self.method == "measured" else _CSV_BANNER.format(method=self.method)
+        lines = [banner, _RECORD_PREFIX + json.dumps(self.record())]
+        lines.append(",".join(COLUMNS + ("gain_sd",) * with_sd + ("weight",) * with_w))
         for key, c in zip(self.keys(), curves):
             for f, g, ph, coh, sd in zip(c.freq_hz, c.gain, c.phase_deg, c.coherence, c.gain_sd):
                 row = [*key, f"{f:.6g}", f"{g:.8g}", _fmt(ph), _fmt(coh)]
@@ -143,6 +175,8 @@ class FrfTable:
         pa, pq = pyarrow_modules()
         cols = self._long_columns()
         table = pa.table({c: cols[c] for c in COLUMNS + ("gain_sd", "weight")})
+        table = table.replace_schema_metadata({**(table.schema.metadata or {}),
+                                               _PARQUET_KEY: json.dumps(self.record())})
         replace_atomically(path, lambda tmp: pq.write_table(table, tmp), "the FRF table")
 
     def write(self, path: Path | str) -> None:
@@ -158,6 +192,45 @@ def gain_unit(point: str, dof: str) -> str:
     return "(rad/s^2)/(m/s^2)" if dof in ("roll", "pitch", "yaw") else "(m/s^2)/(m/s^2)"
 
 
+#: The first line of an FRF CSV that ehm writes, and the prefix of the second (the table's record, JSON).
+_CSV_BANNER = "# ehm FRF table ({method} method): written by ehm, not measured; the line below records how (JSON)"
+_CSV_MEASURED = "# measured gains, written out by ehm; the line below records how (JSON)"
+_RECORD_PREFIX = "# ehm: "
+#: The key of the record in a Parquet file's schema metadata.
+_PARQUET_KEY = b"ehm"
+
+
+def _json_ready(value) -> bool:
+    try:
+        json.dumps(value)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
+def _csv_record(path: Path | str) -> dict | None:
+    """The record of an FRF CSV that ehm wrote (its ``# ehm:`` comment line before the header), else None."""
+    try:
+        with open(path, encoding="utf-8-sig") as f:
+            for line in f:
+                if not line.lstrip().startswith("#"):
+                    return None
+                if line.startswith(_RECORD_PREFIX):
+                    record = json.loads(line[len(_RECORD_PREFIX):])
+                    return record if isinstance(record, dict) else None
+    except (OSError, UnicodeDecodeError, ValueError):
+        return None  # the table reader says what is wrong with the file
+    return None
+
+
+def _from_record(record: dict | None, label: str) -> tuple[str, dict]:
+    """The method and meta of a table read back: ehm's own (its record) or measured."""
+    if not record or record.get("method") not in ("linear", "time", "measured", "model"):
+        return "measured", {"file": label}
+    meta = {k: v for k, v in record.items() if k != "method"}
+    return record["method"], {**meta, "file": label, "written_by": "ehm"}
+
+
 def _fmt(v: float) -> str:
     return "" if not np.isfinite(v) else f"{v:.6g}"
 
@@ -167,7 +240,9 @@ def read_frf_csv(path: Path | str) -> FrfTable:
 
     Required columns: ``input_axis``, ``point``, ``dof``, ``freq_hz``, ``gain``; optional: ``phase_deg``,
     ``coherence``, ``gain_sd``, ``weight`` (per curve; the same on every row of a curve).  Lines starting with
-    ``#`` are comments.  Rejects, with file and line: unknown axis, point or dof, a non-positive or repeated
+    ``#`` are comments.  A table ehm wrote (:meth:`FrfTable.to_csv`: a ``# ehm:`` line with its record before the
+    header) comes back with its method and record (``meta["person"]``, ``meta["written_by"]``); any other is
+    ``measured``.  Rejects, with file and line: unknown axis, point or dof, a non-positive or repeated
     frequency, a NaN, infinite or negative gain, a non-numeric value, a missing column.
     """
     from ..body.tables import CsvTable
@@ -215,12 +290,14 @@ def read_frf_csv(path: Path | str) -> FrfTable:
                              f"appears twice in the curve {'/'.join(key)}.")
         curves[key] = Curve(freq_hz=arr[:, 0], gain=arr[:, 1], phase_deg=arr[:, 2], coherence=arr[:, 3],
                             gain_sd=arr[:, 4], weight=weights[key])
-    return FrfTable(curves=curves, method="measured", meta={"file": label})
+    method, meta = _from_record(_csv_record(path), label)
+    return FrfTable(curves=curves, method=method, meta=meta)
 
 
 def read_frf(path: Path | str) -> FrfTable:
     """An FRF table from CSV (:func:`~ehm.analysis.frf.read_frf_csv`) or from Parquet written by
-    :meth:`FrfTable.to_parquet`."""
+    :meth:`FrfTable.to_parquet`: ehm's own tables with their method and the person they were computed for
+    (``meta["person"]``, :meth:`ehm.Person.to_dict`), any other table as ``measured``."""
     if not str(path).lower().endswith(".parquet"):
         return read_frf_csv(path)
     from ..inputs.readers.frames import ParquetSource
@@ -238,6 +315,7 @@ def read_frf(path: Path | str) -> FrfTable:
             if value not in allowed:
                 raise InputError(f"{path}, row {i}, column {name}: {value!r} is not one of {', '.join(allowed)}.")
         curves.setdefault(key, []).append(i)
+    method, meta = _from_record(_parquet_record(path), str(path))
     get = lambda c, rows: (np.asarray(cols[c], dtype=float)[rows] if c in cols  # noqa: E731
                            else np.full(len(rows), np.nan))
     out = {}
@@ -246,7 +324,20 @@ def read_frf(path: Path | str) -> FrfTable:
         w = get("weight", rows)
         out[key] = Curve(get("freq_hz", rows), get("gain", rows), get("phase_deg", rows), get("coherence", rows),
                          get("gain_sd", rows), float(w[0]) if np.isfinite(w[0]) else 1.0)
-    return FrfTable(curves=out, method="measured", meta={"file": str(path)})
+    return FrfTable(curves=out, method=method, meta=meta)
+
+
+def _parquet_record(path: Path | str) -> dict | None:
+    """The record of an FRF Parquet file that ehm wrote (its schema metadata), else None."""
+    try:
+        from ..outputs.runfiles import pyarrow_modules
+
+        _, pq = pyarrow_modules()
+        raw = (pq.read_schema(path).metadata or {}).get(_PARQUET_KEY)
+        record = json.loads(raw) if raw else None
+    except Exception:  # no pyarrow, or unreadable metadata: the table is read as measured
+        return None
+    return record if isinstance(record, dict) else None
 
 
 def _axes(axis: str) -> tuple[str, ...]:
@@ -325,7 +416,8 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
         curves = {}
         for a in moved:
             curves.update(run_curves(run, a, band_hz, segment_s))
-        meta = {"input": motion.description, "segment_s": segment_s, "route": route}
+        meta = {"input": motion.description, "segment_s": segment_s, "route": route,
+                **_person_record(human)}
         return FrfTable(curves=curves, method="time", meta=meta)
 
     if not duration_s >= segment_s:
@@ -337,7 +429,8 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
         run = human.simulate(random_vibration(axis_name, duration_s, rms_mps2, seed=seed, dt_s=dt, band_hz=band_hz),
                              method=route)
         curves.update(run_curves(run, axis_name, band_hz, segment_s))
-    meta = {"duration_s": duration_s, "rms_mps2": rms_mps2, "seed": seed, "segment_s": segment_s, "route": route}
+    meta = {"duration_s": duration_s, "rms_mps2": rms_mps2, "seed": seed, "segment_s": segment_s, "route": route,
+            **_person_record(human)}
     return FrfTable(curves=curves, method="time", meta=meta)
 
 
@@ -379,7 +472,20 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
         for p, members in groups.items():  # apparent mass [kg]: support forces per unit seat acceleration
             h = sum(H[:, names.index(f"support.{g}.f{a}"), i] for g in members)
             curves[(a, p, a)] = Curve(f, np.abs(h), np.degrees(np.angle(h)), nan)
-    return FrfTable(curves=curves, method="linear", meta={})
+    return FrfTable(curves=curves, method="linear", meta={**_person_record(human),
+                                                         "model": "discrete" if discrete or linear_model is not None
+                                                         else "continuous"})
+
+
+def _person_record(human) -> dict:
+    """What an FRF table records of the person: :meth:`ehm.Person.to_dict` (``person``), and as it sits (``seated``:
+    the posture, back support and head control in effect, the parameter file's where the person keeps them) with
+    :meth:`ehm.Person.describe` (``person_description``)."""
+    person = human.person
+    p = person.seated_params()
+    seated = {"posture": p.posture, "back_support": p.back_support,
+              "head_control": bool(p.value("head_control.enabled"))}
+    return {"person": person.to_dict(), "seated": seated, "person_description": person.describe()}
 
 
 def _support_groups() -> tuple:

@@ -165,20 +165,44 @@ class Validation:
             writer.writerow([_csv_cell(getattr(c, n)) for n in names])
         write_text_atomic(path, buffer.getvalue())
 
+    def sources(self) -> list[str]:
+        """The works the checks cite (:func:`citation` of each check's source), each once, in the order the checks
+        first cite them (``[1]`` is the first): what :meth:`format_table` lists under the table."""
+        return list(dict.fromkeys(work for c in self.checks for work in citations(c.source)))
+
     def format_table(self) -> str:
-        """The checks as a fixed-width text table, one line each, and a last line with the count."""
+        """The checks as a fixed-width text table, one line each (the model's figure with its unit, the frequency it
+        was taken at, the band, pass or FAIL, the source by number), a line with the count, and the sources."""
         w = max([len("condition"), *(len(c.condition) for c in self.checks)]) + 2
-        lines = [f"{'condition':<{w}}{'check':<44}{'model':>9}{'at Hz':>7}  {'band':<16}{'':<6}"]
+        u = max([len("unit"), *(len(c.unit) for c in self.checks)]) + 2
+        sources = self.sources()
+        lines = [f"{'condition':<{w}}{'check':<44}{'model':>9}  {'unit':<{u}}{'at Hz':>6}  {'band':<14}{'':<6}source"]
         for c in self.checks:
-            band = _band_text(c.low, c.high)
             where = "" if np.isnan(c.at_hz) else f"{c.at_hz:.2f}"
-            lines.append(f"{c.condition:<{w}}{c.name:<44}{c.value:>9.3g}{where:>7}  {band + ' ' + c.unit:<16}"
-                         f"{'pass' if c.passed else 'FAIL'}".rstrip())
+            lines.append(f"{c.condition:<{w}}{c.name:<44}{c.value:>9.3g}  {c.unit:<{u}}{where:>6}  "
+                         f"{_band_text(c.low, c.high):<14}{'pass' if c.passed else 'FAIL':<6}"
+                         f"[{', '.join(str(sources.index(w) + 1) for w in citations(c.source))}]")
         lines.append(f"{len(self.checks) - len(self.failed)} of {len(self.checks)} checks pass.")
+        lines.append("sources (each check's figures in validation.csv's source column; the band widths are ehm's "
+                     "choice round them, docs/validation.md):")
+        lines += [f"  [{i}] {text}" for i, text in enumerate(sources, 1)]
         return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        failed = ", ".join(dict.fromkeys(c.name for c in self.failed))
+        return (f"<Validation: {len(self.checks) - len(self.failed)} of {len(self.checks)} checks pass"
+                + (f"; failed: {failed}" if failed else "") + ">")
 
     def _repr_html_(self) -> str:
         return self.to_dataframe().to_html(index=False)
+
+
+def citations(source: str) -> list[str]:
+    """The works a check's source cites, as a reader can look them up: the source without the figures read from it
+    (after ``": "``) and without the note on the band's width, split where it joins two works (``") and "``)."""
+    head = source.split("; band width")[0].partition(": ")[0]
+    parts = head.split(") and ")
+    return [p + ")" for p in parts[:-1]] + [parts[-1]]
 
 
 def _csv_cell(value) -> str:
@@ -239,9 +263,14 @@ def band_figure(table: FrfTable, band: references.Band) -> tuple[float, float]:
 
 
 def _unit(band: references.Band) -> str:
+    """The unit of a band's figure: ``Hz`` (a peak's frequency), ``kg`` (an apparent mass), ``(m/s^2)/(m/s^2)`` (a
+    seat-to-body gain, or a gain's difference from a reference curve), ``1`` (a ratio: the apparent mass over its
+    value at ``normalise_at_hz``)."""
     if band.quantity == "peak_hz":
         return "Hz"
-    return "-" if band.normalise_at_hz is not None or band.path[1] != "support" else "kg"
+    if band.normalise_at_hz is not None:
+        return "1"
+    return "kg" if band.path[1] == "support" else "(m/s^2)/(m/s^2)"
 
 
 def band_checks(table: FrfTable, condition: str, bands=None) -> list[Check]:

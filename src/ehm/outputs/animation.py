@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import zipfile
 import zlib
 from collections.abc import Iterator
@@ -40,7 +41,7 @@ from ..errors import InputError
 from ..files import replace_atomically
 from .outdir import record_in_manifest
 
-__all__ = ["animate", "render_frames", "load_poses"]
+__all__ = ["animate", "render_frames", "load_poses", "auto_exaggeration", "pick_exaggeration"]
 
 _POSE_KEYS = ("time_s", "pos", "quat")
 _GEOMETRY_KEYS = ("geometry_segments", "geometry_shape_size_m", "geometry_shape_pos_m", "geometry_shape_quat",
@@ -54,6 +55,20 @@ _FLOOR_HALF_M = 1.5  #: The floor is drawn wider than any view (the axes clip it
 _FORMATS = (".gif", ".mp4")
 _MP4_MISSING = ("writing .mp4 needs the packages imageio and imageio-ffmpeg: install them with "
                 "pip install 'ehm[animate]', or write a .gif instead.")
+
+#: The views' lower edge (a share of the figure's height): the axis labels above a band that holds the clock and
+#: the motion's scale, so that no text is drawn over another.
+_AXES_BOTTOM = 0.17
+#: ``exaggerate="auto"`` scales the motion so that the segment that moves most travels this share of a view's
+#: width (a 960 x 480 picture: about 20 pixels) ...
+AUTO_SHARE = 0.04
+#: ... turning no segment by more than this [deg] from its settled pose ...
+AUTO_MAX_TURN_DEG = 30.0
+#: ... with a factor of at most this, one of 1, 2, 5 times a power of ten.
+AUTO_MAX = 1000.0
+#: A run whose segments move less than this [m] holds no motion to show (a person at rest moves by micrometres of
+#: round-off and settling): ``"auto"`` draws it true to scale.
+AUTO_MIN_MOTION_M = 2e-5
 
 # Views: (horizontal axis, vertical axis, depth axis towards the viewer, invert horizontal, label).
 _VIEWS = ((0, 2, 1, True, "side view (from the left)", "x forward [m]"),
@@ -267,7 +282,7 @@ class _Renderer:
         self.axes, self.ellipses, self.surfaces = [], [], []
         rest = scene["centres"][0]
         for v, ((_h_ax, _v_ax, d_ax, invert, label, xlabel), (xlim, ylim)) in enumerate(zip(_VIEWS, limits)):
-            ax = self.fig.add_axes((0.06 + 0.5 * v, 0.1, 0.42, top - 0.1))
+            ax = self.fig.add_axes((0.06 + 0.5 * v, _AXES_BOTTOM, 0.42, top - _AXES_BOTTOM))
             ax.set_xlim(*(xlim[::-1] if invert else xlim))
             ax.set_ylim(*ylim)
             ax.set_aspect("equal", adjustable="box")
@@ -297,10 +312,9 @@ class _Renderer:
             self.surfaces.append(surf)
         if title:
             self.fig.text(0.5, 0.965, title, ha="center", va="top", fontsize=10)
-        self.clock = self.fig.text(0.015, 0.02, "", ha="left", va="bottom", fontsize=11, family="monospace")
-        factor = f"{exaggerate:g}"
-        self.fig.text(0.985, 0.02, f"motion x{factor}" + ("" if exaggerate != 1 else " (true scale)"),
-                      ha="right", va="bottom", fontsize=11, color="#a02020" if exaggerate != 1 else "0.2")
+        self.clock = self.fig.text(0.015, 0.015, "", ha="left", va="bottom", fontsize=11, family="monospace")
+        self.fig.text(0.985, 0.015, motion_label(exaggerate), ha="right", va="bottom", fontsize=10,
+                      color="#a02020" if exaggerate != 1 else "0.2")
         for artist in [self.clock, *sum(self.ellipses, []), *sum(self.surfaces, [])]:
             artist.set_animated(True)  # left out of the background
         self.canvas.draw()
@@ -358,6 +372,54 @@ def _hull(points: np.ndarray) -> np.ndarray:
             upper.pop()
         upper.append(p)
     return np.array(lower[:-1] + upper[:-1])
+
+
+def motion_label(exaggerate: float) -> str:
+    """What the picture says of its scale: ``motion x20 (exaggerated; --exaggerate 1: true scale)`` or
+    ``motion true scale``."""
+    if exaggerate == 1:
+        return "motion true scale (x1)"
+    return f"motion x{exaggerate:g} (exaggerated; --exaggerate 1 for true scale)"
+
+
+def auto_exaggeration(poses: dict, idx: np.ndarray | None = None) -> float:
+    """The factor that makes a run's motion visible: the segment that moves most (its drawn centre, from the first
+    pose) travels :data:`AUTO_SHARE` of a view's width, no segment turns by more than :data:`AUTO_MAX_TURN_DEG`;
+    one of 1, 2, 5 times a power of ten, from 1 (the motion is visible at true scale, or there is none:
+    :data:`AUTO_MIN_MOTION_M`) to :data:`AUTO_MAX`."""
+    return _auto(poses, idx)[0]
+
+
+def _auto(poses: dict, idx: np.ndarray | None) -> tuple[float, str]:
+    """:func:`auto_exaggeration`'s factor and why, in words."""
+    idx = np.arange(len(poses["time_s"])) if idx is None else np.asarray(idx, dtype=int)
+    idx = np.union1d([0], idx)  # the first pose is the reference of the motion
+    k = len(poses["geometry_segments"])
+    pos, quat = np.asarray(poses["pos"], float)[idx], np.asarray(poses["quat"], float)[idx]
+    n = len(idx)
+    body_pos, body_rot = pos[:, :k], _quat_to_rot(quat[:, :k].reshape(-1, 4))
+    if pos.shape[1] == k + 1:  # a rotating seat: the body's motion in the seat's frame, as it is exaggerated
+        s_rot = _quat_to_rot(quat[:, k])
+        body_pos = np.einsum("nji,nkj->nki", s_rot.as_matrix(), body_pos - pos[:, k][:, None, :])
+        body_rot = _quat_to_rot(np.repeat(quat[:, k], k, axis=0)).inv() * body_rot
+    R = body_rot.as_matrix().reshape(n, k, 3, 3)
+    centres = body_pos + np.einsum("nkij,kj->nki", R, np.asarray(poses["geometry_shape_pos_m"], dtype=float))
+    moved = float(np.max(np.linalg.norm(centres - centres[0][None], axis=-1)))
+    rel = body_rot * Rotation.from_quat(np.tile(body_rot[:k].as_quat(), (n, 1))).inv()
+    turn_deg = float(np.degrees(np.max(rel.magnitude())))
+    (xlim, _), _ = _limits(_scene(poses, idx[:1], 1.0))  # the view's width at rest
+    width = xlim[1] - xlim[0]
+    if moved < AUTO_MIN_MOTION_M:
+        return 1.0, f"the body hardly moves ({1e3 * moved:.2g} mm at most): nothing to exaggerate"
+    want = AUTO_SHARE * width / moved
+    if turn_deg > 0:
+        want = min(want, AUTO_MAX_TURN_DEG / turn_deg)
+    if want <= 1.0:
+        return 1.0, f"the motion ({1e3 * moved:.3g} mm at most) is visible as it is"
+    nice = [m * 10 ** e for e in range(4) for m in (1, 2, 5)]
+    factor = float(max([f for f in nice if f <= min(want, AUTO_MAX)], default=1.0))
+    return factor, (f"chosen to make the motion visible: the largest, {1e3 * moved:.3g} mm, drawn as "
+                    f"{factor * 1e3 * moved:.3g} mm")
 
 
 def _frame_indices(t: np.ndarray, times_s) -> np.ndarray:
@@ -495,23 +557,40 @@ def _write_mp4(frames: Iterator[np.ndarray], path: str, fps: float, iio) -> int:
     return n
 
 
-def animate(run_dir, out, exaggerate: float = 1.0, fps: float = 25.0, start_s: float | None = None,
-            end_s: float | None = None, max_frames: int | None = None) -> Path:
+#: The animation's file name in its run folder when none is given.
+DEFAULT_NAME = "animation.gif"
+
+
+def animate(run_dir, out=None, exaggerate: float | str = "auto", fps: float = 25.0, start_s: float | None = None,
+            end_s: float | None = None, max_frames: int | None = None, progress=None) -> Path:
     """Write an animation (``.gif`` or ``.mp4``) of a run folder's ``poses.npz``; returns the file written.
 
-    Frames are taken at ``fps`` over ``start_s`` to ``end_s`` (default: the whole run), each showing the
-    nearest pose, at most ``max_frames`` of them (the first ones).  ``exaggerate`` scales the motion from
-    the first pose.  The file is written whole or not at all.  Drawn into ``run_dir`` itself (a run folder of
-    ehm's), it is listed in the folder's manifest, so that the next run may still replace the folder whole.
+    ``out`` defaults to ``RUN_DIR/animation.gif``.  Frames are taken at ``fps`` over ``start_s`` to ``end_s``
+    (default: the whole run), each showing the nearest pose, at most ``max_frames`` of them (the first ones).
+    ``exaggerate`` scales the motion from the first pose: ``"auto"`` (the default) picks the factor that makes it
+    visible (:func:`auto_exaggeration`: 1 when it is visible at true scale), a number sets it (1: true scale); the
+    picture states it.  ``progress(done, total)`` is called after each frame.  The file is written whole or not at
+    all.  Drawn into ``run_dir`` itself (a run folder of ehm's), it is listed in the folder's manifest, so that the
+    next run may still replace the folder whole.
     """
-    out = Path(out)
+    if progress is not None and not callable(progress):
+        raise InputError(f"progress must be a function progress(done, total) or None, not {type(progress).__name__}.")
+    if not isinstance(run_dir, (str, os.PathLike)) or not (out is None or isinstance(out, (str, os.PathLike))):
+        raise InputError("animate: give the run folder (and the animation file, or None for RUN_DIR/animation.gif) "
+                         f"as paths, not {type(run_dir).__name__} and {type(out).__name__}.")
+    out = Path(run_dir) / DEFAULT_NAME if out is None else Path(out)
     suffix = _check_out(out)
     fps = _check_number("--fps", fps, 0.0, False)
-    exaggerate = _check_number("--exaggerate", exaggerate, 0.0, True)
+    auto = isinstance(exaggerate, str) and exaggerate == "auto"
+    if not auto:
+        exaggerate = _check_number("--exaggerate", exaggerate, 0.0, True)
     iio = _mp4_writer_module() if suffix == ".mp4" else None
     poses = load_poses(run_dir)
     idx = _select(poses["time_s"], fps, start_s, end_s, max_frames)
-    frames = _iter_frames(poses, idx=idx, exaggerate=exaggerate, title=_run_title(run_dir))
+    if auto:
+        exaggerate = auto_exaggeration(poses, idx)
+    frames = _counted(_iter_frames(poses, idx=idx, exaggerate=exaggerate, title=_run_title(run_dir)), len(idx),
+                      progress)
     try:
         replace_atomically(out, lambda tmp: _write_gif(frames, tmp, fps) if suffix == ".gif"
                            else _write_mp4(frames, tmp, fps, iio), "the animation")
@@ -520,3 +599,23 @@ def animate(run_dir, out, exaggerate: float = 1.0, fps: float = 25.0, start_s: f
     if out.parent.resolve() == Path(run_dir).resolve():
         record_in_manifest(out, run_dir)
     return out
+
+
+def pick_exaggeration(run_dir, fps: float = 25.0, start_s: float | None = None, end_s: float | None = None,
+                      max_frames: int | None = None) -> tuple[float, str]:
+    """The factor ``animate(..., exaggerate="auto")`` draws a run folder's frames with (:func:`auto_exaggeration`
+    over the same frames), and why, in words (what ``ehm animate`` prints)."""
+    fps = _check_number("--fps", fps, 0.0, False)
+    poses = load_poses(run_dir)
+    return _auto(poses, _select(poses["time_s"], fps, start_s, end_s, max_frames))
+
+
+def _counted(frames: Iterator[np.ndarray], total: int, progress) -> Iterator[np.ndarray]:
+    """The frames, calling ``progress(done, total)`` after each one is drawn."""
+    try:
+        for done, frame in enumerate(frames, 1):
+            yield frame
+            if progress is not None:
+                progress(done, total)
+    finally:
+        frames.close()

@@ -39,6 +39,29 @@ def _save(fig, path: Path | str | None):
     return fig
 
 
+#: A figure's title: at most this many lines; a longer one is cut with an ellipsis (the files keep the whole text).
+TITLE_MAX_LINES = 3
+
+
+def fit_title(text: str, width_in: float, fontsize: float = 12.0, max_lines: int = TITLE_MAX_LINES) -> str:
+    """``text`` wrapped to lines that fit ``width_in`` inches at ``fontsize`` points (a character taken as 0.6 of
+    the font size, a generous mean for the DejaVu Sans the figures use), each line of ``text`` on its own; at most
+    ``max_lines`` lines, the last one ending in an ellipsis when the text is longer."""
+    import textwrap
+
+    chars = max(20, int(0.95 * width_in * 72 / (0.6 * fontsize)))
+    lines = [w for part in str(text).splitlines() for w in (textwrap.wrap(part, chars) or [""])]
+    if len(lines) > max_lines:
+        lines = lines[:max_lines]
+        lines[-1] = lines[-1][: chars - 1].rstrip() + "…"
+    return "\n".join(lines)
+
+
+def _suptitle(fig, text: str, fontsize: float = 12.0) -> None:
+    """The figure's title, wrapped to its width (:func:`fit_title`): no title is cut at the figure's sides."""
+    fig.suptitle(fit_title(text, fig.get_figwidth(), fontsize), fontsize=fontsize)
+
+
 _AXIS_NAMES = {"x": "x, fore-aft", "y": "y, lateral", "z": "z, vertical"}
 #: An axis counts as excited when its seat acceleration rms is at least this share of the largest axis's.
 EXCITED_SHARE = 0.1
@@ -104,7 +127,7 @@ def plot_time_histories(run: RunResult, path: Path | str | None = None, title: s
         ax.set_xlabel("time [s]")
     for ax in axes.flat:
         ax.grid(alpha=0.3)
-    fig.suptitle(title or run.description)
+    _suptitle(fig, title or run.description)
     fig.tight_layout()
     return _save(fig, path)
 
@@ -138,7 +161,7 @@ def plot_transmissibility(table, path: Path | str | None = None, band_hz=(0.2, 1
                 ax.set_ylabel("gain [(m/s²)/(m/s²)]")
             if i == len(axes_in) - 1:
                 ax.set_xlabel("frequency [Hz]")
-    fig.suptitle(title)
+    _suptitle(fig, title)
     fig.tight_layout()
     return _save(fig, path)
 
@@ -157,6 +180,35 @@ def _bottom_up(points) -> list:
     return sorted(points, key=lambda p: order.index(p) if p in order else len(order))
 
 
+#: A model path whose peak gain is below this share of the largest gain of its kind (translations, rotations,
+#: apparent masses) under the same input axis has no response: its gains are round-off (e.g. 1e-6 of seat z ->
+#: head y in a symmetric person), drawn as an empty panel, not at full scale.
+NO_RESPONSE_SHARE = 1e-4
+
+
+def _gain_kind(point: str, dof: str) -> str:
+    return "kg" if point in _MASS_ORDER else ("rotation" if dof in ("roll", "pitch", "yaw") else "translation")
+
+
+def empty_paths(tables: list, input_axis: str, band_hz=(0.1, 12.0)) -> dict:
+    """The model paths of one input axis without a response: ``{(point, dof): peak gain}`` of the paths whose
+    largest gain in ``band_hz``, over every model (not measured) table, is below :data:`NO_RESPONSE_SHARE` of the
+    largest gain of their kind (translation, rotation, apparent mass) under that input axis."""
+    peaks: dict = {}
+    for _, t in tables:
+        if t.method == "measured":
+            continue
+        for (a, p, d), c in t.curves.items():
+            sel = band_select(c.freq_hz, band_hz)
+            if a == input_axis and sel.any():
+                g = float(np.nanmax(c.gain[sel]))
+                peaks[(p, d)] = max(peaks.get((p, d), 0.0), g)
+    largest: dict = {}
+    for (p, d), g in peaks.items():
+        largest[_gain_kind(p, d)] = max(largest.get(_gain_kind(p, d), 0.0), g)
+    return {(p, d): g for (p, d), g in peaks.items() if g < NO_RESPONSE_SHARE * largest[_gain_kind(p, d)]}
+
+
 def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None, title: str | None = None,
                   band_hz=(0.1, 12.0)):
     """Gains of one input axis: rows head, trunk, lumbar, pelvis (those the tables hold); one column per output
@@ -164,8 +216,10 @@ def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None,
     supports, seat pan) [kg].
 
     ``tables`` is a list of ``(label, FrfTable)``; a table whose method is ``measured`` is drawn as
-    markers (with gain_sd error bars when given), the others as lines.
+    markers (with gain_sd error bars when given), the others as lines.  A path without a response in the model
+    tables (:func:`empty_paths`: round-off gains) is drawn as an empty grey panel that says so, not at full scale.
     """
+    empty = empty_paths(tables, input_axis, band_hz)
     held = lambda p, d: any((input_axis, p, d) in t.curves for _, t in tables)  # noqa: E731
     points = [p for p in _POINT_ORDER if any(held(p, d) for d in _DOF_ORDER)]
     dofs = [d for d in _DOF_ORDER if any(held(p, d) for p in points)]
@@ -186,8 +240,15 @@ def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None,
             if t.method == "measured":
                 sd = c.gain_sd[sel] if np.isfinite(c.gain_sd[sel]).any() else None
                 ax.errorbar(c.freq_hz[sel], c.gain[sel], yerr=sd, fmt="o", ms=3, color="k", lw=0.8, label=label)
-            else:
+            elif (p, d) not in empty:
                 ax.plot(c.freq_hz[sel], c.gain[sel], lw=1.3, label=label, color=f"C{k}")
+            else:  # keep the label for the legend, draw nothing
+                ax.plot([], [], lw=1.3, label=label, color=f"C{k}")
+        if (p, d) in empty:
+            ax.set_facecolor("0.95")
+            ax.text(0.5, 0.5, f"no response\n(peak gain {empty[(p, d)]:.1g}:\nround-off, not drawn)",
+                    transform=ax.transAxes, ha="center", va="center", fontsize=8, color="0.35")
+            ax.set_yticks([])
         ax.set_xscale("log")
         ax.grid(alpha=0.3, which="both")
         mass = p in _MASS_ORDER
@@ -202,9 +263,11 @@ def plot_frf_grid(tables: list, input_axis: str, path: Path | str | None = None,
         for j in range(n_cols):
             if (i, j) not in cells:
                 axes[i, j].set_visible(False)
-    fig.suptitle(title or f"seat {input_axis} input: gains; translations {_DOF_UNITS['x']}, "
+    _suptitle(fig, title or f"seat {input_axis} input: gains; translations {_DOF_UNITS['x']}, "
                           f"rotations {_DOF_UNITS['roll']}"
-                 + ("; apparent mass: support force per seat acceleration [kg]" if masses else ""))
+                 + ("; apparent mass: support force per seat acceleration [kg]" if masses else "")
+                 + (f"\ngrey panels: no response (peak below {NO_RESPONSE_SHARE:.0e} of the largest gain of its kind)"
+                    if empty else ""))
     fig.tight_layout()
     return _save(fig, path)
 
@@ -226,7 +289,7 @@ def plot_locking_study(study, path: Path | str | None = None):
         ax.set_xlabel("frequency [Hz]")
     axes[0, 0].legend(fontsize=8)
     how = "linearised model" if study.method == "linear" else "random-vibration runs, H1"
-    fig.suptitle(f"Joint-locking study ({how}): SL = T12 locked, NL = lower neck locked")
+    _suptitle(fig, f"Joint-locking study ({how}): SL = T12 locked, NL = lower neck locked")
     fig.tight_layout()
     return _save(fig, path)
 
@@ -248,7 +311,7 @@ def plot_weighted_spectra(assessment, path: Path | str | None = None):
         ax.grid(alpha=0.3, which="both")
     axes[0].set_ylabel("PSD [(m/s²)²/Hz]")
     axes[0].legend(fontsize=8)
-    fig.suptitle(f"Weighted spectra: {assessment.description}")
+    _suptitle(fig, f"Weighted spectra: {assessment.description}")
     fig.tight_layout()
     return _save(fig, path)
 
@@ -265,7 +328,7 @@ def plot_running_rms(assessment, path: Path | str | None = None):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, ncol=4, loc="upper right")
     axes[-1].set_xlabel("time [s]")
-    fig.suptitle("Running rms of the weighted acceleration (1 s, ISO 2631-1 6.3.1)")
+    _suptitle(fig, "Running rms of the weighted acceleration (1 s, ISO 2631-1 6.3.1)")
     fig.tight_layout()
     return _save(fig, path)
 
@@ -284,7 +347,7 @@ def plot_sickness(assessment, path: Path | str | None = None):
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle("Motion sickness incidence (subjective vertical conflict model)")
+    _suptitle(fig, "Motion sickness incidence (subjective vertical conflict model)")
     fig.tight_layout()
     return _save(fig, path)
 
@@ -297,7 +360,7 @@ _VALIDATION_XLIM_HZ = (0.45, 22.0)  #: a margin round the band, so that marks at
 _REF_COLOR, _BAND_COLOR = "k", "0.55"
 _SOURCES = {"z": "Sources: ISO 2631-5:2018 cl. 5.2 Formula 1 (seat to lumbar spine); Fairley & Griffin 1989, one-mass "
                  "fit to 60 seated people (apparent mass);\nseat-to-head ranges reported for seated people "
-                 "(docs/model); band widths: ehm issue 29.",
+                 "(docs/model); band widths: ehm's choice (docs/validation).",
             "x": "Source: fore-aft head peak below 3 Hz, ranges reported for seated people (docs/model).",
             "y": "Source: lateral head peak below 3 Hz, ranges reported for seated people (docs/model)."}
 
@@ -331,7 +394,7 @@ def plot_validation(validation, axis: str, path: Path | str | None = None):
     title = f"The person against the references, seat {_AXIS_NAMES[axis]} input: {_count(bands)} band checks pass"
     if locking:
         title += f"\nthe paper's joint-locking findings under it: {_count(locking)} pass (ehm study locking draws them)"
-    fig.suptitle(title, fontsize=10)
+    _suptitle(fig, title, fontsize=10)
     fig.text(0.01, 0.01, _SOURCES[axis] + "\nMarked: where each check takes its figure (dot: passes, cross: fails).",
              fontsize=7, color="0.3")
     fig.tight_layout(rect=(0, 0.05, 1, 1))
@@ -388,9 +451,10 @@ def _box(ax, f_band, g_band, label, color=_BAND_COLOR):
 
 
 def _peak_limit(ax, high_hz, label, color=_BAND_COLOR):
-    """An upper limit of a peak's frequency: a line, and the frequencies above it shaded."""
+    """An upper limit of a peak's frequency: a line, and the frequencies allowed (up to it) shaded, as the bands'
+    boxes shade what is allowed."""
     ax.axvline(high_hz, color=color, lw=1.0, ls="-.")
-    ax.axvspan(high_hz, _VALIDATION_XLIM_HZ[1], color=color, alpha=0.08, lw=0, label=label)
+    ax.axvspan(_VALIDATION_XLIM_HZ[0], high_hz, color=color, alpha=0.08, lw=0, label=label)
 
 
 def _lumbar_panel(ax, validation):
@@ -439,7 +503,7 @@ def _pelvis_head_panel(ax, validation):
                                          "head_vertical_peak_gain"))
     _box(ax, (hf.low, hf.high), (hg.low, hg.high), f"head peak {hg.low:g}-{hg.high:g} at {hf.low:g}-{hf.high:g} Hz",
          color="tab:red")
-    _peak_limit(ax, pelvis.high, f"no pelvis peak above {pelvis.high:g} Hz", color="tab:blue")
+    _peak_limit(ax, pelvis.high, f"allowed: pelvis peak at most {pelvis.high:g} Hz (shaded)", color="tab:blue")
     _model_lines(ax, validation, pelvis.path, _LOC_COLORS["pelvis"], "model pelvis z", (pelvis.name,))
     _model_lines(ax, validation, hf.path, _LOC_COLORS["head"], "model head z", (hf.name,))
     ax.set_ylabel("gain [(m/s²)/(m/s²)]")
@@ -455,7 +519,7 @@ def _horizontal_panel(axis: str):
 
     def draw(ax, validation):
         b = _band(name)
-        _peak_limit(ax, b.high, f"head peak at most {b.high:g} Hz", color="tab:red")
+        _peak_limit(ax, b.high, f"allowed: head peak at most {b.high:g} Hz (shaded)", color="tab:red")
         for point in ("pelvis", "trunk", "head"):
             _model_lines(ax, validation, (axis, point, axis), _LOC_COLORS[point], f"model {point} {axis}",
                          (name,) if point == "head" else ())

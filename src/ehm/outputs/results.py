@@ -217,6 +217,19 @@ class RunResult:
                   "support": list(self.support_N)}
         return dataset(variables, coords, self._attrs(), "RunResult.to_xarray()")
 
+    def __repr__(self) -> str:
+        """One line: the input, route, span and step, the rms of the seat and the head along the most moved seat
+        axis, and the person (the arrays are in the attributes; ``to_dataframe()`` gives them as a table)."""
+        n = len(self.time_s)
+        rms = np.sqrt(np.mean(np.square(self.seat_acc_mps2), axis=0)) if n else np.zeros(3)
+        k = int(np.argmax(rms))
+        head = self.points.get("head")
+        head_rms = (f", head {float(np.sqrt(np.mean(np.square(head.acc_mps2[:, k])))):.3g}"
+                    if head is not None and n else "")
+        return (f"<RunResult {self.description!r} ({self.route} route): {self.duration_s:g} s at a "
+                f"{1e3 * self.dt_s:g} ms step, {n} samples; rms a_{'xyz'[k]} seat {float(rms[k]):.3g}{head_rms} m/s^2; "
+                f"{self.mass_kg:.1f} kg, {self.dof} dof, parameters {self.params_origin}>")
+
     def _repr_html_(self) -> str:
         from .dataframes import html_table
 

@@ -14,7 +14,7 @@ iso2631_5_annex_d_tf(freq_hz)           the Annex D filter's frequency response 
 FAIRLEY_GRIFFIN_NATURAL_FREQUENCY_HZ, FAIRLEY_GRIFFIN_DAMPING_RATIO    the one-mass apparent-mass fit
 apparent_mass_one_mass(freq_hz, frame_share=0.0, normalise_at_hz=0.5)  that fit's normalised apparent mass
 SPINE_FIRST_RESONANCE_HZ                the seated spine's first resonance band (low, high) [Hz]
-Band, BANDS                             the bands a default person should meet (issue 29, item 4)
+Band, BANDS                             the bands a default person should meet
 LockingFinding, LOCKING_FINDINGS, LOCKING_VARIANTS    the paper's joint-locking findings (section 4)
 literature_anchors()                    the rows of the shipped table of literature figures
 
@@ -243,10 +243,11 @@ SPINE_FIRST_RESONANCE_SOURCE = f"{_spine['source']} ({_spine['location']})"
 _SEATED_RANGES = ("ranges reported for seated people, as ehm's model page states them (docs/model.md; no measured "
                   "seat-to-head curve or ISO 5982 table ships with ehm)")
 _ISO_CONDITION = ("the standard's model of seated people under vertical seat vibration; compared with a person "
-                  "sitting erect without back support, feet supported (issue 29)")
+                  "sitting erect without back support, feet supported")
 _AM_CONDITION = ("60 seated people (24 men, 24 women, 12 children), legs moving with the seat; the one-mass fit "
                  "normalised at 0.5 Hz, frame share 0 to 0.5")
-_ISSUE_29 = "band width: ehm issue 29, item 4"
+#: The band widths are ehm's own choice round the sources' figures, documented with the checks.
+_BAND_WIDTH = "band width: ehm's choice (docs/validation.md, 'The person against the standards')"
 
 
 @dataclass(frozen=True)
@@ -309,33 +310,38 @@ class Band:
 _LUMBAR = ("z", "lumbar", "z")
 _SUPPORT = ("z", "support", "z")
 
-#: The bands of issue 29, item 4, for the default person; each with its source and the condition it describes.
+#: The paper ehm implements, as a reader can look it up; its section 4 is the joint-locking study.
+PAPER_SOURCE = ("paper section 4, the joint-locking study (Desai, Cvetkovic, Wu, Papaioannou, Happee, 'Computationally "
+                "efficient human body modelling for real time motion comfort assessment', TU Delft)")
+
+#: The bands the default person should meet; each with its source and the condition it describes.
 BANDS: tuple[Band, ...] = (
     Band("lumbar_gain_vs_iso2631_5", "gain_minus_reference", _LUMBAR, -0.20, 0.20, (1.0, 12.0),
-         f"ISO 2631-5:2018 cl. 5.2 Formula 1 ({ISO2631_5_SOURCE}); {_ISSUE_29}", _ISO_CONDITION,
+         f"ISO 2631-5:2018 cl. 5.2 Formula 1 ({ISO2631_5_SOURCE}); {_BAND_WIDTH}", _ISO_CONDITION,
          reference="iso2631_5_lumbar_tf"),
     Band("lumbar_peak_frequency", "peak_hz", _LUMBAR, 4.0, 5.5, (0.5, 20.0),
-         f"ISO 2631-5:2018 cl. 5.2 Formula 1, peak at 4.7 Hz; {_ISSUE_29}", _ISO_CONDITION),
+         f"ISO 2631-5:2018 cl. 5.2 Formula 1 ({ISO2631_5_SOURCE}): peak at 4.7 Hz; {_BAND_WIDTH}", _ISO_CONDITION),
     Band("spine_first_resonance", "peak_hz", _LUMBAR, *SPINE_FIRST_RESONANCE_HZ, (0.5, 20.0),
          SPINE_FIRST_RESONANCE_SOURCE, _spine["condition"]),
     Band("apparent_mass_peak_frequency", "peak_hz", _SUPPORT, 4.0, 6.5, (0.5, 20.0),
-         f"{FAIRLEY_GRIFFIN_SOURCE}; {_ISSUE_29}", _AM_CONDITION, normalise_at_hz=0.5),
+         f"{FAIRLEY_GRIFFIN_SOURCE}; {_BAND_WIDTH}", _AM_CONDITION, normalise_at_hz=0.5),
     Band("apparent_mass_peak", "peak_gain", _SUPPORT, 1.3, 1.7, (0.5, 20.0),
          f"{FAIRLEY_GRIFFIN_SOURCE}: 1.49 at 4.3 Hz without, 1.37 with a fifth of the mass on the frame; "
-         f"{_ISSUE_29}", _AM_CONDITION, normalise_at_hz=0.5),
+         f"{_BAND_WIDTH}", _AM_CONDITION, normalise_at_hz=0.5),
     Band("apparent_mass_10hz", "gain", _SUPPORT, None, 0.75, (10.0, 10.0),
-         f"{FAIRLEY_GRIFFIN_SOURCE}: at most 0.61 with a frame share up to 0.5; {_ISSUE_29}", _AM_CONDITION,
+         f"{FAIRLEY_GRIFFIN_SOURCE}: at most 0.61 with a frame share up to 0.5; {_BAND_WIDTH}", _AM_CONDITION,
          normalise_at_hz=0.5),
     Band("apparent_mass_15_20hz", "gain", _SUPPORT, None, 0.6, (15.0, 20.0),
-         f"{FAIRLEY_GRIFFIN_SOURCE}: at most 0.53 at 15 Hz with a frame share up to 0.5; {_ISSUE_29}",
+         f"{FAIRLEY_GRIFFIN_SOURCE}: at most 0.53 at 15 Hz with a frame share up to 0.5; {_BAND_WIDTH}",
          _AM_CONDITION, normalise_at_hz=0.5),
     Band("pelvis_peak_frequency", "peak_hz", ("z", "pelvis", "z"), None, 6.5, (0.5, 20.0),
-         "seated people move in one whole-body mode near 5 Hz (ISO 2631-5's lumbar peak at 4.7 Hz; the seated "
-         f"spine's first resonance at 4.5-5.5 Hz); {_ISSUE_29}", _ISO_CONDITION),
+         f"ISO 2631-5:2018 cl. 5.2 Formula 1 ({ISO2631_5_SOURCE}) and {SPINE_FIRST_RESONANCE_SOURCE}: seated people "
+         "move in one whole-body mode near 5 Hz (the standard's lumbar peak at 4.7 Hz, the seated spine's first "
+         f"resonance at 4.5-5.5 Hz); {_BAND_WIDTH}", _ISO_CONDITION),
     Band("head_vertical_peak_gain", "peak_gain", ("z", "head", "z"), 1.5, 2.0, (0.5, 20.0), _SEATED_RANGES,
-         "seated people, vertical seat vibration; on today's seat too (issue 29)"),
+         "seated people, vertical seat vibration; on ehm's own seat too"),
     Band("head_vertical_peak_frequency", "peak_hz", ("z", "head", "z"), 4.0, 6.0, (0.5, 20.0), _SEATED_RANGES,
-         "seated people, vertical seat vibration; on today's seat too (issue 29)"),
+         "seated people, vertical seat vibration; on ehm's own seat too"),
     Band("head_fore_aft_peak_frequency", "peak_hz", ("x", "head", "x"), None, 3.0, (0.5, 12.0), _SEATED_RANGES,
          "seated people, fore-aft seat vibration"),
     Band("head_lateral_peak_frequency", "peak_hz", ("y", "head", "y"), None, 3.0, (0.5, 12.0), _SEATED_RANGES,
@@ -384,7 +390,7 @@ class LockingFinding:
     direction: int
     least_change: float
     paper: str
-    source: str = "paper section 4 (Desai et al., joint-locking study)"
+    source: str = PAPER_SOURCE
 
     @property
     def locked(self) -> tuple[str, ...]:

@@ -14,7 +14,7 @@ from ...outputs.outdir import RunFolder, check_output_file, check_output_folder
 from ...outputs.runfiles import DEFAULT_OUTPUT_RATE_HZ
 from .common import checked_band, human_from_args, input_files, read_motion_file
 from .options import excitation_options, model_options, motion_file_options, parallel_options, progress_options
-from .progress import progress_bar
+from .progress import end_progress_line, progress_bar, progress_count
 
 #: The demo's transfer functions: Welch segments of 10 s (0.1 Hz resolution, as its peaks are printed), at least
 #: four of them per run (seven averages with the 50 % overlap), so a run lasts at least 40 s.
@@ -255,7 +255,8 @@ def add_assess(sub) -> None:
                                   "[, wx_radps, wy_radps, wz_radps] unless --channel says) or 'city' / 'road' for the "
                                   "shipped SYNTHETIC drives")
     p.add_argument("--out", required=True, metavar="DIR",
-                   help="output folder: assessment.json, report.html and figures (replaced whole if ehm wrote it)")
+                   help="output folder: assessment.json, assessment.npz (ehm.read_assessment reads the two back), "
+                        "report.html and figures (replaced whole if ehm wrote it)")
     _route_options(p)
     _exposure_options(p)
     parallel_options(p)
@@ -290,18 +291,43 @@ def cmd_assess(args) -> int:
 
     final = check_output_folder(args.out, inputs=input_files(args))
     exposure = _exposure(args)
-    motion = read_motion_file(args)
-    human = human_from_args(args, rotating_seat=needs_rotating_seat(motion, args.method))
-    with _segments(args) as parallel:
-        kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
-                                          "lead_in_s": parallel.lead_in_s}
-        result = assess(motion, human, progress=progress_bar("assess", args.quiet), method=args.method,
-                        tolerance=_tolerance(args), exposure=exposure, **kw)
+    with _warnings_shown() as shown:  # what the console prints goes into assessment.json and the report too
+        motion = read_motion_file(args)
+        human = human_from_args(args, rotating_seat=needs_rotating_seat(motion, args.method))
+        with _segments(args) as parallel:
+            kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
+                                              "lead_in_s": parallel.lead_in_s}
+            result = assess(motion, human, progress=progress_bar("assess", args.quiet), method=args.method,
+                            tolerance=_tolerance(args), exposure=exposure, **kw)
     summary = _assessment_summary(result, human)
+    summary["warnings"] = list(dict.fromkeys(shown))
     with RunFolder(final) as out:
         _write_assessment(result, summary, out)
     _print_assessment(result, summary, final)
     return 0
+
+
+@contextlib.contextmanager
+def _warnings_shown():
+    """The texts of ehm's warnings (:class:`ehm.errors.EhmWarning`) shown while the block runs, each as the console
+    prints it (the command's warning display is kept and called)."""
+    import warnings
+
+    from ...errors import EhmWarning
+
+    shown: list[str] = []
+    previous = warnings.showwarning
+
+    def show(message, category, *rest, **kw):
+        if issubclass(category, EhmWarning):
+            shown.append(str(message))
+        previous(message, category, *rest, **kw)
+
+    warnings.showwarning = show
+    try:
+        yield shown
+    finally:
+        warnings.showwarning = previous
 
 
 def _assessment_summary(result, human) -> dict:
@@ -315,11 +341,14 @@ def _assessment_summary(result, human) -> dict:
 
 
 def _write_assessment(result, summary: dict, out: Path) -> None:
-    """assessment.json, the three figures and report.html, written into ``out``."""
+    """assessment.json, assessment.npz (the arrays: ehm.read_assessment gives the Assessment back), the three
+    figures and report.html, written into ``out``."""
+    from ...analysis.assessment import ARRAYS_FILE, write_assessment_arrays
     from ...outputs.plotting import plot_running_rms, plot_sickness, plot_weighted_spectra
     from ...outputs.report import write_report
 
     write_json_atomic(out / "assessment.json", summary)
+    write_assessment_arrays(result, out / ARRAYS_FILE)
     figures = {"spectra": out / "weighted_spectra.png", "running_rms": out / "running_rms.png",
                "sickness": out / "sickness.png"}
     plot_weighted_spectra(result, figures["spectra"])
@@ -351,7 +380,8 @@ def _print_assessment(result, summary: dict, out: Path) -> None:
           f"head fixed to the seat {summary['sickness']['seat']['final_msi_percent']:.2f} %")
     for line in _iso2631_5_lines(summary.get("iso2631_5")):
         print(f"  {line}")
-    print(f"wrote {out}/assessment.json, report.html, weighted_spectra.png, running_rms.png, sickness.png")
+    print(f"wrote {out}/assessment.json, assessment.npz, report.html, weighted_spectra.png, running_rms.png, "
+          "sickness.png (in Python: ehm.read_assessment(folder))")
 
 
 def _iso2631_5_lines(section: dict | None) -> list[str]:
@@ -381,22 +411,42 @@ def _iso2631_5_lines(section: dict | None) -> list[str]:
 def add_animate(sub) -> None:
     p = sub.add_parser("animate", help="draw a run's person and seat into a .gif or .mp4 (offscreen, no display)")
     p.add_argument("run_dir", metavar="RUN_DIR", help="run folder with poses.npz (from 'ehm simulate --out RUN_DIR')")
-    p.add_argument("--out", required=True, metavar="FILE.gif|FILE.mp4", help="animation file (.mp4 needs ehm[animate])")
-    p.add_argument("--exaggerate", type=float, default=1.0, metavar="F",
-                   help="scale the motion from the settled posture by F (default 1: true scale)")
+    p.add_argument("--out", metavar="FILE.gif|FILE.mp4",
+                   help="animation file (default RUN_DIR/animation.gif; .mp4 needs ehm[animate])")
+    p.add_argument("--exaggerate", default="auto", metavar="F|auto",
+                   help="scale the motion from the settled posture by F (1: true scale); default auto: the factor "
+                        "that makes the motion visible (the segment that moves most travels 4 %% of the view), "
+                        "stated on the picture")
     p.add_argument("--fps", type=float, default=25.0, help="frames per second (default 25; poses are stored at 25 Hz)")
     p.add_argument("--start", type=float, metavar="S", help="first time drawn [s] (default: the start)")
     p.add_argument("--end", type=float, metavar="S", help="last time drawn [s] (default: the end)")
     p.add_argument("--max-frames", type=int, metavar="N", help="stop after N frames")
+    progress_options(p)
     p.set_defaults(func=cmd_animate)
 
 
-def cmd_animate(args) -> int:
-    from ...outputs.animation import animate
+def _exaggeration(text: str):
+    """--exaggerate: ``auto`` or a number (checked by the animation)."""
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        return float(text)
+    except ValueError:
+        raise InputError(f"--exaggerate {text!r}: give a factor such as 20 (1: true scale) or auto.") from None
 
-    check_output_file(args.out, "animation", part_of=args.run_dir)  # drawn into its own run folder: listed
+
+def cmd_animate(args) -> int:
+    from ...outputs.animation import DEFAULT_NAME, animate, pick_exaggeration
+
+    out = args.out if args.out is not None else str(Path(args.run_dir) / DEFAULT_NAME)
+    check_output_file(out, "animation", part_of=args.run_dir)  # drawn into its own run folder: listed
+    asked = _exaggeration(args.exaggerate)
     t0 = time.perf_counter()
-    path = animate(args.run_dir, args.out, exaggerate=args.exaggerate, fps=args.fps, start_s=args.start,
-                   end_s=args.end, max_frames=args.max_frames)
-    print(f"wrote {path} in {time.perf_counter() - t0:.1f} s (motion x{args.exaggerate:g})")
+    window = {"fps": args.fps, "start_s": args.start, "end_s": args.end, "max_frames": args.max_frames}
+    factor, why = pick_exaggeration(args.run_dir, **window) if asked == "auto" else (asked, "")
+    path = animate(args.run_dir, out, exaggerate=factor, progress=progress_count("frames", args.quiet), **window)
+    end_progress_line()
+    how = ("true scale" if factor == 1 else f"motion x{factor:g}") + (f", {why}" if why else "") + (
+        " (--exaggerate 1: true scale)" if why and factor != 1 else "")
+    print(f"wrote {path} in {time.perf_counter() - t0:.1f} s; {how}")
     return 0

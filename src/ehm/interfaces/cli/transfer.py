@@ -81,8 +81,20 @@ def cmd_frf(args) -> int:
         table = time_domain_frf(human, args.axis, duration_s=args.duration, rms_mps2=args.rms, seed=args.seed,
                                 band_hz=band, route=args.route, motion=read_motion_file(args) if args.motion else None)
     table.write(args.out)  # CSV, or Parquet for a .parquet name
-    print(f"wrote {args.out}: {len(table.curves)} curves ({args.method} method)")
+    _print_frf_peaks(table)
+    print(f"wrote {args.out}: {len(table.curves)} curves ({args.method} method; the person recorded in the file)")
     return 0
+
+
+def _print_frf_peaks(table) -> None:
+    """The peak of every path along its input axis: what a table is usually read for."""
+    peaks = table.peaks()
+    if not peaks:
+        return
+    print(f"peaks along each input axis ({table.meta.get('person_description', 'the person')}):")
+    for (axis, point, _), f, g, unit in peaks:
+        what = f"apparent mass ({'all supports' if point == 'support' else 'seat pan'})" if unit == "kg" else point
+        print(f"  seat {axis} -> {what:<28} {g:8.3g} {unit} at {f:5.2f} Hz")
 
 
 # --- ehm compare ----------------------------------------------------------------------------------------------------
@@ -201,12 +213,13 @@ def add_plot_frf(sub) -> None:
     p.add_argument("--data", metavar="EXP.csv", help="measured gains to draw as markers (long format)")
     p.add_argument("--out", required=True, metavar="FIG.png",
                    help="figure file (FIG_x.png, FIG_y.png, ... when the tables hold several input axes)")
+    progress_options(p)
     p.set_defaults(func=cmd_plot_frf)
 
 
 def cmd_plot_frf(args) -> int:
     from ...analysis.frf import AXES, read_frf
-    from ...outputs.plotting import plot_frf_grid
+    from ...outputs.plotting import NO_RESPONSE_SHARE, empty_paths, plot_frf_grid
 
     check_output_file(args.out, "figure")
     tables = []
@@ -217,11 +230,23 @@ def cmd_plot_frf(args) -> int:
         tables.append(("measured", read_frf(args.data)))
     axes = [a for a in AXES if any(k[0] == a for _, t in tables for k in t.curves)]
     out = Path(args.out)
-    written = []
-    for a in axes:
+    written, empty = [], {}
+    show = progress_count("figures", args.quiet)
+    if show is not None:
+        show(0, len(axes))
+    for i, a in enumerate(axes):
         path = out if len(axes) == 1 else out.with_name(f"{out.stem}_{a}{out.suffix}")
+        empty[a] = empty_paths(tables, a)
         plot_frf_grid(tables, a, path)
         written.append(str(path))
+        if show is not None:
+            show(i + 1, len(axes))
+    end_progress_line()
+    counts = {a: len(e) for a, e in empty.items() if e}
+    if counts:
+        print(f"{sum(counts.values())} paths without a response (peak gain below {NO_RESPONSE_SHARE:g} of the largest "
+              "of their kind: round-off, e.g. a symmetric person's sideways response to vertical input) drawn as "
+              "empty grey panels: " + ", ".join(f"{n} under seat {a}" for a, n in counts.items()))
     print("wrote " + ", ".join(written))
     return 0
 
@@ -306,8 +331,9 @@ def add_validate(sub) -> None:
         description="Evaluate a person (parameter file, size, posture, seat) against every reference of "
                     "ehm.standards.references: ISO 2631-5's seat-to-lumbar transfer function, the measured apparent "
                     "mass (Fairley & Griffin's one-mass fit), the whole-body mode, the seat-to-head ranges, and the "
-                    "paper's joint-locking findings.  Prints one line per check (the model's figure, the band, "
-                    "pass or FAIL).  Without --posture and --back-support the person is evaluated in the "
+                    "paper's joint-locking findings.  Prints one line per check (the model's figure and its unit, "
+                    "the band, pass or FAIL, its sources by number) and the sources a reader can look up.  Without "
+                    "--posture and --back-support the person is evaluated in the "
                     "references' condition (erect, back support none: every band) and on its own seat (the "
                     "seat-to-head bands and the locking findings); with either, in that one condition, every "
                     "check.  Exit status: 0 when every check passes, 1 when some check fails, 2 on bad input.")
