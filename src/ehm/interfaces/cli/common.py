@@ -97,7 +97,8 @@ def read_motion_file(args):
                        start_s=args.start, end_s=args.end, gravity=getattr(args, "gravity", "auto"),
                        imu_options={"rest_s": args.rest, "max_tilt_deg": args.max_tilt},
                        frame=getattr(args, "frame", "seat"), drop_held=getattr(args, "drop_held", True),
-                       encoding=getattr(args, "encoding", None))
+                       encoding=getattr(args, "encoding", None),
+                       handling="keep" if getattr(args, "keep_handling", False) else "cut")
 
 
 def input_files(args) -> list[str]:
