@@ -9,8 +9,9 @@ vehicle cannot do what a hand does:
   public roads, is 5.7 deg; a bus kneeling or a tram on a cant a few degrees more), and a vehicle's own horizontal
   acceleration (below about 0.5 g sustained: braking, cornering) turns the specific force the sensor reads but
   does not shorten its component along the drive's gravity.  A logger turned by theta in a hand shortens that
-  component by the factor cos(theta).  So a stretch is *turned* where the specific force, low-passed over
-  :data:`LOWPASS_S`, has a component along the drive's gravity direction (the median direction of the middle
+  component by the factor cos(theta).  So a stretch is *turned* where the specific force, low-passed (the moving
+  median over :data:`LOWPASS_S` of its means over :data:`BLOCK_S`, which a knock of a tenth of a second does not
+  move), has a component along the drive's gravity direction (the median direction of the middle
   60 % of the log) that departs by more than :data:`ALONG_TOLERANCE` (3 %, a turn of 14 deg; a 10 % grade gives
   0.5 %) from the drive's, for :data:`SUSTAIN_S` or longer without a break (a bump's vertical acceleration, low-passed
   over a second, is a few hundredths of g and brief; on four real bus and tram logs the longest such run in the
@@ -19,7 +20,8 @@ vehicle cannot do what a hand does:
   a few m/s^2; a hand putting a phone down gives 13-20 m/s^2.  A *spike* is a norm above :data:`SPIKE_FACTOR` times
   the drive's 99.9th percentile and at least :data:`SPIKE_MIN_MPS2` (0.5 g).
 
-A handled start is the leading stretch up to the end of the last turned run that begins in the first
+A handled start is the leading stretch up to the end of the last of a chain of turned runs, the first beginning
+within :data:`SETTLE_S` of the log's first sample and each within :data:`SETTLE_S` of the one before, in the first
 :data:`MAX_SHARE` (20 %) of the log, extended over the spikes that follow it within :data:`SETTLE_S` (the logger
 being put down after it is turned into place), plus :data:`MARGIN_S`; a handled end likewise from the back.  A
 cut never reaches beyond the first or last :data:`MAX_SHARE` of the log, and never happens without a turned run:
@@ -41,6 +43,8 @@ from ..errors import InputError
 
 #: The low-pass of the specific force whose direction is the logger's orientation: a moving mean over this [s].
 LOWPASS_S = 1.0
+#: The orientation is the moving median over LOWPASS_S of block means of this [s].
+BLOCK_S = 0.1
 #: A turned stretch: the low-passed component along the drive's gravity departs from the drive's by more than
 #: this share (3 %: a turn of 14 deg, cos 14 deg = 0.970; a road's 10 % grade, 5.7 deg, gives 0.5 %) ...
 ALONG_TOLERANCE = 0.03
@@ -117,50 +121,77 @@ def find_handling(time_s: np.ndarray, acc_mps2: np.ndarray, g_mps2: float = 9.80
     n = t.size
     if n < 4 or float(t[-1] - t[0]) < MIN_DURATION_S:
         return 0, n, ()
-    from scipy.ndimage import uniform_filter1d
+    from scipy.ndimage import median_filter, uniform_filter1d
 
     dt = float(np.median(np.diff(t)))
-    lp = uniform_filter1d(a, max(1, int(round(LOWPASS_S / dt))), axis=0, mode="nearest")
+    lp = uniform_filter1d(a, max(1, int(round(LOWPASS_S / dt))), axis=0, mode="nearest")  # for the spikes
+    # the orientation: block means of BLOCK_S, then their moving median over LOWPASS_S (a knock's tenth of a second
+    # does not move it, as it would move a moving mean)
+    k = max(1, int(round(BLOCK_S / dt)))
+    nb = n // k
+    blocks = a[:nb * k].reshape(nb, k, 3).mean(axis=1)
+    tb = t[:nb * k:k]
+    mb = max(1, int(round(LOWPASS_S / (k * dt)))) | 1
+    orient = median_filter(blocks, size=(mb, 1), mode="nearest")
     t0, duration = float(t[0]), float(t[-1] - t[0])
-    rel = t - t0
+    rel, relb = t - t0, tb - t0
     mid = (rel >= MAX_SHARE * duration) & (rel <= (1 - MAX_SHARE) * duration)
-    ref = np.median(lp[mid], axis=0)
+    midb = (relb >= MAX_SHARE * duration) & (relb <= (1 - MAX_SHARE) * duration)
+    ref = np.median(orient[midb], axis=0)
     g = float(np.linalg.norm(ref))
     if not math.isfinite(g) or abs(g - g_mps2) > G_SHARE * g_mps2:
         return 0, n, ()  # no gravity to see the orientation by
-    up = ref / g
-    along = lp @ up
-    along_drive = float(np.median(along[mid]))
+    along = orient @ (ref / g)
+    along_drive = float(np.median(along[midb]))
     turned = np.abs(along / along_drive - 1.0) > ALONG_TOLERANCE
-    cos = np.clip(along / np.maximum(np.linalg.norm(lp, axis=1), 1e-12), -1.0, 1.0)
+    cos = np.clip(along / np.maximum(np.linalg.norm(orient, axis=1), 1e-12), -1.0, 1.0)
     turn_deg = np.degrees(np.arccos(cos))
     hp = np.linalg.norm(a - lp, axis=1)
     drive_peak = float(np.percentile(hp[mid], 99.9))
     spikes = hp > max(SPIKE_FACTOR * drive_peak, SPIKE_MIN_MPS2)
-    first, last = _runs(turned)
-    long = (t[np.maximum(last - 1, first)] - t[first]) >= SUSTAIN_S - 0.5 * dt
-    first, last = first[long], last[long]
+    fb, lb = _runs(turned)
+    long = (lb - fb) * k * dt >= SUSTAIN_S - 0.5 * dt
+    fb, lb = fb[long], lb[long]
+    # the runs in rows of the log: the first row of the first block, one past the last row of the last block
+    first, last = fb * k, np.minimum(lb * k, n)
+    turn_rows = np.repeat(turn_deg, k)
+    turn_rows = np.concatenate((turn_rows, np.full(n - turn_rows.size, turn_deg[-1] if nb else 0.0)))
     limit = MAX_SHARE * duration
     i0, i1, out = 0, n, []
-    head = rel[first] < limit
-    if head.any():
-        end = int(last[head][-1]) - 1  # the last turned row of the last such run
+    head = _chained(t, first, last, forward=True, limit=limit)
+    if head.size:
+        end = int(last[head][-1]) - 1  # the last turned row of the last run of the chain
         after = np.flatnonzero(spikes[end:] & (t[end:] <= t[end] + SETTLE_S))
-        end_t = float(t[end + after[-1]] if after.size else t[end]) + MARGIN_S
-        end_t = min(end_t, t0 + limit)
+        end_t = min(float(t[end + after[-1]] if after.size else t[end]) + MARGIN_S, t0 + limit)
         i0 = int(np.searchsorted(t, end_t, side="left"))
-        out.append(_stretch("start", t, slice(0, i0), turn_deg, first[head], last[head], hp, drive_peak, offset_s, t0))
-    tail = rel[np.maximum(last - 1, 0)] > duration - limit
-    if tail.any():
-        begin = int(first[tail][0])  # the first turned row of the first such run
+        out.append(_stretch("start", t, slice(0, i0), turn_rows, first[head], last[head], hp, drive_peak, offset_s, t0))
+    tail = _chained(t, first, last, forward=False, limit=limit)
+    if tail.size:
+        begin = int(first[tail][0])  # the first turned row of the first run of the chain
         before = np.flatnonzero(spikes[:begin + 1] & (t[:begin + 1] >= t[begin] - SETTLE_S))
-        begin_t = float(t[before[0]] if before.size else t[begin]) - MARGIN_S
-        begin_t = max(begin_t, t0 + duration - limit)
+        begin_t = max(float(t[before[0]] if before.size else t[begin]) - MARGIN_S, t0 + duration - limit)
         i1 = int(np.searchsorted(t, begin_t, side="right"))
-        out.append(_stretch("end", t, slice(i1, n), turn_deg, first[tail], last[tail], hp, drive_peak, offset_s, t0))
+        out.append(_stretch("end", t, slice(i1, n), turn_rows, first[tail], last[tail], hp, drive_peak, offset_s, t0))
     if i1 - i0 < 2:  # (cannot happen with MAX_SHARE < 0.5; kept as a guard)
         return 0, n, ()
     return i0, i1, tuple(out)
+
+
+def _chained(t: np.ndarray, first: np.ndarray, last: np.ndarray, forward: bool, limit: float) -> np.ndarray:
+    """Indices (in time order) of the turned runs that lead from the log's start (``forward``) or end, each within
+    :data:`SETTLE_S` of the log's edge or of the run before it, and reaching into the first (last) ``limit`` seconds:
+    a turned run in the middle of a drive, with the drive between it and the edge, is not a handled start or end."""
+    order = range(first.size) if forward else range(first.size - 1, -1, -1)
+    edge = float(t[0]) if forward else float(t[-1])
+    chain = []
+    for i in order:
+        near, far = (float(t[first[i]]), float(t[last[i] - 1])) if forward else (float(t[last[i] - 1]),
+                                                                                float(t[first[i]]))
+        if abs(near - edge) > SETTLE_S or abs(near - (float(t[0]) if forward else float(t[-1]))) >= limit:
+            break
+        chain.append(i)
+        edge = far
+    return np.array(sorted(chain), dtype=int)
 
 
 def _stretch(where: str, t: np.ndarray, rows: slice, turn_deg: np.ndarray, firsts, lasts, hp: np.ndarray,
