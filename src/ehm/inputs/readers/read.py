@@ -16,8 +16,18 @@ from ..handling import check_handling, find_handling, handling_note
 from ..imu import from_imu
 from ..motion import SeatMotion
 from ..resampling import PASS_FRACTION
+from ..vocabulary import fix as fix_words
 from .base import Source, as_floats
-from .channels import ACC_KEYS, CHANNEL_KEYS, DEFAULT_CHANNELS, RATE_KEYS, listed_names, mapping_arg
+from .channels import (
+    ACC_KEYS,
+    CHANNEL_KEYS,
+    DEFAULT_CHANNELS,
+    RATE_KEYS,
+    channel_candidates,
+    guess_channel,
+    listed_names,
+    mapping_arg,
+)
 from .checks import (
     check_finite,
     check_not_flag,
@@ -379,6 +389,7 @@ def _resolve(src: Source, channels: dict, imu: bool, rate_hz, part: str = "all")
                                  "give all three angular velocities or none.")
             wanted += list(RATE_KEYS)
     time_needed = not src.per_channel_time
+    rate_missing = False
     if names["dt"] is not None:
         if not time_needed:
             raise InputError(f"{src.label}: MDF channels carry their own time stamps; leave out the dt channel "
@@ -390,22 +401,70 @@ def _resolve(src: Source, channels: dict, imu: bool, rate_hz, part: str = "all")
     elif time_needed:
         if names["time"] is None or ("time" not in channels and rate_hz is not None and not present("time")):
             names["time"] = None
-            if rate_hz is None:
-                raise InputError(f"{src.label}: without a time channel the sample rate is needed (rate_hz, --rate).")
+            rate_missing = rate_hz is None
         else:
             wanted.insert(0, "time")
     elif "time" in channels and channels["time"] is not None:
         raise InputError(f"{src.label}: MDF channels carry their own time stamps; leave out the time channel "
                          f"({channels['time']!r}).")
     missing = [k for k in wanted if not present(k)]
+    if missing or rate_missing:
+        raise InputError(_missing_sentence(src, names, missing, rate_missing, channels))
+    return {k: names[k] for k in wanted}
+
+
+def _missing_sentence(src: Source, names: dict, missing: list, rate_missing: bool, channels: dict) -> str:
+    """One sentence for every channel the source lacks and a sample rate it needs, with the whole fix at once:
+    ``--channel KEY=NAME`` for each (its column guessed where one name fits, :func:`guess_channel`), ``--channel
+    time= --rate HZ`` for a source without time stamps (in the Python words, ``channels=``/``rate_hz=``, outside the
+    command line)."""
+    where = "file" if not isinstance(src, FrameSource) else "DataFrame"
+    found = []
     if missing:
         parts = [f"{k} ({names[k]!r})" for k in missing]
         what = parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
         verb = "is" if len(missing) == 1 else "are"
-        raise InputError(f"{src.label}: channel{'s' * (len(missing) > 1)} {what} {verb} not in the "
-                         f"{'file' if not isinstance(src, FrameSource) else 'DataFrame'}; its {src.kind} are "
-                         f"{listed_names(src.names)}.")
-    return {k: names[k] for k in wanted}
+        found.append(f"channel{'s' * (len(missing) > 1)} {what} {verb} not in the {where}; its {src.kind} are "
+                     f"{listed_names(src.names)}")
+    given = {}  # key -> name (None: no time column) of the fix
+    notes = []
+    if "time" in missing or rate_missing:
+        stamps = [] if rate_missing else channel_candidates("time", src.names)
+        steps = [] if stamps or rate_missing else channel_candidates("dt", src.names)
+        if stamps or steps:
+            key, names_found = ("time", stamps) if stamps else ("dt", steps)
+            given[key] = names_found[0] if len(names_found) == 1 else "NAME"
+            if len(names_found) > 1:
+                notes.append(f"NAME for {key}: one of {', '.join(names_found)}")
+            if key == "dt":
+                notes.append("dt: a column of the time since the previous row")
+        else:
+            given["time"] = None
+            notes.append("HZ: the logger's sample rate, as " + ("the file has no time column" if not rate_missing
+                                                                 else "there is no time channel"))
+    for k in missing:
+        if k != "time":
+            given[k] = guess_channel(k, src.names) or "NAME"
+            if given[k] == "NAME":
+                notes.append(f"NAME for {k}: one of its {src.kind}")
+    cli = " ".join(f"--channel {k}={'' if v is None else _quoted(v)}" + (" --rate HZ" if k == "time" and v is None
+                                                                          else "") for k, v in given.items())
+    kept = {k: v for k, v in channels.items() if k not in given}
+    merged = {**kept, **given}
+    python = "channels={" + ", ".join(f"{k!r}: {merged[k]!r}" for k in CHANNEL_KEYS if k in merged) + "}"
+    if given.get("time", "") is None:
+        python += ", rate_hz=HZ"
+    if any(v not in (None, "NAME") for v in given.values()):
+        notes.append("the columns guessed from their names: check them")
+    fix = f"read it with {fix_words(cli, python)}" + (f" ({'; '.join(notes)})" if notes else "")
+    return f"{src.label}: {'; '.join(found) + ': ' if found else ''}{fix}."
+
+
+def _quoted(name: str) -> str:
+    """A column name as a shell word (quoted when it holds blanks or shell characters)."""
+    import shlex
+
+    return shlex.quote(str(name))
 
 
 def _read(src: Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
