@@ -16,10 +16,12 @@ from ..handling import check_handling, find_handling, handling_note
 from ..imu import from_imu
 from ..motion import SeatMotion
 from ..resampling import PASS_FRACTION
+from ..vocabulary import GYRO_UNIT
 from ..vocabulary import fix as fix_words
 from .base import Source, as_floats
 from .channels import (
     ACC_KEYS,
+    ASSUMED,
     CHANNEL_KEYS,
     DEFAULT_CHANNELS,
     RATE_KEYS,
@@ -29,6 +31,7 @@ from .channels import (
     mapping_arg,
 )
 from .checks import (
+    assumed_words,
     check_finite,
     check_not_flag,
     check_plausible,
@@ -515,8 +518,13 @@ def _read(src: Source, channels: dict, units: dict, rate_hz, imu: bool, mounting
         acc = _frozen(acc @ mounting.T)
         rates = None if rates is None else _frozen(rates @ mounting.T)
     if imu:
-        motion = from_imu(time_s, acc, rates, mounting=mounting, description=f"IMU log {description}",
-                          label=src.label, **(imu_options or {}))
+        token = GYRO_UNIT.set(_gyro_unit_words(gsrc or src, use if gsrc is None else guse, units, taken)
+                              if rates is not None else None)
+        try:
+            motion = from_imu(time_s, acc, rates, mounting=mounting, description=f"IMU log {description}",
+                              label=src.label, **(imu_options or {}))
+        finally:
+            GYRO_UNIT.reset(token)
     else:
         acc, rates, levelled = handle_gravity(time_s, acc, rates, gravity, src.label,  # ehm.inputs.readers.gravity
                                               earth=frame == "earth")
@@ -688,6 +696,14 @@ def _stack(data: dict, keys) -> np.ndarray:
 def _frozen(a: np.ndarray) -> np.ndarray:
     a.flags.writeable = False
     return a
+
+
+def _gyro_unit_words(src: Source, use: dict, units: dict, taken: dict) -> str | None:
+    """How the gyro's unit was found, for the IMU route's messages ("in deg/s, as their names say")."""
+    if "wx" not in use:
+        return None
+    unit = channel_unit(src, "wx", use["wx"], units)[0]
+    return assumed_words(taken.get("wx", ASSUMED), unit or "rad/s")
 
 
 def _cut_handling(label: str, time_s: np.ndarray, acc: np.ndarray, rates, window):
