@@ -186,3 +186,25 @@ def test_thresholds_are_what_the_docs_say():
     assert handling.ALONG_TOLERANCE == 0.03 and math.degrees(math.acos(1 - handling.ALONG_TOLERANCE)) == \
         pytest.approx(14.1, abs=0.1)
     assert (handling.SUSTAIN_S, handling.MAX_SHARE, handling.SPIKE_MIN_MPS2) == (1.0, 0.2, 0.5 * G)
+
+
+def test_assess_names_the_cut_in_the_console_the_json_and_the_report(tmp_path, capsys):
+    import json
+
+    from ehm.interfaces.cli import main
+
+    acc = _handled()
+    pd.DataFrame({"x": acc[:, 0], "y": acc[:, 1], "z": acc[:, 2]}).to_csv(tmp_path / "phone.csv", sep=" ",
+                                                                          index=False)
+    out = tmp_path / "a"
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")  # the command prints its notes on stderr
+        assert main(["assess", "--motion", str(tmp_path / "phone.csv"), "--channel", "time=", "--rate", "50",
+                     "--channel", "ax=x", "--channel", "ay=y", "--channel", "az=z", "--method", "linear", "-q",
+                     "--out", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert "the logger was handled, not carried by the vehicle, at the start 0.0-6." in captured.err
+    assert "  handled logger: the start (0.0-6." in captured.out and "--keep-handling" in captured.out
+    cut = json.loads((out / "assessment.json").read_text())["handling_cut"]
+    assert [h["where"] for h in cut["stretches"]] == ["start", "end"]
+    assert "Handled logger:" in (out / "report.html").read_text()

@@ -81,9 +81,13 @@ def band_warnings(band_hz: tuple[float, float], shares: dict) -> list[str]:
     for w, share in shares.items():
         if share >= BAND_WARNING_SHARE:
             b_lo, b_hi = WEIGHTING_BANDS_HZ[w]
+            fixes = ([f"a logger at {b_hi / PASS_FRACTION:g} Hz or faster"] if hi < b_hi else []) + (
+                [f"a log of {1 / b_lo:g} s or longer"] if lo > b_lo else [])
             out.append(f"the input covers {lo:.3g}-{hi:.3g} Hz, not all of the {w} band ({b_lo:g}-{b_hi:g} Hz): "
                        f"{100 * share:.1f} % of {w}'s power (|W(f)|^2 on a log-frequency axis) lies outside, so "
-                       f"the {w}-weighted values miss what the vehicle did there.")
+                       f"the {w}-weighted values miss what the vehicle did there (for a weighted spectrum flat on "
+                       f"that axis, a_w {100 * (1 - (1 - share) ** 0.5):.1f} % low); {' or '.join(fixes)} records "
+                       "it.")
     return out
 
 

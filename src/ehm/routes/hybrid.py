@@ -183,7 +183,8 @@ class RouteReport:
                    f"({self.nonlinear_s:.1f} s, {share:.1%} of the drive)")
         if self.method == "auto":
             line = (f"route: linear model {self.linear_share:.1%} of the drive, nonlinear model in {checked}; "
-                    f"there the linear answer alone would differ by up to {worst:.2%} of rms ({p} {a}).")
+                    f"there the figures are the nonlinear model's (the linear answer alone would differ by up to "
+                    f"{worst:.2%} of rms, {p} {a}), so nothing is left to do.")
             if self.fallback:
                 line += f" The nonlinear model ran the rest {self.fallback}."
         else:
