@@ -186,14 +186,15 @@ def test_roll_and_pitch_limits():
     with pytest.raises(InputError, match=r"at t = 2\d\.\d s the seat is rolled 45 deg, more than the 45 deg a seat "
                                          r"plausibly tilts: perhaps the IMU is not fixed.*; if the seat does tilt so "
                                          r"\(up to 60 deg in this log\), allow it with max_tilt_deg=65 \(read_motion: "
-                                         r"imu_options=\{'max_tilt_deg': 65\}\)\.$"):
+                                         r"imu_options=\{'max_tilt_deg': 65\}\) \(beyond about 30 deg the body model's "
+                                         r"unbelted person slides off the seat and the run stops\)\.$"):
         ehm.from_imu(t, f, w)
     from ehm.inputs.vocabulary import command_line
 
     with command_line(), pytest.raises(InputError, match=r"not in rad/s \(taken as rad/s: in deg/s give --unit "
                                                          r"wx=deg/s --unit wy=deg/s --unit wz=deg/s\); if the seat "
                                                          r"does tilt so \(up to 60 deg in this log\), allow it with "
-                                                         r"--max-tilt 65\.$"):
+                                                         r"--max-tilt 65 \(beyond about 30"):
         ehm.from_imu(t, f, w)
     m = ehm.from_imu(t, f, w, max_tilt_deg=70.0)
     assert rms(m.acc_mps2[:, :2]) < 0.1

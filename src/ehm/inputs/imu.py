@@ -192,9 +192,11 @@ def _check_tilt(t: np.ndarray, roll: np.ndarray, pitch: np.ndarray, limit: float
     allow = 5.0 * math.ceil((largest + 1e-9) / 5.0)
     option = fix(f"--max-tilt {allow:g}", f"max_tilt_deg={allow:g} (read_motion: imu_options={{'max_tilt_deg': "
                                           f"{allow:g}}})")
+    slides = (" (beyond about 30 deg the body model's unbelted person slides off the seat and the run stops)"
+              if largest > 30.0 else "")
     raise InputError(f"{label}: at t = {t[k]:.1f} s the seat is {what} {value:.0f} deg, more than the "
                      f"{limit:g} deg a seat plausibly tilts: perhaps {why}; if the seat does tilt so (up to "
-                     f"{largest:.0f} deg in this log), allow it with {option}.")
+                     f"{largest:.0f} deg in this log), allow it with {option}{slides}.")
 
 
 #: The shortest rest accepted [s]: shorter windows average too little vibration to tell a bias (and would make
