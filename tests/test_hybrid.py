@@ -204,7 +204,7 @@ def test_report_line_and_dict():
     assert d["linear_share"] == pytest.approx(0.8) and d["largest_discrepancy"] == {
         "point": "head", "axis": "y", "share_of_rms": 0.05}
     assert not d["within_tolerance"] and json.loads(json.dumps(d)) == d
-    assert "linear model 80.0% of the drive, nonlinear model in 1 window" in r.line() and "(head y)" in r.line()
+    assert "linear model 80.0% of the drive, nonlinear model in 1 window" in r.line() and ", head y)" in r.line()
 
 
 def test_cli_default_route_and_its_record(tmp_path, capsys):
