@@ -157,15 +157,15 @@ def test_gyro_in_deg_per_s_read_as_rad_per_s_is_refused(drive):
     """SYNTHETIC: the city drive's corners (up to 67 deg/s of yaw) read as rad/s are caught by their size;
     a straight rough road's small roll and pitch rates by the tilt gravity's direction does not show."""
     f, w, _ = imu_of(drive, Rotation.identity())
-    with pytest.raises(InputError, match=r"probably in deg/s, not the rad/s assumed: give the gyro's unit "
-                                         r"\(e\.g\. --unit wx=deg/s"):
+    with pytest.raises(InputError, match=r"probably in deg/s, not read in rad/s, as no unit is given: give the gyro's "
+                                         r"unit \(e\.g\. units=\{'wx': 'deg/s'"):
         ehm.from_imu(drive.time_s, f, np.degrees(w))
     road = rough_road(30.0, speed_mps=20.0, road_class="C", seed=1)
     f, w, _ = imu_of(road, Rotation.identity())
     second = np.convolve(np.linalg.norm(np.degrees(w), axis=1), np.ones(200) / 200, mode="valid")
     assert second.max() < 10.0  # not caught by size: below 10 (deg/s read as rad/s) over every second
-    with pytest.raises(InputError, match=r"read as rad/s, the gyro tilts the seat by \d+ deg rms per second more "
-                                         r"than gravity's direction shows.*--unit wx=deg/s"):
+    with pytest.raises(InputError, match=r"read in rad/s, as no unit is given, the gyro tilts the seat by \d+ deg rms "
+                                         r"per second more than gravity's direction shows.*units=\{'wx': 'deg/s'"):
         ehm.from_imu(road.time_s, f, np.degrees(w))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -184,7 +184,17 @@ def test_roll_and_pitch_limits():
     R = Rotation.from_rotvec(np.outer(roll, [1.0, 0.0, 0.0])).as_matrix()
     f, w, _ = imu_of(truth, Rotation.identity(), R=R)
     with pytest.raises(InputError, match=r"at t = 2\d\.\d s the seat is rolled 45 deg, more than the 45 deg a seat "
-                                         r"plausibly tilts \(max_tilt_deg\): perhaps the IMU is not fixed"):
+                                         r"plausibly tilts: perhaps the IMU is not fixed.*; if the seat does tilt so "
+                                         r"\(up to 60 deg in this log\), allow it with max_tilt_deg=65 \(read_motion: "
+                                         r"imu_options=\{'max_tilt_deg': 65\}\) \(beyond about 30 deg the body model's "
+                                         r"unbelted person slides off the seat and the run stops\)\.$"):
+        ehm.from_imu(t, f, w)
+    from ehm.inputs.vocabulary import command_line
+
+    with command_line(), pytest.raises(InputError, match=r"not in rad/s \(taken as rad/s: in deg/s give --unit "
+                                                         r"wx=deg/s --unit wy=deg/s --unit wz=deg/s\); if the seat "
+                                                         r"does tilt so \(up to 60 deg in this log\), allow it with "
+                                                         r"--max-tilt 65 \(beyond about 30"):
         ehm.from_imu(t, f, w)
     m = ehm.from_imu(t, f, w, max_tilt_deg=70.0)
     assert rms(m.acc_mps2[:, :2]) < 0.1
@@ -227,7 +237,7 @@ def test_read_motion_imu_log_in_g_and_deg_per_s(drive, tmp_path):
     assert rms(m.acc_mps2[:, 1] - drive.acc_mps2[:, 1]) < 0.03 * rms(drive.acc_mps2[:, 1])
     assert m.description.startswith("IMU log from imu.parquet")
     # the same log without its units: the accelerometers in g are caught
-    with pytest.raises(InputError, match=r"the accelerometers read 1.01 m/s\^2 for gravity .*--unit ax=g"):
+    with pytest.raises(InputError, match=r"the accelerometers read 1.01 m/s\^2 for gravity .*units=\{'ax': 'g'"):
         ehm.read_motion(path, names, {k: "deg/s" for k in ("wx", "wy", "wz")}, imu=True)
 
 

@@ -424,12 +424,14 @@ HEADER = "time_s,ax_mps2,ay_mps2,az_mps2\n"
         # missing columns, named with the columns the file has
         (
             "time_s,ax_mps2,ay_mps2\n0,0,0\n0.1,0,0\n",
-            r"motion\.csv: channel az \('az_mps2'\) is not in the file; its columns are time_s, ax_mps2, ay_mps2\.",
+            r"motion\.csv: channel az \('az_mps2'\) is not in the file; its columns are time_s, ax_mps2, ay_mps2: read "
+            r"it with channels=\{'az': 'NAME'\} \(NAME for az: one of its columns\)\.",
         ),
         (
             "# first\ntime,ax_mps2,ay_mps2\n0,0,0\n",
             r"motion\.csv: channels time \('time_s'\) and az \('az_mps2'\) are not in the file; its columns are "
-            r"time, ax_mps2, ay_mps2\.",
+            r"time, ax_mps2, ay_mps2: read it with channels=\{'time': 'time', 'az': 'NAME'\} \(NAME for az: one of its "
+            r"columns; the columns guessed from their names: check them\)\.",
         ),
         (
             "time_s,ax_mps2,ay_mps2,az_mps2,az_mps2\n0,0,0,0,0\n",

@@ -154,7 +154,8 @@ def test_rate_hz_for_a_source_without_time_and_for_resampling(tmp_path):
     df = pd.DataFrame({"ax_mps2": acc[:, 0], "ay_mps2": acc[:, 1], "az_mps2": acc[:, 2]})
     m = read_motion(df, {"time": None}, rate_hz=200.0)
     np.testing.assert_allclose(m.time_s, t)
-    with pytest.raises(InputError, match="without a time channel the sample rate is needed"):
+    with pytest.raises(InputError, match=r"read it with channels=\{'time': None\}, rate_hz=HZ \(HZ: the logger's "
+                                         r"sample rate, as there is no time channel\)\.$"):
         read_motion(df, {"time": None})
     with pytest.warns(EhmWarning, match="resampled to 100 Hz .* below the log's own 200 Hz"):
         down = read_motion(frame_in_g(t, acc), NAMES, IN_G, rate_hz=100.0)   # resampled, anti-aliased
@@ -231,7 +232,9 @@ def test_missing_channel_is_named_with_the_channels_that_exist(tmp_path):
     with pytest.raises(InputError) as exc:
         read_motion(tmp_path / "log.mf4", {"ax": "AccX", "ay": NAMES["ay"], "az": NAMES["az"]})
     assert one_sentence(exc) == (f"{tmp_path / 'log.mf4'}: channel ax ('AccX') is not in the file; its channels are "
-                                 "SeatPad_AccX, SeatPad_AccY, SeatPad_AccZ.")
+                                 "SeatPad_AccX, SeatPad_AccY, SeatPad_AccZ: read it with channels={'ax': "
+                                 "'SeatPad_AccX', 'ay': 'SeatPad_AccY', 'az': 'SeatPad_AccZ'} (the columns guessed "
+                                 "from their names: check them).")
 
 
 @pytest.mark.parametrize(("units", "words"), [
@@ -899,3 +902,43 @@ def test_an_acceleration_channel_set_to_none_is_refused_as_such(key):
         read_motion(seat_frame(t, noise(t.size)), channels={key: None})
     msg = one_sentence(exc)
     assert "not in the DataFrame" not in msg and "ax, ay and az cannot be left out" in msg and "zeros" in msg
+
+
+def _board_log(path) -> None:
+    """A SYNTHETIC floor board's log in the ESP32 logger's layout: a header ``x y z``, blanks between, no time."""
+    rng = np.random.default_rng(7)
+    acc = rng.normal(0.0, 0.2, (3000, 3)) + np.array([0.3, -0.2, 9.8])
+    path.write_text("x y z\n" + "\n".join(" ".join(f"{v:.3f}" for v in row) for row in acc) + "\n")
+
+
+def test_the_first_error_of_a_board_log_without_time_names_every_fix_at_once(tmp_path, capsys):
+    # issue 38, item 2: the ESP32 bus log took three failed runs (the channels, then the time, then the rate)
+    _board_log(tmp_path / "board.csv")
+    with pytest.raises(InputError) as exc:
+        read_motion(tmp_path / "board.csv")
+    assert one_sentence(exc).endswith(
+        "its columns are x, y, z: read it with channels={'time': None, 'ax': 'x', 'ay': 'y', 'az': 'z'}, rate_hz=HZ "
+        "(HZ: the logger's sample rate, as the file has no time column; the columns guessed from their names: check "
+        "them).")
+    assert main(["assess", "--motion", str(tmp_path / "board.csv"), "--out", str(tmp_path / "a")]) == 2
+    err = capsys.readouterr().err
+    assert "read it with --channel time= --rate HZ --channel ax=x --channel ay=y --channel az=z (HZ: " in err
+    assert "rate_hz" not in err and "channels=" not in err
+    # the command it names works in one go
+    with pytest.warns(EhmWarning, match="levelled"):
+        m = read_motion(tmp_path / "board.csv", {"time": None, "ax": "x", "ay": "y", "az": "z"}, rate_hz=500)
+    assert m.duration_s == pytest.approx(2999 / 500)
+
+
+def test_the_fix_names_a_time_column_or_the_choice_and_quotes_names_with_blanks(tmp_path, capsys):
+    frame = pd.DataFrame({"Time (s)": np.arange(300) / 100, "Accelerometer X (g)": 0.0, "Accelerometer Y (g)": 0.0,
+                          "Accelerometer Z (g)": 0.01, "Gyroscope X (deg/s)": 0.0})  # SYNTHETIC
+    frame.to_csv(tmp_path / "imu.csv", index=False)
+    assert main(["assess", "--motion", str(tmp_path / "imu.csv"), "--out", str(tmp_path / "a")]) == 2
+    err = capsys.readouterr().err
+    assert ("--channel time='Time (s)' --channel ax='Accelerometer X (g)' --channel ay='Accelerometer Y (g)' "
+            "--channel az='Accelerometer Z (g)'") in err
+    two = pd.DataFrame({"timestamp": ["x"] * 3, "uptimeNanos": [1, 2, 3], "x": 0.0, "y": 0.0, "z": 0.0})
+    with pytest.raises(InputError, match=r"channels=\{'time': 'NAME', 'ax': 'x', 'ay': 'y', 'az': 'z'\} \(NAME for "
+                                         r"time: one of timestamp, uptimeNanos; "):
+        read_motion(two)

@@ -81,9 +81,13 @@ def band_warnings(band_hz: tuple[float, float], shares: dict) -> list[str]:
     for w, share in shares.items():
         if share >= BAND_WARNING_SHARE:
             b_lo, b_hi = WEIGHTING_BANDS_HZ[w]
+            fixes = ([f"a logger at {b_hi / PASS_FRACTION:g} Hz or faster"] if hi < b_hi else []) + (
+                [f"a log of {1 / b_lo:g} s or longer"] if lo > b_lo else [])
             out.append(f"the input covers {lo:.3g}-{hi:.3g} Hz, not all of the {w} band ({b_lo:g}-{b_hi:g} Hz): "
                        f"{100 * share:.1f} % of {w}'s power (|W(f)|^2 on a log-frequency axis) lies outside, so "
-                       f"the {w}-weighted values miss what the vehicle did there.")
+                       f"the {w}-weighted values miss what the vehicle did there (for a weighted spectrum flat on "
+                       f"that axis, a_w {100 * (1 - (1 - share) ** 0.5):.1f} % low); {' or '.join(fixes)} records "
+                       "it.")
     return out
 
 
@@ -142,6 +146,7 @@ class Assessment:
     band_outside_share: dict = field(default_factory=dict)  # weighting -> share of its power outside that band
     route: dict | None = None  # how the drive was run and checked (ehm.routes.hybrid.RouteReport.as_dict)
     iso2631_5: dict | None = None  # ISO 2631-5 spinal dose (ehm.standards.comfort.spine.iso2631_5_summary)
+    handling: tuple = ()  # the handled stretches read_motion left out of the drive (ehm.SeatMotion.handling)
 
     def total_value(self, location: str) -> float:
         """Vibration total value a_v = sqrt(a_wx^2 + a_wy^2 + a_wz^2), k = 1 (comfort) [m/s^2]."""
@@ -154,6 +159,7 @@ class Assessment:
                "input_band_hz": list(self.input_band_hz) if self.input_band_hz else None,
                "band_outside_share": dict(self.band_outside_share),
                **({"route": self.route} if self.route else {}),
+               **({"handling_cut": handling_summary(self.handling)} if self.handling else {}),
                "locations": {}}
         seat_av = self.total_value("seat")
         for loc in LOCATIONS:
@@ -455,7 +461,24 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     model = running.spine.result(exposure, measured_s=duration,
                                  route=f"the body model's lumbar point (L4-L5 joint centre), z, at {1 / dt:g} Hz")
     result.iso2631_5 = iso2631_5_summary(standard, model)
+    result.handling = tuple(motion.handling)
     return result
+
+
+#: How a handled start or end that read_motion left out is kept instead.
+KEEP_HANDLING = "--keep-handling (read_motion(..., handling='keep'))"
+
+
+def handling_summary(stretches) -> dict:
+    """``assessment.json``'s ``handling_cut``: the stretches left out, one sentence saying so, and the option that
+    keeps them."""
+    stretches = [dict(h) for h in stretches]
+    words = " and ".join(f"the {h['where']} ({h['start_s']:.1f}-{h['end_s']:.1f} s)" for h in stretches)
+    return {"stretches": stretches,
+            "note": (f"{words} of the log left out: the logger was handled there, not carried by the vehicle (turned "
+                     f"against gravity, accelerations far above the drive's); the figures are the drive's without "
+                     f"them; {KEEP_HANDLING} keeps them."),
+            "keep_with": KEEP_HANDLING}
 
 
 def spinal_dose_of_seat(motion: SeatMotion, exposure: SpineExposure | None = None):

@@ -347,8 +347,13 @@ def check_gyro_units(t: np.ndarray, f: np.ndarray, w: np.ndarray, label: str) ->
        the rates, read as rad/s, disagree with gravity's turning more than 3 times as much as they would if
        they were deg/s, and by more than 5 deg rms, they are refused.
     """
-    fix = ("give the gyro's unit (e.g. --unit wx=deg/s --unit wy=deg/s --unit wz=deg/s) or convert the rates "
-           "to rad/s")
+    from .vocabulary import GYRO_UNIT
+    from .vocabulary import fix as words
+
+    fix = ("give the gyro's unit (e.g. " + words("--unit wx=deg/s --unit wy=deg/s --unit wz=deg/s",
+                                                 "units={'wx': 'deg/s', 'wy': 'deg/s', 'wz': 'deg/s'}")
+           + ") or convert the rates to rad/s")
+    taken = GYRO_UNIT.get() or "in rad/s, as no unit is given"  # how the reader found the unit (from_imu: rad/s)
     speed = np.linalg.norm(w, axis=1)
     if t[-1] - t[0] >= 1.0:
         starts, stops, m, _ = _window_stats(t, speed[:, None], 1.0)
@@ -356,7 +361,7 @@ def check_gyro_units(t: np.ndarray, f: np.ndarray, w: np.ndarray, label: str) ->
         if starts.size and m[k, 0] > SUSTAINED_RATE_LIMIT_RADPS:
             raise InputError(f"{label}: the gyro reads {m[k, 0]:.3g} rad/s ({math.degrees(m[k, 0]):.0f} deg/s) for a "
                              f"second from t = {t[starts[k]]:.1f} s, more than a seat turns, so its rates are "
-                             f"probably in deg/s, not the rad/s assumed: {fix}.")
+                             f"probably in deg/s, not read {taken}: {fix}.")
     if t[-1] - t[0] < 4.0:
         return
     up = _lowpass(t, f, ACCELERATION_LOWPASS_HZ)
@@ -374,6 +379,6 @@ def check_gyro_units(t: np.ndarray, f: np.ndarray, w: np.ndarray, label: str) ->
     as_rad = math.sqrt(np.mean(np.sum((d_gyro - d_grav) ** 2, axis=1)))
     as_deg = math.sqrt(np.mean(np.sum((d_gyro / _DEG_PER_RAD - d_grav) ** 2, axis=1)))
     if as_rad > 3.0 * as_deg and as_rad > math.radians(5.0):
-        raise InputError(f"{label}: read as rad/s, the gyro tilts the seat by {math.degrees(as_rad):.0f} deg rms per "
+        raise InputError(f"{label}: read {taken}, the gyro tilts the seat by {math.degrees(as_rad):.0f} deg rms per "
                          f"second more than gravity's direction shows, and as deg/s it would agree within "
                          f"{math.degrees(as_deg):.1f} deg: {fix}.")

@@ -60,6 +60,7 @@ import numpy as np
 from ..errors import EhmWarning, InputError
 from . import attitude as _att
 from .motion import SeatMotion, integrate_attitude
+from .vocabulary import GYRO_UNIT, fix
 
 __all__ = ["STANDARD_GRAVITY_MPS2", "from_imu"]
 
@@ -165,20 +166,37 @@ def _positive(value, arg: str) -> float:
 
 
 def _check_tilt(t: np.ndarray, roll: np.ndarray, pitch: np.ndarray, limit: float, label: str, gyro: bool) -> None:
+    """Refuse a seat roll or pitch beyond ``limit`` in one sentence: when, how far, the likely causes, and the
+    option that allows it (``--max-tilt`` on the command line, ``max_tilt_deg`` in Python)."""
     over = np.flatnonzero((np.abs(roll) > limit) | (np.abs(pitch) > limit))
     if not over.size:
         return
     k = int(over[0])
     what, value = ("rolled", roll[k]) if abs(roll[k]) > limit else ("pitched", pitch[k])
-    why = ("the IMU is not fixed to the seat, its mounting (sensor axes -> seat axes) is not given, or its gyro "
-           "rates are not in rad/s" if gyro else
-           "the IMU is not fixed to the seat or its mounting (sensor axes -> seat axes) is not given")
+    unit = GYRO_UNIT.get()  # how the reader found the gyro's unit ("in deg/s, as their names say"), if it did
+    if gyro and (unit is None or "as no unit is given" in unit):
+        units = fix("--unit wx=deg/s --unit wy=deg/s --unit wz=deg/s",
+                    "units={'wx': 'deg/s', 'wy': 'deg/s', 'wz': 'deg/s'}")
+        why = ("the IMU is not fixed to the seat (moved by hand), its mounting (sensor axes -> seat axes) is not "
+               f"given, or its gyro rates are not in rad/s ({'read ' + unit if unit else 'taken as rad/s'}: in "
+               f"deg/s give {units})")
+    else:
+        why = ("the IMU is not fixed to the seat (moved by hand, not by a vehicle) or its mounting (sensor axes -> "
+               "seat axes) is not given" + (f" (its gyro rates were read {unit}, so their unit is not the cause)"
+                                            if gyro and unit else ""))
     if abs(value) > 135.0:  # gravity reads downwards in seat axes
         why = ("the mounting (sensor axes -> seat axes; --mounting, mounting=) is upside down, or the accelerometers "
                "hold the negative of the specific force, as Apple's Core Motion does, which a '-' before each "
                "channel's name (--channel ax=-NAME) or negated values fix")
+    largest = float(max(np.max(np.abs(roll)), np.max(np.abs(pitch))))
+    allow = 5.0 * math.ceil((largest + 1e-9) / 5.0)
+    option = fix(f"--max-tilt {allow:g}", f"max_tilt_deg={allow:g} (read_motion: imu_options={{'max_tilt_deg': "
+                                          f"{allow:g}}})")
+    slides = (" (beyond about 30 deg the body model's unbelted person slides off the seat and the run stops)"
+              if largest > 30.0 else "")
     raise InputError(f"{label}: at t = {t[k]:.1f} s the seat is {what} {value:.0f} deg, more than the "
-                     f"{limit:g} deg a seat plausibly tilts (max_tilt_deg): perhaps {why}.")
+                     f"{limit:g} deg a seat plausibly tilts: perhaps {why}; if the seat does tilt so (up to "
+                     f"{largest:.0f} deg in this log), allow it with {option}{slides}.")
 
 
 #: The shortest rest accepted [s]: shorter windows average too little vibration to tell a bias (and would make
@@ -285,7 +303,8 @@ def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None
     if abs(g_ref / STANDARD_GRAVITY_MPS2 - 1.0) > _GRAVITY_TOLERANCE:
         raise InputError(f"{label}: the accelerometers read {g_ref:.3g} m/s^2 for gravity (the median of |f|), not "
                          f"about {STANDARD_GRAVITY_MPS2:g}: an IMU log's accelerometers must be in m/s^2 with "
-                         "gravity included (for a log in g give the unit, e.g. --unit ax=g --unit ay=g --unit az=g).")
+                         "gravity included (for a log in g give the unit, e.g. "
+                         + fix("--unit ax=g --unit ay=g --unit az=g", "units={'ax': 'g', 'ay': 'g', 'az': 'g'}") + ").")
     rest = None
     if not gyro:
         anchor = _att.quietest_window(t, f, None, _ANCHOR_S, g_ref)

@@ -100,6 +100,11 @@ class SeatMotion:
         The highest frequency [Hz] the record holds, when that is below half its
         own rate: a record resampled from a slower one holds nothing above 0.4
         times the slower rate (:meth:`resample` sets it).  None: half its own rate.
+    handling : tuple of dict, optional
+        The stretches at the start and end of a measured log that :func:`ehm.read_motion` left out because the
+        logger was handled rather than carried by the vehicle (:mod:`ehm.inputs.handling`): each a dict with
+        ``where`` (``"start"`` or ``"end"``), ``start_s`` and ``end_s`` (seconds from the log's first sample),
+        ``turn_deg``, ``turned_s``, ``peak_mps2`` and ``drive_peak_mps2``.  Empty: nothing was left out.
 
     Notes
     -----
@@ -115,8 +120,12 @@ class SeatMotion:
     description: str
     angvel_radps: np.ndarray | None = None
     content_limit_hz: float | None = None
+    handling: tuple = ()
 
     def __post_init__(self) -> None:
+        if not isinstance(self.handling, tuple) or not all(isinstance(h, dict) for h in self.handling):
+            raise InputError(f"SeatMotion: handling must be a tuple of dicts (the stretches read_motion left out); "
+                             f"got {type(self.handling).__name__}.")
         if self.content_limit_hz is not None:
             object.__setattr__(self, "content_limit_hz", _positive("SeatMotion", "content_limit_hz",
                                                                    self.content_limit_hz))
@@ -264,7 +273,7 @@ class SeatMotion:
         held = self.content_limit_hz if self.content_limit_hz is not None else own_hz / 2.0
         limit = min(held, PASS_FRACTION * min(own_hz, 1.0 / dt))  # what the resampler passes
         return SeatMotion(np.arange(n) * dt, data[:, :3], f"{self.description}, resampled to dt {dt:g} s", w,
-                          content_limit_hz=limit)
+                          content_limit_hz=limit, handling=self.handling)
 
 
 def _owned_copy(values) -> np.ndarray:

@@ -36,6 +36,7 @@ A study file (TOML) names what varies and what to compute::
     # frame = "seat"            the drive file's axes: seat, or earth (x east, y north, z up: read with a note)
     # drop_held = false         keep held samples (default true: a slow sensor's repeated rows are dropped)
     # encoding = "cp1252"       the drive file's text encoding (default: from its byte-order mark, else UTF-8)
+    # handling = "keep"         keep a handled start and end of the drive file (default "cut": left out, with a note)
     duration_s = 30.0
     route = "auto"              # simulation route of a drive's runs: "auto" (ehm.routes.hybrid, the default),
     #                           "nonlinear" (MuJoCo) or "linear"; transmissibility by method = "time": "nonlinear"
@@ -160,7 +161,7 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
     inp = dict(doc.get("input", {}))
     allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed", "channels", "units", "imu",
                      "rate_hz", "fill_gaps", "columns", "gyro", "mounting", "start_s", "end_s", "gravity", "frame",
-                     "drop_held", "encoding"}
+                     "drop_held", "encoding", "handling"}
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
@@ -357,8 +358,8 @@ def _drive(inp: dict, dt_s: float):
 
 def _read_drive(inp: dict):
     """The [input] drive file through ehm.inputs.readers.read_motion, with its channels, units, imu, rate_hz, fill_gaps,
-    columns, gyro, mounting (roll, pitch, yaw in degrees), start_s, end_s, gravity, frame, drop_held and encoding
-    keys."""
+    columns, gyro, mounting (roll, pitch, yaw in degrees), start_s, end_s, gravity, frame, drop_held, encoding and
+    handling keys."""
     from ..inputs.drives import drive_path
     from ..inputs.readers import mounting_rotation, read_motion
 
@@ -372,7 +373,7 @@ def _read_drive(inp: dict):
                        mounting=None if mounting is None else mounting_rotation(mounting),
                        start_s=inp.get("start_s"), end_s=inp.get("end_s"), gravity=inp.get("gravity", "auto"),
                        frame=inp.get("frame", "seat"), drop_held=inp.get("drop_held", True),
-                       encoding=inp.get("encoding"))
+                       encoding=inp.get("encoding"), handling=inp.get("handling", "cut"))
 
 
 def cut_by_time(motion, duration_s: float):
@@ -392,7 +393,7 @@ def cut_by_time(motion, duration_s: float):
                                      for a in (motion.acc_mps2, motion.angvel_radps) if a is not None]
         rows = [np.concatenate([r, e]) for r, e in zip(rows, extra)]
     angvel = rows[2] if motion.angvel_radps is not None else None
-    return SeatMotion(rows[0], rows[1], motion.description, angvel, motion.content_limit_hz)
+    return SeatMotion(rows[0], rows[1], motion.description, angvel, motion.content_limit_hz, handling=motion.handling)
 
 
 def run_one(spec: RunSpec) -> dict:

@@ -109,6 +109,8 @@ def write_report(summary: dict, figures: dict, path: Path | str, title: str = "M
         + ("outside it lies " + ", ".join(f"{100 * v:.1f} % of {w}'s power" for w, v in outside.items())
            + " (|W(f)|² on a log-frequency axis): the weighted values miss that part." if outside
            else "it covers the Wd, Wk (0.5-80 Hz) and Wf (0.08-0.63 Hz) bands whole.") + "</p>")
+    cut = summary.get("handling_cut")
+    handling_line = f"<p><b>Handled logger:</b> {html.escape(cut['note'])}</p>" if cut else ""
     disp = summary.get("body_displacement_max_m", {})
     body = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>
@@ -125,6 +127,7 @@ simulated in {summary['wall_s']:.0f} s).<br>
 locked joints: {html.escape(', '.join(summary.get('locked', [])) or 'none')}\
 {html.escape(' (' + summary['scaled'] + ')' if summary.get('scaled') else '')}.
 Seat accelerations in seat axes.</p>
+{handling_line}
 {_messages_html(summary)}<h2>Comfort (ISO 2631-1)</h2>
 <table><tr><th>location</th><th>a<sub>w,x</sub></th><th>a<sub>w,y</sub></th><th>a<sub>w,z</sub></th>
 <th>total value a<sub>v</sub></th><th>comfort reaction</th><th>VDV<sub>z</sub></th><th>MTVV (max axis)</th>

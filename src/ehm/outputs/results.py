@@ -293,20 +293,20 @@ def concatenate_runs(chunks: list) -> RunResult:
 def merge_linear_checks(checks: list) -> dict:
     """One estimate of what the linear route leaves out (``extra["linear_check"]``, see
     :func:`ehm.routes.linear.left_out`) from those of consecutive chunks: the largest terms over all chunks, the rms
-    over all samples, and the shares recomputed from them."""
+    over all samples, and the shares (rms over rms) recomputed from them."""
     out, worst = {}, 0.0
     for p in (k for k in checks[0] if k != "share"):
         parts = [ck[p] for ck in checks]
         n = sum(c["n"] for c in parts)
         rms = lambda key, parts=parts, n=n: float(np.sqrt(sum(c["n"] * c[key] ** 2 for c in parts) / n))  # noqa: E731
         acc_rms, angacc_rms = rms("acc_rms_mps2"), rms("angacc_rms_radps2")
-        left = max(c["coriolis_mps2"] + c["offset_mps2"] for c in parts)
-        gyro = max(c["gyro_radps2"] for c in parts)
+        left, gyro = rms("left_out_rms_mps2"), rms("gyro_rms_radps2")
         share = left / acc_rms if acc_rms > 0 else 0.0
         angular = gyro / angacc_rms if angacc_rms > 0 else 0.0
         out[p] = {"coriolis_mps2": max(c["coriolis_mps2"] for c in parts),
-                  "offset_mps2": max(c["offset_mps2"] for c in parts), "acc_rms_mps2": acc_rms, "share": share,
-                  "gyro_radps2": gyro, "angacc_rms_radps2": angacc_rms, "angular_share": angular, "n": n}
+                  "offset_mps2": max(c["offset_mps2"] for c in parts), "left_out_rms_mps2": left,
+                  "acc_rms_mps2": acc_rms, "share": share, "gyro_radps2": max(c["gyro_radps2"] for c in parts),
+                  "gyro_rms_radps2": gyro, "angacc_rms_radps2": angacc_rms, "angular_share": angular, "n": n}
         worst = max(worst, share, angular)
     out["share"] = worst
     return out

@@ -183,7 +183,8 @@ class RouteReport:
                    f"({self.nonlinear_s:.1f} s, {share:.1%} of the drive)")
         if self.method == "auto":
             line = (f"route: linear model {self.linear_share:.1%} of the drive, nonlinear model in {checked}; "
-                    f"there the linear answer alone would differ by up to {worst:.2%} of rms ({p} {a}).")
+                    f"there the figures are the nonlinear model's (the linear answer alone would differ by up to "
+                    f"{worst:.2%} of rms, {p} {a}), so nothing is left to do.")
             if self.fallback:
                 line += f" The nonlinear model ran the rest {self.fallback}."
         else:
@@ -192,10 +193,14 @@ class RouteReport:
         return line + self._left_out_sentence()
 
     def _left_out_sentence(self) -> str:
-        if not self.left_out:
+        """What the linear model of a turning seat leaves out, where it may matter: at or above the tolerance
+        (below it the figures are the nonlinear model's within that; ``left_out`` in the report has the figures)."""
+        if not self.left_out or self.left_out["share"] < self.tolerance:
             return ""
-        return (f" The seat's rotation: the loads the linear model leaves out (Coriolis and the like) are estimated "
-                f"at up to {self.left_out['share']:.1%} of a point's rms on its share of the drive.")
+        return (f" The seat's rotation: the loads the linear model leaves out (Coriolis and the like) reach "
+                f"{self.left_out['share']:.1%} of a point's rms acceleration on the linear model's share of the drive "
+                f"(rms against rms, above the {self.tolerance:.0%} tolerance), so its figures there may be off by "
+                "about as much; --method nonlinear (method='nonlinear') includes them.")
 
     def as_dict(self) -> dict:
         """Plain data (what ``summary.json`` and ``assessment.json`` hold under ``route``)."""
@@ -478,7 +483,9 @@ class _Hybrid:
         nonlinear, self.x_end = self.models.window(x0, given, w0, self.dt, self.description,
                                                    posed=self.method == "auto")
         lin_carry = self.carry.copy()
-        linear = self._linear_piece(w0, w1, lin_carry, given, posed=self.method != "auto")  # auto: compared only
+        # auto: the linear answer is only compared here, so what it leaves out of a turning seat does not count
+        linear = self._linear_piece(w0, w1, lin_carry, given, posed=self.method != "auto",
+                                    counted=self.method != "auto")
         self.sums.add_window(linear, nonlinear)
         self.report.windows_s.append([w0 * self.dt, w1 * self.dt])
         self.report.nonlinear_s += (w1 - w0) * self.dt
@@ -523,9 +530,10 @@ class _Hybrid:
         return y
 
     def _linear_piece(self, a: int, b: int, carry: np.ndarray, given=None, y=None, wall_s: float = 0.0,
-                      posed: bool = True):
+                      posed: bool = True, counted: bool = True):
         """The linear answer over samples a ... b - 1 (``given``: the drive there, from :meth:`_Drive.at`; ``y``:
-        outputs already computed from sample a, possibly further than b, ``carry`` then left as it is)."""
+        outputs already computed from sample a, possibly further than b, ``carry`` then left as it is; ``counted``:
+        its estimate of what the linear model of a turning seat leaves out joins the report's, as an answer kept)."""
         t0 = time.perf_counter()
         u, inputs, seat = self.drive.at(a, b) if given is None else given
         poses = self.poses.linear(a, b, carry, inputs[:b - a], self.offset) if self.poses and posed else None
@@ -534,7 +542,8 @@ class _Hybrid:
         check = None
         if seat is not None:
             check = left_out(y, m, seat if m == n_y else _first(seat, m))
-            self.checks.append(check)
+            if counted:
+                self.checks.append(check)
             seat.correct(y)
         res = run_result(self.human, self.ss, y, u, np.arange(a, a + n_y) * self.dt, self.dt, self.R0,
                       self.description, seat=seat, check=check)

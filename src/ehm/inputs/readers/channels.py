@@ -137,3 +137,36 @@ def name_unit(name: str, key: str) -> tuple[str, str]:
             if pattern.search(name):
                 return unit, "hint"
     return "", ""
+
+
+def bare_name(name) -> str:
+    """A column's name without its unit, folded to lower-case letters and digits (``Accelerometer X (g)`` ->
+    ``accelerometerx``), for guessing which channel it holds."""
+    name = str(name)
+    for pattern in (_IN_BRACKETS, _IN_PARENS, _AFTER_IN):
+        name = pattern.sub("", name)
+    return re.sub(r"[^a-z0-9]", "", name.lower())
+
+
+def channel_candidates(key: str, names) -> list:
+    """The columns of ``names`` that look like channel ``key`` (``x`` or ``AccX`` for ax, ``Gyroscope X (deg/s)``
+    for wx, ``Time (s)``, ``timestamp`` or ``uptimeNanos`` for time, ``delay_ms`` for dt): for a message's suggested
+    fix, never used to read."""
+    bare = {n: bare_name(n) for n in names}
+    if key == "time":
+        return [n for n, b in bare.items() if b in ("t", "sec", "seconds") or "time" in b or b.endswith("nanos")]
+    if key == "dt":
+        return [n for n, b in bare.items() if b in ("dt", "deltat", "interval") or "delay" in b]
+    axis = key[1]
+    gyro = ("gyr", "rot", "rate", "angvel", "omega")
+    is_gyro = {n: any(w in b for w in gyro) or b in (f"w{axis}", f"g{axis}") for n, b in bare.items()}
+    if key in ACC_KEYS:
+        return [n for n, b in bare.items() if not is_gyro[n] and (b in (axis, f"a{axis}") or (
+            b.endswith(axis) and "acc" in b))]
+    return [n for n, b in bare.items() if is_gyro[n] and b.endswith(axis)]
+
+
+def guess_channel(key: str, names) -> str | None:
+    """The one column :func:`channel_candidates` finds for ``key``, or None when none or several do."""
+    found = channel_candidates(key, names)
+    return found[0] if len(found) == 1 else None

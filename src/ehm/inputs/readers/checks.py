@@ -232,7 +232,8 @@ MAX_RATE_MEDIAN_RADPS = 2.0
 MAX_RATE_P99_RADPS = 35.0
 
 
-def _assumed_words(origin: str, unit: str) -> str:
+def assumed_words(origin: str, unit: str) -> str:
+    """How a channel's unit was found, in words: ``in deg/s, as its name says``."""
     return {ASSUMED: f"in {unit}, as no unit is given", NAME: f"in {unit}, as its name says",
             FILE: f"in {unit}, as the file says", INFERRED: f"in {unit}, as its name and whole-number steps suggest",
             GIVEN: f"in {unit}, as given"}[origin]
@@ -257,7 +258,7 @@ def check_time_unit(src: Source, name: str, t: np.ndarray, unit: str, origin: st
             if MIN_STEP_S <= seconds * f <= MAX_STEP_S and u != unit}
     fix = min(fits, key=lambda u: abs(np.log(fits[u] / 0.01))) if fits else None  # nearest to a 100 Hz logger
     column = "dt column" if key == "dt" else "time column"
-    what = "the time stamps" if unit == "date-time" else f"the {column} is {_assumed_words(origin, unit)}"
+    what = "the time stamps" if unit == "date-time" else f"the {column} is {assumed_words(origin, unit)}"
     finding = f"the median time step is {step:.3g} s" + (
         f" and the log lasts {duration:.3g} s ({1 / step:.6g} Hz for {duration * 1e3:.3g} ms)" if too_fast else "")
     if fix and unit != "date-time":

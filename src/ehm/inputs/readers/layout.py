@@ -171,7 +171,8 @@ def held_note(label: str, keys, t: np.ndarray, starts: np.ndarray, share: float,
     return (f"{label}: {100 * share:.0f} % of the rows repeat the previous row's {', '.join(keys)} exactly (runs of "
             f"{run:g} rows at the median): a sensor of about {own:.4g} Hz held in a log written at {written:.4g} Hz; "
             f"the repeats are dropped, the first row of each run is kept with its time stamp ({starts.size} of "
-            f"{t.size} rows).")
+            f"{t.size} rows), so the figures are the sensor's own samples; nothing to do (--no-drop-held, "
+            "drop_held=False, keeps every row).")
 
 
 def irregular_steps(t: np.ndarray):

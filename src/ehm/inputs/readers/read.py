@@ -12,12 +12,26 @@ import numpy as np
 
 from ...errors import InputError
 from ...standards.comfort import BAND_WARNING_SHARE, band_share_outside
+from ..handling import check_handling, find_handling, handling_note
 from ..imu import from_imu
 from ..motion import SeatMotion
 from ..resampling import PASS_FRACTION
+from ..vocabulary import GYRO_UNIT
+from ..vocabulary import fix as fix_words
 from .base import Source, as_floats
-from .channels import ACC_KEYS, CHANNEL_KEYS, DEFAULT_CHANNELS, RATE_KEYS, listed_names, mapping_arg
+from .channels import (
+    ACC_KEYS,
+    ASSUMED,
+    CHANNEL_KEYS,
+    DEFAULT_CHANNELS,
+    RATE_KEYS,
+    channel_candidates,
+    guess_channel,
+    listed_names,
+    mapping_arg,
+)
 from .checks import (
+    assumed_words,
     check_finite,
     check_not_flag,
     check_plausible,
@@ -95,7 +109,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
                 imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False, *,
                 columns=None, gyro=None, start_s: float | None = None, end_s: float | None = None,
                 gravity: str = "auto", imu_options: dict | None = None, frame: str = "seat", drop_held: bool = True,
-                encoding: str | None = None) -> SeatMotion:
+                encoding: str | None = None, handling: str = "cut") -> SeatMotion:
     """Read a seat motion (or an IMU log) from a file or a pandas DataFrame.
 
     Parameters
@@ -178,6 +192,13 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         Text encoding of a text file (``"cp1252"`` for a Windows export; any name Python's codecs know).
         Default: from its byte-order mark (UTF-8, UTF-16, UTF-32), UTF-16 without one found by its zero bytes,
         else UTF-8; a file that does not decode is refused naming the option.
+    handling : {"cut", "keep"}
+        ``cut`` (default): a stretch at the start or end of a seat or floor log with gravity in it where the logger
+        was handled rather than carried by the vehicle (turned against gravity for a second or more, with
+        accelerations far above the drive's) is left out, with one note naming the seconds and why, and recorded in
+        :attr:`ehm.SeatMotion.handling`; never more than the first or last 20 % of the log, and never without a
+        sustained turn (a pothole is not cut).  ``keep`` (``--keep-handling``): every sample is kept.  See
+        :mod:`ehm.inputs.handling`.
 
     Returns
     -------
@@ -209,6 +230,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     imu, fill_gaps, drop_held = (_flag(v, name, option) for v, name, option in (
         (imu, "imu", "--imu"), (fill_gaps, "fill_gaps", "--fill-gaps"), (drop_held, "drop_held", "--no-drop-held")))
     gravity = check_mode(gravity)
+    handling = check_handling(handling)
     if frame not in FRAMES:
         raise InputError(f"frame must be one of {', '.join(FRAMES)}; got {frame!r}.")
     named = label or (str(source) if isinstance(source, (str, os.PathLike)) else "DataFrame")
@@ -224,7 +246,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         if gyro is not None:
             gsrc = _open(gyro, None if isinstance(gyro, (str, os.PathLike)) else "gyro DataFrame", columns, encoding)
         return _read(src, channels, units, rate_hz, imu, m, source, fill_gaps, gsrc, window, gravity,
-                     _imu_options(imu_options), frame, drop_held)
+                     _imu_options(imu_options), frame, drop_held, handling)
     finally:
         src.close()
         if gsrc is not None:
@@ -370,6 +392,7 @@ def _resolve(src: Source, channels: dict, imu: bool, rate_hz, part: str = "all")
                                  "give all three angular velocities or none.")
             wanted += list(RATE_KEYS)
     time_needed = not src.per_channel_time
+    rate_missing = False
     if names["dt"] is not None:
         if not time_needed:
             raise InputError(f"{src.label}: MDF channels carry their own time stamps; leave out the dt channel "
@@ -381,28 +404,76 @@ def _resolve(src: Source, channels: dict, imu: bool, rate_hz, part: str = "all")
     elif time_needed:
         if names["time"] is None or ("time" not in channels and rate_hz is not None and not present("time")):
             names["time"] = None
-            if rate_hz is None:
-                raise InputError(f"{src.label}: without a time channel the sample rate is needed (rate_hz, --rate).")
+            rate_missing = rate_hz is None
         else:
             wanted.insert(0, "time")
     elif "time" in channels and channels["time"] is not None:
         raise InputError(f"{src.label}: MDF channels carry their own time stamps; leave out the time channel "
                          f"({channels['time']!r}).")
     missing = [k for k in wanted if not present(k)]
+    if missing or rate_missing:
+        raise InputError(_missing_sentence(src, names, missing, rate_missing, channels))
+    return {k: names[k] for k in wanted}
+
+
+def _missing_sentence(src: Source, names: dict, missing: list, rate_missing: bool, channels: dict) -> str:
+    """One sentence for every channel the source lacks and a sample rate it needs, with the whole fix at once:
+    ``--channel KEY=NAME`` for each (its column guessed where one name fits, :func:`guess_channel`), ``--channel
+    time= --rate HZ`` for a source without time stamps (in the Python words, ``channels=``/``rate_hz=``, outside the
+    command line)."""
+    where = "file" if not isinstance(src, FrameSource) else "DataFrame"
+    found = []
     if missing:
         parts = [f"{k} ({names[k]!r})" for k in missing]
         what = parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
         verb = "is" if len(missing) == 1 else "are"
-        raise InputError(f"{src.label}: channel{'s' * (len(missing) > 1)} {what} {verb} not in the "
-                         f"{'file' if not isinstance(src, FrameSource) else 'DataFrame'}; its {src.kind} are "
-                         f"{listed_names(src.names)}.")
-    return {k: names[k] for k in wanted}
+        found.append(f"channel{'s' * (len(missing) > 1)} {what} {verb} not in the {where}; its {src.kind} are "
+                     f"{listed_names(src.names)}")
+    given = {}  # key -> name (None: no time column) of the fix
+    notes = []
+    if "time" in missing or rate_missing:
+        stamps = [] if rate_missing else channel_candidates("time", src.names)
+        steps = [] if stamps or rate_missing else channel_candidates("dt", src.names)
+        if stamps or steps:
+            key, names_found = ("time", stamps) if stamps else ("dt", steps)
+            given[key] = names_found[0] if len(names_found) == 1 else "NAME"
+            if len(names_found) > 1:
+                notes.append(f"NAME for {key}: one of {', '.join(names_found)}")
+            if key == "dt":
+                notes.append("dt: a column of the time since the previous row")
+        else:
+            given["time"] = None
+            notes.append("HZ: the logger's sample rate, as " + ("the file has no time column" if not rate_missing
+                                                                 else "there is no time channel"))
+    for k in missing:
+        if k != "time":
+            given[k] = guess_channel(k, src.names) or "NAME"
+            if given[k] == "NAME":
+                notes.append(f"NAME for {k}: one of its {src.kind}")
+    cli = " ".join(f"--channel {k}={'' if v is None else _quoted(v)}" + (" --rate HZ" if k == "time" and v is None
+                                                                          else "") for k, v in given.items())
+    kept = {k: v for k, v in channels.items() if k not in given}
+    merged = {**kept, **given}
+    python = "channels={" + ", ".join(f"{k!r}: {merged[k]!r}" for k in CHANNEL_KEYS if k in merged) + "}"
+    if given.get("time", "") is None:
+        python += ", rate_hz=HZ"
+    if any(v not in (None, "NAME") for v in given.values()):
+        notes.append("the columns guessed from their names: check them")
+    fix = f"read it with {fix_words(cli, python)}" + (f" ({'; '.join(notes)})" if notes else "")
+    return f"{src.label}: {'; '.join(found) + ': ' if found else ''}{fix}."
+
+
+def _quoted(name: str) -> str:
+    """A column name as a shell word (quoted when it holds blanks or shell characters)."""
+    import shlex
+
+    return shlex.quote(str(name))
 
 
 def _read(src: Source, channels: dict, units: dict, rate_hz, imu: bool, mounting, source,
           fill_gaps: bool = False, gsrc: Source | None = None, window=None,
           gravity: str = "auto", imu_options: dict | None = None, frame: str = "seat",
-          drop_held: bool = True) -> SeatMotion:
+          drop_held: bool = True, handling: str = "cut") -> SeatMotion:
     def has(key, name):
         return (gsrc if gsrc is not None and key in RATE_KEYS else src).has(name)
 
@@ -432,10 +503,13 @@ def _read(src: Source, channels: dict, units: dict, rate_hz, imu: bool, mounting
         where = f", line {src.header_line}" if isinstance(src, TextSource) and src.header_line else ""
         raise InputError(f"{src.label}{where}: motion file has {time_s.size} data row(s)"
                          f"{' after the header' if where else ''}; at least 2 are needed.")
-    description = _describe(src, source, time_s, gsrc, window)
-    irregular = irregular_steps(time_s)
     acc = _stack(data, ACC_KEYS)
     rates = _stack(data, RATE_KEYS) if all(k in data for k in RATE_KEYS) else None
+    stretches = ()
+    if handling == "cut" and not imu and frame == "seat" and gravity != "removed":
+        time_s, acc, rates, stretches = _cut_handling(src.label, time_s, acc, rates, window)
+    description = _describe(src, source, time_s, gsrc, window, stretches)
+    irregular = irregular_steps(time_s)
     if frame == "earth" and rates is not None:
         raise InputError(f"{src.label}: angular rates in earth axes are not the seat's own roll, pitch and yaw rates: "
                          "leave them out (--channel wx= --channel wy= --channel wz=; channels wx, wy, wz set to None).")
@@ -444,8 +518,13 @@ def _read(src: Source, channels: dict, units: dict, rate_hz, imu: bool, mounting
         acc = _frozen(acc @ mounting.T)
         rates = None if rates is None else _frozen(rates @ mounting.T)
     if imu:
-        motion = from_imu(time_s, acc, rates, mounting=mounting, description=f"IMU log {description}",
-                          label=src.label, **(imu_options or {}))
+        token = GYRO_UNIT.set(_gyro_unit_words(gsrc or src, use if gsrc is None else guse, units, taken)
+                              if rates is not None else None)
+        try:
+            motion = from_imu(time_s, acc, rates, mounting=mounting, description=f"IMU log {description}",
+                              label=src.label, **(imu_options or {}))
+        finally:
+            GYRO_UNIT.reset(token)
     else:
         acc, rates, levelled = handle_gravity(time_s, acc, rates, gravity, src.label,  # ehm.inputs.readers.gravity
                                               earth=frame == "earth")
@@ -456,7 +535,8 @@ def _read(src: Source, channels: dict, units: dict, rate_hz, imu: bool, mounting
                         "heading to turn them: the seat's a_v, VDV and MSDV do not depend on it and are right, but "
                         "its x and y values and the body's response do, and are given for x east and y north (a log "
                         "in the vehicle's axes gives them).", 2)
-        motion = SeatMotion(time_s, acc, description, rates)  # takes the read-only arrays as they are
+        motion = SeatMotion(time_s, acc, description, rates,  # takes the read-only arrays as they are
+                            handling=tuple(h.as_dict() for h in stretches))
     if irregular is not None:
         step, spread = irregular
         to = f"{rate_hz:g} Hz (rate_hz)" if rate_hz is not None else \
@@ -618,13 +698,38 @@ def _frozen(a: np.ndarray) -> np.ndarray:
     return a
 
 
-def _describe(src: Source, source, time_s: np.ndarray, gsrc=None, window=None) -> str:
+def _gyro_unit_words(src: Source, use: dict, units: dict, taken: dict) -> str | None:
+    """How the gyro's unit was found, for the IMU route's messages ("in deg/s, as their names say")."""
+    if "wx" not in use:
+        return None
+    unit = channel_unit(src, "wx", use["wx"], units)[0]
+    return assumed_words(taken.get("wx", ASSUMED), unit or "rad/s")
+
+
+def _cut_handling(label: str, time_s: np.ndarray, acc: np.ndarray, rates, window):
+    """The log without a handled start and end (:func:`ehm.inputs.handling.find_handling`), with one note naming
+    the cut; its time axis starts at 0 again."""
+    offset = float(window[0] or 0.0) if window is not None else 0.0
+    i0, i1, stretches = find_handling(time_s, acc, offset_s=offset)
+    if not stretches:
+        return time_s, acc, rates, ()
+    reader_note(handling_note(label, stretches), 3)
+    time_s = _frozen(time_s[i0:i1] - time_s[i0])
+    acc = _frozen(acc[i0:i1].copy())
+    rates = None if rates is None else _frozen(rates[i0:i1].copy())
+    return time_s, acc, rates, stretches
+
+
+def _describe(src: Source, source, time_s: np.ndarray, gsrc=None, window=None, stretches=()) -> str:
     base = os.path.basename(str(source)) if not isinstance(src, FrameSource) else src.label
     if gsrc is not None:
         base += f" with the gyro of {os.path.basename(gsrc.label)}"
     if window is not None:
         start, end = window
         base += f" (cut from {start or 0:g} s" + (f" to {end:g} s)" if end is not None else " to the end)")
+    if stretches:
+        cuts = " and ".join(f"{h.where} {h.start_s:.1f}-{h.end_s:.1f} s" for h in stretches)
+        base += f" (handled {cuts} left out)"
     description = f"from {base}, {time_s.size} samples, {float(time_s[-1] - time_s[0]):g} s"
     if src.first_comment:  # a file's first comment line describes it (e.g. "SYNTHETIC city drive ...")
         description = f"{src.first_comment} ({description})"

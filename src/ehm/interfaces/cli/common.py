@@ -89,7 +89,13 @@ def checked_band(values) -> tuple[float, float]:
 def read_motion_file(args):
     """The --motion file (or a shipped SYNTHETIC drive) through ehm.inputs.readers.read_motion."""
     from ...inputs.readers import mounting_rotation, parse_assignments, read_motion
+    from ...inputs.vocabulary import command_line
 
+    with command_line():  # messages name the options (--rate), not the Python arguments (rate_hz=)
+        return _read_motion_file(args, read_motion, parse_assignments, mounting_rotation)
+
+
+def _read_motion_file(args, read_motion, parse_assignments, mounting_rotation):
     return read_motion(drive_path(args.motion), channels=parse_assignments(args.channel, "--channel"),
                        units=parse_assignments(args.unit, "--unit"), rate_hz=args.rate, imu=args.imu,
                        fill_gaps=args.fill_gaps, columns=args.columns, gyro=args.gyro,
@@ -97,7 +103,8 @@ def read_motion_file(args):
                        start_s=args.start, end_s=args.end, gravity=getattr(args, "gravity", "auto"),
                        imu_options={"rest_s": args.rest, "max_tilt_deg": args.max_tilt},
                        frame=getattr(args, "frame", "seat"), drop_held=getattr(args, "drop_held", True),
-                       encoding=getattr(args, "encoding", None))
+                       encoding=getattr(args, "encoding", None),
+                       handling="keep" if getattr(args, "keep_handling", False) else "cut")
 
 
 def input_files(args) -> list[str]:

@@ -59,7 +59,7 @@ def excitation_options(p: argparse.ArgumentParser, duration: float) -> None:
 
 def motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: str) -> None:
     """--motion FILE and how to read it: --channel, --unit (both repeatable), --encoding, --columns, --gyro,
-    --mounting, --start, --end, --imu, --drop-held, --fill-gaps, --rate."""
+    --mounting, --start, --end, --keep-handling, --imu, --drop-held, --fill-gaps, --rate."""
     p.add_argument("--motion", required=required, metavar="FILE", help=help_text)
     p.add_argument("--channel", action="append", metavar="KEY=NAME",
                    help="the file's name for a channel (KEY: time, ax, ay, az, wx, wy, wz, dt; repeat; --channel time= "
@@ -91,6 +91,10 @@ def motion_file_options(p: argparse.ArgumentParser, required: bool, help_text: s
                    help="read the log from S seconds after its first sample (cut before any check: e.g. a phone "
                         "being put in place)")
     p.add_argument("--end", type=float, metavar="S", help="read the log up to S seconds after its first sample")
+    p.add_argument("--keep-handling", action="store_true",
+                   help="keep a handled start and end (by default, in a log with gravity that is not --imu or "
+                        "--frame earth, the first or last seconds where the logger is turned against gravity by a "
+                        "hand, at most 20 %% of the log at either end, are left out with a note)")
     p.add_argument("--imu", action="store_true",
                    help="the file is an IMU at the seat: ax, ay, az its specific force (gravity included), wx, wy, wz "
                         "its gyro rates (--channel wx= --channel wy= --channel wz= for an accelerometer-only log); "

@@ -374,6 +374,8 @@ def _print_assessment(result, summary: dict, out: Path) -> None:
         print(f"  {name:<7} a_v {v['total_value_mps2']:.3f} m/s^2 ({v['comfort_reaction']}), "
               f"a_w x/y/z {ax['x']['a_w_mps2']:.4f}/{ax['y']['a_w_mps2']:.4f}/{ax['z']['a_w_mps2']:.4f} m/s^2, "
               f"VDV_z {ax['z']['vdv_mps175']:.3f} m/s^1.75, MSDV_z {v['msdv_z_mps15']:.3f} m/s^1.5")
+    if summary.get("handling_cut"):
+        print(f"  handled logger: {summary['handling_cut']['note']}")
     if summary.get("route"):
         print(f"  {summary['route']['summary_line']}")
     print(f"  motion sickness incidence at the end: head {summary['sickness']['head']['final_msi_percent']:.2f} %, "

@@ -488,7 +488,8 @@ def lumbar_response(seat_az_mps2, fs_hz: float, remove_mean: bool = True) -> Lum
     if fs / 2.0 < _TIGHT_BAND_HZ:
         warnings.warn(f"a record sampled at {fs:g} Hz holds nothing above {fs / 2:g} Hz; ISO 2631-5's transfer "
                       f"function reaches to 80 Hz (0.33 at 40 Hz), so the lumbar response misses what the seat did "
-                      f"above {fs / 2:g} Hz.", EhmWarning, stacklevel=2)
+                      f"above {fs / 2:g} Hz and the dose (D, S_d, R) may be low by that part; a log at 160 Hz or "
+                      "faster holds it.", EhmWarning, stacklevel=2)
     if remove_mean:
         x = x - np.mean(x)
     factor = math.ceil(FILTER_MIN_RATE_HZ / fs - 1e-9)
