@@ -187,3 +187,19 @@ def test_bad_segment_file_one_sentence(tmp_path, capsys, column, value, expected
     err = _error_line(capsys)
     assert "segments_bad.csv" in err and re.search(expected, err), err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["simulate", "--motion", "", "--duration", "1"], "--motion"),  # issue 38: simulated the generated vibration
+    (["assess", "--motion", " "], "--motion"),
+    (["simulate", "--params", "", "--duration", "1"], "--params"),
+    (["frf", "--motion", "", "--method", "time"], "--motion"),
+])
+def test_an_empty_path_option_is_refused(tmp_path, capsys, argv, option):
+    out = tmp_path / "run"
+    assert main([*argv, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"ehm: error: {option} is empty (") and "unset shell variable" in err, err
+    assert err.count("\n") == 1 and not out.exists()
+    assert main(["simulate", "--duration", "1", "--out", ""]) == 2
+    assert "--out is empty ('': an unset shell variable?); give where to write" in capsys.readouterr().err

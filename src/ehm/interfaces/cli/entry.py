@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from ...errors import EhmError, EhmWarning
+from .common import check_empty_paths
 from .parser import build_parser
 from .progress import end_progress_line
 
@@ -68,6 +69,7 @@ def main(argv: list[str] | None = None) -> int:
         previous = signal.signal(signal.SIGTERM, _on_sigterm)
     set_command(shlex.join(["ehm", *(sys.argv[1:] if argv is None else argv)]))
     try:
+        check_empty_paths(args)
         return args.func(args)
     except (EhmError, MemoryError, OSError, KeyboardInterrupt) as exc:
         end_progress_line()
