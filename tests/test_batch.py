@@ -318,3 +318,40 @@ def test_a_comfort_study_on_the_hybrid_route_records_its_linear_share(tmp_path):
     assert res["ran"] == 1 and res["failed"] == 0
     rows = {r["output"]: r["value"] for r in pq.read_table(tmp_path / "res" / "results.parquet").to_pylist()}
     assert 0 < rows["route.linear_share"] <= 1 and rows["head.a_v_mps2"] > 0
+
+
+def test_a_second_study_into_a_folder_in_use_is_refused(tmp_path, capsys):
+    # issue 38: two studies started into one folder at once both exited 0; the second's table replaced the first's
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import ehm
+
+    path = tmp_path / "study.toml"
+    path.write_text(STUDY.replace(", -1.0", ""))
+    code = ("import sys, time; from ehm.outputs.outdir import folder_lock\n"
+            "with folder_lock(sys.argv[1]):\n    print('held', flush=True); time.sleep(60)\n")
+    env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1])}
+    first = subprocess.Popen([sys.executable, "-c", code, str(tmp_path / "r")], stdout=subprocess.PIPE, text=True,
+                             env=env)
+    try:
+        assert first.stdout.readline().strip() == "held"  # the first study holds the folder
+        assert main(["batch", str(path), "--out", str(tmp_path / "r"), "--workers", "1"]) == 2
+    finally:
+        first.kill()
+        first.wait()
+        first.stdout.close()
+    err = capsys.readouterr().err
+    assert err.startswith(f"ehm: error: {tmp_path / 'r'} is being written by another ehm command (process "
+                          f"{first.pid} on ") and "give another folder (--out" in err and err.count("\n") == 1, err
+    with pytest.raises(InputError, match="is being written by another ehm command"):  # the Python API too
+        first = subprocess.Popen([sys.executable, "-c", code, str(tmp_path / "r")], stdout=subprocess.PIPE,
+                                 text=True, env=env)
+        try:
+            assert first.stdout.readline().strip() == "held"
+            run_study(load_study(path)[1], tmp_path / "r", workers=1)
+        finally:
+            first.kill()
+            first.wait()
+            first.stdout.close()
