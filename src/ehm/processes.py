@@ -31,20 +31,28 @@ def environ_default(values: dict):
             os.environ.pop(k, None)
 
 
+#: The terminal's signals, which it sends to the whole process group: Ctrl-C (SIGINT) and a closed terminal
+#: (SIGHUP, where the system has it).  Worker processes ignore them: ehm's own process answers them and ends its
+#: workers (a worker dying on its own left the pool's resource tracker printing tracebacks).
+TERMINAL_SIGNALS = (signal.SIGINT,) + ((signal.SIGHUP,) if hasattr(signal, "SIGHUP") else ())
+
+
 @contextlib.contextmanager
 def sigint_ignored():
-    """SIGINT (Ctrl-C) ignored while inside; processes started inside keep ignoring it.  Outside the main
-    thread (where signal handlers cannot be set) this does nothing."""
+    """SIGINT (Ctrl-C) and SIGHUP (:data:`TERMINAL_SIGNALS`) ignored while inside; processes started inside keep
+    ignoring them.  Outside the main thread (where signal handlers cannot be set) this does nothing."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    previous = {s: signal.signal(s, signal.SIG_IGN) for s in TERMINAL_SIGNALS}
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
+        for s, handler in previous.items():
+            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
 
 
 def ignore_sigint() -> None:
-    """Ignore SIGINT in this process (a worker's initialiser: ehm's own process answers Ctrl-C)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    """Ignore SIGINT and SIGHUP in this process (a worker's initialiser: ehm's own process answers them)."""
+    for s in TERMINAL_SIGNALS:
+        signal.signal(s, signal.SIG_IGN)

@@ -358,14 +358,14 @@ def check_file_destination(out: Path | str, suffix: str, kind: str) -> Path:
 
 @contextlib.contextmanager
 def signals_held():
-    """Hold SIGINT and SIGTERM back while inside: they are noted and handled on leaving (by the handlers that
+    """Hold SIGINT, SIGTERM and SIGHUP back while inside: they are noted and handled on leaving (by the handlers that
     were in place), so that what happens inside is not cut short.  Only the main thread handles signals; in
     other threads this does nothing."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     pending: list[int] = []
-    held = (signal.SIGINT, signal.SIGTERM)
+    held = (signal.SIGINT, signal.SIGTERM) + ((signal.SIGHUP,) if hasattr(signal, "SIGHUP") else ())
     previous = {s: signal.signal(s, lambda signum, frame: pending.append(signum)) for s in held}
     try:
         yield
@@ -499,9 +499,11 @@ class RunFolder:
             self.staging = Path(tempfile.mkdtemp(prefix=_STAGING.format(name=self.target.name, pid=os.getpid()),
                                                  dir=parent))
             _write_manifest(self.staging, self.what, "staging")
-        except OSError as exc:
+        except BaseException as exc:  # also Ctrl-C, SIGTERM or SIGHUP meanwhile: no __exit__ would remove it
             self._discard()
             self._remove_made()
+            if not isinstance(exc, OSError):
+                raise
             raise InputError(f"{self.target}: cannot create the {self.what} folder ({exc.strerror or exc}).") from None
         return self.staging
 
