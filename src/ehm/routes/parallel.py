@@ -95,7 +95,7 @@ from ..errors import InputError
 from ..inputs.motion import SeatMotion, require_motion
 from ..inputs.resampling import Resampler
 from ..outputs.results import RunResult, concatenate_runs
-from ..processes import ONE_THREAD, environ_default, ignore_sigint, sigint_ignored
+from ..processes import ONE_THREAD, capped_workers, environ_default, ignore_sigint, sigint_ignored
 from .built import BuiltPerson, built_of
 from .nonlinear import stream as stream_nonlinear
 from .nonlinear import stream_span
@@ -280,7 +280,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     if pose_rate_hz:
         every = max(1, int(round(1.0 / (pose_rate_hz * dt))))
         per_chunk = max(every, per_chunk // every * every)
-    n_workers = int(workers)
+    n_workers = workers = int(workers) if client is not None else capped_workers(int(workers))
     if client is not None:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
     n_seg = max(n_workers, math.ceil(motion.duration_s / segment_s) if segment_s else 1)

@@ -144,7 +144,8 @@ def add_batch(sub) -> None:
     p.add_argument("--out", required=True, metavar="DIR",
                    help="results folder (results.parquet; added to, so a study can resume)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (default: local)")
-    p.add_argument("--workers", type=int, help="local worker processes (default: the number of cores)")
+    p.add_argument("--workers", type=int, help="local worker processes (default and at most: what the machine "
+                                                    "holds, its cores and its memory at about 0.4 GB per worker)")
     p.add_argument("--csv", action="store_true", help="also write results.csv")
     p.add_argument("--retry-failed", action="store_true",
                    help="when resuming, run the recorded failures again too (lost workers are always retried)")
