@@ -318,3 +318,94 @@ def test_a_comfort_study_on_the_hybrid_route_records_its_linear_share(tmp_path):
     assert res["ran"] == 1 and res["failed"] == 0
     rows = {r["output"]: r["value"] for r in pq.read_table(tmp_path / "res" / "results.parquet").to_pylist()}
     assert 0 < rows["route.linear_share"] <= 1 and rows["head.a_v_mps2"] > 0
+
+
+def test_a_second_study_into_a_folder_in_use_is_refused(tmp_path, capsys):
+    # issue 38: two studies started into one folder at once both exited 0; the second's table replaced the first's
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import ehm
+
+    path = tmp_path / "study.toml"
+    path.write_text(STUDY.replace(", -1.0", ""))
+    code = ("import sys, time; from ehm.outputs.outdir import folder_lock\n"
+            "with folder_lock(sys.argv[1]):\n    print('held', flush=True); time.sleep(60)\n")
+    env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1])}
+    first = subprocess.Popen([sys.executable, "-c", code, str(tmp_path / "r")], stdout=subprocess.PIPE, text=True,
+                             env=env)
+    try:
+        assert first.stdout.readline().strip() == "held"  # the first study holds the folder
+        assert main(["batch", str(path), "--out", str(tmp_path / "r"), "--workers", "1"]) == 2
+    finally:
+        first.kill()
+        first.wait()
+        first.stdout.close()
+    err = capsys.readouterr().err
+    assert err.startswith(f"ehm: error: {tmp_path / 'r'} is being written by another ehm command (process "
+                          f"{first.pid} on ") and "give another folder (--out" in err and err.count("\n") == 1, err
+    with pytest.raises(InputError, match="is being written by another ehm command"):  # the Python API too
+        first = subprocess.Popen([sys.executable, "-c", code, str(tmp_path / "r")], stdout=subprocess.PIPE,
+                                 text=True, env=env)
+        try:
+            assert first.stdout.readline().strip() == "held"
+            run_study(load_study(path)[1], tmp_path / "r", workers=1)
+        finally:
+            first.kill()
+            first.wait()
+            first.stdout.close()
+
+
+def test_sigterm_to_ehm_alone_ends_a_batch_with_its_cluster(tmp_path):
+    # issue 38: SIGTERM to the main process was ignored whenever a Dask cluster ran.  Sent to ehm alone (a service
+    # manager, kill PID): exit 143, one line, no process of its session left, no lock or hidden folder.
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    import ehm
+
+    if not Path("/proc/self/stat").exists():
+        pytest.skip("reads the processes from /proc (Linux)")
+
+    def session(sid):
+        out = []
+        for stat in Path("/proc").glob("[0-9]*/stat"):
+            try:
+                text = stat.read_text()
+            except OSError:
+                continue
+            fields = text[text.rindex(")") + 2:].split()
+            if int(fields[3]) == sid and fields[0] != "Z":
+                out.append(int(stat.parent.name))
+        return out
+
+    study = tmp_path / "study.toml"
+    study.write_text('[study]\ncompute = ["comfort"]\n[grid]\n"joints.t12.z.stiffness_N_per_m" = [14000.0, 16000.0]\n'
+                     '[input]\ndrive = "random"\naxes = ["z"]\nduration_s = 600.0\nroute = "nonlinear"\n')
+    env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1]), "PYTHONUNBUFFERED": "1"}
+    proc = subprocess.Popen([sys.executable, "-m", "ehm.interfaces.cli", "batch", str(study), "--out",
+                             str(tmp_path / "res"), "--workers", "2"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
+    try:
+        assert proc.stdout.readline().startswith("study ")
+        end = time.monotonic() + 60
+        while len(session(proc.pid)) < 4 and time.monotonic() < end:  # ehm, the tracker and two workers
+            time.sleep(0.2)
+        time.sleep(2.0)
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
+    end = time.monotonic() + 10
+    while session(proc.pid) and time.monotonic() < end:
+        time.sleep(0.2)
+    assert proc.returncode == 143 and err.strip().splitlines()[-1] == "ehm: terminated", err
+    assert "Traceback" not in err
+    assert not session(proc.pid)
+    assert not [p.name for p in tmp_path.iterdir() if p.name.startswith(".")]

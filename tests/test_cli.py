@@ -187,3 +187,101 @@ def test_bad_segment_file_one_sentence(tmp_path, capsys, column, value, expected
     err = _error_line(capsys)
     assert "segments_bad.csv" in err and re.search(expected, err), err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["simulate", "--motion", "", "--duration", "1"], "--motion"),  # issue 38: simulated the generated vibration
+    (["assess", "--motion", " "], "--motion"),
+    (["simulate", "--params", "", "--duration", "1"], "--params"),
+    (["frf", "--motion", "", "--method", "time"], "--motion"),
+])
+def test_an_empty_path_option_is_refused(tmp_path, capsys, argv, option):
+    out = tmp_path / "run"
+    assert main([*argv, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"ehm: error: {option} is empty (") and "unset shell variable" in err, err
+    assert err.count("\n") == 1 and not out.exists()
+    assert main(["simulate", "--duration", "1", "--out", ""]) == 2
+    assert "--out is empty ('': an unset shell variable?); give where to write" in capsys.readouterr().err
+
+
+def _session(sid: int) -> list[int]:
+    """The live processes of the session ``sid`` (Linux /proc): a command's own and every child it started."""
+    out = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            text = stat.read_text()
+        except OSError:
+            continue
+        fields = text[text.rindex(")") + 2:].split()
+        if int(fields[3]) == sid and fields[0] != "Z":
+            out.append(int(stat.parent.name))
+    return out
+
+
+def signalled(argv: list[str], folder: Path, sig, group: bool, processes: int = 1, timeout_s: float = 60.0):
+    """Run ``ehm argv`` in a session of its own, send it ``sig`` (to its whole group with ``group``: a closed
+    terminal or Ctrl-C) once it has ``processes`` processes (more than one: its workers, running) or else a staging
+    folder in ``folder``; returns its exit code and stderr after checking that nothing is left: no process of its
+    session, no hidden folder or lock file."""
+    import os
+    import signal  # noqa: F401
+    import subprocess
+    import sys
+    import time
+
+    import ehm
+
+    env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1]), "MPLBACKEND": "Agg"}
+    proc = subprocess.Popen([sys.executable, "-m", "ehm.interfaces.cli", *argv], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
+    try:
+        end = time.monotonic() + timeout_s
+        while time.monotonic() < end and proc.poll() is None and not (
+                len(_session(proc.pid)) >= processes if processes > 1
+                else any(p.name.startswith(".") for p in folder.iterdir())):
+            time.sleep(0.1)
+        time.sleep(1.0 if processes > 1 else 0.0)  # the workers at work
+        assert proc.poll() is None, proc.communicate()[1]
+        (os.killpg if group else os.kill)(proc.pid, sig)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, 9)
+            proc.communicate()
+    end = time.monotonic() + 10.0
+    while _session(proc.pid) and time.monotonic() < end:
+        time.sleep(0.1)
+    assert not _session(proc.pid), "processes left"
+    assert not [p.name for p in folder.iterdir() if p.name.startswith(".")], "hidden staging or lock left"
+    return proc.returncode, err
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads the processes from /proc (Linux)")
+@pytest.mark.parametrize("sig, group, code, words", [
+    ("SIGHUP", False, 129, "ehm: hung up (SIGHUP: its terminal closed)"),  # issue 38: ended silently, 35 MB left
+    ("SIGTERM", False, 143, "ehm: terminated"),
+])
+def test_simulate_ends_on_sighup_and_sigterm_leaving_nothing(tmp_path, sig, group, code, words):
+    import signal
+
+    rc, err = signalled(["simulate", "--duration", "600", "--out", str(tmp_path / "run"), "-q"], tmp_path,
+                        getattr(signal, sig), group)
+    assert rc == code and err.strip().splitlines()[-1] == words, err
+    assert "Traceback" not in err and not (tmp_path / "run").exists()
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads the processes from /proc (Linux)")
+def test_assess_with_workers_ends_on_a_closed_terminal_with_its_workers(tmp_path):
+    # The terminal's SIGHUP goes to the whole group: ehm ends its workers, which ignore it (as they do Ctrl-C).
+    import signal
+
+    drive = tmp_path / "drive.csv"  # SYNTHETIC: 300 s of random seat vibration at 100 Hz
+    t = np.arange(30000) / 100.0
+    acc = 0.3 * np.random.default_rng(0).standard_normal((t.size, 3))
+    np.savetxt(drive, np.column_stack([t, acc]), delimiter=",", header="time_s,ax_mps2,ay_mps2,az_mps2",
+               comments="", fmt="%.5f")
+    rc, err = signalled(["assess", "--motion", str(drive), "--method", "nonlinear", "--workers", "2", "--out",
+                         str(tmp_path / "a"), "-q"], tmp_path, signal.SIGHUP, True, processes=3)
+    assert rc == 129 and err.strip().splitlines()[-1] == "ehm: hung up (SIGHUP: its terminal closed)", err
+    assert "Traceback" not in err

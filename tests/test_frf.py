@@ -1,5 +1,6 @@
 """FRF tables as files and as values: the person recorded, ehm's own tables told from measured ones, the peaks,
-a short repr, and what ``ehm frf`` and ``ehm plot-frf`` say (issue 38, item 4)."""
+a short repr, and what ``ehm frf`` and ``ehm plot-frf`` say (issue 38, item 4); what the transfer-function
+functions refuse (issue 38, item 5)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import pytest
 
 import ehm
 from ehm.analysis.frf import FrfTable, read_frf, read_frf_csv
+from ehm.errors import InputError
 from ehm.interfaces.cli import main
 from ehm.standards.transfer import Curve
 
@@ -98,3 +100,21 @@ def test_plot_frf_marks_paths_without_a_response(slouched, tmp_path, capsys):
     assert main(["plot-frf", str(tmp_path / "f.csv"), "--out", str(tmp_path / "g.png")]) == 0
     out = capsys.readouterr().out
     assert "12 paths without a response" in out and "12 under seat z" in out and (tmp_path / "g.png").is_file()
+
+
+@pytest.mark.parametrize("freq, bad", [([-1.0, 0.0, 1.0], "-1 Hz"), ([0.0, 1.0], "0 Hz"), (0.0, "0 Hz")])
+def test_linear_frf_refuses_frequencies_at_or_below_zero(human, freq, bad):
+    # issue 38: linear_frf(freq_hz=[-1, 0, 1]) returned gains at -1 and 0 Hz
+    with pytest.raises(InputError, match=f"freq_hz holds {bad}: a frequency response needs frequencies above 0 Hz"):
+        ehm.linear_frf(human, "z", freq_hz=freq)
+
+
+def test_linear_frf_takes_one_positive_frequency(human):
+    table = ehm.linear_frf(human, "z", freq_hz=5.0)
+    assert table.curve("z", "head", "z").freq_hz.tolist() == [5.0]
+
+
+@pytest.mark.parametrize("band", [(0.0, 12.0), (-1.0, 12.0), (12.0, 1.0), (1.0,)])
+def test_time_domain_frf_refuses_a_band_at_or_below_zero(human, band):
+    with pytest.raises(InputError, match="band_hz"):
+        ehm.time_domain_frf(human, "z", duration_s=10.0, band_hz=band)

@@ -148,6 +148,54 @@ def test_stable_with_the_default_delay_and_a_delay_margin(on):
     assert _closed_discrete(on, 0.4).real.max() > 0
 
 
+def test_the_default_persons_delay_margin_is_the_documented_one(on):
+    # docs/model.md: "a 1.36 Hz mode turns unstable at 0.32 s: a delay margin of 0.3 s" (the exact delay line); the
+    # check's Pade delay held over the step finds it within a step of the scan's 5 ms (measured 0.31 s, 1.38 Hz).
+    from ehm.engine import control_linear
+
+    lm = engine.linearize(on.model)
+    margin, rates = control_linear.delay_margin(on.model, lm)
+    assert 0.29 < margin < 0.32, margin
+    grows = rates[np.argmax(rates.real)]
+    assert 1.2 < abs(grows.imag) / (2 * np.pi) < 1.5
+
+
+@pytest.mark.parametrize("gains, words", [
+    # issue 38: 0.35 s ran on in an 11 deg rms head-roll limit cycle, 1 s in a growing one
+    ({"delay_s": 0.35}, ("head_control.delay_s = 0.35 s leaves no stability margin", "up to a delay of about 0.31 s",
+                         "Hz mode grows", "--head-control-gains")),
+    ({"delay_s": 0.04, "tilt_stiffness_Nm_per_rad": 40, "tilt_damping_Nms_per_rad": 4},  # docs/model.md: 10 Hz mode
+     ("0.04 s leaves no stability margin", "about 0.02 s")),
+    ({"tilt_stiffness_Nm_per_rad": 2000}, ("unstable on this person even at the shortest delay", "lower the gains")),
+])
+def test_a_control_without_stability_margin_is_refused_naming_the_margin(gains, words):
+    human = ehm.SeatedHuman(head_control=gains)
+    for _ in range(2):  # refused, and stays refused (the person is left unsettled)
+        with pytest.raises(InputError) as exc:
+            human.simulate(ehm.random_vibration("y", 1.0, 0.3))
+        msg = str(exc.value)
+        assert "\n" not in msg and msg.endswith(")."), msg
+        for w in words:
+            assert w in msg, (w, msg)
+
+
+def test_a_delay_beyond_any_margin_is_refused_before_building():
+    # issue 38: 1e7 s overflowed an integer inside MuJoCo; 1 s was accepted and made the run 100 times slower
+    for delay in (1e7, 1.5):
+        with pytest.raises(InputError, match=r"beyond any stability margin .* longest delay taken is 1 s"):
+            ehm.SeatedHuman(head_control={"delay_s": delay})
+
+
+def test_cli_refuses_a_delay_without_margin(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["simulate", "--head-control-gains", "delay_s=0.35", "--axis", "y", "--duration", "1",
+                 "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("ehm: error: head_control.delay_s = 0.35 s leaves no stability margin") and \
+        err.count("\n") == 1, err
+    assert not out.exists() and not [p for p in tmp_path.iterdir() if p.name.startswith(".ehm")]
+
+
 def test_check_step_holds_with_control():
     # "ehm check-step still within 2 % with control on": the delay converges with the step (the mean of the two oldest
     # torques; the oldest alone measured 2.4 % on seat z -> head pitch).  Measured worst 0.78 % (0.77 % without).

@@ -602,3 +602,40 @@ def test_a_study_folder_of_an_earlier_ehm_says_it_cannot_be_resumed_and_what_to_
     (tmp_path / "mine" / "runs" / "a.json").write_text('{"my": "notes"}')
     assert main(["batch", str(study), "--out", str(tmp_path / "mine"), "--workers", "1"]) == 2
     assert "holds runs, which ehm did not write" in _one_error_line(capsys.readouterr().err)
+
+
+def _hold_lock(folder, tmp_path):
+    """A subprocess that holds ``folder_lock(folder)`` until killed (started once it holds it)."""
+    import subprocess
+    import sys
+
+    import ehm
+
+    code = ("import sys, time; from ehm.outputs.outdir import folder_lock\n"
+            "with folder_lock(sys.argv[1]):\n    print('held', flush=True); time.sleep(60)\n")
+    env = {**os.environ, "PYTHONPATH": str(Path(ehm.__file__).parents[1])}
+    proc = subprocess.Popen([sys.executable, "-c", code, str(folder)], stdout=subprocess.PIPE, text=True, env=env)
+    assert proc.stdout.readline().strip() == "held"
+    return proc
+
+
+def test_a_folder_held_by_another_process_is_refused_and_a_dead_holders_lock_is_taken_over(tmp_path):
+    # issue 38: two 'ehm batch' studies into one folder both exited 0, the second's table replacing the first's
+    import signal
+
+    from ehm.outputs.outdir import folder_lock
+
+    folder = tmp_path / "study"
+    proc = _hold_lock(folder, tmp_path)
+    try:
+        with pytest.raises(InputError, match=rf"study is being written by another ehm command \(process {proc.pid} "):
+            with folder_lock(folder):
+                pass
+    finally:
+        proc.send_signal(signal.SIGKILL)  # dies holding it: its lock file stays, its lock goes with it
+        proc.wait()
+        proc.stdout.close()
+    assert (tmp_path / ".study.ehm-lock").exists()
+    with folder_lock(folder), folder_lock(folder):  # a stale lock is no lock; one process may nest
+        assert str(os.getpid()) in (tmp_path / ".study.ehm-lock").read_text()
+    assert not (tmp_path / ".study.ehm-lock").exists()  # removed on leaving

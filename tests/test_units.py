@@ -302,6 +302,21 @@ def test_a_short_hand_written_table_may_step_slowly(tmp_path):
         read_motion(path)
 
 
+def test_a_logged_table_named_in_seconds_holding_milliseconds_is_refused_naming_ms(tmp_path):
+    # SYNTHETIC: issue 38: a 301-row table whose time_s column holds milliseconds (a 100 Hz log) ran as a 3000 s drive
+    # and wrote 509 MB; a hand table steps slowly in a few rows, a logger's 301 rows are no hand table
+    path = tmp_path / "ms.csv"
+    t = np.arange(301) * 10.0
+    acc = 0.3 * np.random.default_rng(0).standard_normal((t.size, 3))
+    np.savetxt(path, np.column_stack([t, acc]), delimiter=",", header="time_s,ax_mps2,ay_mps2,az_mps2", comments="")
+    with pytest.raises(InputError) as exc:
+        read_motion(path)
+    assert one_sentence(exc) == (f"{path}, column time_s: the median time step is 10 s if the time column is in s, as "
+                                 "its name says; give its unit, e.g. --unit time=ms (units={'time': 'ms'}), which "
+                                 "makes it 0.01 s.")
+    assert read_motion(path, units={"time": "ms"}).duration_s == pytest.approx(3.0)
+
+
 def test_a_log_in_g_read_as_m_s2_is_refused_warned_or_taken(tmp_path):
     # SYNTHETIC IMU in g with gravity (z about 1), under names without a unit
     t, acc, _ = synthetic(gravity=True)

@@ -366,3 +366,19 @@ def test_cli_refuses_a_folder_holding_the_users_files(tmp_path, capsys):
     assert main(["validate", "--out", str(out), "--no-locking"]) == 2
     assert "notes.txt, which ehm did not write" in _error_line(capsys)
     assert [p.name for p in out.iterdir()] == ["notes.txt"] and (out / "notes.txt").read_text() == "my notes"
+
+
+def test_validate_honours_the_head_control_options(default_validation, capsys):
+    # issue 38: 'ehm validate --head-control' and '--head-control-gains' were accepted and ignored (16 of 16 passed;
+    # the same person with the control on in a parameter file failed 2).  Measured: with the control the head's
+    # vertical peak gain goes from 1.96 to 2.23 (erect, no back support); stiffer gains move it again.
+    import ehm
+    from ehm.interfaces.cli import main
+
+    name, cond = "head_vertical_peak_gain", "erect, back support none"
+    base = default_validation[0].check(name, cond).value
+    on = validate(ehm.Person(head_control=True), locking=False).check(name, cond).value
+    stiff = validate(ehm.Person(head_control={"tilt_stiffness_Nm_per_rad": 60.0}), locking=False).check(name, cond)
+    assert on > base + 0.1 and abs(stiff.value - on) > 0.01, (base, on, stiff.value)
+    assert main(["validate", "--no-locking", "-q", "--head-control"]) == 1  # the command line too: 2 checks fail
+    assert name in capsys.readouterr().err

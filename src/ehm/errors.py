@@ -77,13 +77,18 @@ def positive_number(func: str, name: str, value: object) -> float:
     return result
 
 
-def frequencies_hz(values: object, name: str = "freq_hz") -> np.ndarray:
+def frequencies_hz(values: object, name: str = "freq_hz", positive: bool = False) -> np.ndarray:
     """``values`` as an array of frequencies [Hz]; one sentence (:class:`InputError`) unless numbers, finite and
-    non-negative."""
+    non-negative (``positive``: above 0, as a frequency response needs: 0 Hz is the static gain, not a response,
+    and a negative frequency is the mirror of a positive one)."""
     try:
         f = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
         raise InputError(f"{name} must be numbers in Hz; got {type(values).__name__}.") from None
+    if positive and np.all(np.isfinite(f)) and np.any(f <= 0):
+        bad = f.ravel()[np.flatnonzero(f.ravel() <= 0)[0]]
+        raise InputError(f"{name} holds {bad:g} Hz: a frequency response needs frequencies above 0 Hz; "
+                         "leave out 0 and below (e.g. start at 0.1 Hz).")
     if not np.all(np.isfinite(f)) or np.any(f < 0):
         raise InputError(f"{name} must be finite and non-negative frequencies in Hz; got {values!r}.")
     return f

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, frequencies_hz
 from ..files import write_text_atomic
 from ..standards.transfer import Curve, band_select
 
@@ -403,6 +403,9 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
     """
     from ..inputs.motion import random_vibration
 
+    band = np.ravel(frequencies_hz(band_hz, "band_hz", positive=True))
+    if band.size != 2 or not band[0] < band[1]:
+        raise InputError(f"band_hz must be two frequencies (low, high) in Hz with low < high; got {band_hz!r}.")
     human = _seated(human)
     if motion is not None:
         if motion.duration_s < segment_s:
@@ -448,8 +451,9 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
     from ..routes.linear import frequency_response
     from ..standards.transfer import discrete_frequency_response
 
+    f = np.arange(0.1, 12.0 + 1e-9, 0.05) if freq_hz is None else np.atleast_1d(frequencies_hz(freq_hz,
+                                                                                              positive=True))
     human = _seated(human)
-    f = np.arange(0.1, 12.0 + 1e-9, 0.05) if freq_hz is None else np.asarray(freq_hz, dtype=float)
     axes = _axes(axis)
     cols = [AXES.index(a) for a in axes]
     if discrete or linear_model is not None:

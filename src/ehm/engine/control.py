@@ -39,6 +39,10 @@ NUMERIC_FIELDS = ("delay_steps", "head_body", "torso_body", "quat_adr", "angvel_
 REFERENCE = slice(0, 3)
 LINE_START = 3
 _EZ = np.array([0.0, 0.0, 1.0])
+#: The longest sensory delay the control takes at all [s]: far beyond any stability margin (the default person's is
+#: about 0.3 s, docs/model.md; :func:`ehm.engine.control_linear.check_stability` finds the person's own), and short
+#: enough that the delay line stays small (a delay of 1e7 s overflowed MuJoCo's user data).
+MAX_DELAY_S = 1.0
 
 
 @dataclass(frozen=True)
@@ -63,6 +67,11 @@ class HeadControl:
         if "head_control" not in params.data or not params.value("head_control.enabled"):
             return None
         delay = float(params.value("head_control.delay_s"))
+        if delay > MAX_DELAY_S:
+            raise InputError(f"head_control.delay_s = {delay:g} s is beyond any stability margin of the head's "
+                             f"control (the default person's is about 0.3 s; the longest delay taken is "
+                             f"{MAX_DELAY_S:g} s): use a delay of tens of milliseconds, as the reflex's (default "
+                             "0.02 s).")
         steps = int(round(delay / dt_s))
         if steps < 2:
             raise InputError(f"head_control.delay_s = {delay:g} s is shorter than two time steps ({dt_s:g} s each); "

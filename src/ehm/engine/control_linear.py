@@ -12,6 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import linalg, signal
 
+from ..errors import InputError
+from .control import MAX_DELAY_S
 from .model import Model
 
 #: The control's torque on the head (world axes [N m], the reaction on the upper torso), inputs of the linearisation.
@@ -112,10 +114,11 @@ def delay_line(model: Model, step_s: float | None = None) -> Feedback:
     return Feedback(A=A, B=B, C=C, D=np.zeros((3, 5)), sensed=SENSED, drives=CONTROL_INPUTS)
 
 
-def closed_linear_model(model: Model, lm):
+def closed_linear_model(model: Model, lm, fb: Feedback | None = None):
     """The discrete linear model ``lm`` of :func:`ehm.engine.linearize` (with :data:`CONTROL_INPUTS`) closed with the
-    model's control, its delay exact (:func:`delay_line`): the states then the delay line's; the point velocity rows
-    closed alike.  A model without control, or ``lm`` without its inputs, is returned as it is."""
+    model's control, its delay exact (:func:`delay_line`; or the discrete feedback ``fb``): the states then the
+    feedback's; the point velocity rows closed alike.  A model without control, or ``lm`` without its inputs, is
+    returned as it is."""
     if model.head_control is None or CONTROL_INPUTS[0] not in lm.input_names:
         return lm
     from dataclasses import replace
@@ -130,6 +133,101 @@ def closed_linear_model(model: Model, lm):
     outputs = names + vel_names
     for k, axis in enumerate(("wx", "wy", "wz")):  # the sensed angular velocity: its velocity rows
         outputs[len(names) + head + k] = f"head.{axis}"
-    A, B, C, D, inputs = close_loop(lm.A, lm.B, C, D, lm.input_names, outputs, delay_line(model, lm.dt_s))
+    A, B, C, D, inputs = close_loop(lm.A, lm.B, C, D, lm.input_names, outputs,
+                                    delay_line(model, lm.dt_s) if fb is None else fb)
     n = len(names)
     return replace(lm, A=A, B=B, C=C[:n], D=D[:n], velocity_C=C[n:], velocity_D=D[n:], input_names=inputs)
+
+
+# --- the stability margin -------------------------------------------------------------------------------------------
+
+#: Rates |s| below this [1/s] are the integral actions' neutral directions, not modes (left out of the check).
+_NEUTRAL = 1e-3
+
+
+def closed_loop_rates(model: Model, lm, delay_s: float | None) -> np.ndarray:
+    """The continuous-time rates s = ln(mu) / h of the one-step linear model ``lm`` (:func:`ehm.engine.linearize`)
+    closed with the model's control at the delay ``delay_s`` (its Pade approximant, held over the step; None: the
+    loop open, the person without the control), the integral actions' neutral directions left out."""
+    if delay_s is None:
+        A = lm.A
+    else:
+        fb = feedback(model, delay_s)
+        Ad, Bd, Cd, Dd, _ = signal.cont2discrete((fb.A, fb.B, fb.C, fb.D), lm.dt_s, method="zoh")
+        A = closed_linear_model(model, lm, Feedback(A=Ad, B=Bd, C=Cd, D=Dd, sensed=fb.sensed, drives=fb.drives)).A
+    mu = np.linalg.eigvals(A)
+    rates = np.log(mu[np.abs(mu) > 1e-12].astype(complex)) / lm.dt_s
+    return rates[np.abs(rates) > _NEUTRAL]
+
+
+def _growing(rates: np.ndarray, open_rates: np.ndarray) -> np.ndarray:
+    """The rates that grow (real part > 0) in the closed loop and not in the open one (a seat that can turn has an
+    unstable mode of its own in the linearisation, controlled or not): each open growing rate takes away the
+    closed loop's nearest."""
+    grow = list(rates[rates.real > 0])
+    for r in open_rates[open_rates.real > 0]:
+        if grow:
+            grow.pop(int(np.argmin(np.abs(np.array(grow) - r))))
+    return np.array(grow, dtype=complex)
+
+
+def delay_margin(model: Model, lm, upper_s: float = MAX_DELAY_S, tolerance_s: float = 0.005):
+    """The longest delay [s] up to which the model's control (its gains) keeps the linearised loop stable (no mode
+    grows that does not grow without the control), found by a scan from two time steps up to ``upper_s`` and a
+    bisection to ``tolerance_s``; with the growing rates of the first unstable loop.  Returns (margin_s, rates):
+    margin_s is 0 when the loop is unstable at two steps already, ``upper_s`` (and no rates) when it stays stable up
+    to there."""
+    open_rates = closed_loop_rates(model, lm, None)
+
+    def growing(T):
+        return _growing(closed_loop_rates(model, lm, T), open_rates)
+
+    lo = 2 * lm.dt_s
+    bad = growing(lo)
+    if bad.size:
+        return 0.0, bad
+    hi = None
+    for T in np.geomspace(lo, upper_s, 12)[1:]:
+        r = growing(T)
+        if r.size:
+            hi, bad = T, r
+            break
+        lo = T
+    if hi is None:
+        return float(upper_s), None
+    while hi - lo > tolerance_s:
+        mid = 0.5 * (lo + hi)
+        r = growing(mid)
+        if r.size:
+            hi, bad = mid, r
+        else:
+            lo = mid
+    return float(lo), bad
+
+
+def check_stability(model: Model, lm) -> None:
+    """Refuse, in one sentence naming the margin, a head-in-space control (gains and delay) that leaves the settled
+    person's linearised loop (``lm``, :func:`ehm.engine.linearize`) unstable (a mode grows that does not grow without
+    the control): run on, it would shake the head in a limit cycle or a growing oscillation.  Nothing for a model
+    without the control."""
+    c = model.head_control
+    if c is None:
+        return
+    if not _growing(closed_loop_rates(model, lm, c.delay_s), closed_loop_rates(model, lm, None)).size:
+        return
+    margin, bad = delay_margin(model, lm, upper_s=min(MAX_DELAY_S, c.delay_s))
+    grows = bad[np.argmax(bad.real)]
+    hz = abs(grows.imag) / (2 * np.pi)
+    mode = f"a {hz:.2f} Hz mode grows" if abs(grows.imag) > _NEUTRAL else "a mode drifts away"
+    gains = (f"tilt_stiffness_Nm_per_rad={c.tilt_stiffness_Nm_per_rad:g}, "
+             f"tilt_damping_Nms_per_rad={c.tilt_damping_Nms_per_rad:g}, yaw_damping_Nms_per_rad="
+             f"{c.yaw_damping_Nms_per_rad:g}")
+    how = ("--head-control-gains on the command line, head_control={...} or the parameter file's [head_control] "
+           "in Python")
+    if margin <= 0:
+        raise InputError(f"head-in-space control with {gains}: its loop is unstable on this person even at the "
+                         f"shortest delay ({2 * lm.dt_s:g} s; {mode}), so it has no stability margin; lower the "
+                         f"gains ({how}).")
+    raise InputError(f"head_control.delay_s = {c.delay_s:g} s leaves no stability margin: with {gains} this "
+                     f"person's head control stays stable only up to a delay of about {margin:.2f} s (beyond it "
+                     f"{mode}); use a delay below {margin:.2f} s or lower the gains ({how}).")

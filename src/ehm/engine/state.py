@@ -56,7 +56,24 @@ def settle(model: Model, duration_s: float | None = None) -> dict:
     if why:
         raise divergence_error(model, d.time, why, " while settling into the seat, before the run")
     model.settled = {"qpos": d.qpos.copy(), "qvel": d.qvel.copy(), "act": d.act.copy(), "settle_s": duration_s}
+    if model.head_control is not None:
+        _check_head_control(model)
     return model.settled
+
+
+def _check_head_control(model: Model) -> None:
+    """The settled person's head-in-space control refused, in one sentence naming its stability margin, when its
+    gains and delay leave the linearised loop unstable (:func:`ehm.engine.control_linear.check_stability`: one
+    linearisation and a few eigenvalue problems, about 0.03 s when stable); the person then stays unsettled, so that
+    every later run is refused too.  Here, where every route, the stepping and the FMUs settle the person."""
+    from .control_linear import check_stability
+    from .linearisation import linearize
+
+    try:
+        check_stability(model, linearize(model))
+    except BaseException:
+        model.settled = None
+        raise
 
 
 def settled_data(model: Model) -> mujoco.MjData:

@@ -7,11 +7,10 @@ from __future__ import annotations
 import contextlib
 import logging
 import multiprocessing
-import os
 import time
 
 from ..errors import InputError
-from ..processes import ONE_THREAD
+from ..processes import ONE_THREAD, capped_workers, worker_limit
 from ..processes import environ_default as _environ_default
 from ..processes import sigint_ignored as _sigint_ignored
 
@@ -53,7 +52,7 @@ def _local_cluster(workers: int | None):
     """
     from dask.distributed import Client, LocalCluster
 
-    n = workers or os.cpu_count() or 1
+    n = capped_workers(workers) if workers else worker_limit()[0]
     # no dashboard, and the scheduler's HTTP server (it runs one even so) on any free port: on its default, 8787,
     # a second cluster on the machine made distributed warn that the port is in use
     cluster = LocalCluster(n_workers=0, threads_per_worker=1, processes=True, dashboard_address=None,

@@ -358,14 +358,14 @@ def check_file_destination(out: Path | str, suffix: str, kind: str) -> Path:
 
 @contextlib.contextmanager
 def signals_held():
-    """Hold SIGINT and SIGTERM back while inside: they are noted and handled on leaving (by the handlers that
+    """Hold SIGINT, SIGTERM and SIGHUP back while inside: they are noted and handled on leaving (by the handlers that
     were in place), so that what happens inside is not cut short.  Only the main thread handles signals; in
     other threads this does nothing."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     pending: list[int] = []
-    held = (signal.SIGINT, signal.SIGTERM)
+    held = (signal.SIGINT, signal.SIGTERM) + ((signal.SIGHUP,) if hasattr(signal, "SIGHUP") else ())
     previous = {s: signal.signal(s, lambda signum, frame: pending.append(signum)) for s in held}
     try:
         yield
@@ -499,9 +499,11 @@ class RunFolder:
             self.staging = Path(tempfile.mkdtemp(prefix=_STAGING.format(name=self.target.name, pid=os.getpid()),
                                                  dir=parent))
             _write_manifest(self.staging, self.what, "staging")
-        except OSError as exc:
+        except BaseException as exc:  # also Ctrl-C, SIGTERM or SIGHUP meanwhile: no __exit__ would remove it
             self._discard()
             self._remove_made()
+            if not isinstance(exc, OSError):
+                raise
             raise InputError(f"{self.target}: cannot create the {self.what} folder ({exc.strerror or exc}).") from None
         return self.staging
 
@@ -629,6 +631,11 @@ def added_folder(path: Path | str, what: str = "results"):
     holds nothing but its manifest and empty folders, the folder (and the parent folders made for it) is
     removed."""
     path = Path(path)
+    with folder_lock(path, what):
+        yield from _added_folder(path, what)
+
+
+def _added_folder(path: Path, what: str):
     check_output_folder(path, what, added_to=True)
     existed = path.exists()
     made = []
@@ -658,6 +665,79 @@ def added_folder(path: Path | str, what: str = "results"):
                     raise
             if not ended and not existed:
                 _remove_if_nothing_written(path, made)
+
+
+#: The lock file of a folder being added to, beside it (so that it is neither in the folder's listing nor needs the
+#: folder to exist): ``.<name>.ehm-lock``, holding who took it.
+_LOCK = ".{name}.ehm-lock"
+_HELD: dict[str, int] = {}  #: the folders this process holds locked (real path -> depth: one process may nest)
+
+
+@contextlib.contextmanager
+def folder_lock(path: Path | str, what: str = "results"):
+    """Hold ``path`` for this process while inside: a second process (another ``ehm batch`` into the same folder)
+    is refused in one sentence naming the process that holds it, instead of both writing and the second's table
+    replacing the first's.  The lock is an advisory ``flock`` on ``.<name>.ehm-lock`` beside the folder: the system
+    releases it when its process ends however it ends, so a lock left by a dead process (SIGKILL, a power cut) is
+    no lock (its file is taken over); the file is removed on leaving.  Re-entrant within one process; where the
+    system has no ``flock`` (Windows), nothing is locked."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - Windows
+        yield
+        return
+    path = Path(path)
+    key = os.path.realpath(path)
+    if key in _HELD:
+        _HELD[key] += 1
+        try:
+            yield
+        finally:
+            _HELD[key] -= 1
+        return
+    lock = Path(key).parent / _LOCK.format(name=Path(key).name)
+    fd = _take_lock(fcntl, lock, path, what)
+    _HELD[key] = 1
+    try:
+        yield
+    finally:
+        _HELD.pop(key, None)
+        with contextlib.suppress(OSError):
+            lock.unlink()
+        os.close(fd)
+
+
+def _take_lock(fcntl, lock: Path, path: Path, what: str) -> int:
+    """The descriptor of ``lock``, opened and locked by this process (a file unlinked by its previous holder between
+    our opening and locking it is opened again), or an :class:`InputError` naming the holder."""
+    for _ in range(10):
+        try:
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:
+            raise InputError(f"{path}: cannot lock the {what} folder ({lock}: {exc.strerror or exc}); give a "
+                             "folder in a writable place (--out, out= in Python).") from None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            holder = b""
+            with contextlib.suppress(OSError):
+                holder = os.pread(fd, 4096, 0)
+            os.close(fd)
+            who = holder.decode("utf-8", "replace").strip() or "another process"
+            raise InputError(f"{path} is being written by another ehm command ({who}); wait for it to end or give "
+                             "another folder (--out, out= in Python): two studies into one folder would replace "
+                             "each other's table.") from None
+        try:
+            same = os.fstat(fd).st_ino == os.stat(lock).st_ino
+        except OSError:
+            same = False
+        if same:
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, (f"process {os.getpid()} on {socket.gethostname()}, since "
+                           f"{time.strftime('%Y-%m-%d %H:%M:%S')}: {_command or 'ehm from Python'}").encode(), 0)
+            return fd
+        os.close(fd)  # its holder removed it meanwhile: take the new one
+    raise InputError(f"{path}: cannot lock the {what} folder (its lock file keeps changing); try again.")
 
 
 @contextlib.contextmanager

@@ -95,7 +95,7 @@ from ..errors import InputError
 from ..inputs.motion import SeatMotion, require_motion
 from ..inputs.resampling import Resampler
 from ..outputs.results import RunResult, concatenate_runs
-from ..processes import ONE_THREAD, environ_default, ignore_sigint, sigint_ignored
+from ..processes import ONE_THREAD, capped_workers, environ_default, ignore_sigint, sigint_ignored
 from .built import BuiltPerson, built_of
 from .nonlinear import stream as stream_nonlinear
 from .nonlinear import stream_span
@@ -249,10 +249,12 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     motion : SeatMotion
     workers : int
         Processes to run on: this one (the first segment, streamed chunk by chunk as it is computed, while the
-        others start) and ``workers - 1`` spawned worker processes, which ignore Ctrl-C (it ends the run here and
-        stops them).  1, or a motion too short to gain from a second process (fewer steps than this process
-        makes while a worker starts, :data:`WORKER_START_S`), runs in this process as one segment: bit for bit
-        :meth:`~ehm.SeatedHuman.stream`.  With ``client``: at least one segment per worker of the cluster.
+        others start) and ``workers - 1`` spawned worker processes, which ignore Ctrl-C and SIGHUP (they end the
+        run here and stop them); no more than the machine holds (:func:`ehm.processes.capped_workers`: its cores,
+        and its memory at about 0.4 GB per worker), with a warning.  1, or a motion too short to gain from a
+        second process (fewer steps than this process makes while a worker starts, :data:`WORKER_START_S`), runs
+        in this process as one segment: bit for bit :meth:`~ehm.SeatedHuman.stream`.  With ``client``: at least
+        one segment per worker of the cluster.
     segment_s : float, optional
         Longest segment [s] (default: one segment per worker); more segments than workers are handed out as
         workers become free.
@@ -280,7 +282,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     if pose_rate_hz:
         every = max(1, int(round(1.0 / (pose_rate_hz * dt))))
         per_chunk = max(every, per_chunk // every * every)
-    n_workers = int(workers)
+    n_workers = workers = int(workers) if client is not None else capped_workers(int(workers))
     if client is not None:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
     n_seg = max(n_workers, math.ceil(motion.duration_s / segment_s) if segment_s else 1)

@@ -202,8 +202,10 @@ MAX_STEP_S = _MAX_STEP_S
 #: A table written by hand (a step, a ramp: fewer than :data:`LOG_SAMPLES` rows) may step slowly, up to
 #: :data:`TABLE_MAX_STEP_S`, but only where its time is said to be in seconds (``--unit time=s``, a name such
 #: as ``time_s``, the file's unit): a time whose unit nobody gives is refused outside :data:`MIN_STEP_S` ..
-#: :data:`MAX_STEP_S` at any length, as a short log stamped in ms (100 Hz: steps of "10 s") is no hand table.
-LOG_SAMPLES = 1000
+#: :data:`MAX_STEP_S` at any length, as a short log stamped in ms (100 Hz: steps of "10 s") is no hand table; and
+#: a table of :data:`LOG_SAMPLES` rows or more is a logger's whatever its name says (a 301-row ``time_s`` column
+#: holding milliseconds ran as a 3000 s drive and wrote 509 MB).
+LOG_SAMPLES = 100
 TABLE_MAX_STEP_S = 10.0
 #: A log sampled at :data:`FAST_STEP_S` or faster (10 kHz) that lasts less than :data:`MIN_FAST_DURATION_S` is
 #: no logger's recording but a log in seconds read with a smaller unit (a 100 Hz log of 30 s read as ms: 100

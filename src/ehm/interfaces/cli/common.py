@@ -21,6 +21,28 @@ def joint_list(values: list[str] | None) -> list[str]:
     return out
 
 
+#: Options that name a file or folder, with what to do instead of giving them empty.
+_PATH_OPTIONS = {
+    "motion": "give a motion file (or a shipped drive: city, road), or leave --motion out for the generated vibration",
+    "gyro": "give the gyro file, or leave --gyro out",
+    "params": "give a parameter file, or leave --params out for the shipped defaults",
+    "segments": "give a segment table, or leave --segments out for the paper's",
+    "joints": "give a joint table, or leave --joints out for the paper's",
+    "contacts": "give a contact table, or leave --contacts out for the shipped one",
+    "out": "give where to write, e.g. --out runs/first",
+}
+
+
+def check_empty_paths(args) -> None:
+    """Refuse, in one sentence, a file or folder option given as an empty or blank string (an unset shell variable,
+    ``--motion "$DRIVE"``): it would otherwise run on the default (``--motion ''`` simulated the generated
+    vibration) or on the current folder."""
+    for name, advice in _PATH_OPTIONS.items():
+        value = getattr(args, name, None)
+        if isinstance(value, str) and not value.strip():
+            raise InputError(f"--{name} is empty ({value!r}: an unset shell variable?); {advice}.")
+
+
 def person_from_args(args) -> Person:
     """The one :class:`ehm.Person` of the shared person options, for every command: --params, --posture,
     --back-support, --head-control, --head-control-gains, --lock, --unlock, --segments/--joints/--contacts,

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
 
 from ...errors import EhmError, EhmWarning
+from .common import check_empty_paths
 from .parser import build_parser
 from .progress import end_progress_line
 
@@ -42,11 +44,23 @@ def _short_path(filename: str) -> str:
 
 
 class Terminated(KeyboardInterrupt):
-    """SIGTERM, raised like Ctrl-C so that every clean-up (temporary files, staging folders) runs."""
+    """SIGTERM or SIGHUP (a closed terminal), raised like Ctrl-C so that every clean-up (temporary files, staging
+    folders, worker processes) runs; ``signum`` says which (the exit code is 128 + it)."""
+
+    signum = 15
 
 
 def _on_sigterm(signum, frame):
-    raise Terminated()
+    exc = Terminated()
+    exc.signum = int(signum)
+    raise exc
+
+
+def _ending_signals() -> tuple:
+    """The signals that end a command like Ctrl-C: SIGTERM, and SIGHUP where the system has it."""
+    import signal
+
+    return (signal.SIGTERM,) + ((signal.SIGHUP,) if hasattr(signal, "SIGHUP") else ())
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -63,11 +77,12 @@ def main(argv: list[str] | None = None) -> int:
 
     from ...outputs.outdir import set_command
 
-    previous = None
+    previous = {}
     if threading.current_thread() is threading.main_thread():
-        previous = signal.signal(signal.SIGTERM, _on_sigterm)
+        previous = {s: signal.signal(s, _on_sigterm) for s in _ending_signals()}
     set_command(shlex.join(["ehm", *(sys.argv[1:] if argv is None else argv)]))
     try:
+        check_empty_paths(args)
         return args.func(args)
     except (EhmError, MemoryError, OSError, KeyboardInterrupt) as exc:
         end_progress_line()
@@ -76,8 +91,8 @@ def main(argv: list[str] | None = None) -> int:
         set_command(None)
         end_progress_line()
         _report_mujoco_warnings()
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        for s, handler in previous.items():
+            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
 
 
 def _report_failure(exc: BaseException) -> int:
@@ -95,8 +110,10 @@ def _report_failure(exc: BaseException) -> int:
               "run the command again).", file=sys.stderr)
         return EXIT_ERROR
     if isinstance(exc, Terminated):
-        print("ehm: terminated", file=sys.stderr)
-        return 143
+        with contextlib.suppress(OSError):  # after SIGHUP the terminal may be gone
+            print("ehm: terminated" if exc.signum != 1 else "ehm: hung up (SIGHUP: its terminal closed)",
+                  file=sys.stderr)
+        return 128 + exc.signum
     print("ehm: interrupted", file=sys.stderr)
     return 130
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from ... import __version__
 from ...errors import InputError
-from ...outputs.outdir import check_output_file, check_output_folder
+from ...outputs.outdir import check_output_file, check_output_folder, folder_lock
 from .common import human_from_args, params_from_args, person_from_args, read_motion_file
 from .options import model_options, motion_file_options, progress_options, seating_options
 from .progress import progress_count
@@ -144,7 +144,8 @@ def add_batch(sub) -> None:
     p.add_argument("--out", required=True, metavar="DIR",
                    help="results folder (results.parquet; added to, so a study can resume)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (default: local)")
-    p.add_argument("--workers", type=int, help="local worker processes (default: the number of cores)")
+    p.add_argument("--workers", type=int, help="local worker processes (default and at most: what the machine "
+                                                    "holds, its cores and its memory at about 0.4 GB per worker)")
     p.add_argument("--csv", action="store_true", help="also write results.csv")
     p.add_argument("--retry-failed", action="store_true",
                    help="when resuming, run the recorded failures again too (lost workers are always retried)")
@@ -164,11 +165,12 @@ def cmd_batch(args) -> int:
         raise InputError(f"--workers {args.workers}: use 1 or more worker processes.")
     scheduler = check_scheduler(args.scheduler) if args.scheduler else None
     name, specs = load_study(args.study)
-    out = check_output_folder(args.out, "study's results", added_to=True, inputs=_study_inputs(args.study, specs))
-    print(f"study '{name}': {len(specs)} runs" + (f" on {scheduler}" if scheduler else ""))
-    res = run_study(specs, out, scheduler=scheduler, workers=args.workers, csv=args.csv,
-                    progress=progress_count("runs", args.quiet),
-                    retry_failed=args.retry_failed)
+    with folder_lock(args.out, "study's results"):  # another study into this folder is refused before any check
+        out = check_output_folder(args.out, "study's results", added_to=True, inputs=_study_inputs(args.study, specs))
+        print(f"study '{name}': {len(specs)} runs" + (f" on {scheduler}" if scheduler else ""))
+        res = run_study(specs, out, scheduler=scheduler, workers=args.workers, csv=args.csv,
+                        progress=progress_count("runs", args.quiet),
+                        retry_failed=args.retry_failed)
     if res["ran"] and res["failed"] == res["ran"]:
         raise InputError(f"all {res['ran']} runs failed; their errors are in {out}/results.parquet (output 'error').")
     _print_batch(res, out, args.csv)
