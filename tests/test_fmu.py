@@ -30,7 +30,7 @@ FIELDS = {"acc_mps2": ("ax_mps2", "ay_mps2", "az_mps2"), "rot_rad": ("roll_rad",
 
 @pytest.fixture(scope="module")
 def default_fmu(tmp_path_factory):
-    return export_fmu(tmp_path_factory.mktemp("fmu") / "ehm.interfaces.fmu", python=True)
+    return export_fmu(tmp_path_factory.mktemp("fmu") / "ehm.fmu", python=True)
 
 
 def _input_signal(motion, angvel=None):

@@ -151,7 +151,7 @@ def test_python_fmu_has_lumbar_outputs_equal_to_simulate(tmp_path):
     from ehm.interfaces.fmu import OUTPUTS, export_fmu
 
     assert [n for n in OUTPUTS if n.startswith("lumbar_")] == [f"lumbar_{s}" for f in FIELDS.values() for s in f]
-    unit = export_fmu(tmp_path / "ehm.interfaces.fmu", python=True)
+    unit = export_fmu(tmp_path / "ehm.fmu", python=True)
     names = {v.name for v in fmpy.read_model_description(str(unit)).modelVariables}
     assert {"lumbar_az_mps2", "lumbar_pitch_rad", "lumbar_wy_radps"} <= names
     motion = _on_model_grid(ehm.random_vibration("xz", 0.5, 0.5, seed=3))

@@ -150,9 +150,10 @@ resampling (``resampling``), seat rotation kinematics (``kinematics``), the IMU 
 (``readers``, one module per format).  They import the ground (``ehm.errors``, ``ehm.files``) and
 ``ehm.standards``, never the model, a route or an output.""",
         "floors": ["readers                             # outside data in, one module per format",
-                   "imu | drives                        # IMU logs to seat motion; SYNTHETIC drives",
+                   "imu | drives | handling             # IMU logs to seat motion; SYNTHETIC drives; handled loggers found",
                    "motion                              # SeatMotion and the generated motions",
-                   "resampling | kinematics | attitude  # anti-aliased resampling; seat rotation; the IMU filter"],
+                   "resampling | kinematics | attitude  # anti-aliased resampling; seat rotation; the IMU filter",
+                   "vocabulary                          # which words a message's fix uses (the command line's or Python's)"],
     },
     "person": {
         "doc": """The person: individual body sizes (``scaling``) and the person as one value.  Above the
@@ -427,6 +428,8 @@ def _sub_aligned(pattern: re.Pattern, repl, text: str) -> str:
 
 def rewrite_text(text: str) -> str:
     def dotted(m):
+        if m.group(0) == "ehm.fmu" and text[m.end():m.end() + 1] in "\"'":
+            return m.group(0)  # a file name ("ehm.fmu", the unit written by export-fmu), not the module
         escaped = m.group(1).startswith("\\")
         parts = re.split(r"\\?\.", m.group(1))[1:]
         for i in range(len(parts), 0, -1):

@@ -3,8 +3,8 @@
 >>> import shutil
 >>> from ehm.body.params import default_params_path
 >>> _ = shutil.copy(default_params_path(), "my.toml")                            # a parameter file of one's own
->>> export_fmu("ehm.interfaces.fmu", params="my.toml", lock=["lower_neck"])               # native C unit (default)
-PosixPath('ehm.interfaces.fmu')
+>>> export_fmu("ehm.fmu", params="my.toml", lock=["lower_neck"])               # native C unit (default)
+PosixPath('ehm.fmu')
 >>> export_fmu("ehm-py.fmu", params="my.toml", lock=["lower_neck"], python=True)  # pythonfmu unit
 PosixPath('ehm-py.fmu')
 
