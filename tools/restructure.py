@@ -150,10 +150,12 @@ resampling (``resampling``), seat rotation kinematics (``kinematics``), the IMU 
 (``readers``, one module per format).  They import the ground (``ehm.errors``, ``ehm.files``) and
 ``ehm.standards``, never the model, a route or an output.""",
         "floors": ["readers                             # outside data in, one module per format",
-                   "imu | drives | handling             # IMU logs to seat motion; SYNTHETIC drives; handled loggers found",
+                   ("imu | drives | handling             # IMU logs to seat motion; SYNTHETIC drives; handled loggers "
+                    "found"),
                    "motion                              # SeatMotion and the generated motions",
                    "resampling | kinematics | attitude  # anti-aliased resampling; seat rotation; the IMU filter",
-                   "vocabulary                          # which words a message's fix uses (the command line's or Python's)"],
+                   ("vocabulary                          # which words a message's fix uses (the command line's or "
+                    "Python's)")],
     },
     "person": {
         "doc": """The person: individual body sizes (``scaling``) and the person as one value.  Above the
