@@ -124,6 +124,10 @@ def test_embedded_params_and_locks_and_params_file(tmp_path, default_fmu):
     assert np.abs(res["head_pitch_rad"][1:] - default).max() > 1e-6  # the file did change the person
 
 
+# pythonfmu's C wrapper calls the host's logger while the refused initialisation's exception is still set; on
+# Python 3.13 fmpy's print in that ctypes callback then fails (SystemError, reported as unraisable). The unit still
+# ends fatal as it should and the sentence reaches the log (asserted below): third-party, not ehm's leak.
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
 def test_rotating_seat_and_bad_params_file_are_refused(default_fmu, tmp_path, capfd):
     # A seat angular velocity: doStep returns fmi2Discard with the reason logged; fmpy then ends the run at the
     # last good time (t = 0).  A parameter file that cannot be read: exitInitializationMode fails (fatal).
