@@ -51,21 +51,9 @@ AXIS_WEIGHTING = {"x": "Wd", "y": "Wd", "z": "Wk"}  #: ISO 2631-1 seated, comfor
 SICKNESS_RATE_HZ = 20.0  #: Sample rate of the sickness model's input (block means of the run)
 TRACE_RATE_HZ = 10.0  #: Sample rate of the stored running rms and traces
 def input_band(motion: SeatMotion, model_fs_hz: float) -> tuple[float, float]:
-    """The band [Hz] a drive's seat input actually covers.
-
-    Low: 1 / duration (the longest period the log holds once).  High: the log's Nyquist frequency (half its own
-    rate, from its median time step), or the content limit of a log that was resampled from a slower rate
-    (:attr:`ehm.SeatMotion.content_limit_hz`: a phone's 51 Hz sensor read onto a 50 Hz grid, or a 100 Hz log
-    read with ``--rate 500``, holds nothing above 20 and 40 Hz); and when it is run at another rate (the
-    model's step), at most 0.4 times the lower of the two rates, where the resampler's anti-alias filter starts
-    to cut.
-    """
-    t = motion.time_s
-    fs_log = 1.0 / float(np.median(np.diff(t)))
-    high = fs_log / 2.0 if motion.content_limit_hz is None else min(fs_log / 2.0, motion.content_limit_hz)
-    if abs(fs_log - model_fs_hz) > 1e-6 * model_fs_hz:
-        high = min(high, PASS_FRACTION * min(fs_log, model_fs_hz))
-    return 1.0 / motion.duration_s, high
+    """The band [Hz] a drive's seat input actually covers when run at ``model_fs_hz``
+    (:meth:`ehm.SeatMotion.covered_band_hz`)."""
+    return motion.covered_band_hz(model_fs_hz)
 
 
 def band_coverage(band_hz: tuple[float, float]) -> dict:
@@ -443,11 +431,12 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     # Welch segments of about 4 s (0.25 Hz resolution), at most half the drive
     nper = int(2 ** np.floor(np.log2(min(4 * fs, motion.duration_s * fs / 2))))
     running = _Running.start(fs, keep, nper, k_sick, dt)
-    band = input_band(motion, fs)
+    band = motion.covered_band_hz(fs)
     shares = band_coverage(band)
     for sentence in band_warnings(band, shares):
         warnings.warn(f"{motion.description}: {sentence}", EhmWarning, stacklevel=2)
-    standard = spinal_dose_of_seat(motion, exposure)  # before the run: a drive it cannot take fails at once
+    # ISO 2631-5 by the standard's route, before the run: a drive it cannot take fails at once
+    standard = spinal_dose(motion.acc_mps2[:, 2], motion.rate_hz, exposure, measured_s=motion.duration_s)
     description, duration = motion.description, motion.duration_s
     t0 = time.perf_counter()
     # the route by name (ehm.routes.registry); workers, client and lead_in_s are the parallel route's options
@@ -484,8 +473,7 @@ def handling_summary(stretches) -> dict:
 def spinal_dose_of_seat(motion: SeatMotion, exposure: SpineExposure | None = None):
     """ISO 2631-5 by the standard's route: Formula 1 on the drive's own vertical seat acceleration at its own rate
     (:func:`ehm.standards.comfort.spine.spinal_dose`)."""
-    fs = 1.0 / float(np.median(np.diff(motion.time_s)))
-    return spinal_dose(motion.acc_mps2[:, 2], fs, exposure, measured_s=motion.duration_s)
+    return spinal_dose(motion.acc_mps2[:, 2], motion.rate_hz, exposure, measured_s=motion.duration_s)
 
 
 def iso2631_5(motion: SeatMotion, exposure: SpineExposure | None = None, model_lumbar=None) -> dict:

@@ -209,6 +209,27 @@ class SeatMotion:
         """Duration of the record, ``time_s[-1] - time_s[0]`` [s]."""
         return float(self.time_s[-1] - self.time_s[0])
 
+    @property
+    def rate_hz(self) -> float:
+        """The log's own sample rate [Hz], from its median time step."""
+        return 1.0 / float(np.median(np.diff(self.time_s)))
+
+    def covered_band_hz(self, run_rate_hz: float | None = None) -> tuple[float, float]:
+        """The band [Hz] the seat input actually covers.
+
+        Low: 1 / duration (the longest period the log holds once).  High: the log's Nyquist frequency (half its own
+        rate, :attr:`rate_hz`), or the content limit of a log that was resampled from a slower rate
+        (:attr:`content_limit_hz`: a phone's 51 Hz sensor read onto a 50 Hz grid, or a 100 Hz log read with
+        ``--rate 500``, holds nothing above 20 and 40 Hz); and when it is run at another rate ``run_rate_hz`` (the
+        model's step), at most 0.4 times the lower of the two rates, where the resampler's anti-alias filter starts
+        to cut.
+        """
+        fs_log = self.rate_hz
+        high = fs_log / 2.0 if self.content_limit_hz is None else min(fs_log / 2.0, self.content_limit_hz)
+        if run_rate_hz is not None and abs(fs_log - run_rate_hz) > 1e-6 * run_rate_hz:
+            high = min(high, PASS_FRACTION * min(fs_log, run_rate_hz))
+        return 1.0 / self.duration_s, high
+
     def axis(self, name: str) -> np.ndarray:
         """Acceleration of one axis.
 
