@@ -265,9 +265,11 @@ def _single_line(text: str) -> str:
 
 # ------------------------------------------------------------------ 1. tracebacks in the Python API and --dt
 @pytest.mark.parametrize("call, words", [
-    (lambda: ehm.assess(None), "assess() needs a SeatMotion, not None"),
-    (lambda: ehm.assess("city"), "assess() needs a SeatMotion, not 'city'"),
-    (lambda: ehm.SeatedHuman(params=42), "params must be a parameter file's path"),
+    (lambda: ehm.assess(None), "assess: motion must be an ehm.SeatMotion (read a file with ehm.read_motion"),
+    (lambda: ehm.assess("city"), "motion must be an ehm.SeatMotion (read a file with ehm.read_motion, take "
+     "ehm.city_drive() or generate one with ehm.sine), got 'city'."),
+    (lambda: ehm.SeatedHuman(params=42), "SeatedHuman: params must be an ehm.Person or an ehm.Parameters or a path "
+     "(str or pathlib.Path) or None, got 42."),
     (lambda: ehm.h1_estimate("abc", np.zeros(100), fs_hz=100.0), "x (the input) must be a 1-D array of numbers"),
     (lambda: ehm.h1_estimate(np.ones(2000), np.ones(2000), fs_hz=0), "fs_hz must be > 0"),
     (lambda: ehm.h1_estimate(np.ones(2000), np.ones(2000), fs_hz=-100.0), "fs_hz must be > 0"),
@@ -473,9 +475,10 @@ def test_only_ehm_warnings_are_printed_as_ehm_warnings(capsys):
 
 # ------------------------------------------------------------------ review: values named in messages, TOML words
 @pytest.mark.parametrize("call, words", [
-    (lambda: ehm.SeatedHuman().simulate(np.zeros((100, 3))), "simulate() needs a SeatMotion, not a float64 array of "
-     "shape (100, 3):"),
-    (lambda: ehm.assess(pd.DataFrame(np.zeros((10, 3)))), "not a DataFrame of shape (10, 3):"),
+    (lambda: ehm.SeatedHuman().simulate(np.zeros((100, 3))), "SeatedHuman.simulate: motion must be an ehm.SeatMotion "
+     "(read a file with ehm.read_motion, take ehm.city_drive() or generate one with ehm.sine), got a float64 array of "
+     "shape (100, 3)."),
+    (lambda: ehm.assess(pd.DataFrame(np.zeros((10, 3)))), "got a DataFrame of shape (10, 3)."),
     (lambda: ehm.h1_estimate(pd.DataFrame({"a": ["x", "y"] * 600}), np.zeros(1200), fs_hz=100.0),
      "must be a 1-D array of numbers, not a DataFrame of shape (1200, 1)."),
     (lambda: joint_names(np.arange(3)), "list of joint names, e.g. ['t12', 'lower_neck'], not an int64 "

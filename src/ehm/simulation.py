@@ -19,7 +19,7 @@ import numpy as np
 from . import engine
 from .body.params import Parameters
 from .body.tables import Body
-from .errors import InputError
+from .errors import InputError, checked_class
 from .inputs.motion import SeatMotion, require_motion
 from .outputs.results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_runs: also importable from here
     POINT_NAMES,
@@ -38,6 +38,7 @@ from .routes.nonlinear import (  # noqa: F401 - also importable from here
 )
 
 
+@checked_class
 class SeatedHuman:
     """One person on one seat, ready to simulate.
 

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
-from ..errors import EhmWarning, InputError
+from ..errors import EhmWarning, InputError, checked, checked_class
 from ..inputs.motion import SeatMotion, require_motion, seat_rotation_matrices
 from ..inputs.resampling import PASS_FRACTION
 from ..person import Person
@@ -125,6 +125,7 @@ class _Spectrum:
         return self.freq, self.total / self.count
 
 
+@checked_class
 @dataclass
 class Assessment:
     """Results of :func:`assess` (plain data; ``summary()`` is what ``assessment.json`` holds)."""
@@ -369,6 +370,7 @@ def needs_rotating_seat(motion: SeatMotion, method: str) -> bool:
     return method == "nonlinear" or bool(np.any(motion.angvel_radps != 0))
 
 
+@checked
 def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
            method: str = "auto", tolerance: float | None = None, workers: int = 1, client=None,
            lead_in_s: float | None = None, exposure: SpineExposure | None = None) -> Assessment:

@@ -36,7 +36,7 @@ from ..body.timestep import (  # noqa: F401 - re-exported: ehm.analysis.converge
     expected_error,
     warn_if_coarse,
 )
-from ..errors import InputError
+from ..errors import InputError, checked
 from ..person.person import Person, as_person
 from .frf import AXES, DOFS, POINTS, linear_frf
 
@@ -116,6 +116,7 @@ def path_errors(table, reference, small_path: float = SMALL_PATH) -> tuple[dict,
     return errors, at_hz
 
 
+@checked
 def check_step(params: Person | Parameters | str | None = None, dt_s: float | None = None, lock=(), unlock=(),
                size=None, ratios=(8, 4), freq_hz: np.ndarray | None = None) -> StepCheck:
     """Compare the linearised model at ``dt_s`` with the same model at ``dt_s / ratio`` for each ratio.

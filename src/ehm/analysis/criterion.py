@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import EhmWarning, InputError
+from ..errors import EhmWarning, InputError, checked
 from ..standards.transfer import band_select
 from .frf import MASS_POINTS, FrfTable
 
@@ -126,6 +126,7 @@ def curves_to_compare(measured: FrfTable, band_hz: tuple[float, float] = DEFAULT
     return [k for k in measured.keys() if k not in small], tuple(small)
 
 
+@checked
 def compare(measured: FrfTable, model: FrfTable, band_hz: tuple[float, float] = DEFAULT_BAND_HZ,
             keep_small: bool = False, warn: bool = True) -> Comparison:
     """Criterion of every measured curve against the model table, and their weighted mean.

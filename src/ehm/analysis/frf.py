@@ -23,8 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, checked, checked_class
 from ..files import write_text_atomic
+from ..inputs.motion import SeatMotion
 from ..standards.transfer import Curve, band_select
 
 AXES = ("x", "y", "z")
@@ -38,6 +39,7 @@ COLUMNS = ("input_axis", "point", "dof", "freq_hz", "gain", "phase_deg", "cohere
 _LINEAR_OUTPUT = {"x": "ax", "y": "ay", "z": "az", "roll": "roll_acc", "pitch": "pitch_acc", "yaw": "yaw_acc"}
 
 
+@checked_class
 @dataclass(frozen=True)
 class FrfTable:
     """Frequency response curves by ``(input_axis, point, dof)``.
@@ -218,6 +220,7 @@ def read_frf_csv(path: Path | str) -> FrfTable:
     return FrfTable(curves=curves, method="measured", meta={"file": label})
 
 
+@checked
 def read_frf(path: Path | str) -> FrfTable:
     """An FRF table from CSV (:func:`~ehm.analysis.frf.read_frf_csv`) or from Parquet written by
     :meth:`FrfTable.to_parquet`."""
@@ -295,9 +298,10 @@ def _seated(human):
     return human
 
 
+@checked
 def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2: float = 0.3, seed: int = 0,
                     band_hz: tuple[float, float] = (0.1, 12.0), segment_s: float = 10.0,
-                    route: str = "nonlinear", motion=None) -> FrfTable:
+                    route: str = "nonlinear", motion: SeatMotion | None = None) -> FrfTable:
     """Transfer functions from random-vibration runs, one run per input axis (paper Eq. 1, H1 estimate).
 
     Each run excites one seat axis with band-limited random acceleration (``band_hz``, ``rms_mps2``).
@@ -341,6 +345,7 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
     return FrfTable(curves=curves, method="time", meta=meta)
 
 
+@checked
 def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, linear_model=None,
                discrete: bool = False) -> FrfTable:
     """Exact frequency response of the model linearised around its settled posture.

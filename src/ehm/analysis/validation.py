@@ -41,7 +41,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ..body.params import Parameters
-from ..errors import InputError
+from ..errors import InputError, checked, checked_class
 from ..files import write_text_atomic
 from ..person.person import Person, as_person
 from ..standards import references
@@ -95,6 +95,7 @@ class Check:
     source: str
 
 
+@checked_class
 @dataclass(frozen=True)
 class Validation:
     """Every check of a person against the references, and the frequency responses they were taken from.
@@ -300,6 +301,7 @@ def _conditions(params: Parameters, posture, back_support) -> list[tuple[str, st
     return out
 
 
+@checked
 def validate(params: Person | Parameters | str | None = None, size=None, posture: str | None = None,
              back_support: str | None = None, locking: bool = True, dt_s: float | None = None,
              progress=None) -> Validation:

@@ -57,7 +57,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import EhmWarning, InputError
+from ..errors import EhmWarning, InputError, checked
 from . import attitude as _att
 from .motion import SeatMotion, integrate_attitude
 
@@ -231,6 +231,7 @@ def _filter_settings(t: np.ndarray, f: np.ndarray, w: np.ndarray, rest, label: s
     return _att.WEAK_GYRO_GAIN, _att.WEAK_GYRO_REJECTION_DEG, f"; a weak gyro: {why}"
 
 
+@checked
 def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None, rest_s: float = 2.0,
              description: str = "IMU log", label: str = "from_imu", max_tilt_deg: float = _att.MAX_TILT_DEG
              ) -> SeatMotion:

@@ -31,7 +31,7 @@ from numbers import Integral
 import numpy as np
 from scipy import signal
 
-from ehm.errors import InputError, describe, finite_number, positive_number
+from ehm.errors import InputError, checked, checked_class, describe, finite_number, positive_number
 
 from .kinematics import (  # noqa: F401 - re-exported: ehm.inputs.motion.seat_kinematics etc.
     SeatKinematics,
@@ -78,6 +78,7 @@ _FILTER_ORDER = 4
 # --------------------------------------------------------------------------
 
 
+@checked_class(skip=("__init__",))  # the constructor checks every field itself, naming more
 @dataclass(frozen=True, eq=False)
 class SeatMotion:
     """Seat translational acceleration time history in the seat's axes.
@@ -109,6 +110,9 @@ class SeatMotion:
     change it, and a long log is not held twice).  Invalid arrays raise
     :class:`~ehm.errors.InputError`.
     """
+
+    #: where to get one, in the sentence refusing another value as a motion (``ehm.errors.checked``)
+    ARGUMENT_HINT = "read a file with ehm.read_motion, take ehm.city_drive() or generate one with ehm.sine"
 
     time_s: np.ndarray
     acc_mps2: np.ndarray
@@ -425,6 +429,7 @@ def check_seed(seed: object, func: str = "random_vibration") -> int | None:
     return int(seed)
 
 
+@checked
 def random_vibration(
     axis: str,
     duration_s: float,
@@ -533,6 +538,7 @@ def _filtered_noise(func: str, t: np.ndarray, axes: tuple[int, ...], rms: float,
     return columns
 
 
+@checked
 def sine(
     axis: str,
     duration_s: float,
@@ -578,6 +584,7 @@ def sine(
     return _motion(t, axes, {i: wave for i in axes}, description)
 
 
+@checked
 def sweep(
     axis: str,
     duration_s: float,

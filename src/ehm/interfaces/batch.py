@@ -73,7 +73,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import EhmError, EhmWarning, InputError
+from ..errors import EhmError, EhmWarning, InputError, checked
 from ..files import replace_atomically
 from ..outputs.outdir import added_folder, write_owned, write_owned_json
 from .cluster import check_scheduler, dask_client  # noqa: F401  (check_scheduler: the CLI's)
@@ -494,6 +494,7 @@ def _table_rows(records: list[dict]) -> list[dict]:
     return rows
 
 
+@checked
 def read_results(out: Path | str):
     """A study's results table (``OUT/results.parquet``) as a pandas DataFrame, in the shape of
     :meth:`ehm.Assessment.to_dataframe`: one row per run and output, the columns ``run_id``, ``output``,

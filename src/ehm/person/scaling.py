@@ -48,7 +48,7 @@ import numpy as np
 
 from ..body.params import Parameters
 from ..body.tables import Body
-from ..errors import EhmWarning, InputError, describe
+from ..errors import EhmWarning, InputError, checked_class, describe
 
 REFERENCE_STATURE_M = 1.76  #: Paper section 1: the AHM's standing height, matched by the EHM.
 REFERENCE_SITTING_HEIGHT_M = 0.92  #: Paper section 1: the AHM's sitting height.
@@ -101,6 +101,7 @@ def _check_build(stature_m: float, mass_kg: float) -> None:
                       EhmWarning, stacklevel=3)
 
 
+@checked_class
 class BodySize:
     """Scale factors from the reference person to a person of the given size.
 

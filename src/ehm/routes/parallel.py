@@ -91,7 +91,7 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, checked
 from ..inputs.motion import SeatMotion, require_motion
 from ..inputs.resampling import Resampler
 from ..outputs.results import RunResult, concatenate_runs
@@ -320,6 +320,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
                 progress(min(done_s, motion.duration_s), motion.duration_s)
 
 
+@checked
 def simulate_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: float | None = None,
                       lead_in_s: float | None = None, client=None, progress=None,
                       pose_rate_hz: float | None = None) -> RunResult:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, checked
 from ...standards.comfort import BAND_WARNING_SHARE, band_share_outside
 from ..imu import from_imu
 from ..motion import SeatMotion
@@ -91,6 +91,7 @@ def _open(source, label: str | None, columns=None, encoding: str | None = None) 
     return TextSource(path, label, columns, encoding)  # .csv, .txt and anything else: a text table
 
 
+@checked
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
                 imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False, *,
                 columns=None, gyro=None, start_s: float | None = None, end_s: float | None = None,
@@ -310,6 +311,7 @@ def _imu_options(options: dict | None) -> dict:
     return out
 
 
+@checked
 def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
     """Read a seat motion from a file with the default channel names; the same as
     :func:`ehm.read_motion` ``(path)`` (kept for existing code).
