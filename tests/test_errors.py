@@ -4,9 +4,12 @@ arguments of the Python API refused in one sentence, never a traceback."""
 
 from __future__ import annotations
 
+import dataclasses
+import inspect
 import json
 import math
 import os
+import pathlib
 import re
 import subprocess
 import sys
@@ -17,12 +20,15 @@ import zipfile
 import numpy as np
 import pandas as pd
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import ehm
 from ehm import engine
 from ehm.body.params import Parameters
 from ehm.body.tables import joint_names
-from ehm.errors import DivergenceError, EhmWarning, InputError
+from ehm.errors import DivergenceError, EhmError, EhmWarning, InputError, argument_checks
+from ehm.interfaces import batch
 from ehm.interfaces.cli import main
 
 
@@ -512,3 +518,209 @@ def test_a_size_that_is_no_body_size_is_one_sentence():
     'is_reference'), as params=42 did before."""
     with pytest.raises(InputError, match=r"size must be an ehm\.person\.scaling\.BodySize.*not a tuple"):
         ehm.SeatedHuman(size=(1.7, 70))
+
+
+# ------------------------------------------------------------- issue 38 item 6: every public callable, wrong arguments
+# A generated test (hypothesis) calls every public function, constructor and method of ehm.__all__ (and
+# ehm.interfaces.batch.read_results) with one argument replaced by a wrong value: None, numbers of every sign, NaN
+# and infinity, strings, lists, dicts, empty and NaN arrays, an object.  It accepts a normal return (the value
+# may be a valid one) or an EhmError whose message is one sentence; any other exception fails.  The objects are
+# built once per file (the conftest's ``human``, a 0.2 s run); the few callables whose valid call takes seconds
+# (a validation, a step check, a parallel run, an assessment, a Simulator) get only values of a wrong type, which
+# their checks refuse before any work.
+
+#: Wrong values (and some that may be valid: the callable may accept them).
+WRONG = [None, 0, -1, 3, 10**12, 1.5, -0.5, 0.0, math.nan, math.inf, -math.inf, True, "", "x", "a.b", "a/b", "x.csv",
+         [], [1, 2], ["a"], [[1.0, 2.0], [3.0]], {}, {"a": 1}, (1,), np.array([]), np.array([math.nan]),
+         np.zeros((2, 2)), object(), b"x", pathlib.Path("nowhere") / "x.toml"]
+#: Callables a valid call of which takes seconds: only values of a wrong type (below) for them.
+SLOW = {"validate", "check_step", "simulate_parallel", "assess", "Simulator", "SeatedHuman.settle",
+        "SeatedHuman.linear_model"}
+
+
+def _public_callables() -> dict:
+    """label -> the function, or (class, method name) for a method, over ehm.__all__ and batch.read_results."""
+    found = {"read_results": batch.read_results}
+    for name in ehm.__all__:
+        obj = getattr(ehm, name)
+        if isinstance(obj, type):
+            if issubclass(obj, (BaseException, Warning)):
+                continue
+            found[name] = obj
+            for key, member in vars(obj).items():
+                if key.startswith("_") or isinstance(member, property):
+                    continue
+                if isinstance(member, (classmethod, staticmethod)) or inspect.isfunction(member):
+                    found[f"{name}.{key}"] = (obj, key)
+        elif callable(obj):
+            found[name] = obj
+    return found
+
+
+PUBLIC = _public_callables()
+
+
+class _Table(dict):
+    """The callables' table, with a short repr (hypothesis shows the arguments of a failing example)."""
+
+    def __repr__(self) -> str:
+        return f"<{len(self)} public callables>"
+
+
+def _fields(obj) -> dict:
+    return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj) if f.init}
+
+
+@pytest.fixture(scope="module")
+def api(human, tmp_path_factory):
+    """label -> (the callable, the valid keyword arguments it is called with but for the one replaced), built once;
+    the calls run in a temporary working folder (what they write lands there)."""
+    folder = tmp_path_factory.mktemp("api")
+    here = os.getcwd()
+    os.chdir(folder)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        motion = ehm.sine("z", 0.2, 0.3, 2.0)
+        drive = ehm.sine("z", 2.0, 0.3, 2.0)
+        run = human.simulate(motion)
+        frf = ehm.linear_frf(human, axis="z", freq_hz=[1.0, 2.0, 4.0])
+        frf.write("frf.csv")
+        motion_file = folder / "motion.csv"  # SYNTHETIC: 1 s of 0.1 m/s^2 vertical sine at 100 Hz
+        t = np.arange(100) / 100.0
+        np.savetxt(motion_file, np.column_stack([t, 0 * t, 0 * t, 0.1 * np.sin(2 * np.pi * t)]), delimiter=",",
+                   header="time_s,ax_mps2,ay_mps2,az_mps2", comments="")
+        params = ehm.Parameters.load()
+        person = ehm.Person()
+        simulator = ehm.Simulator()
+        state = simulator.step([0.0, 0.0, 0.1])
+        assessment = ehm.assess(drive, human)
+        curve = frf.curve(*frf.keys()[0])
+        validation = ehm.Validation(checks=(), tables={})
+        study = folder / "study"
+        study.mkdir()
+    rng = np.random.default_rng(0)  # SYNTHETIC signals for h1_estimate and from_imu
+    imu_t = np.arange(500) / 100.0
+    instances = {"Person": person, "SeatedHuman": human, "RunResult": run, "PointMotion": run.point("head"),
+                 "Simulator": simulator, "StepState": state, "SeatMotion": motion, "Assessment": assessment,
+                 "FrfTable": frf, "Parameters": params, "BodySize": ehm.BodySize(1.75, 75.0), "Curve": curve,
+                 "Validation": validation}
+    valid = {
+        "simulate_parallel": dict(human=human, motion=motion), "random_vibration": dict(axis="z", duration_s=0.5,
+        rms_mps2=0.1), "sine": dict(axis="z", duration_s=0.5, amplitude_mps2=0.1, freq_hz=2.0),
+        "sweep": dict(axis="z", duration_s=0.5, amplitude_mps2=0.1, f0_hz=1.0, f1_hz=2.0),
+        "read_motion": dict(source=motion_file), "load_motion_csv": dict(path=motion_file),
+        "from_imu": dict(time_s=imu_t, specific_force_mps2=np.tile([0.0, 0.0, 9.81], (500, 1))
+                         + 0.01 * rng.standard_normal((500, 3))),
+        "city_drive": dict(duration_s=2.0), "rough_road": dict(duration_s=2.0),
+        "assess": dict(motion=drive, human=human),
+        "linear_frf": dict(human=human, axis="z", freq_hz=[1.0, 2.0]),
+        "time_domain_frf": dict(human=human, axis="z", duration_s=2.0, segment_s=1.0, route="linear"),
+        "read_frf": dict(path="frf.csv"), "compare": dict(measured=frf, model=frf, warn=False),
+        "h1_estimate": dict(x=rng.standard_normal(2000), y=rng.standard_normal(2000), fs_hz=100.0, segment_s=5.0),
+        "check_step": {}, "validate": {}, "read_results": dict(out=study), "load_body": {},
+        "Person": {}, "SeatedHuman": {}, "RunResult": _fields(run), "PointMotion": _fields(run.point("head")),
+        "Simulator": {}, "StepState": _fields(state), "SeatMotion": _fields(motion), "Assessment": _fields(assessment),
+        "FrfTable": _fields(frf), "Parameters": _fields(params), "BodySize": dict(stature_m=1.75, mass_kg=75.0),
+        "Curve": _fields(curve), "Validation": _fields(validation),
+        "Person.from_dict": dict(data=person.to_dict()), "SeatedHuman.from_recipe": dict(recipe=human.recipe()),
+        "SeatedHuman.simulate": dict(motion=motion), "SeatedHuman.stream": dict(motion=motion),
+        "SeatedHuman.simulate_to": dict(out_dir="run", motion=motion, pose_rate_hz=None),
+        "SeatedHuman.check_nonlinear_motion": dict(motion=motion),
+        "RunResult.point": dict(name="head"), "RunResult.take": dict(rows=slice(0, None, 10)),
+        "RunResult.write": dict(out_dir="written"), "Simulator.restore_state": dict(state=simulator.save_state()),
+        "Simulator.step": dict(seat_acc_mps2=[0.0, 0.0, 0.1]), "SeatMotion.axis": dict(name="z"),
+        "SeatMotion.resample": dict(dt_s=0.002), "Assessment.total_value": dict(location="seat"),
+        "FrfTable.curve": dict(zip(("input_axis", "point", "dof"), frf.keys()[0], strict=True)),
+        "FrfTable.to_csv": dict(path="t.csv"), "FrfTable.to_parquet": dict(path="t.parquet"),
+        "FrfTable.write": dict(path="w.csv"), "Parameters.load": {}, "Parameters.value": dict(path="simulation.dt_s"),
+        "Parameters.with_values": dict(updates={"simulation.settle_s": 1.0}),
+        "Parameters.bounds": dict(path="simulation.dt_s"), "Parameters.with_source": dict(key="k", text="t"),
+        "Parameters.with_about": dict(info={"k": "v"}), "Parameters.provenance": dict(path="simulation.dt_s"),
+        "Parameters.joint_dof": dict(joint="t12", dof="pitch"), "Parameters.section": dict(name="simulation"),
+        "Parameters.export": dict(path="p.toml"), "Parameters.check_against": dict(body=ehm.load_body()),
+        "BodySize.factors": dict(leg=False), "BodySize.shape_factors": dict(leg=False),
+        "BodySize.length": dict(leg=False),
+        "Curve.peak": {}, "Curve.mean_gain": dict(band_hz=(1.0, 4.0)), "Curve.at": dict(freq_hz=2.0),
+        "Validation.check": dict(name="x"), "Validation.on_axis": dict(axis="z"),
+        "Validation.to_csv": dict(path="v.csv"),
+    }
+    table = _Table()
+    for label, target in PUBLIC.items():
+        if isinstance(target, tuple):
+            cls, key = target
+            member = inspect.getattr_static(cls, key)
+            func = getattr(cls, key) if isinstance(member, (classmethod, staticmethod)) else \
+                getattr(instances[cls.__name__], key)
+        else:
+            func = target
+        table[label] = (func, valid.get(label, {}))
+    yield table
+    os.chdir(here)
+
+
+def _fits(annotation: str, value) -> bool:
+    """Whether ``value`` could be of the annotated type (read independently of ehm.errors: a rough reading, for the
+    slow callables only, that errs on the side of 'fits', so that only clearly wrong values are drawn for them)."""
+    text = str(annotation)
+    if text in ("", "None") or "Any" in text or text is inspect.Parameter.empty:
+        return value is None
+    kinds = {"None": value is None, "float": isinstance(value, (int, float)) and not isinstance(value, bool),
+             "int": isinstance(value, int) and not isinstance(value, bool), "bool": isinstance(value, bool),
+             "str": isinstance(value, str), "Path": isinstance(value, (str, os.PathLike)),
+             "tuple": isinstance(value, (tuple, list)), "dict": isinstance(value, dict),
+             "Mapping": isinstance(value, dict)}
+    return any(ok for kind, ok in kinds.items() if kind in text) or not any(kind in text for kind in kinds)
+
+
+def _one_sentence(message: str) -> bool:
+    """One line, ending as a sentence does, with no second sentence (a full stop then a capital; "e.g. Name" and
+    "i.e. Name" are no stop)."""
+    text = message.replace("e.g. ", "e.g.,").replace("i.e. ", "i.e.,")
+    return ("\n" not in message and 10 < len(message) < 600 and message.rstrip().endswith((".", ")", "'"))
+            and not re.search(r"[.!?]\s+[A-Z]", text))
+
+
+def test_the_generated_test_walks_the_whole_public_api(api):
+    """Every public callable has its valid call in the table (a new public function or method without one fails
+    here), and every argument of the listed public API whose annotation names a type is checked."""
+    assert set(api) == set(PUBLIC)
+    assert len(PUBLIC) > 80, sorted(PUBLIC)
+    unchecked = {label: target for label, target in PUBLIC.items() if not argument_checks(
+        target if not isinstance(target, tuple) else inspect.getattr_static(*target))}
+    # callables without arguments, and the constructors that check every field themselves (naming more)
+    allowed = {"Person", "SeatMotion", "Simulator.step"}
+    no_arguments = {label for label, (func, _valid) in api.items()
+                    if not [p for p in inspect.signature(func).parameters.values()
+                            if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]}
+    assert set(unchecked) - allowed - no_arguments == set()
+
+
+@pytest.mark.parametrize("label", sorted(PUBLIC))
+@settings(max_examples=12, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+@given(which=st.integers(0, 999), pick=st.integers(0, 999))
+def test_every_public_callable_refuses_wrong_arguments_in_one_sentence(api, label, which, pick):
+    """``which`` picks the argument, ``pick`` its wrong value."""
+    func, valid = api[label]
+    params = [p for p in inspect.signature(func).parameters.values() if p.kind not in (p.VAR_POSITIONAL,)]
+    if not params:
+        pytest.skip(f"{label} takes no argument")
+    param = params[which % len(params)]
+    if param.kind is param.VAR_KEYWORD:  # **options: a keyword the callable does not know
+        name, pool = "no_such_option", [1, "x", None]
+    else:
+        name, pool = param.name, WRONG
+        if label in SLOW:
+            pool = [v for v in WRONG if not _fits(param.annotation, v)] or [object()]
+    value = pool[pick % len(pool)]
+    kwargs = {**valid, name: value}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # this test is about exceptions; warnings are tested where they are made
+        try:
+            result = func(**kwargs)
+            if inspect.isgenerator(result):
+                for _ in result:
+                    pass
+        except EhmError as exc:
+            assert _one_sentence(str(exc)), f"{label}({name}={value!r}): not one sentence: {exc}"
+        except Exception as exc:  # noqa: BLE001 - the point of the test
+            pytest.fail(f"{label}({name}={value!r}) raised {type(exc).__name__}: {exc}")

@@ -13,7 +13,7 @@ import inspect
 import math
 import os
 import sys
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from numbers import Integral, Real
 
 import numpy as np
@@ -67,7 +67,7 @@ def finite_number(func: str, name: str, value: object) -> float:
     """``value`` as a finite float, or an :class:`InputError` naming ``func`` and the argument ``name`` (a bool is
     no number here)."""
     if isinstance(value, bool) or not isinstance(value, Real):  # (numpy.bool_ is no Real either)
-        raise InputError(f"{func}: {name} must be a number, got {value!r}.")
+        raise InputError(f"{func}: {name} must be a number, got {describe(value)}.")
     result = float(value)
     if not math.isfinite(result):
         raise InputError(f"{func}: {name} must be finite, got {result!r}.")
@@ -91,6 +91,24 @@ def frequencies_hz(values: object, name: str = "freq_hz") -> np.ndarray:
         raise InputError(f"{name} must be numbers in Hz; got {type(values).__name__}.") from None
     if not np.all(np.isfinite(f)) or np.any(f < 0):
         raise InputError(f"{name} must be finite and non-negative frequencies in Hz; got {values!r}.")
+    return f
+
+
+def frequency_grid(func: str, values: object, name: str = "freq_hz") -> np.ndarray:
+    """``values`` as a 1-D array of at least one frequency [Hz], finite and non-negative, or one sentence
+    (:class:`InputError`) naming ``func`` and the argument ``name``."""
+    try:
+        f = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{func}: {name} must be frequencies in Hz (a list or array of numbers), not "
+                         f"{describe(values)}.") from None
+    if f.ndim != 1 or f.size == 0:
+        raise InputError(f"{func}: {name} must be a list or 1-D array of at least one frequency in Hz, not "
+                         f"{describe(values)}.")
+    bad = np.flatnonzero(~np.isfinite(f) | (f < 0))
+    if bad.size:
+        raise InputError(f"{func}: {name} must be finite, non-negative frequencies in Hz; item {bad[0]} is "
+                         f"{f[bad[0]]!r}.")
     return f
 
 
@@ -143,6 +161,8 @@ _SIMPLE = {
     "dict": (lambda v: isinstance(v, Mapping), "a dict"),
     "Mapping": (lambda v: isinstance(v, Mapping), "a dict"),
     "tuple": (lambda v: isinstance(v, (tuple, list)), "a tuple"),
+    "Callable": (callable, "a function"),
+    "Iterable": (lambda v: isinstance(v, Iterable) and not isinstance(v, (str, bytes, Mapping)), "an iterable"),
     "list": (lambda v: isinstance(v, (tuple, list)), "a list"),
 }
 #: Array annotations are left to the function: each checks its samples itself and names the first bad one

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -146,6 +147,9 @@ class Assessment:
 
     def total_value(self, location: str) -> float:
         """Vibration total value a_v = sqrt(a_wx^2 + a_wy^2 + a_wz^2), k = 1 (comfort) [m/s^2]."""
+        if location not in self.metrics:
+            raise InputError(f"Assessment.total_value: no location {location!r}; the assessment has "
+                             f"{', '.join(self.metrics)}.")
         return float(np.sqrt(sum(self.metrics[location][a].a_w ** 2 for a in "xyz")))
 
     def summary(self) -> dict:
@@ -371,7 +375,7 @@ def needs_rotating_seat(motion: SeatMotion, method: str) -> bool:
 
 
 @checked
-def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
+def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress: Callable | None = None,
            method: str = "auto", tolerance: float | None = None, workers: int = 1, client=None,
            lead_in_s: float | None = None, exposure: SpineExposure | None = None) -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).

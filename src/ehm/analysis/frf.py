@@ -23,7 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, checked, checked_class
+from ..engine.linearisation import LinearModel
+from ..errors import InputError, checked, checked_class, frequency_grid
 from ..files import write_text_atomic
 from ..inputs.motion import SeatMotion
 from ..standards.transfer import Curve, band_select
@@ -346,7 +347,7 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
 
 
 @checked
-def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, linear_model=None,
+def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, linear_model: LinearModel | None = None,
                discrete: bool = False) -> FrfTable:
     """Exact frequency response of the model linearised around its settled posture.
 
@@ -361,7 +362,7 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
     from ..standards.transfer import discrete_frequency_response
 
     human = _seated(human)
-    f = np.arange(0.1, 12.0 + 1e-9, 0.05) if freq_hz is None else np.asarray(freq_hz, dtype=float)
+    f = np.arange(0.1, 12.0 + 1e-9, 0.05) if freq_hz is None else frequency_grid("linear_frf", freq_hz)
     axes = _axes(axis)
     cols = [AXES.index(a) for a in axes]
     if discrete or linear_model is not None:

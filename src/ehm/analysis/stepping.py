@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import engine
 from ..body.params import Parameters
-from ..errors import InputError, checked_class
+from ..errors import InputError, checked_class, describe
 from ..outputs.results import POINT_NAMES
 from ..person import Person
 from ..simulation import SeatedHuman
@@ -196,7 +196,7 @@ def _three_finite(value, name: str, unit: str) -> np.ndarray:
     except (TypeError, ValueError):
         v = None
     if v is None or v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise InputError(f"Simulator.step: {name} must be 3 finite numbers (x, y, z) [{unit}], not {value!r}.")
+        raise InputError(f"Simulator.step: {name} must be 3 finite numbers (x, y, z) [{unit}], not {describe(value)}.")
     return v
 
 

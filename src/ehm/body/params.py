@@ -211,7 +211,14 @@ class Parameters:
 
         Rotational: [N m/rad], [N m s/rad]; the t12 ``z`` slide: [N/m], [N s/m].
         """
-        entry = self.data["joints"][joint][dof]
+        joints = self.data["joints"]
+        if joint not in joints or not isinstance(joints[joint], dict):
+            raise InputError(f"Parameters.joint_dof: no joint {joint!r}; the joints are {', '.join(joints)}.")
+        dofs = [k for k in joints[joint] if k not in _META]
+        if dof not in dofs:
+            raise InputError(f"Parameters.joint_dof: joint {joint} has no degree of freedom {dof!r}; it has "
+                             f"{', '.join(dofs)}.")
+        entry = joints[joint][dof]
         keys = _TRANS if dof == "z" else _ROT
         k, c = (float(entry[key]) for key in keys)
         return k, c

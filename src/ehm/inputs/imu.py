@@ -93,7 +93,11 @@ def mounting_matrix(mounting, label: str = "from_imu") -> np.ndarray:
         return np.eye(3)
     from scipy.spatial.transform import Rotation
 
-    if isinstance(mounting, str) or (not isinstance(mounting, Rotation) and np.ndim(mounting) == 1):
+    try:
+        ndim = np.ndim(mounting)
+    except ValueError:  # a ragged list
+        ndim = None
+    if isinstance(mounting, str) or (not isinstance(mounting, Rotation) and ndim == 1):
         mounting = mounting_rotation(mounting)  # roll, pitch, yaw [deg]
     if isinstance(mounting, Rotation):
         if not mounting.single:

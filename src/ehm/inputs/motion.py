@@ -127,9 +127,10 @@ class SeatMotion:
         try:
             time_s = _owned_copy(self.time_s)
             acc = _owned_copy(self.acc_mps2)
-        except (TypeError, ValueError) as exc:
+        except (TypeError, ValueError):
             raise InputError(
-                f"SeatMotion: time_s and acc_mps2 must be numeric arrays ({exc})."
+                f"SeatMotion: time_s and acc_mps2 must be numeric arrays of one length per axis, not "
+                f"{describe(self.time_s)} and {describe(self.acc_mps2)}."
             ) from None
         if time_s.ndim != 1:
             raise InputError(
@@ -175,8 +176,9 @@ class SeatMotion:
         if self.angvel_radps is not None:
             try:
                 w = _owned_copy(self.angvel_radps)
-            except (TypeError, ValueError) as exc:
-                raise InputError(f"SeatMotion: angvel_radps must be a numeric array ({exc}).") from None
+            except (TypeError, ValueError):
+                raise InputError(f"SeatMotion: angvel_radps must be a numeric array of shape (n, 3), not "
+                                 f"{describe(self.angvel_radps)}.") from None
             if w.shape != (n, 3):
                 raise InputError(
                     f"SeatMotion: angvel_radps must have shape ({n}, 3) to match time_s, got {w.shape}."

@@ -274,14 +274,16 @@ class RunResult:
         return html_table("ehm RunResult", facts, ["location", "rms a_x [m/s²]", "rms a_y [m/s²]", "rms a_z [m/s²]"],
                           rows)
 
-    def write(self, out_dir: Path | str, output_rate_hz: float | None = None, formats=("csv",)) -> dict:
+    def write(self, out_dir: Path | str, output_rate_hz: float | None = None,
+              formats: str | tuple | list = ("csv",)) -> dict:
         """Write the run folder ``out_dir`` (``timeseries.csv`` and/or ``.parquet``, ``summary.json``, ``poses.npz``
         when the run has poses) as one unit (:mod:`ehm.outputs.outdir`: an earlier run's folder there is replaced
         whole);
         ``output_rate_hz`` thins the time series (default: every step).  Returns the file paths."""
         from .outdir import RunFolder
-        from .runfiles import output_every, write_run
+        from .runfiles import check_formats, output_every, write_run
 
+        formats = check_formats(formats)
         every = output_every(output_rate_hz, self.dt_s)
         out = Path(out_dir)
         with RunFolder(out) as tmp:

@@ -86,12 +86,13 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from numbers import Integral, Real
 
 import numpy as np
 
-from ..errors import InputError, checked
+from ..errors import InputError, checked, describe
 from ..inputs.motion import SeatMotion, require_motion
 from ..inputs.resampling import Resampler
 from ..outputs.results import RunResult, concatenate_runs
@@ -282,6 +283,9 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
         per_chunk = max(every, per_chunk // every * every)
     n_workers = int(workers)
     if client is not None:
+        if not all(callable(getattr(client, name, None)) for name in ("scheduler_info", "scatter", "submit")):
+            raise InputError(f"client must be a dask.distributed Client (e.g. Client('tcp://host:8786'), "
+                             f"--scheduler), not {describe(client)}.")
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
     n_seg = max(n_workers, math.ceil(motion.duration_s / segment_s) if segment_s else 1)
     local = client is None
@@ -322,7 +326,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
 
 @checked
 def simulate_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: float | None = None,
-                      lead_in_s: float | None = None, client=None, progress=None,
+                      lead_in_s: float | None = None, client=None, progress: Callable | None = None,
                       pose_rate_hz: float | None = None) -> RunResult:
     """The nonlinear run of ``motion`` in segments on ``workers`` processes (or a Dask ``client``'s cluster), as
     one :class:`~ehm.RunResult` with the continuous run's time axis and fields; the arguments are

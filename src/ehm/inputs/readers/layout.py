@@ -22,7 +22,7 @@ import warnings
 
 import numpy as np
 
-from ...errors import EhmWarning, InputError
+from ...errors import EhmWarning, InputError, describe
 from ..imu import mounting_matrix, mounting_rotation  # noqa: F401 - mounting_rotation: ehm.inputs.readers'
 from ..resampling import UNIFORM_TOLERANCE
 from .checks import GAP_STEPS, MIN_OVERLAP
@@ -206,8 +206,8 @@ def parse_columns(columns) -> list | None:
         return None
     names = [c.strip() for c in columns.split(",")] if isinstance(columns, str) else columns
     if not isinstance(names, (list, tuple)) or not names or not all(isinstance(c, str) and c.strip() for c in names):
-        raise InputError(f"columns {columns!r} (--columns): give the names of the file's columns, in order, e.g. "
-                         "--columns x,y,z,delay_ms (columns=['x', 'y', 'z', 'delay_ms']).")
+        raise InputError(f"columns {describe(columns)} (--columns): give the names of the file's columns, in order, "
+                         "e.g. --columns x,y,z,delay_ms (columns=['x', 'y', 'z', 'delay_ms']).")
     names = [c.strip() for c in names]
     twice = sorted({c for c in names if names.count(c) > 1})
     if twice:
