@@ -687,8 +687,9 @@ def test_the_generated_test_walks_the_whole_public_api(api):
     assert len(PUBLIC) > 80, sorted(PUBLIC)
     unchecked = {label: target for label, target in PUBLIC.items() if not argument_checks(
         target if not isinstance(target, tuple) else inspect.getattr_static(*target))}
-    # callables without arguments, and the constructors that check every field themselves (naming more)
-    allowed = {"Person", "SeatMotion", "Simulator.step"}
+    # callables without arguments; the constructors and functions that check every argument themselves, naming
+    # more (read_motion: the command-line option of each); Simulator.step, a per-step hot path, checks its own
+    allowed = {"Person", "SeatMotion", "Simulator.step", "read_motion"}
     no_arguments = {label for label, (func, _valid) in api.items()
                     if not [p for p in inspect.signature(func).parameters.values()
                             if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]}
@@ -724,3 +725,55 @@ def test_every_public_callable_refuses_wrong_arguments_in_one_sentence(api, labe
             assert _one_sentence(str(exc)), f"{label}({name}={value!r}): not one sentence: {exc}"
         except Exception as exc:  # noqa: BLE001 - the point of the test
             pytest.fail(f"{label}({name}={value!r}) raised {type(exc).__name__}: {exc}")
+
+
+# ------------------------------------------------------------- issue 38 item 6: the cases it lists, each reproduced
+@pytest.fixture(scope="module")
+def short_run(human):
+    return human.simulate(ehm.sine("z", 0.1, 0.3, 2.0))
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda h, r: ehm.SeatedHuman(body=1), "SeatedHuman: body must be an ehm.Body or None, got 1."),
+    (lambda h, r: ehm.assess(ehm.sine("z", 2.0, 0.3, 2.0), human="x"), "SeatedHuman"),
+    (lambda h, r: ehm.linear_frf("x"), "give an ehm.Person or an ehm.SeatedHuman"),
+    (lambda h, r: ehm.time_domain_frf(h, motion="x"), "time_domain_frf: motion must be an ehm.SeatMotion"),
+    (lambda h, r: ehm.compare(None, None), "compare: measured must be an ehm.FrfTable, got None."),
+    (lambda h, r: ehm.read_frf(1), "read_frf: path must be a path (str or pathlib.Path), got 1."),
+    (lambda h, r: ehm.load_body(1), "load_body: segments must be a path (str or pathlib.Path) or None, got 1."),
+    (lambda h, r: ehm.Parameters.load().with_values([("simulation.dt_s", 0.001)]),
+     "Parameters.with_values: updates must be a dict, got a list of 1 item"),
+    (lambda h, r: r.take(slice(None, None, 0)), "RunResult.take: the slice's step must be 1 or more, got 0"),
+    (lambda h, r: r.take("head"), "RunResult.take: rows must be a slice, whole-number indices or a boolean mask"),
+    (lambda h, r: r.take([0, 10**6]), "RunResult.take: row 1000000 is outside the run's 101 samples (0 to 100)."),
+    (lambda h, r: r.take(slice(500, None)), "selects none of the run's 101 samples"),
+    (lambda h, r: batch.read_results(1), "read_results: out must be a path (str or pathlib.Path), got 1."),
+    (lambda h, r: r.write(1), "RunResult.write: out_dir must be a path (str or pathlib.Path), got 1."),
+    (lambda h, r: ehm.SeatedHuman(head_control={"delay_s": 1e7}), "head_control.delay_s = 10000000.0 s is longer"),
+    (lambda h, r: h.simulate(ehm.sine("z", 0.1, 0.3, 2.0), no_such_option=1), "unknown option 'no_such_option'"),
+    (lambda h, r: h.simulate(ehm.sine("z", 0.1, 0.3, 2.0), progress=-1),
+     "SeatedHuman.simulate: progress must be a function or None, got -1."),
+    (lambda h, r: r.write("w", formats=None), "RunResult.write: formats must be a str or a tuple or a list, got None."),
+    (lambda h, r: r.write("w", formats=("csv", "xlsx")), "time-series format 'xlsx': use csv and/or parquet"),
+    (lambda h, r: ehm.linear_frf(h, freq_hz="x"), "linear_frf: freq_hz must be frequencies in Hz"),
+])
+def test_the_listed_wrong_arguments_are_one_sentence(human, short_run, tmp_path, monkeypatch, call, words):
+    """Issue 38 item 6 lists these calls, each of which ended in a traceback (AttributeError, TypeError, IndexError,
+    KeyError or MuJoCo's own): each is an EhmError now, one sentence naming the function and the argument."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(EhmError) as info:
+        call(human, short_run)
+    assert words in str(info.value) and _one_sentence(str(info.value)), str(info.value)
+
+
+def test_a_wrong_type_is_both_an_input_error_and_a_type_error():
+    """ArgumentError: the command line prints it as one line (an EhmError), and code that catches Python's own
+    TypeError for a wrong type still catches it."""
+    with pytest.raises(TypeError) as info:
+        ehm.sine("z", "1 s", 0.3, 2.0)
+    assert isinstance(info.value, InputError)
+    assert str(info.value) == "sine: duration_s must be a number, got '1 s'."
+    with pytest.raises(InputError, match=r"sine: missing a required argument: 'freq_hz' \(its arguments: axis, "):
+        ehm.sine("z", 1.0, 0.3)
+    with pytest.raises(InputError, match="sine: amplitude_mps2 must be finite, got nan."):
+        ehm.sine("z", 1.0, math.nan, 2.0)

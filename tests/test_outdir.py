@@ -602,3 +602,20 @@ def test_a_study_folder_of_an_earlier_ehm_says_it_cannot_be_resumed_and_what_to_
     (tmp_path / "mine" / "runs" / "a.json").write_text('{"my": "notes"}')
     assert main(["batch", str(study), "--out", str(tmp_path / "mine"), "--workers", "1"]) == 2
     assert "holds runs, which ehm did not write" in _one_error_line(capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("command, out", [(["simulate", "--duration", "0.1"], "loop"),
+                                          (["simulate", "--duration", "0.1"], "loop/run"),
+                                          (["frf", "--method", "linear"], "loop/frf.csv")])
+def test_an_output_path_through_a_symlink_loop_is_one_sentence(tmp_path, capsys, monkeypatch, command, out):
+    """Issue 38: 'an --out that is a symlink loop' ended in pathlib's RuntimeError; one sentence now, before any
+    work, naming the path, the loop and what to do."""
+    monkeypatch.chdir(tmp_path)
+    os.symlink("other", "loop")
+    os.symlink("loop", "other")
+    assert main([*command, "--out", out]) != 0
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert f"ehm: error: {out}: " in err and "symbolic link loop" in err and "--out" in err
+    with pytest.raises(InputError, match="symbolic link loop"):
+        ehm.RunResult.write(ehm.SeatedHuman().simulate(ehm.sine("z", 0.01, 0.1, 2.0)), "loop/run")

@@ -342,6 +342,8 @@ class Parameters:
             if not isinstance(node, dict) or part in _META:
                 raise InputError(f"unknown parameter section {name!r} (no {part!r}); sections are "
                                  f"{', '.join(k for k in self.data if k not in _META)}.")
+        if "value" in node:
+            raise InputError(f"{name!r} is a parameter, not a section; read it with Parameters.value({name!r}).")
         return {k: (v["value"] if isinstance(v, dict) and "value" in v else v)
                 for k, v in node.items() if k not in _META}
 
@@ -606,10 +608,10 @@ def _check_value(label: str, where: str, value: Any, rule: str) -> None:
         raise InputError(f"{label}: {where} = {value!r} is not a number.")
     if not math.isfinite(value):
         raise InputError(f"{label}: {where} = {value!r} is not a finite number.")
-    if rule == "delay" and not 0 < value <= MAX_DELAY_S:
-        raise InputError(f"{label}: {where} = {value!r} s must be above 0 and at most {MAX_DELAY_S:g} s (a sensory "
-                         "delay is tens of milliseconds).")
-    if rule == "positive" and value <= 0:
+    if rule == "delay" and value > MAX_DELAY_S:
+        raise InputError(f"{label}: {where} = {value!r} s is longer than {MAX_DELAY_S:g} s; a sensory delay is tens "
+                         "of milliseconds (e.g. 0.03).")
+    if rule in ("positive", "delay") and value <= 0:
         raise InputError(f"{label}: {where} = {value!r} must be positive.")
     if rule == "nonnegative" and value < 0:
         raise InputError(f"{label}: {where} = {value!r} must not be negative.")

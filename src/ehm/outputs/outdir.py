@@ -244,7 +244,7 @@ def resolved_path(path: Path | str, what: str = "output") -> Path:
         why = "a symbolic link loop" if isinstance(exc, RuntimeError) or exc.errno == errno.ELOOP else (
             exc.strerror or str(exc))
         raise InputError(f"{path}: the {what} path cannot be followed ({why}); remove the link or give another "
-                         "path, e.g. --out runs/first (out_dir= in Python).") from None
+                         "--out (the output path in Python).") from None
 
 
 def _nearest_existing(path: Path) -> Path:

@@ -91,7 +91,6 @@ def _open(source, label: str | None, columns=None, encoding: str | None = None) 
     return TextSource(path, label, columns, encoding)  # .csv, .txt and anything else: a text table
 
 
-@checked
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
                 imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False, *,
                 columns=None, gyro=None, start_s: float | None = None, end_s: float | None = None,
