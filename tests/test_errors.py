@@ -777,3 +777,11 @@ def test_a_wrong_type_is_both_an_input_error_and_a_type_error():
         ehm.sine("z", 1.0, 0.3)
     with pytest.raises(InputError, match="sine: amplitude_mps2 must be finite, got nan."):
         ehm.sine("z", 1.0, math.nan, 2.0)
+
+
+def test_a_warning_of_a_checked_function_points_at_the_callers_line():
+    """The argument checks put a frame between the caller and each public function; ehm.errors.warn counts
+    stacklevel over it, so that a warning meant for the caller still names the caller's file and line."""
+    with pytest.warns(EhmWarning, match="SYNTHETIC city drive") as record:
+        ehm.assess(ehm.city_drive(12.0, seed=1)); line = sys._getframe().f_lineno  # noqa: E702
+    assert [(w.filename, w.lineno) for w in record] == [(__file__, line)]

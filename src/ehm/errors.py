@@ -13,6 +13,7 @@ import inspect
 import math
 import os
 import sys
+import warnings
 from collections.abc import Iterable, Mapping
 from numbers import Integral, Real
 
@@ -250,7 +251,7 @@ def _check_value(label: str, name: str, value: object, parts: list) -> None:
     raise ArgumentError(f"{label}: {name} must be {expected}, got {describe(value)}.")
 
 
-def checked(func=None, *, label: str | None = None, namespace: dict | None = None):
+def checked(func=None, *, label: str | None = None, namespace: dict | None = None, only: tuple | None = None):
     """Decorator: the public function ``func`` checks its arguments against their annotations before it runs.
 
     A call with a missing or unknown argument, or an argument whose type is not in its annotation, raises
@@ -260,8 +261,9 @@ def checked(func=None, *, label: str | None = None, namespace: dict | None = Non
     (an instance; its ``ARGUMENT_HINT`` says where to get one) and ``None``, joined by ``|``; a number that is NaN
     or infinite is refused too.  An argument without an annotation, or whose annotation names what the checks do
     not read (``Any``, a protocol, an array: the function checks its samples and names the first bad one), is
-    left to the function.  The checks are read from the annotations at the first call, so names defined later in
-    the module resolve.
+    left to the function; so is every argument not named in ``only``, when given (a function whose own checks
+    name more, such as the command-line option, for the rest).  The checks are read from the annotations at the
+    first call, so names defined later in the module resolve.
 
     >>> @checked
     ... def scale(factor: float, name: str | None = None) -> float:
@@ -272,7 +274,7 @@ def checked(func=None, *, label: str | None = None, namespace: dict | None = Non
     ehm.errors.ArgumentError: scale: factor must be a number, got '3'.
     """
     if func is None:
-        return lambda f: checked(f, label=label, namespace=namespace)
+        return lambda f: checked(f, label=label, namespace=namespace, only=only)
     sig = inspect.signature(func)
     name = label or func.__qualname__.removesuffix(".__init__")
     params = [p for p in sig.parameters.values()
@@ -282,7 +284,7 @@ def checked(func=None, *, label: str | None = None, namespace: dict | None = Non
     def read_checks() -> dict:
         ns = namespace if namespace is not None else getattr(func, "__globals__", {})
         for p in params:
-            if p.annotation is not p.empty:
+            if p.annotation is not p.empty and (only is None or p.name in only):
                 parts = _annotation(p.annotation, ns)
                 if parts is not None:
                     checks[p.name] = parts
@@ -336,3 +338,24 @@ def checked_class(cls=None, *, skip: tuple = ()):
         elif inspect.isfunction(member):
             setattr(cls, key, checked(member, label=label, namespace=namespace))
     return cls
+
+
+#: The code of every wrapper :func:`checked` makes (they share it): :func:`warn` does not count these frames.
+_WRAPPER_CODE = checked(lambda: None).__code__
+
+
+def warn(message: str, category: type[Warning] = EhmWarning, stacklevel: int = 1) -> None:
+    """:func:`warnings.warn`, with ``stacklevel`` counted over the frames of ehm's argument checks (the wrappers
+    :func:`checked` puts around the public functions), so that a warning meant for the caller of a public function
+    points at the caller's line, not into this module."""
+    frame = sys._getframe(1)
+    level, remaining = 1, stacklevel - 1
+    while remaining > 0 and frame.f_back is not None:
+        frame = frame.f_back
+        level += 1
+        if frame.f_code is not _WRAPPER_CODE:
+            remaining -= 1
+    while frame.f_code is _WRAPPER_CODE and frame.f_back is not None:  # never point at a wrapper itself
+        frame = frame.f_back
+        level += 1
+    warnings.warn(message, category, stacklevel=level + 1)

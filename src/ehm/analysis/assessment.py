@@ -26,14 +26,13 @@ in (measured with 12 signals: 6 and 9 MB; a 200 Hz log's own time and three chan
 from __future__ import annotations
 
 import time
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import signal
 
-from ..errors import EhmWarning, InputError, checked, checked_class
+from ..errors import EhmWarning, InputError, checked, checked_class, warn
 from ..inputs.motion import SeatMotion, require_motion, seat_rotation_matrices
 from ..inputs.resampling import PASS_FRACTION
 from ..person import Person
@@ -436,7 +435,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress: Call
     band = input_band(motion, fs)
     shares = band_coverage(band)
     for sentence in band_warnings(band, shares):
-        warnings.warn(f"{motion.description}: {sentence}", EhmWarning, stacklevel=2)
+        warn(f"{motion.description}: {sentence}", EhmWarning, stacklevel=2)
     standard = spinal_dose_of_seat(motion, exposure)  # before the run: a drive it cannot take fails at once
     description, duration = motion.description, motion.duration_s
     t0 = time.perf_counter()

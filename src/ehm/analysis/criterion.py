@@ -18,7 +18,6 @@ axis, are left out, with a warning that lists them, unless ``keep_small=True`` (
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -119,10 +118,10 @@ def curves_to_compare(measured: FrfTable, band_hz: tuple[float, float] = DEFAULT
     if small and warn:
         listed = "; ".join(f"seat {a} -> {p} {d} (peak {pk:.3g}, {100 * pk / big:.0f} % of {big:.3g})"
                            for (a, p, d), (pk, big) in small.items())
-        warnings.warn(f"left out of the criterion: {len(small)} measured curve{'s' * (len(small) > 1)} whose peak is "
-                      f"below {100 * SMALL_CURVE_FRACTION:.0f} % of the largest curve of the same kind for the same "
-                      f"seat axis (noise, or paths near zero by symmetry): {listed}; keep them with keep_small=True "
-                      "(--keep-small-curves).", EhmWarning, stacklevel=3)
+        warn(f"left out of the criterion: {len(small)} measured curve{'s' * (len(small) > 1)} whose peak is "
+             f"below {100 * SMALL_CURVE_FRACTION:.0f} % of the largest curve of the same kind for the same "
+             f"seat axis (noise, or paths near zero by symmetry): {listed}; keep them with keep_small=True "
+             "(--keep-small-curves).", EhmWarning, stacklevel=3)
     return [k for k in measured.keys() if k not in small], tuple(small)
 
 

@@ -8,12 +8,11 @@ the error for any person: ``ehm check-step``); both take these names from here.
 
 from __future__ import annotations
 
-import warnings
 from numbers import Real
 
 import numpy as np
 
-from ..errors import EhmWarning, InputError, describe
+from ..errors import EhmWarning, InputError, describe, warn
 
 __all__ = ["CONVERGED_STEP_S", "DEFAULT_STEP_ERRORS", "MAX_STEP_S", "MIN_STEP_S", "POSTURE_STEP_ERRORS", "StepWarning",
            "check_time_step", "expected_error", "warn_if_coarse"]
@@ -81,7 +80,7 @@ def warn_if_coarse(dt_s: float, where: str = "the time step", converged_s: float
         own = converged_s != CONVERGED_STEP_S and posture is not None
         model, option = (f"the model in the {posture} posture", f" --posture {posture}") if own else ("the model", "")
         error = expected_error(dt_s, converged_s, posture)
-        warnings.warn(
+        warn(
             f"{where} dt = {dt_s * 1e3:g} ms is coarser than the {converged_s * 1e3:g} ms at which {model} "
             f"is converged: expect transfer functions to be off by up to about {100 * error:.0f} % "
             f"of their peak (run 'ehm check-step --dt {dt_s:g}{option}' to measure it for this person).",

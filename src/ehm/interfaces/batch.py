@@ -73,7 +73,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import EhmError, EhmWarning, InputError, checked
+from ..errors import EhmError, EhmWarning, InputError, checked, warn
 from ..files import replace_atomically
 from ..outputs.outdir import added_folder, write_owned, write_owned_json
 from .cluster import check_scheduler, dask_client  # noqa: F401  (check_scheduler: the CLI's)
@@ -636,5 +636,5 @@ def _warn_once(caught: list, shown: set) -> None:
         if text not in shown:
             shown.add(text)
             category = EhmWarning if name == EhmWarning.__name__ else getattr(builtins, name, UserWarning)
-            warnings.warn(text, category if isinstance(category, type) and issubclass(category, Warning)
-                          else UserWarning, stacklevel=2)
+            warn(text, category if isinstance(category, type) and issubclass(category, Warning)
+                 else UserWarning, stacklevel=2)

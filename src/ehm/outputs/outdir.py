@@ -48,11 +48,10 @@ import sys
 import tempfile
 import threading
 import time
-import warnings
 from importlib import metadata
 from pathlib import Path
 
-from ..errors import EhmWarning, InputError
+from ..errors import EhmWarning, InputError, warn
 from ..files import MANIFEST_NAME, fsync_directory, manifest_or_why, read_manifest, write_json_atomic
 
 #: Its format, written into it: a later ehm can tell what it reads.
@@ -463,8 +462,8 @@ def _remove_tree(folder: Path) -> None:
 
     shutil.rmtree(folder, onerror=writable_and_again)
     if os.path.lexists(folder):
-        warnings.warn(f"{folder}: could not remove this hidden folder of an earlier run; delete it yourself.",
-                      EhmWarning, stacklevel=2)
+        warn(f"{folder}: could not remove this hidden folder of an earlier run; delete it yourself.",
+             EhmWarning, stacklevel=2)
 
 
 def glob_escape(text: str) -> str:
