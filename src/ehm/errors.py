@@ -348,7 +348,7 @@ def warn(message: str, category: type[Warning] = EhmWarning, stacklevel: int = 1
     """:func:`warnings.warn`, with ``stacklevel`` counted over the frames of ehm's argument checks (the wrappers
     :func:`checked` puts around the public functions), so that a warning meant for the caller of a public function
     points at the caller's line, not into this module."""
-    frame = sys._getframe(1)
+    frame = inspect.currentframe().f_back  # the caller of warn
     level, remaining = 1, stacklevel - 1
     while remaining > 0 and frame.f_back is not None:
         frame = frame.f_back

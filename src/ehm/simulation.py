@@ -20,7 +20,7 @@ import numpy as np
 from . import engine
 from .body.params import Parameters
 from .body.tables import Body
-from .errors import InputError, checked_class, describe
+from .errors import InputError, checked, checked_class, describe
 from .inputs.motion import SeatMotion, require_motion
 from .outputs.results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_runs: also importable from here
     POINT_NAMES,
@@ -39,7 +39,7 @@ from .routes.nonlinear import (  # noqa: F401 - also importable from here
 )
 
 
-@checked_class
+@checked_class(skip=("__init__",))
 class SeatedHuman:
     """One person on one seat, ready to simulate.
 
@@ -84,6 +84,8 @@ class SeatedHuman:
         a rotating seat's linearisation, the linear models' cache.
     """
 
+    # the person's arguments are ehm.Person's, which checks each itself and names its range
+    @checked(only=("rotating_seat", "person"))
     def __init__(self, params: Person | Parameters | str | Path | None = None, lock=(), unlock=(),
                  body: Body | None = None, rotating_seat: bool = False, size=None, dt_s: float | None = None,
                  posture: str | None = None, back_support: str | None = None, head_control=None, *,
