@@ -784,3 +784,33 @@ def test_a_warning_of_a_checked_function_points_at_the_callers_line():
     with pytest.warns(EhmWarning, match="SYNTHETIC city drive") as record:
         ehm.assess(ehm.city_drive(12.0, seed=1)); line = inspect.currentframe().f_lineno  # noqa: E702
     assert [(w.filename, w.lineno) for w in record] == [(__file__, line)]
+
+
+def test_the_checks_read_unions_pairs_classes_and_leave_the_rest():
+    """ehm.errors.checked on a made-up function: what it refuses and in which words, what it leaves alone."""
+    from ehm.errors import ArgumentError, checked
+
+    @checked(only=("band_hz", "motion", "out", "count"))
+    def f(band_hz: tuple[float, float] = (0.5, 12.0), motion: ehm.SeatMotion | None = None,
+          out: pathlib.Path | str = "x", count: int = 1, data: np.ndarray | None = None, free: float = 0.0):
+        return band_hz
+
+    assert f([1, 2]) == [1, 2] and f(out=pathlib.Path("y")) == (0.5, 12.0)
+    assert f(free="not checked: not in only") == (0.5, 12.0) and f(data="arrays are left to the function")
+    for kwargs, words in [({"band_hz": 5.0}, "f: band_hz must be a pair (tuple) of numbers, got 5.0."),
+                          ({"band_hz": (1.0,)}, "f: band_hz must hold 2 items, got a tuple of 1 item ((1.0,))."),
+                          ({"band_hz": (1.0, "2")}, "f: band_hz[1] must be a number, got '2'."),
+                          ({"motion": "drive.csv"}, "f: motion must be an ehm.SeatMotion (read a file with "
+                           "ehm.read_motion, take ehm.city_drive() or generate one with ehm.sine) or None, got "
+                           "'drive.csv'."),
+                          ({"out": 3}, "f: out must be a path (str or pathlib.Path), got 3."),
+                          ({"count": 2.0}, "f: count must be a whole number, got 2.0."),
+                          ({"nosuch": 1}, "f: got an unexpected keyword argument 'nosuch' (its arguments: band_hz,")]:
+        with pytest.raises(ArgumentError) as info:
+            f(**kwargs)
+        assert str(info.value).startswith(words), str(info.value)
+    with pytest.raises(InputError, match=r"f: band_hz\[0\] must be finite, got inf."):
+        f((math.inf, 1.0))
+    assert argument_checks(f) == {"band_hz": "a pair (tuple) of numbers", "motion": argument_checks(f)["motion"],
+                                  "out": "a path (str or pathlib.Path) or a str", "count": "a whole number",
+                                  "data": None, "free": None}

@@ -138,7 +138,6 @@ class ArgumentError(InputError, TypeError):
 
 
 # ---------------------------------------------------------------------------------------------- argument checks
-#: Annotations the checks read (the text of an annotation, each part of a ``|`` union): (accepts, what it is).
 def _is_float(v: object) -> bool:
     return isinstance(v, Real) and not isinstance(v, (bool, np.bool_))
 
@@ -151,6 +150,7 @@ def _is_path(v: object) -> bool:
     return isinstance(v, (str, os.PathLike))
 
 
+#: Annotations the checks read (the text of an annotation, each part of a ``|`` union): (accepts, what it is).
 _SIMPLE = {
     "None": (lambda v: v is None, "None"),
     "float": (_is_float, "a number"),
@@ -158,6 +158,7 @@ _SIMPLE = {
     "bool": (lambda v: isinstance(v, (bool, np.bool_)), "True or False"),
     "str": (lambda v: isinstance(v, str), "a str"),
     "Path": (_is_path, "a path (str or pathlib.Path)"),
+    "pathlib.Path": (_is_path, "a path (str or pathlib.Path)"),
     "os.PathLike": (_is_path, "a path (str or pathlib.Path)"),
     "dict": (lambda v: isinstance(v, Mapping), "a dict"),
     "Mapping": (lambda v: isinstance(v, Mapping), "a dict"),
@@ -276,7 +277,7 @@ def checked(func=None, *, label: str | None = None, namespace: dict | None = Non
     if func is None:
         return lambda f: checked(f, label=label, namespace=namespace, only=only)
     sig = inspect.signature(func)
-    name = label or func.__qualname__.removesuffix(".__init__")
+    name = label or func.__qualname__.rpartition("<locals>.")[2].removesuffix(".__init__")
     params = [p for p in sig.parameters.values()
               if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD) and p.name not in ("self", "cls")]
     checks: dict = {}
