@@ -696,7 +696,7 @@ def test_the_generated_test_walks_the_whole_public_api(api):
 
 
 @pytest.mark.parametrize("label", sorted(PUBLIC))
-@settings(max_examples=12, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+@settings(max_examples=40, deadline=None, database=None, suppress_health_check=list(HealthCheck))
 @given(which=st.integers(0, 999), pick=st.integers(0, 999))
 def test_every_public_callable_refuses_wrong_arguments_in_one_sentence(api, label, which, pick):
     """``which`` picks the argument, ``pick`` its wrong value."""
