@@ -243,7 +243,7 @@ def resolved_path(path: Path | str, what: str = "output") -> Path:
         why = "a symbolic link loop" if isinstance(exc, RuntimeError) or exc.errno == errno.ELOOP else (
             exc.strerror or str(exc))
         raise InputError(f"{path}: the {what} path cannot be followed ({why}); remove the link or give another "
-                         "--out (the output path in Python).") from None
+                         "output path.") from None
 
 
 def _nearest_existing(path: Path) -> Path:
