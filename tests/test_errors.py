@@ -4,9 +4,12 @@ arguments of the Python API refused in one sentence, never a traceback."""
 
 from __future__ import annotations
 
+import dataclasses
+import inspect
 import json
 import math
 import os
+import pathlib
 import re
 import subprocess
 import sys
@@ -17,12 +20,15 @@ import zipfile
 import numpy as np
 import pandas as pd
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import ehm
 from ehm import engine
 from ehm.body.params import Parameters
 from ehm.body.tables import joint_names
-from ehm.errors import DivergenceError, EhmWarning, InputError
+from ehm.errors import DivergenceError, EhmError, EhmWarning, InputError, argument_checks
+from ehm.interfaces import batch
 from ehm.interfaces.cli import main
 
 
@@ -259,8 +265,9 @@ def _single_line(text: str) -> str:
 
 # ------------------------------------------------------------------ 1. tracebacks in the Python API and --dt
 @pytest.mark.parametrize("call, words", [
-    (lambda: ehm.assess(None), "assess() needs a SeatMotion, not None"),
-    (lambda: ehm.assess("city"), "assess() needs a SeatMotion, not 'city'"),
+    (lambda: ehm.assess(None), "assess: motion must be an ehm.SeatMotion (read a file with ehm.read_motion"),
+    (lambda: ehm.assess("city"), "motion must be an ehm.SeatMotion (read a file with ehm.read_motion, take "
+     "ehm.city_drive() or generate one with ehm.sine), got 'city'."),
     (lambda: ehm.SeatedHuman(params=42), "params must be a parameter file's path"),
     (lambda: ehm.h1_estimate("abc", np.zeros(100), fs_hz=100.0), "x (the input) must be a 1-D array of numbers"),
     (lambda: ehm.h1_estimate(np.ones(2000), np.ones(2000), fs_hz=0), "fs_hz must be > 0"),
@@ -467,9 +474,10 @@ def test_only_ehm_warnings_are_printed_as_ehm_warnings(capsys):
 
 # ------------------------------------------------------------------ review: values named in messages, TOML words
 @pytest.mark.parametrize("call, words", [
-    (lambda: ehm.SeatedHuman().simulate(np.zeros((100, 3))), "simulate() needs a SeatMotion, not a float64 array of "
-     "shape (100, 3):"),
-    (lambda: ehm.assess(pd.DataFrame(np.zeros((10, 3)))), "not a DataFrame of shape (10, 3):"),
+    (lambda: ehm.SeatedHuman().simulate(np.zeros((100, 3))), "SeatedHuman.simulate: motion must be an ehm.SeatMotion "
+     "(read a file with ehm.read_motion, take ehm.city_drive() or generate one with ehm.sine), got a float64 array of "
+     "shape (100, 3)."),
+    (lambda: ehm.assess(pd.DataFrame(np.zeros((10, 3)))), "got a DataFrame of shape (10, 3)."),
     (lambda: ehm.h1_estimate(pd.DataFrame({"a": ["x", "y"] * 600}), np.zeros(1200), fs_hz=100.0),
      "must be a 1-D array of numbers, not a DataFrame of shape (1200, 1)."),
     (lambda: joint_names(np.arange(3)), "list of joint names, e.g. ['t12', 'lower_neck'], not an int64 "
@@ -503,3 +511,300 @@ def test_a_size_that_is_no_body_size_is_one_sentence():
     'is_reference'), as params=42 did before."""
     with pytest.raises(InputError, match=r"size must be an ehm\.person\.scaling\.BodySize.*not a tuple"):
         ehm.SeatedHuman(size=(1.7, 70))
+
+
+# ------------------------------------------------------------- issue 38 item 6: every public callable, wrong arguments
+# A generated test (hypothesis) calls every public function, constructor and method of ehm.__all__ (and
+# ehm.interfaces.batch.read_results) with one argument replaced by a wrong value: None, numbers of every sign, NaN
+# and infinity, strings, lists, dicts, empty and NaN arrays, an object.  It accepts a normal return (the value
+# may be a valid one) or an EhmError whose message is one sentence; any other exception fails.  The objects are
+# built once per file (the conftest's ``human``, a 0.2 s run); the few callables whose valid call takes seconds
+# (a validation, a step check, a parallel run, an assessment, a Simulator) get only values of a wrong type, which
+# their checks refuse before any work.
+
+#: Wrong values (and some that may be valid: the callable may accept them).
+WRONG = [None, 0, -1, 3, 10**12, 1.5, -0.5, 0.0, math.nan, math.inf, -math.inf, True, "", "x", "a.b", "a/b", "x.csv",
+         [], [1, 2], ["a"], [[1.0, 2.0], [3.0]], {}, {"a": 1}, (1,), np.array([]), np.array([math.nan]),
+         np.zeros((2, 2)), object(), b"x", pathlib.Path("nowhere") / "x.toml"]
+#: Callables a valid call of which takes seconds: only values of a wrong type (below) for them.
+SLOW = {"validate", "check_step", "simulate_parallel", "assess", "Simulator", "SeatedHuman.settle",
+        "SeatedHuman.linear_model"}
+
+
+def _public_callables() -> dict:
+    """label -> the function, or (class, method name) for a method, over ehm.__all__ and batch.read_results."""
+    found = {"read_results": batch.read_results}
+    for name in ehm.__all__:
+        obj = getattr(ehm, name)
+        if isinstance(obj, type):
+            if issubclass(obj, (BaseException, Warning)):
+                continue
+            found[name] = obj
+            for key, member in vars(obj).items():
+                if key.startswith("_") or isinstance(member, property):
+                    continue
+                if isinstance(member, (classmethod, staticmethod)) or inspect.isfunction(member):
+                    found[f"{name}.{key}"] = (obj, key)
+        elif callable(obj):
+            found[name] = obj
+    return found
+
+
+PUBLIC = _public_callables()
+
+
+class _Table(dict):
+    """The callables' table, with a short repr (hypothesis shows the arguments of a failing example)."""
+
+    def __repr__(self) -> str:
+        return f"<{len(self)} public callables>"
+
+
+def _fields(obj) -> dict:
+    return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj) if f.init}
+
+
+@pytest.fixture(scope="module")
+def api(human, tmp_path_factory):
+    """label -> (the callable, the valid keyword arguments it is called with but for the one replaced), built once;
+    the calls run in a temporary working folder (what they write lands there)."""
+    folder = tmp_path_factory.mktemp("api")
+    here = os.getcwd()
+    os.chdir(folder)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        motion = ehm.sine("z", 0.2, 0.3, 2.0)
+        drive = ehm.sine("z", 2.0, 0.3, 2.0)
+        run = human.simulate(motion)
+        frf = ehm.linear_frf(human, axis="z", freq_hz=[1.0, 2.0, 4.0])
+        frf.write("frf.csv")
+        motion_file = folder / "motion.csv"  # SYNTHETIC: 1 s of 0.1 m/s^2 vertical sine at 100 Hz
+        t = np.arange(100) / 100.0
+        np.savetxt(motion_file, np.column_stack([t, 0 * t, 0 * t, 0.1 * np.sin(2 * np.pi * t)]), delimiter=",",
+                   header="time_s,ax_mps2,ay_mps2,az_mps2", comments="")
+        params = ehm.Parameters.load()
+        person = ehm.Person()
+        simulator = ehm.Simulator()
+        state = simulator.step([0.0, 0.0, 0.1])
+        assessment = ehm.assess(drive, human)
+        curve = frf.curve(*frf.keys()[0])
+        validation = ehm.Validation(checks=(), tables={})
+        study = folder / "study"
+        study.mkdir()
+    rng = np.random.default_rng(0)  # SYNTHETIC signals for h1_estimate and from_imu
+    imu_t = np.arange(500) / 100.0
+    instances = {"Person": person, "SeatedHuman": human, "RunResult": run, "PointMotion": run.point("head"),
+                 "Simulator": simulator, "StepState": state, "SeatMotion": motion, "Assessment": assessment,
+                 "FrfTable": frf, "Parameters": params, "BodySize": ehm.BodySize(1.75, 75.0), "Curve": curve,
+                 "Validation": validation}
+    valid = {
+        "simulate_parallel": dict(human=human, motion=motion), "random_vibration": dict(axis="z", duration_s=0.5,
+        rms_mps2=0.1), "sine": dict(axis="z", duration_s=0.5, amplitude_mps2=0.1, freq_hz=2.0),
+        "sweep": dict(axis="z", duration_s=0.5, amplitude_mps2=0.1, f0_hz=1.0, f1_hz=2.0),
+        "read_motion": dict(source=motion_file), "load_motion_csv": dict(path=motion_file),
+        "from_imu": dict(time_s=imu_t, specific_force_mps2=np.tile([0.0, 0.0, 9.81], (500, 1))
+                         + 0.01 * rng.standard_normal((500, 3))),
+        "city_drive": dict(duration_s=2.0), "rough_road": dict(duration_s=2.0),
+        "assess": dict(motion=drive, human=human),
+        "linear_frf": dict(human=human, axis="z", freq_hz=[1.0, 2.0]),
+        "time_domain_frf": dict(human=human, axis="z", duration_s=2.0, segment_s=1.0, route="linear"),
+        "read_frf": dict(path="frf.csv"), "compare": dict(measured=frf, model=frf, warn=False),
+        "h1_estimate": dict(x=rng.standard_normal(2000), y=rng.standard_normal(2000), fs_hz=100.0, segment_s=5.0),
+        "check_step": {}, "validate": {}, "read_results": dict(out=study), "load_body": {},
+        "Person": {}, "SeatedHuman": {}, "RunResult": _fields(run), "PointMotion": _fields(run.point("head")),
+        "Simulator": {}, "StepState": _fields(state), "SeatMotion": _fields(motion), "Assessment": _fields(assessment),
+        "FrfTable": _fields(frf), "Parameters": _fields(params), "BodySize": dict(stature_m=1.75, mass_kg=75.0),
+        "Curve": _fields(curve), "Validation": _fields(validation),
+        "Person.from_dict": dict(data=person.to_dict()), "SeatedHuman.from_recipe": dict(recipe=human.recipe()),
+        "SeatedHuman.simulate": dict(motion=motion), "SeatedHuman.stream": dict(motion=motion),
+        "SeatedHuman.simulate_to": dict(out_dir="run", motion=motion, pose_rate_hz=None),
+        "SeatedHuman.check_nonlinear_motion": dict(motion=motion),
+        "RunResult.point": dict(name="head"), "RunResult.take": dict(rows=slice(0, None, 10)),
+        "RunResult.write": dict(out_dir="written"), "Simulator.restore_state": dict(state=simulator.save_state()),
+        "Simulator.step": dict(seat_acc_mps2=[0.0, 0.0, 0.1]), "SeatMotion.axis": dict(name="z"),
+        "SeatMotion.resample": dict(dt_s=0.002), "Assessment.total_value": dict(location="seat"),
+        "FrfTable.curve": dict(zip(("input_axis", "point", "dof"), frf.keys()[0], strict=True)),
+        "FrfTable.to_csv": dict(path="t.csv"), "FrfTable.to_parquet": dict(path="t.parquet"),
+        "FrfTable.write": dict(path="w.csv"), "Parameters.load": {}, "Parameters.value": dict(path="simulation.dt_s"),
+        "Parameters.with_values": dict(updates={"simulation.settle_s": 1.0}),
+        "Parameters.bounds": dict(path="simulation.dt_s"), "Parameters.with_source": dict(key="k", text="t"),
+        "Parameters.with_about": dict(info={"k": "v"}), "Parameters.provenance": dict(path="simulation.dt_s"),
+        "Parameters.joint_dof": dict(joint="t12", dof="pitch"), "Parameters.section": dict(name="simulation"),
+        "Parameters.export": dict(path="p.toml"), "Parameters.check_against": dict(body=ehm.load_body()),
+        "BodySize.factors": dict(leg=False), "BodySize.shape_factors": dict(leg=False),
+        "BodySize.length": dict(leg=False),
+        "Curve.peak": {}, "Curve.mean_gain": dict(band_hz=(1.0, 4.0)), "Curve.at": dict(freq_hz=2.0),
+        "Validation.check": dict(name="x"), "Validation.on_axis": dict(axis="z"),
+        "Validation.to_csv": dict(path="v.csv"),
+    }
+    table = _Table()
+    for label, target in PUBLIC.items():
+        if isinstance(target, tuple):
+            cls, key = target
+            member = inspect.getattr_static(cls, key)
+            func = getattr(cls, key) if isinstance(member, (classmethod, staticmethod)) else \
+                getattr(instances[cls.__name__], key)
+        else:
+            func = target
+        table[label] = (func, valid.get(label, {}))
+    yield table
+    os.chdir(here)
+
+
+def _fits(annotation: str, value) -> bool:
+    """Whether ``value`` could be of the annotated type (read independently of ehm.errors: a rough reading, for the
+    slow callables only, that errs on the side of 'fits', so that only clearly wrong values are drawn for them)."""
+    text = str(annotation)
+    if text in ("", "None") or "Any" in text or text is inspect.Parameter.empty:
+        return value is None
+    kinds = {"None": value is None, "float": isinstance(value, (int, float)) and not isinstance(value, bool),
+             "int": isinstance(value, int) and not isinstance(value, bool), "bool": isinstance(value, bool),
+             "str": isinstance(value, str), "Path": isinstance(value, (str, os.PathLike)),
+             "tuple": isinstance(value, (tuple, list)), "dict": isinstance(value, dict),
+             "Mapping": isinstance(value, dict)}
+    return any(ok for kind, ok in kinds.items() if kind in text) or not any(kind in text for kind in kinds)
+
+
+def _one_sentence(message: str) -> bool:
+    """One line, ending as a sentence does, with no second sentence (a full stop then a capital; "e.g. Name" and
+    "i.e. Name" are no stop)."""
+    text = message.replace("e.g. ", "e.g.,").replace("i.e. ", "i.e.,")
+    return ("\n" not in message and 10 < len(message) < 600 and message.rstrip().endswith((".", ")", "'"))
+            and not re.search(r"[.!?]\s+[A-Z]", text))
+
+
+def test_the_generated_test_walks_the_whole_public_api(api):
+    """Every public callable has its valid call in the table (a new public function or method without one fails
+    here), and every argument of the listed public API whose annotation names a type is checked."""
+    assert set(api) == set(PUBLIC)
+    assert len(PUBLIC) > 80, sorted(PUBLIC)
+    unchecked = {label: target for label, target in PUBLIC.items() if not argument_checks(
+        target if not isinstance(target, tuple) else inspect.getattr_static(*target))}
+    # callables without arguments; the constructors and functions that check every argument themselves, naming
+    # more (read_motion: the command-line option of each); Simulator.step, a per-step hot path, checks its own
+    allowed = {"Person", "SeatMotion", "Simulator.step", "read_motion", "SeatedHuman"}
+    no_arguments = {label for label, (func, _valid) in api.items()
+                    if not [p for p in inspect.signature(func).parameters.values()
+                            if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]}
+    assert set(unchecked) - allowed - no_arguments == set()
+
+
+@pytest.mark.parametrize("label", sorted(PUBLIC))
+@settings(max_examples=40, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+@given(which=st.integers(0, 999), pick=st.integers(0, 999))
+def test_every_public_callable_refuses_wrong_arguments_in_one_sentence(api, label, which, pick):
+    """``which`` picks the argument, ``pick`` its wrong value."""
+    func, valid = api[label]
+    params = [p for p in inspect.signature(func).parameters.values() if p.kind not in (p.VAR_POSITIONAL,)]
+    if not params:
+        pytest.skip(f"{label} takes no argument")
+    param = params[which % len(params)]
+    if param.kind is param.VAR_KEYWORD:  # **options: a keyword the callable does not know
+        name, pool = "no_such_option", [1, "x", None]
+    else:
+        name, pool = param.name, WRONG
+        if label in SLOW:
+            pool = [v for v in WRONG if not _fits(param.annotation, v)] or [object()]
+    value = pool[pick % len(pool)]
+    kwargs = {**valid, name: value}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # this test is about exceptions; warnings are tested where they are made
+        try:
+            result = func(**kwargs)
+            if inspect.isgenerator(result):
+                for _ in result:
+                    pass
+        except EhmError as exc:
+            assert _one_sentence(str(exc)), f"{label}({name}={value!r}): not one sentence: {exc}"
+        except Exception as exc:  # noqa: BLE001 - the point of the test
+            pytest.fail(f"{label}({name}={value!r}) raised {type(exc).__name__}: {exc}")
+
+
+# ------------------------------------------------------------- issue 38 item 6: the cases it lists, each reproduced
+@pytest.fixture(scope="module")
+def short_run(human):
+    return human.simulate(ehm.sine("z", 0.1, 0.3, 2.0))
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda h, r: ehm.SeatedHuman(body=1), "Person: body = 1 is not body tables; give ehm.load_body(...) or None"),
+    (lambda h, r: ehm.assess(ehm.sine("z", 2.0, 0.3, 2.0), human="x"), "SeatedHuman"),
+    (lambda h, r: ehm.linear_frf("x"), "give an ehm.Person or an ehm.SeatedHuman"),
+    (lambda h, r: ehm.time_domain_frf(h, motion="x"), "time_domain_frf: motion must be an ehm.SeatMotion"),
+    (lambda h, r: ehm.compare(None, None), "compare: measured must be an ehm.FrfTable, got None."),
+    (lambda h, r: ehm.read_frf(1), "read_frf: path must be a path (str or pathlib.Path), got 1."),
+    (lambda h, r: ehm.load_body(1), "load_body: segments must be a path (str or pathlib.Path) or None, got 1."),
+    (lambda h, r: ehm.Parameters.load().with_values([("simulation.dt_s", 0.001)]),
+     "Parameters.with_values: updates must be a dict, got a list of 1 item"),
+    (lambda h, r: r.take(slice(None, None, 0)), "RunResult.take: the slice's step must be 1 or more, got 0"),
+    (lambda h, r: r.take("head"), "RunResult.take: rows must be a slice, whole-number indices or a boolean mask"),
+    (lambda h, r: r.take([0, 10**6]), "RunResult.take: row 1000000 is outside the run's 101 samples (0 to 100)."),
+    (lambda h, r: r.take(slice(500, None)), "selects none of the run's 101 samples"),
+    (lambda h, r: batch.read_results(1), "read_results: out must be a path (str or pathlib.Path), got 1."),
+    (lambda h, r: r.write(1), "RunResult.write: out_dir must be a path (str or pathlib.Path), got 1."),
+    (lambda h, r: ehm.SeatedHuman(head_control={"delay_s": 1e7}), "head_control.delay_s = 10000000.0 s is longer"),
+    (lambda h, r: h.simulate(ehm.sine("z", 0.1, 0.3, 2.0), no_such_option=1), "unknown option 'no_such_option'"),
+    (lambda h, r: h.simulate(ehm.sine("z", 0.1, 0.3, 2.0), progress=-1),
+     "SeatedHuman.simulate: progress must be a function or None, got -1."),
+    (lambda h, r: r.write("w", formats=None), "RunResult.write: formats must be a str or a tuple or a list, got None."),
+    (lambda h, r: r.write("w", formats=("csv", "xlsx")), "time-series format 'xlsx': use csv and/or parquet"),
+    (lambda h, r: ehm.linear_frf(h, freq_hz="x"), "linear_frf: freq_hz must be frequencies in Hz"),
+])
+def test_the_listed_wrong_arguments_are_one_sentence(human, short_run, tmp_path, monkeypatch, call, words):
+    """Issue 38 item 6 lists these calls, each of which ended in a traceback (AttributeError, TypeError, IndexError,
+    KeyError or MuJoCo's own): each is an EhmError now, one sentence naming the function and the argument."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(EhmError) as info:
+        call(human, short_run)
+    assert words in str(info.value) and _one_sentence(str(info.value)), str(info.value)
+
+
+def test_a_wrong_type_is_both_an_input_error_and_a_type_error():
+    """ArgumentError: the command line prints it as one line (an EhmError), and code that catches Python's own
+    TypeError for a wrong type still catches it."""
+    with pytest.raises(TypeError) as info:
+        ehm.sine("z", "1 s", 0.3, 2.0)
+    assert isinstance(info.value, InputError)
+    assert str(info.value) == "sine: duration_s must be a number, got '1 s'."
+    with pytest.raises(InputError, match=r"sine: missing a required argument: 'freq_hz' \(its arguments: axis, "):
+        ehm.sine("z", 1.0, 0.3)
+    with pytest.raises(InputError, match="sine: amplitude_mps2 must be finite, got nan."):
+        ehm.sine("z", 1.0, math.nan, 2.0)
+
+
+def test_a_warning_of_a_checked_function_points_at_the_callers_line():
+    """The argument checks put a frame between the caller and each public function; ehm.errors.warn counts
+    stacklevel over it, so that a warning meant for the caller still names the caller's file and line."""
+    with pytest.warns(EhmWarning, match="SYNTHETIC city drive") as record:
+        ehm.assess(ehm.city_drive(12.0, seed=1)); line = inspect.currentframe().f_lineno  # noqa: E702
+    assert [(w.filename, w.lineno) for w in record] == [(__file__, line)]
+
+
+def test_the_checks_read_unions_pairs_classes_and_leave_the_rest():
+    """ehm.errors.checked on a made-up function: what it refuses and in which words, what it leaves alone."""
+    from ehm.errors import ArgumentError, checked
+
+    @checked(only=("band_hz", "motion", "out", "count"))
+    def f(band_hz: tuple[float, float] = (0.5, 12.0), motion: ehm.SeatMotion | None = None,
+          out: pathlib.Path | str = "x", count: int = 1, data: np.ndarray | None = None, free: float = 0.0):
+        return band_hz
+
+    assert f([1, 2]) == [1, 2] and f(out=pathlib.Path("y")) == (0.5, 12.0)
+    assert f(free="not checked: not in only") == (0.5, 12.0) and f(data="arrays are left to the function")
+    for kwargs, words in [({"band_hz": 5.0}, "f: band_hz must be a pair (tuple) of numbers, got 5.0."),
+                          ({"band_hz": (1.0,)}, "f: band_hz must hold 2 items, got a tuple of 1 item ((1.0,))."),
+                          ({"band_hz": (1.0, "2")}, "f: band_hz[1] must be a number, got '2'."),
+                          ({"motion": "drive.csv"}, "f: motion must be an ehm.SeatMotion (read a file with "
+                           "ehm.read_motion, take ehm.city_drive() or generate one with ehm.sine) or None, got "
+                           "'drive.csv'."),
+                          ({"out": 3}, "f: out must be a path (str or pathlib.Path), got 3."),
+                          ({"count": 2.0}, "f: count must be a whole number, got 2.0."),
+                          ({"nosuch": 1}, "f: got an unexpected keyword argument 'nosuch' (its arguments: band_hz,")]:
+        with pytest.raises(ArgumentError) as info:
+            f(**kwargs)
+        assert str(info.value).startswith(words), str(info.value)
+    with pytest.raises(InputError, match=r"f: band_hz\[0\] must be finite, got inf."):
+        f((math.inf, 1.0))
+    assert argument_checks(f) == {"band_hz": "a pair (tuple) of numbers", "motion": argument_checks(f)["motion"],
+                                  "out": "a path (str or pathlib.Path) or a str", "count": "a whole number",
+                                  "data": None, "free": None}

@@ -639,3 +639,20 @@ def test_a_folder_held_by_another_process_is_refused_and_a_dead_holders_lock_is_
     with folder_lock(folder), folder_lock(folder):  # a stale lock is no lock; one process may nest
         assert str(os.getpid()) in (tmp_path / ".study.ehm-lock").read_text()
     assert not (tmp_path / ".study.ehm-lock").exists()  # removed on leaving
+
+
+@pytest.mark.parametrize("command, out", [(["simulate", "--duration", "0.1"], "loop"),
+                                          (["simulate", "--duration", "0.1"], "loop/run"),
+                                          (["frf", "--method", "linear"], "loop/frf.csv")])
+def test_an_output_path_through_a_symlink_loop_is_one_sentence(tmp_path, capsys, monkeypatch, command, out):
+    """Issue 38: 'an --out that is a symlink loop' ended in pathlib's RuntimeError; one sentence now, before any
+    work, naming the path, the loop and what to do."""
+    monkeypatch.chdir(tmp_path)
+    os.symlink("other", "loop")
+    os.symlink("loop", "other")
+    assert main([*command, "--out", out]) != 0
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert f"ehm: error: {out}: " in err and "symbolic link loop" in err and "another output path" in err
+    with pytest.raises(InputError, match="symbolic link loop"):
+        ehm.RunResult.write(ehm.SeatedHuman().simulate(ehm.sine("z", 0.01, 0.1, 2.0)), "loop/run")

@@ -149,3 +149,40 @@ def test_left_out_back_slide_is_filled_in_with_provenance(tmp_path):
     out = tmp_path / "exported.toml"
     p.export(out)
     assert Parameters.load(out).value("simulation.back_slide_s") == 0.0
+
+
+@pytest.mark.parametrize("name", ['""', '"a.b"', '"../up"', '"a/b"', '"with space"'])
+def test_a_posture_name_with_a_dot_or_path_characters_is_refused(tmp_path, name):
+    """Issue 38: a posture named '' or with a dot in a parameter file ended in a KeyError in Parameters.section
+    (its name is part of dotted paths such as postures.NAME.dt_s); refused now in one sentence naming it."""
+    path = tmp_path / "postures.toml"
+    text = default_params_path().read_text()
+    assert "[postures.slouched]" in text
+    path.write_text(text.replace("[postures.slouched]", f"[postures.{name}]"))
+    with pytest.raises(InputError, match=r"posture name .* must be letters, digits, '_' or '-'") as info:
+        Parameters.load(path)
+    assert "\n" not in str(info.value) and str(path) in str(info.value)
+
+
+def test_a_posture_name_of_letters_digits_and_dashes_is_read(tmp_path):
+    path = tmp_path / "postures.toml"
+    path.write_text(default_params_path().read_text().replace("[postures.slouched]", "[postures.slouched-2_b]"))
+    assert "slouched-2_b" in Parameters.load(path).postures()
+
+
+@pytest.mark.parametrize("name, words", [("postures.a.b", "unknown parameter section 'postures.a.b' (no 'a')"),
+                                         ("nosuch", "unknown parameter section"), ("", "unknown parameter section"),
+                                         ("simulation.dt_s", "is a parameter, not a section")])
+def test_a_section_that_is_none_is_one_sentence(name, words):
+    with pytest.raises(InputError) as info:
+        Parameters.load().section(name)
+    assert words in str(info.value)
+
+
+@pytest.mark.parametrize("delay_s, words", [(1e7, "is longer than 10 s"), (0.0, "must be positive"),
+                                           (-0.03, "must be positive")])
+def test_a_head_control_delay_out_of_range_is_one_sentence(delay_s, words):
+    """Issue 38: a head-control delay of 1e7 s overflowed an integer inside MuJoCo (a TypeError from its bindings);
+    refused now when the parameters are changed, before anything is built."""
+    with pytest.raises(InputError, match=f"head_control.delay_s = .* {words}"):
+        Parameters.load().with_head_control({"delay_s": delay_s})

@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
 from pathlib import Path
 
 import numpy as np
@@ -19,7 +20,7 @@ import numpy as np
 from . import engine
 from .body.params import Parameters
 from .body.tables import Body
-from .errors import InputError
+from .errors import InputError, checked, checked_class, describe
 from .inputs.motion import SeatMotion
 from .outputs.results import (  # noqa: F401 - POINT_NAMES, PointMotion, concatenate_runs: also importable from here
     POINT_NAMES,
@@ -38,6 +39,7 @@ from .routes.nonlinear import (  # noqa: F401 - also importable from here
 )
 
 
+@checked_class(skip=("__init__",))
 class SeatedHuman:
     """One person on one seat, ready to simulate.
 
@@ -82,6 +84,8 @@ class SeatedHuman:
         a rotating seat's linearisation, the linear models' cache.
     """
 
+    # the person's arguments are ehm.Person's, which checks each itself and names its range
+    @checked(only=("rotating_seat", "person"))
     def __init__(self, params: Person | Parameters | str | Path | None = None, lock=(), unlock=(),
                  body: Body | None = None, rotating_seat: bool = False, size=None, dt_s: float | None = None,
                  posture: str | None = None, back_support: str | None = None, head_control=None, *,
@@ -111,6 +115,10 @@ class SeatedHuman:
     @classmethod
     def from_recipe(cls, recipe: dict) -> SeatedHuman:
         """The person of :meth:`recipe`, built anew (the same MuJoCo model, and settled if it was)."""
+        keys = ("body", "params", "size", "locked", "rotating_seat")
+        if not all(k in recipe for k in keys):
+            raise InputError(f"SeatedHuman.from_recipe: recipe must be what SeatedHuman.recipe() returns (with "
+                             f"{', '.join(keys)}), not {describe(recipe)}.")
         human = cls.__new__(cls)
         human.body, human.params, human.size = recipe["body"], recipe["params"], recipe["size"]
         human.person = recipe.get("person")
@@ -180,7 +188,7 @@ class SeatedHuman:
         """
         return linear_model(self.built, rotation=rotation)
 
-    def simulate(self, motion: SeatMotion, progress=None, pose_rate_hz: float | None = None,
+    def simulate(self, motion: SeatMotion, progress: Callable | None = None, pose_rate_hz: float | None = None,
                  method: str = "auto", tolerance: float | None = None, **options) -> RunResult:
         """Run the settled person with a seat motion.
 
@@ -213,8 +221,9 @@ class SeatedHuman:
                                                  pose_rate_hz=pose_rate_hz, **options)))
 
     def simulate_to(self, out_dir: Path | str, motion: SeatMotion, output_rate_hz: float | None = None,
-                    formats=("csv",), pose_rate_hz: float | None = 25.0, progress=None, chunk_s: float = 10.0,
-                    plot=None, method: str = "auto", tolerance: float | None = None, chunks=None) -> dict:
+                    formats: str | tuple | list = ("csv",), pose_rate_hz: float | None = 25.0,
+                    progress: Callable | None = None, chunk_s: float = 10.0, plot=None, method: str = "auto",
+                    tolerance: float | None = None, chunks: Iterable | None = None) -> dict:
         """Run a seat motion and write its run folder while it runs; returns the summary.
 
         Chunks of ``chunk_s`` go to disk as they are computed (:mod:`ehm.outputs.runfiles`), so memory does not grow
@@ -235,8 +244,18 @@ class SeatedHuman:
         same ``chunk_s`` and ``pose_rate_hz``), written instead of this person's own :meth:`stream`.
         """
         from .outputs.outdir import RunFolder, check_output_folder
-        from .outputs.runfiles import PREVIEW_ROWS, default_output_every, output_every, pyarrow_modules, write_run
+        from .outputs.runfiles import (
+            PREVIEW_ROWS,
+            check_formats,
+            default_output_every,
+            output_every,
+            pyarrow_modules,
+            write_run,
+        )
 
+        formats = check_formats(formats)
+        if chunks is not None:
+            chunks = _run_chunks(chunks)
         if plot is not None and plot is not False and not callable(plot):
             raise InputError("plot must be a function plot(preview, folder), e.g. "
                              "ehm.outputs.plotting.plot_run_preview; simulate_to does not draw by itself.")
@@ -256,8 +275,8 @@ class SeatedHuman:
                 plot(concatenate_runs(pieces), tmp)
         return summary
 
-    def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
-               method: str = "auto", tolerance: float | None = None, **options):
+    def stream(self, motion: SeatMotion, chunk_s: float = 10.0, progress: Callable | None = None,
+               pose_rate_hz: float | None = None, method: str = "auto", tolerance: float | None = None, **options):
         """Run a seat motion chunk by chunk; yields one :class:`RunResult` per chunk (absolute times).
 
         Memory stays constant whatever the motion's length: the motion is resampled onto the model's time
@@ -276,3 +295,11 @@ class SeatedHuman:
         (:meth:`ehm.routes.built.BuiltPerson.check_nonlinear_motion`)."""
         return self.built.check_nonlinear_motion(motion)
 
+
+def _run_chunks(chunks):
+    """``chunks`` (simulate_to's) one by one, each checked to be a piece of a run."""
+    for chunk in chunks:
+        if not isinstance(chunk, RunResult):
+            raise InputError(f"SeatedHuman.simulate_to: chunks must give the run's pieces as ehm.RunResult objects "
+                             f"(e.g. from SeatedHuman.stream), not {describe(chunk)}.")
+        yield chunk

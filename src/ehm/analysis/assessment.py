@@ -26,13 +26,13 @@ in (measured with 12 signals: 6 and 9 MB; a 200 Hz log's own time and three chan
 from __future__ import annotations
 
 import time
-import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import signal
 
-from ..errors import EhmWarning, InputError
+from ..errors import EhmWarning, InputError, checked, checked_class, warn
 from ..inputs.motion import SeatMotion, require_motion, seat_rotation_matrices
 from ..inputs.resampling import PASS_FRACTION
 from ..person import Person
@@ -117,6 +117,7 @@ class _Spectrum:
         return self.freq, self.total / self.count
 
 
+@checked_class
 @dataclass
 class Assessment:
     """Results of :func:`assess` (plain data; ``summary()`` is what ``assessment.json`` holds)."""
@@ -138,6 +139,9 @@ class Assessment:
 
     def total_value(self, location: str) -> float:
         """Vibration total value a_v = sqrt(a_wx^2 + a_wy^2 + a_wz^2), k = 1 (comfort) [m/s^2]."""
+        if location not in self.metrics:
+            raise InputError(f"Assessment.total_value: no location {location!r}; the assessment has "
+                             f"{', '.join(self.metrics)}.")
         return float(np.sqrt(sum(self.metrics[location][a].a_w ** 2 for a in "xyz")))
 
     def summary(self) -> dict:
@@ -373,7 +377,8 @@ def needs_rotating_seat(motion: SeatMotion, method: str) -> bool:
     return method == "nonlinear" or bool(np.any(motion.angvel_radps != 0))
 
 
-def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
+@checked
+def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress: Callable | None = None,
            method: str = "auto", tolerance: float | None = None, workers: int = 1, client=None,
            lead_in_s: float | None = None, exposure: SpineExposure | None = None) -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
@@ -434,7 +439,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress=None,
     band = motion.covered_band_hz(fs)
     shares = band_coverage(band)
     for sentence in band_warnings(band, shares):
-        warnings.warn(f"{motion.description}: {sentence}", EhmWarning, stacklevel=2)
+        warn(f"{motion.description}: {sentence}", EhmWarning, stacklevel=2)
     # ISO 2631-5 by the standard's route, before the run: a drive it cannot take fails at once
     standard = spinal_dose(motion.acc_mps2[:, 2], motion.rate_hz, exposure, measured_s=motion.duration_s)
     description, duration = motion.description, motion.duration_s

@@ -36,7 +36,7 @@ from ..body.timestep import (  # noqa: F401 - re-exported: ehm.analysis.converge
     expected_error,
     warn_if_coarse,
 )
-from ..errors import InputError
+from ..errors import InputError, checked, describe, frequency_grid
 from ..person.person import Person, as_person
 from .frf import AXES, DOFS, POINTS, linear_frf
 
@@ -116,6 +116,7 @@ def path_errors(table, reference, small_path: float = SMALL_PATH) -> tuple[dict,
     return errors, at_hz
 
 
+@checked
 def check_step(params: Person | Parameters | str | None = None, dt_s: float | None = None, lock=(), unlock=(),
                size=None, ratios=(8, 4), freq_hz: np.ndarray | None = None) -> StepCheck:
     """Compare the linearised model at ``dt_s`` with the same model at ``dt_s / ratio`` for each ratio.
@@ -143,14 +144,18 @@ def check_step(params: Person | Parameters | str | None = None, dt_s: float | No
     if dt_s is None:
         dt_s = person.dt_s
     dt = person.seated_params().time_step() if dt_s is None else check_time_step(dt_s, "dt_s")
-    ratios = tuple(int(r) for r in ratios)
+    try:
+        ratios = tuple(int(r) for r in ratios)
+    except (TypeError, ValueError):
+        raise InputError(f"check_step: ratios must be whole numbers, the divisors of the step (e.g. (8, 4)), not "
+                         f"{describe(ratios)}.") from None
     if not ratios or min(ratios) < 2:
         raise InputError(f"the finer steps are given as divisors of the step, each 2 or more; got {ratios}.")
     if dt / max(ratios) < MIN_STEP_S:
         raise InputError(f"the step to check, {dt:g} s, is too short to compare with a step {max(ratios)} times "
                          f"finer: steps below {MIN_STEP_S * 1e6:g} us are not run (check {MIN_STEP_S * max(ratios):g} "
                          "s or longer).")
-    f = _FREQ_HZ if freq_hz is None else np.asarray(freq_hz, dtype=float)
+    f = _FREQ_HZ if freq_hz is None else frequency_grid("check_step", freq_hz)
 
     def table(step_s: float):
         with warnings.catch_warnings():

@@ -18,12 +18,12 @@ axis, are left out, with a warning that lists them, unless ``keep_small=True`` (
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import EhmWarning, InputError
+from .. import errors
+from ..errors import EhmWarning, InputError, checked
 from ..standards.transfer import band_select
 from .frf import MASS_POINTS, FrfTable
 
@@ -119,13 +119,14 @@ def curves_to_compare(measured: FrfTable, band_hz: tuple[float, float] = DEFAULT
     if small and warn:
         listed = "; ".join(f"seat {a} -> {p} {d} (peak {pk:.3g}, {100 * pk / big:.0f} % of {big:.3g})"
                            for (a, p, d), (pk, big) in small.items())
-        warnings.warn(f"left out of the criterion: {len(small)} measured curve{'s' * (len(small) > 1)} whose peak is "
-                      f"below {100 * SMALL_CURVE_FRACTION:.0f} % of the largest curve of the same kind for the same "
-                      f"seat axis (noise, or paths near zero by symmetry): {listed}; keep them with keep_small=True "
-                      "(--keep-small-curves).", EhmWarning, stacklevel=3)
+        errors.warn(f"left out of the criterion: {len(small)} measured curve{'s' * (len(small) > 1)} whose peak "
+                    f"is below {100 * SMALL_CURVE_FRACTION:.0f} % of the largest curve of the same kind for the "
+                    f"same seat axis (noise, or paths near zero by symmetry): {listed}; keep them with "
+                    "keep_small=True (--keep-small-curves).", EhmWarning, stacklevel=3)
     return [k for k in measured.keys() if k not in small], tuple(small)
 
 
+@checked
 def compare(measured: FrfTable, model: FrfTable, band_hz: tuple[float, float] = DEFAULT_BAND_HZ,
             keep_small: bool = False, warn: bool = True) -> Comparison:
     """Criterion of every measured curve against the model table, and their weighted mean.

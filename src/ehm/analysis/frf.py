@@ -24,8 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, frequencies_hz
+from ..engine.linearisation import LinearModel
+from ..errors import InputError, checked, checked_class, frequencies_hz, frequency_grid
 from ..files import write_text_atomic
+from ..inputs.motion import SeatMotion
 from ..standards.transfer import Curve, band_select
 
 AXES = ("x", "y", "z")
@@ -39,6 +41,7 @@ COLUMNS = ("input_axis", "point", "dof", "freq_hz", "gain", "phase_deg", "cohere
 _LINEAR_OUTPUT = {"x": "ax", "y": "ay", "z": "az", "roll": "roll_acc", "pitch": "pitch_acc", "yaw": "yaw_acc"}
 
 
+@checked_class
 @dataclass(frozen=True)
 class FrfTable:
     """Frequency response curves by ``(input_axis, point, dof)``.
@@ -294,6 +297,7 @@ def read_frf_csv(path: Path | str) -> FrfTable:
     return FrfTable(curves=curves, method=method, meta=meta)
 
 
+@checked
 def read_frf(path: Path | str) -> FrfTable:
     """An FRF table from CSV (:func:`~ehm.analysis.frf.read_frf_csv`) or from Parquet written by
     :meth:`FrfTable.to_parquet`: ehm's own tables with their method and the person they were computed for
@@ -386,9 +390,10 @@ def _seated(human):
     return human
 
 
+@checked
 def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2: float = 0.3, seed: int = 0,
                     band_hz: tuple[float, float] = (0.1, 12.0), segment_s: float = 10.0,
-                    route: str = "nonlinear", motion=None) -> FrfTable:
+                    route: str = "nonlinear", motion: SeatMotion | None = None) -> FrfTable:
     """Transfer functions from random-vibration runs, one run per input axis (paper Eq. 1, H1 estimate).
 
     Each run excites one seat axis with band-limited random acceleration (``band_hz``, ``rms_mps2``).
@@ -437,7 +442,8 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
     return FrfTable(curves=curves, method="time", meta=meta)
 
 
-def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, linear_model=None,
+@checked
+def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, linear_model: LinearModel | None = None,
                discrete: bool = False) -> FrfTable:
     """Exact frequency response of the model linearised around its settled posture.
 
@@ -451,8 +457,11 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
     from ..routes.linear import frequency_response
     from ..standards.transfer import discrete_frequency_response
 
-    f = np.arange(0.1, 12.0 + 1e-9, 0.05) if freq_hz is None else np.atleast_1d(frequencies_hz(freq_hz,
-                                                                                              positive=True))
+    if freq_hz is None:
+        f = np.arange(0.1, 12.0 + 1e-9, 0.05)
+    else:  # one number or a 1-D list of them, each above 0 Hz
+        f = frequency_grid("linear_frf", [freq_hz] if isinstance(freq_hz, int | float) else freq_hz)
+        frequencies_hz(f, positive=True)
     human = _seated(human)
     axes = _axes(axis)
     cols = [AXES.index(a) for a in axes]

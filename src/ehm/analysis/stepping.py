@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import engine
 from ..body.params import Parameters
-from ..errors import InputError
+from ..errors import InputError, checked_class, describe
 from ..outputs.results import POINT_NAMES
 from ..person import Person
 from ..simulation import SeatedHuman
@@ -39,6 +39,7 @@ class PointState:
     angvel_radps: np.ndarray
 
 
+@checked_class
 @dataclass(frozen=True)
 class StepState:
     """Result of one :meth:`Simulator.step`: the time of the sample and the output points.
@@ -84,6 +85,7 @@ def _euler_zyx(q: np.ndarray) -> np.ndarray:
     return np.array([roll, pitch, yaw])
 
 
+@checked_class(skip=("step",))
 class Simulator:
     """One settled person on one seat, advanced one fixed time step at a time.
 
@@ -194,7 +196,7 @@ def _three_finite(value, name: str, unit: str) -> np.ndarray:
     except (TypeError, ValueError):
         v = None
     if v is None or v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise InputError(f"Simulator.step: {name} must be 3 finite numbers (x, y, z) [{unit}], not {value!r}.")
+        raise InputError(f"Simulator.step: {name} must be 3 finite numbers (x, y, z) [{unit}], not {describe(value)}.")
     return v
 
 

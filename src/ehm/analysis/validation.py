@@ -39,12 +39,14 @@ from __future__ import annotations
 
 import csv
 import io
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from ..body.params import Parameters
-from ..errors import InputError
+from ..errors import InputError, checked, checked_class
 from ..files import write_text_atomic
 from ..person.person import Person, as_person
 from ..standards import references
@@ -98,6 +100,7 @@ class Check:
     source: str
 
 
+@checked_class
 @dataclass(frozen=True)
 class Validation:
     """Every check of a person against the references, and the frequency responses they were taken from.
@@ -157,7 +160,7 @@ class Validation:
         return frame(columns, {"description": "the person against the standards' reference curves",
                                "passed": self.passed, **{k: str(v) for k, v in self.person.items()}})
 
-    def to_csv(self, path) -> None:
+    def to_csv(self, path: Path | str) -> None:
         """Write the checks as CSV (whole or not at all), one row each, with the columns of
         :class:`~ehm.analysis.validation.Check`; a limit a band does not have is an empty cell."""
         buffer = io.StringIO()
@@ -332,9 +335,10 @@ def _conditions(params: Parameters, posture, back_support) -> list[tuple[str, st
     return out
 
 
+@checked
 def validate(params: Person | Parameters | str | None = None, size=None, posture: str | None = None,
              back_support: str | None = None, locking: bool = True, dt_s: float | None = None,
-             progress=None) -> Validation:
+             progress: Callable | None = None) -> Validation:
     """The person against every reference of :mod:`ehm.standards.references`.
 
     Parameters

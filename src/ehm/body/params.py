@@ -14,6 +14,7 @@ import copy
 import functools
 import math
 import os
+import re
 import tomllib
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
@@ -21,7 +22,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, describe
+from ..errors import InputError, checked_class, describe
 from .posture import DEFAULT_POSTURE, STEP_KEY, check_posture
 from .supports import BACK_SUPPORTS, DEFAULT_BACK_SUPPORT
 from .tables import JOINT_NAMES, Body
@@ -53,7 +54,12 @@ _CONTACT = {"stiffness_N_per_m": "positive", "damping_Ns_per_m": "nonnegative", 
 #: [head_control] (``ehm.engine.control``): optional in a file (load() fills in the shipped section, off).
 HEAD_CONTROL = {"enabled": "bool", "tilt_stiffness_Nm_per_rad": "nonnegative",
                 "tilt_damping_Nms_per_rad": "nonnegative", "yaw_damping_Nms_per_rad": "nonnegative",
-                "delay_s": "positive"}
+                "delay_s": "delay"}
+#: The longest head-control delay a parameter file may give [s]: a person's sensory delay is tens of milliseconds;
+#: far longer ones would fill memory with the delay line (1e7 s overflowed MuJoCo's sizes).
+MAX_DELAY_S = 10.0
+#: What a posture's name may hold: it is a key of [postures] and part of dotted paths (postures.NAME.dt_s).
+_POSTURE_NAME = re.compile(r"[A-Za-z0-9_-]+")
 _ROT = {"stiffness_Nm_per_rad": "nonnegative", "damping_Nms_per_rad": "nonnegative"}
 _TRANS = {"stiffness_N_per_m": "nonnegative", "damping_Ns_per_m": "nonnegative"}
 #: The source recorded on a time step given by the caller (SeatedHuman(dt_s=...), --dt): it then wins over a
@@ -78,6 +84,7 @@ def refuse_defaults(path: Path | str) -> None:
         raise InputError(f"{path} is the shipped default parameter file; write to another file.")
 
 
+@checked_class
 @dataclass(frozen=True)
 class Parameters:
     """A checked parameter set.
@@ -204,7 +211,14 @@ class Parameters:
 
         Rotational: [N m/rad], [N m s/rad]; the t12 ``z`` slide: [N/m], [N s/m].
         """
-        entry = self.data["joints"][joint][dof]
+        joints = self.data["joints"]
+        if joint not in joints or not isinstance(joints[joint], dict):
+            raise InputError(f"Parameters.joint_dof: no joint {joint!r}; the joints are {', '.join(joints)}.")
+        dofs = [k for k in joints[joint] if k not in _META]
+        if dof not in dofs:
+            raise InputError(f"Parameters.joint_dof: joint {joint} has no degree of freedom {dof!r}; it has "
+                             f"{', '.join(dofs)}.")
+        entry = joints[joint][dof]
         keys = _TRANS if dof == "z" else _ROT
         k, c = (float(entry[key]) for key in keys)
         return k, c
@@ -324,7 +338,12 @@ class Parameters:
         """The plain values of a section (``simulation``, ``posture``, ``seat``, ``contacts.<name>``)."""
         node = self.data
         for part in name.split("."):
-            node = node[part]
+            node = node.get(part) if isinstance(node, dict) else None
+            if not isinstance(node, dict) or part in _META:
+                raise InputError(f"unknown parameter section {name!r} (no {part!r}); sections are "
+                                 f"{', '.join(k for k in self.data if k not in _META)}.")
+        if "value" in node:
+            raise InputError(f"{name!r} is a parameter, not a section; read it with Parameters.value({name!r}).")
         return {k: (v["value"] if isinstance(v, dict) and "value" in v else v)
                 for k, v in node.items() if k not in _META}
 
@@ -498,6 +517,9 @@ def _check_postures(label: str, d: dict, sources: dict) -> None:
     if not isinstance(postures, dict) or any(not isinstance(v, dict) for v in postures.values()):
         raise InputError(f"{label}: [postures] must hold one table per posture, [postures.NAME].")
     for name, entries in postures.items():
+        if not _POSTURE_NAME.fullmatch(name):
+            raise InputError(f"{label}: posture name {name!r} in [postures] must be letters, digits, '_' or '-' "
+                             "(no dots, spaces or path characters); rename the table, e.g. [postures.my_posture].")
         for key, entry in entries.items():
             _check_entry(label, sources, f"postures.{name}.{key}", entry, "time_step" if key == STEP_KEY else "finite",
                          True)
@@ -586,7 +608,10 @@ def _check_value(label: str, where: str, value: Any, rule: str) -> None:
         raise InputError(f"{label}: {where} = {value!r} is not a number.")
     if not math.isfinite(value):
         raise InputError(f"{label}: {where} = {value!r} is not a finite number.")
-    if rule == "positive" and value <= 0:
+    if rule == "delay" and value > MAX_DELAY_S:
+        raise InputError(f"{label}: {where} = {value!r} s is longer than {MAX_DELAY_S:g} s; a sensory delay is tens "
+                         "of milliseconds (e.g. 0.03).")
+    if rule in ("positive", "delay") and value <= 0:
         raise InputError(f"{label}: {where} = {value!r} must be positive.")
     if rule == "nonnegative" and value < 0:
         raise InputError(f"{label}: {where} = {value!r} must not be negative.")

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, describe
+from ..errors import InputError, checked, describe
 
 #: Factors from a column's unit suffix to SI, grouped by quantity.
 _UNITS: dict[str, dict[str, float]] = {
@@ -357,6 +357,7 @@ def _unique(label: str, names: list[str], what: str) -> None:
         seen.add(name)
 
 
+@checked
 def load_body(segments: Path | str | None = None, joints: Path | str | None = None,
               contacts: Path | str | None = None) -> Body:
     """Read and cross-check the three body tables (defaults: the shipped paper data).

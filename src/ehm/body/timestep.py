@@ -8,12 +8,11 @@ the error for any person: ``ehm check-step``); both take these names from here.
 
 from __future__ import annotations
 
-import warnings
 from numbers import Real
 
 import numpy as np
 
-from ..errors import EhmWarning, InputError
+from ..errors import EhmWarning, InputError, describe, warn
 
 __all__ = ["CONVERGED_STEP_S", "DEFAULT_STEP_ERRORS", "MAX_STEP_S", "MIN_STEP_S", "POSTURE_STEP_ERRORS", "StepWarning",
            "check_time_step", "expected_error", "warn_if_coarse"]
@@ -44,7 +43,7 @@ def check_time_step(dt_s, name: str = "dt_s") -> float:
     range (the one check of a time step, wherever it enters: a parameter file, ``dt_s=``, ``--dt``)."""
     ok = isinstance(dt_s, Real) and not isinstance(dt_s, bool) and MIN_STEP_S <= dt_s <= MAX_STEP_S  # NaN: False
     if not ok:
-        raise InputError(f"{name} = {dt_s!r} is not a plausible time step: it must be a number of seconds from "
+        raise InputError(f"{name} = {describe(dt_s)} is not a plausible time step: it must be a number of seconds from "
                          f"{MIN_STEP_S * 1e6:g} us to {MAX_STEP_S * 1e3:g} ms (the model is converged at "
                          f"{CONVERGED_STEP_S * 1e3:g} ms; below {MIN_STEP_S * 1e6:g} us settling alone takes hours, "
                          f"above {MAX_STEP_S * 1e3:g} ms the answers are off by more than their size and the person "
@@ -81,7 +80,7 @@ def warn_if_coarse(dt_s: float, where: str = "the time step", converged_s: float
         own = converged_s != CONVERGED_STEP_S and posture is not None
         model, option = (f"the model in the {posture} posture", f" --posture {posture}") if own else ("the model", "")
         error = expected_error(dt_s, converged_s, posture)
-        warnings.warn(
+        warn(
             f"{where} dt = {dt_s * 1e3:g} ms is coarser than the {converged_s * 1e3:g} ms at which {model} "
             f"is converged: expect transfer functions to be off by up to about {100 * error:.0f} % "
             f"of their peak (run 'ehm check-step --dt {dt_s:g}{option}' to measure it for this person).",

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal
 
-from ..errors import InputError, finite_number
+from ..errors import InputError, checked, finite_number
 from .motion import SeatMotion, check_seed
 
 #: ISO 8608 road classes: displacement PSD Gd(n0) at n0 = 0.1 cycles/m [m^3] (geometric class mean).
@@ -47,6 +47,7 @@ def _smooth_steps(t: np.ndarray, events: list[tuple[float, float, float, float]]
     return out
 
 
+@checked
 def city_drive(duration_s: float = 120.0, seed: int = 0, dt_s: float = 0.01) -> SeatMotion:
     """A SYNTHETIC city drive: start, corners left and right, braking, stops, with road vibration.
 
@@ -95,6 +96,7 @@ def city_drive(duration_s: float = 120.0, seed: int = 0, dt_s: float = 0.01) -> 
                       f"SYNTHETIC city drive, {duration:g} s, seed {seed}", np.column_stack([wx, wy, wz]))
 
 
+@checked
 def rough_road(duration_s: float = 60.0, speed_mps: float = 15.0, road_class: str = "C", seed: int = 0,
                dt_s: float = 0.005, wheelbase_m: float = 2.7, track_m: float = 1.5) -> SeatMotion:
     """A SYNTHETIC straight drive on a random road (ISO 8608 class ``road_class`` at ``speed_mps``).

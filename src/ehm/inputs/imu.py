@@ -53,11 +53,10 @@ forward and left.
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 
-from ..errors import EhmWarning, InputError
+from ..errors import EhmWarning, InputError, checked, warn
 from . import attitude as _att
 from .motion import SeatMotion, integrate_attitude
 from .vocabulary import GYRO_UNIT, fix
@@ -94,7 +93,11 @@ def mounting_matrix(mounting, label: str = "from_imu") -> np.ndarray:
         return np.eye(3)
     from scipy.spatial.transform import Rotation
 
-    if isinstance(mounting, str) or (not isinstance(mounting, Rotation) and np.ndim(mounting) == 1):
+    try:
+        ndim = np.ndim(mounting)
+    except ValueError:  # a ragged list
+        ndim = None
+    if isinstance(mounting, str) or (not isinstance(mounting, Rotation) and ndim == 1):
         mounting = mounting_rotation(mounting)  # roll, pitch, yaw [deg]
     if isinstance(mounting, Rotation):
         if not mounting.single:
@@ -243,12 +246,13 @@ def _filter_settings(t: np.ndarray, f: np.ndarray, w: np.ndarray, rest, label: s
            f"square root of a second, more than {_att.GYRO_DRIFT_LIMIT:g}")
     cause = (f"logged at {rate:.3g} Hz it is probably slower than its mount vibrates, so log it at 50 Hz or more"
              if rate < 50.0 else "it is noisy or not fixed to the seat")
-    warnings.warn(f"{label}: the gyro cannot carry the seat's attitude through manoeuvres, so the attitude leans on "
-                  f"gravity (filter gain {_att.WEAK_GYRO_GAIN:g}, acceleration rejection "
-                  f"{_att.WEAK_GYRO_REJECTION_DEG:g} deg), because {why}; {cause}.", EhmWarning, stacklevel=3)
+    warn(f"{label}: the gyro cannot carry the seat's attitude through manoeuvres, so the attitude leans on "
+         f"gravity (filter gain {_att.WEAK_GYRO_GAIN:g}, acceleration rejection "
+         f"{_att.WEAK_GYRO_REJECTION_DEG:g} deg), because {why}; {cause}.", EhmWarning, stacklevel=3)
     return _att.WEAK_GYRO_GAIN, _att.WEAK_GYRO_REJECTION_DEG, f"; a weak gyro: {why}"
 
 
+@checked
 def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None, rest_s: float = 2.0,
              description: str = "IMU log", label: str = "from_imu", max_tilt_deg: float = _att.MAX_TILT_DEG
              ) -> SeatMotion:
@@ -313,8 +317,8 @@ def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None
         _check_tilt(t, roll, pitch, limit, label, gyro=False)
         how = (f"no gyro: levelled with the static tilt of the quietest {anchor.text()} (roll {roll[0]:.1f} deg, "
                f"pitch {pitch[0]:.1f} deg), the seat taken as not rotating")
-        warnings.warn(f"{label}: without gyro rates the seat is taken as not rotating, levelled with the tilt of "
-                      f"its quietest stretch ({anchor.text()}).", EhmWarning, stacklevel=2)
+        warn(f"{label}: without gyro rates the seat is taken as not rotating, levelled with the tilt of "
+             f"its quietest stretch ({anchor.text()}).", EhmWarning, stacklevel=2)
         bias_text = ""
     else:
         w = w @ m.T
@@ -326,10 +330,10 @@ def from_imu(time_s, specific_force_mps2, angular_rate_radps=None, mounting=None
         else:
             bias_text = (f"no rest of {rest_s:g} s found (mean |f| within 1 % of its value at rest, gyro within "
                          "1 deg/s)")
-            warnings.warn(f"{label}: no rest of {rest_s:g} s or more found (mean specific force within 1 % of its "
-                          "value at rest and a gyro quiet within 1 deg/s), so the gyro bias is not measured "
-                          "(for a log of a minute or more its part across gravity is estimated from the whole log).",
-                          EhmWarning, stacklevel=2)
+            warn(f"{label}: no rest of {rest_s:g} s or more found (mean specific force within 1 % of its "
+                 "value at rest and a gyro quiet within 1 deg/s), so the gyro bias is not measured "
+                 "(for a log of a minute or more its part across gravity is estimated from the whole log).",
+                 EhmWarning, stacklevel=2)
         if rest is not None:
             anchor = max(rest.stretches, key=lambda s: s.t1 - s.t0)
         else:

@@ -31,7 +31,7 @@ from numbers import Integral
 import numpy as np
 from scipy import signal
 
-from ehm.errors import InputError, describe, finite_number, positive_number
+from ehm.errors import InputError, checked, checked_class, describe, finite_number, positive_number
 
 from .kinematics import (  # noqa: F401 - re-exported: ehm.inputs.motion.seat_kinematics etc.
     SeatKinematics,
@@ -78,6 +78,7 @@ _FILTER_ORDER = 4
 # --------------------------------------------------------------------------
 
 
+@checked_class(skip=("__init__",))  # the constructor checks every field itself, naming more
 @dataclass(frozen=True, eq=False)
 class SeatMotion:
     """Seat translational acceleration time history in the seat's axes.
@@ -115,6 +116,9 @@ class SeatMotion:
     :class:`~ehm.errors.InputError`.
     """
 
+    #: where to get one, in the sentence refusing another value as a motion (``ehm.errors.checked``)
+    ARGUMENT_HINT = "read a file with ehm.read_motion, take ehm.city_drive() or generate one with ehm.sine"
+
     time_s: np.ndarray
     acc_mps2: np.ndarray
     description: str
@@ -132,9 +136,10 @@ class SeatMotion:
         try:
             time_s = _owned_copy(self.time_s)
             acc = _owned_copy(self.acc_mps2)
-        except (TypeError, ValueError) as exc:
+        except (TypeError, ValueError):
             raise InputError(
-                f"SeatMotion: time_s and acc_mps2 must be numeric arrays ({exc})."
+                f"SeatMotion: time_s and acc_mps2 must be numeric arrays of one length per axis, not "
+                f"{describe(self.time_s)} and {describe(self.acc_mps2)}."
             ) from None
         if time_s.ndim != 1:
             raise InputError(
@@ -180,8 +185,9 @@ class SeatMotion:
         if self.angvel_radps is not None:
             try:
                 w = _owned_copy(self.angvel_radps)
-            except (TypeError, ValueError) as exc:
-                raise InputError(f"SeatMotion: angvel_radps must be a numeric array ({exc}).") from None
+            except (TypeError, ValueError):
+                raise InputError(f"SeatMotion: angvel_radps must be a numeric array of shape (n, 3), not "
+                                 f"{describe(self.angvel_radps)}.") from None
             if w.shape != (n, 3):
                 raise InputError(
                     f"SeatMotion: angvel_radps must have shape ({n}, 3) to match time_s, got {w.shape}."
@@ -455,6 +461,7 @@ def check_seed(seed: object, func: str = "random_vibration") -> int | None:
     return int(seed)
 
 
+@checked
 def random_vibration(
     axis: str,
     duration_s: float,
@@ -563,6 +570,7 @@ def _filtered_noise(func: str, t: np.ndarray, axes: tuple[int, ...], rms: float,
     return columns
 
 
+@checked
 def sine(
     axis: str,
     duration_s: float,
@@ -608,6 +616,7 @@ def sine(
     return _motion(t, axes, {i: wave for i in axes}, description)
 
 
+@checked
 def sweep(
     axis: str,
     duration_s: float,

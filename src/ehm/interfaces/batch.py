@@ -74,7 +74,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import EhmError, EhmWarning, InputError
+from ..errors import EhmError, EhmWarning, InputError, checked, warn
 from ..files import replace_atomically
 from ..outputs.outdir import added_folder, write_owned, write_owned_json
 from .cluster import check_scheduler, dask_client  # noqa: F401  (check_scheduler: the CLI's)
@@ -495,6 +495,7 @@ def _table_rows(records: list[dict]) -> list[dict]:
     return rows
 
 
+@checked
 def read_results(out: Path | str):
     """A study's results table (``OUT/results.parquet``) as a pandas DataFrame, in the shape of
     :meth:`ehm.Assessment.to_dataframe`: one row per run and output, the columns ``run_id``, ``output``,
@@ -636,5 +637,5 @@ def _warn_once(caught: list, shown: set) -> None:
         if text not in shown:
             shown.add(text)
             category = EhmWarning if name == EhmWarning.__name__ else getattr(builtins, name, UserWarning)
-            warnings.warn(text, category if isinstance(category, type) and issubclass(category, Warning)
-                          else UserWarning, stacklevel=2)
+            warn(text, category if isinstance(category, type) and issubclass(category, Warning)
+                 else UserWarning, stacklevel=2)

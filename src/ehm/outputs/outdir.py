@@ -48,11 +48,10 @@ import sys
 import tempfile
 import threading
 import time
-import warnings
 from importlib import metadata
 from pathlib import Path
 
-from ..errors import EhmWarning, InputError
+from ..errors import EhmWarning, InputError, warn
 from ..files import MANIFEST_NAME, fsync_directory, manifest_or_why, read_manifest, write_json_atomic
 
 #: Its format, written into it: a later ehm can tell what it reads.
@@ -235,6 +234,18 @@ def _check_not_inside_ehms_folder(path: Path, what: str) -> None:
                      f"(its {MANIFEST_NAME} lists them); write the {what} outside it, e.g. {where.parent / path.name}.")
 
 
+def resolved_path(path: Path | str, what: str = "output") -> Path:
+    """``path`` with its symbolic links followed (:meth:`pathlib.Path.resolve`), or one sentence when they cannot
+    be (a link loop, whose RuntimeError or OSError would otherwise end the command in a traceback)."""
+    try:
+        return Path(path).resolve()
+    except (RuntimeError, OSError) as exc:
+        why = "a symbolic link loop" if isinstance(exc, RuntimeError) or exc.errno == errno.ELOOP else (
+            exc.strerror or str(exc))
+        raise InputError(f"{path}: the {what} path cannot be followed ({why}); remove the link or give another "
+                         "output path.") from None
+
+
 def _nearest_existing(path: Path) -> Path:
     p = path
     while not p.exists() and p != p.parent:
@@ -261,10 +272,10 @@ def check_output_folder(path: Path | str, what: str = "output", inputs=(), added
     ehm did not write, a read-only folder, an input in it, the current folder, no write permission).
     """
     path = Path(path)
+    resolved = resolved_path(path, what + " folder")
     if path.exists() and not path.is_dir():
         raise InputError(f"{path} is a file; give a folder for the {what}.")
     here = Path.cwd().resolve()
-    resolved = path.resolve()
     if resolved == here or resolved in here.parents:
         raise InputError(f"{path}: the {what} folder would hold the current folder; give a new folder, "
                          "e.g. --out runs/first (ehm replaces its output folder whole).")
@@ -322,6 +333,7 @@ def check_output_file(path: Path | str, what: str = "output file", part_of: Path
     It may not go into a folder that ehm manages (its files listed in a manifest), unless it belongs to it:
     ``part_of`` is the folder of ehm's it is written for (an animation of a run, drawn into that run's folder)."""
     path = Path(path)
+    resolved_path(path, what)
     if path.is_dir():
         raise InputError(f"{path} is a folder; give a file name for the {what}.")
     if part_of is None or path.parent.resolve() != Path(part_of).resolve():
@@ -340,6 +352,7 @@ def check_file_destination(out: Path | str, suffix: str, kind: str) -> Path:
     out = Path(out)
     if out.suffix.lower() != suffix:
         raise InputError(f"{out}: {kind} file name must end in {suffix}.")
+    resolved_path(out, "FMU")
     _check_not_inside_ehms_folder(out, "FMU")
     if out.is_dir():
         raise InputError(f"{out}: is a folder; give a file name ending in {suffix}.")
@@ -449,8 +462,8 @@ def _remove_tree(folder: Path) -> None:
 
     shutil.rmtree(folder, onerror=writable_and_again)
     if os.path.lexists(folder):
-        warnings.warn(f"{folder}: could not remove this hidden folder of an earlier run; delete it yourself.",
-                      EhmWarning, stacklevel=2)
+        warn(f"{folder}: could not remove this hidden folder of an earlier run; delete it yourself.",
+             EhmWarning, stacklevel=2)
 
 
 def glob_escape(text: str) -> str:
@@ -478,7 +491,7 @@ class RunFolder:
     def __init__(self, target: Path | str, what: str = "output"):
         self.target = Path(target)
         if self.target.is_symlink():  # replace the folder the link points at; the link stays
-            self.target = self.target.resolve()
+            self.target = resolved_path(self.target, what)
         self.what = what
         self.staging: Path | None = None
         self._made: list[Path] = []

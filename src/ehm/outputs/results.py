@@ -16,12 +16,13 @@ This module stands below everything that produces or consumes runs (:mod:`ehm.si
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from numbers import Integral
 from pathlib import Path
 
 import numpy as np
 
 from .. import engine
-from ..errors import InputError
+from ..errors import InputError, checked_class, describe
 
 __all__ = ["POINT_NAMES", "PointMotion", "RunResult", "concatenate_runs"]
 
@@ -30,6 +31,7 @@ __all__ = ["POINT_NAMES", "PointMotion", "RunResult", "concatenate_runs"]
 POINT_NAMES = tuple(engine.POINTS)
 
 
+@checked_class
 @dataclass(frozen=True)
 class PointMotion:
     """Motion of one output point (a segment's centre of gravity; ``lumbar``: the L4-L5 joint centre, a point of
@@ -67,6 +69,7 @@ class PointMotion:
 _POINT_FIELDS = ("acc_mps2", "disp_m", "rot_rad", "angacc_radps2", "angvel_radps", "gia_mps2")
 
 
+@checked_class
 @dataclass(frozen=True)
 class RunResult:
     """Result of one simulation, sampled every time step from t = 0.
@@ -131,11 +134,53 @@ class RunResult:
         return acc.summary()
 
     def take(self, rows) -> RunResult:
-        """The run at some rows only (a slice or index array; poses left out), e.g. for a figure."""
+        """The run at some rows only (a slice, an index array, a boolean mask or one index; poses left out), e.g. for
+        a figure.  Rows that are not a selection of this run's samples (a step of 0, a string, an index out of
+        range, no row at all) are refused in one sentence."""
+        rows = self._rows(rows)
         pts = {p: PointMotion(p, *(getattr(m, f)[rows] for f in _POINT_FIELDS)) for p, m in self.points.items()}
         return replace(self, time_s=self.time_s[rows], seat_acc_mps2=self.seat_acc_mps2[rows], points=pts,
                        support_N={k: v[rows] for k, v in self.support_N.items()}, poses=None,
                        seat_angles_rad=None if self.seat_angles_rad is None else self.seat_angles_rad[rows])
+
+    def _rows(self, rows):
+        """``rows`` checked against this run's samples (one index becomes a list of one)."""
+        n = len(self.time_s)
+        hint = "e.g. run.take(slice(0, None, 10)) for every 10th sample"
+        if isinstance(rows, slice):
+            for part in ("start", "stop", "step"):
+                v = getattr(rows, part)
+                if v is not None and (isinstance(v, (bool, np.bool_)) or not isinstance(v, Integral)):
+                    raise InputError(f"RunResult.take: the slice's {part} must be a whole number or None, got "
+                                     f"{describe(v)} ({hint}).")
+            if rows.step is not None and rows.step <= 0:
+                raise InputError(f"RunResult.take: the slice's step must be 1 or more, got {rows.step} ({hint}).")
+            chosen = range(n)[rows]
+            if not len(chosen):
+                raise InputError(f"RunResult.take: {rows} selects none of the run's {n} samples ({hint}).")
+            return rows
+        if isinstance(rows, Integral) and not isinstance(rows, (bool, np.bool_)):
+            rows = [rows]
+        try:
+            index = np.asarray(rows)
+        except (TypeError, ValueError):
+            index = np.asarray(None)
+        if index.ndim != 1 or index.dtype.kind not in "biu":
+            raise InputError(f"RunResult.take: rows must be a slice, whole-number indices or a boolean mask of the "
+                             f"run's samples, got {describe(rows)} ({hint}).")
+        if index.dtype.kind == "b":
+            if index.size != n:
+                raise InputError(f"RunResult.take: a boolean mask must have one entry per sample ({n}), got "
+                                 f"{index.size}.")
+            if not index.any():
+                raise InputError("RunResult.take: the boolean mask selects no sample.")
+            return index
+        if index.size == 0:
+            raise InputError(f"RunResult.take: rows selects no sample ({hint}).")
+        bad = index[(index < -n) | (index >= n)]
+        if bad.size:
+            raise InputError(f"RunResult.take: row {int(bad[0])} is outside the run's {n} samples (0 to {n - 1}).")
+        return index
 
     def columns(self) -> tuple[list[str], np.ndarray]:
         """Header and (n, k) data of ``timeseries.csv``."""
@@ -242,14 +287,16 @@ class RunResult:
         return html_table("ehm RunResult", facts, ["location", "rms a_x [m/s²]", "rms a_y [m/s²]", "rms a_z [m/s²]"],
                           rows)
 
-    def write(self, out_dir: Path | str, output_rate_hz: float | None = None, formats=("csv",)) -> dict:
+    def write(self, out_dir: Path | str, output_rate_hz: float | None = None,
+              formats: str | tuple | list = ("csv",)) -> dict:
         """Write the run folder ``out_dir`` (``timeseries.csv`` and/or ``.parquet``, ``summary.json``, ``poses.npz``
         when the run has poses) as one unit (:mod:`ehm.outputs.outdir`: an earlier run's folder there is replaced
         whole);
         ``output_rate_hz`` thins the time series (default: every step).  Returns the file paths."""
         from .outdir import RunFolder
-        from .runfiles import output_every, write_run
+        from .runfiles import check_formats, output_every, write_run
 
+        formats = check_formats(formats)
         every = output_every(output_rate_hz, self.dt_s)
         out = Path(out_dir)
         with RunFolder(out) as tmp:

@@ -23,10 +23,24 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, describe
 
 DEFAULT_OUTPUT_RATE_HZ = 200.0  #: Rows per second of ``timeseries.csv`` written by ``ehm simulate`` by default.
 FORMATS = ("csv", "parquet")  #: Time-series file formats.
+
+
+def check_formats(formats) -> tuple[str, ...]:
+    """``formats`` (one name or several) as a tuple of names of :data:`FORMATS`, or one sentence naming the first
+    that is not one."""
+    names = (formats,) if isinstance(formats, str) else formats
+    if not isinstance(names, (tuple, list)) or not names:
+        raise InputError(f"time-series formats must be csv and/or parquet (formats=('csv',), --format), not "
+                         f"{describe(formats)}.")
+    unknown = [f for f in names if f not in FORMATS]
+    if unknown:
+        raise InputError(f"time-series format {unknown[0]!r}: use csv and/or parquet (formats=('csv', 'parquet'), "
+                         "--format).")
+    return tuple(names)
 PREVIEW_ROWS = 20000  #: Most rows kept in memory for the figure of a streamed run.
 _ROW_GROUP_ROWS = 10000  #: Rows per Parquet row group (at most this many rows are held before they are written).
 _CSV_FORMAT = "%.9g"  #: As :func:`ehm.files.write_csv_atomic`: 9 significant digits.
@@ -233,9 +247,7 @@ class RunWriter:
     def __init__(self, folder: Path | str, output_every: int = 1, formats=("csv",), preview_rows: int = 0,
                  n_steps: int | None = None):
         self.folder = Path(folder)
-        unknown = [f for f in formats if f not in FORMATS]
-        if unknown or not formats:
-            raise InputError(f"time-series format {unknown[0] if unknown else formats!r}: use csv and/or parquet.")
+        formats = check_formats(formats)
         self.every = int(output_every)
         self.streams = {}
         self.poses: _PoseStream | None = None

@@ -21,7 +21,7 @@ from typing import Any
 from ..body.params import Parameters
 from ..body.tables import Body, joint_names, load_body, resolve_locks
 from ..body.timestep import check_time_step, warn_if_coarse
-from ..errors import InputError, describe
+from ..errors import InputError, checked_class, describe
 from .scaling import BodySize
 
 #: The fields of :class:`Person`, in order (what :meth:`Person.replace` accepts).
@@ -50,6 +50,7 @@ class Built:
     size: BodySize | None
 
 
+@checked_class(skip=("__init__",))  # the constructor checks every field itself, naming more
 @dataclass(frozen=True, eq=False)
 class Person:
     """One person on one seat, as a value: what :class:`ehm.SeatedHuman` builds, and every entry point takes.
@@ -99,7 +100,7 @@ class Person:
     size: BodySize | None = None
     posture: str | None = None
     back_support: str | None = None
-    head_control: bool | tuple | None = None
+    head_control: bool | dict | tuple | None = None
     lock: tuple = ()
     unlock: tuple = ()
     dt_s: float | None = None

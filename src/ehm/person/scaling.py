@@ -48,7 +48,7 @@ import numpy as np
 
 from ..body.params import Parameters
 from ..body.tables import Body
-from ..errors import EhmWarning, InputError, describe
+from ..errors import EhmWarning, InputError, checked_class, describe, warn
 
 REFERENCE_STATURE_M = 1.76  #: Paper section 1: the AHM's standing height, matched by the EHM.
 REFERENCE_SITTING_HEIGHT_M = 0.92  #: Paper section 1: the AHM's sitting height.
@@ -94,13 +94,14 @@ def _check_build(stature_m: float, mass_kg: float) -> None:
                          f"{m_hi:.1f} kg.")
     lo, hi = BMI_WHO_RANGE_KG_M2
     if not lo <= bmi <= hi:
-        warnings.warn(f"a person of {stature_m:g} m and {mass_kg:g} kg has a body mass index of {bmi:.1f} kg/m^2, "
-                      f"{'below' if bmi < lo else 'above'} the {lo:g}-{hi:g} kg/m^2 the scaling stands for (WHO: "
-                      f"{'severe thinness' if bmi < lo else 'obesity class III'}): the person is built with the "
-                      "reference's segment mass fractions and density, which such a body does not have.",
-                      EhmWarning, stacklevel=3)
+        warn(f"a person of {stature_m:g} m and {mass_kg:g} kg has a body mass index of {bmi:.1f} kg/m^2, "
+             f"{'below' if bmi < lo else 'above'} the {lo:g}-{hi:g} kg/m^2 the scaling stands for (WHO: "
+             f"{'severe thinness' if bmi < lo else 'obesity class III'}): the person is built with the "
+             "reference's segment mass fractions and density, which such a body does not have.",
+             EhmWarning, stacklevel=3)
 
 
+@checked_class
 class BodySize:
     """Scale factors from the reference person to a person of the given size.
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import engine
-from ..errors import InputError
+from ..errors import InputError, describe
 
 
 class BuiltPerson:
@@ -113,4 +113,9 @@ class BuiltPerson:
 def built_of(person) -> BuiltPerson:
     """The :class:`BuiltPerson` of ``person``: itself, or the one a door (:class:`ehm.SeatedHuman`) holds in its
     ``built`` attribute (so that the routes' functions take either)."""
-    return person if isinstance(person, BuiltPerson) else person.built
+    if isinstance(person, BuiltPerson):
+        return person
+    built = getattr(person, "built", None)
+    if not isinstance(built, BuiltPerson):
+        raise InputError(f"the person must be an ehm.SeatedHuman (or its built person), not {describe(person)}.")
+    return built

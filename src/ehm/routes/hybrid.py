@@ -37,13 +37,12 @@ drive each model carried, the windows, and the discrepancy per point.
 from __future__ import annotations
 
 import time
-import warnings
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
 from .. import engine
-from ..errors import EhmWarning, InputError
+from ..errors import EhmWarning, InputError, warn
 from ..inputs.kinematics import seat_kinematics, seat_rotation_matrices
 from ..inputs.resampling import Resampler
 from ..outputs.results import POINT_NAMES, merge_linear_checks
@@ -388,7 +387,7 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
         held = piece
     p, a, worst = report.largest()
     if method == "linear" and worst > tolerance:
-        warnings.warn(LinearRouteWarning(
+        warn(LinearRouteWarning(
             f"{description}: the linear route's answer is off by {worst:.2%} of rms ({p} {a} acceleration) in the "
             f"{len(report.windows_s)} windows where a contact reached its friction limit or lifted off "
             f"({report.nonlinear_s:.1f} s), more than the tolerance {tolerance:.0%}; the hybrid route (method='auto', "

@@ -86,12 +86,13 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from numbers import Integral, Real
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, checked, describe
 from ..inputs.motion import SeatMotion, require_motion
 from ..inputs.resampling import Resampler
 from ..outputs.results import RunResult, concatenate_runs
@@ -222,17 +223,17 @@ def _from_file(handed: dict):
 
 def _check(workers, segment_s, lead_in_s, chunk_s) -> None:
     if isinstance(workers, bool) or not isinstance(workers, Integral) or workers < 1:
-        raise InputError(f"workers must be a whole number of processes, 1 or more, not {workers!r}.")
+        raise InputError(f"workers must be a whole number of processes, 1 or more, not {describe(workers)}.")
 
     def time_s(v) -> bool:
         return not isinstance(v, bool) and isinstance(v, Real) and bool(np.isfinite(v))
 
     if lead_in_s is not None and not (time_s(lead_in_s) and lead_in_s >= 0):
-        raise InputError(f"lead_in_s must be a time in seconds, 0 or more, not {lead_in_s!r}.")
+        raise InputError(f"lead_in_s must be a time in seconds, 0 or more, not {describe(lead_in_s)}.")
     if segment_s is not None and not (time_s(segment_s) and segment_s > 0):
-        raise InputError(f"segment_s must be a positive time in seconds, not {segment_s!r}.")
+        raise InputError(f"segment_s must be a positive time in seconds, not {describe(segment_s)}.")
     if isinstance(chunk_s, bool) or not isinstance(chunk_s, Real) or not chunk_s > 0:
-        raise InputError(f"chunk_s must be a positive time in seconds, not {chunk_s!r}.")
+        raise InputError(f"chunk_s must be a positive time in seconds, not {describe(chunk_s)}.")
 
 
 def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: float | None = None,
@@ -284,6 +285,9 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
         per_chunk = max(every, per_chunk // every * every)
     n_workers = workers = int(workers) if client is not None else capped_workers(int(workers))
     if client is not None:
+        if not all(callable(getattr(client, name, None)) for name in ("scheduler_info", "scatter", "submit")):
+            raise InputError(f"client must be a dask.distributed Client (e.g. Client('tcp://host:8786'), "
+                             f"--scheduler), not {describe(client)}.")
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
     n_seg = max(n_workers, math.ceil(motion.duration_s / segment_s) if segment_s else 1)
     local = client is None
@@ -322,8 +326,9 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
                 progress(min(done_s, motion.duration_s), motion.duration_s)
 
 
+@checked(only=("progress", "pose_rate_hz"))  # stream_parallel checks the rest itself, in its own words
 def simulate_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: float | None = None,
-                      lead_in_s: float | None = None, client=None, progress=None,
+                      lead_in_s: float | None = None, client=None, progress: Callable | None = None,
                       pose_rate_hz: float | None = None) -> RunResult:
     """The nonlinear run of ``motion`` in segments on ``workers`` processes (or a Dask ``client``'s cluster), as
     one :class:`~ehm.RunResult` with the continuous run's time axis and fields; the arguments are

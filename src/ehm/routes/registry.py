@@ -81,6 +81,10 @@ def route(name: str) -> Route:
     return ROUTES[name]
 
 
+#: The options of a run that pick or shape its route (:func:`choose`'s keywords after ``method``).
+OPTIONS = ("tolerance", "workers", "client", "lead_in_s", "segment_s")
+
+
 def choose(method: str = "auto", tolerance: float | None = None, workers: int = 1, client=None,
            lead_in_s: float | None = None, segment_s: float | None = None) -> tuple[Route, dict]:
     """The route asked for and the options it takes: ``method`` by name, except that ``workers`` other than 1 or a
@@ -103,5 +107,9 @@ def stream(person, motion, method: str = "auto", chunk_s: float = 10.0, progress
     ``workers``, ``client``, ``lead_in_s``, ``segment_s``), chunk by chunk; a ``motion`` that is no
     :class:`ehm.SeatMotion` is refused in one sentence."""
     require_motion("simulate()", motion)
+    unknown = sorted(set(options) - set(OPTIONS))
+    if unknown:
+        raise InputError(f"unknown option {unknown[0]!r} of a run; the options are method, chunk_s, progress, "
+                         f"pose_rate_hz, {', '.join(OPTIONS)}.")
     chosen, kept = choose(method, **options)
     yield from chosen.run(person, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz, **kept)

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from ..errors import InputError, finite_samples, positive_number
+from ..errors import InputError, checked, checked_class, finite_samples, positive_number
 
 
 def band_select(freq_hz: np.ndarray, band_hz: tuple[float, float]) -> np.ndarray:
@@ -18,6 +18,7 @@ def band_select(freq_hz: np.ndarray, band_hz: tuple[float, float]) -> np.ndarray
     return (freq_hz >= band_hz[0]) & (freq_hz <= band_hz[1])
 
 
+@checked_class
 @dataclass(frozen=True)
 class Curve:
     """One frequency response curve (an estimate, an exact response or measured gains).
@@ -71,6 +72,7 @@ class Curve:
         return float(np.interp(freq_hz, self.freq_hz, self.gain))
 
 
+@checked
 def h1_estimate(x: np.ndarray, y: np.ndarray, fs_hz: float, segment_s: float = 10.0,
                 lowpass_hz: float | None = 12.0) -> Curve:
     """H1 transfer-function estimate y/x with Welch averaging (Hann windows, 50 % overlap).

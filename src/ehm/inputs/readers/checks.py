@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...errors import EhmWarning, InputError
+from ...errors import EhmWarning, InputError, warn
 from ..resampling import Resampler
 from .base import Source, column_words
 from .channels import ACC_KEYS, ASSUMED, FILE, GIVEN, INFERRED, KEY_KINDS, NAME, RATE_KEYS, SI_UNITS
@@ -133,11 +133,10 @@ def _gaps(src: Source, name: str, t: np.ndarray, gaps: np.ndarray, median: float
     if not fill_gaps:
         raise InputError(f"{where}; cut the log there, or give --fill-gaps (fill_gaps=True) to bridge "
                          f"{'it' if gaps.size == 1 else f'its {gaps.size} gaps'} with a straight line.")
-    import warnings
 
     more = "" if gaps.size == 1 else f" (and {gaps.size - 1} more gaps, {float(np.sum(np.diff(t)[gaps])):.6g} s " \
         "in all)"
-    warnings.warn(f"{where}{more} is bridged with a straight line (fill_gaps).", EhmWarning, stacklevel=4)
+    warn(f"{where}{more} is bridged with a straight line (fill_gaps).", EhmWarning, stacklevel=4)
 
 
 #: MDF channels are read over their common time span; it must cover at least this share of the span they
@@ -342,6 +341,5 @@ def _implausible(src: Source, use: dict, origins: dict, keys: list, fix: str, fi
                 f"the unit, e.g. {flags} (units={argument}), or {si} if that is what it is")
     if ASSUMED in kinds:
         raise InputError(sentence + ".")
-    import warnings
 
-    warnings.warn(sentence + " (read as it is).", EhmWarning, stacklevel=5)
+    warn(sentence + " (read as it is).", EhmWarning, stacklevel=5)

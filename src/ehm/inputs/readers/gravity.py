@@ -40,11 +40,10 @@ IMU logs (``imu=True``) are not touched here: :func:`ehm.from_imu` handles their
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 
-from ...errors import EhmWarning, InputError
+from ...errors import EhmWarning, InputError, describe, warn
 from ..imu import STANDARD_GRAVITY_MPS2
 
 GRAVITY_MODES = ("auto", "included", "removed")
@@ -63,7 +62,7 @@ INCLUDED_MIN_SHARE = 0.5
 
 def check_mode(gravity) -> str:
     if gravity not in GRAVITY_MODES:
-        raise InputError(f"gravity must be one of {', '.join(GRAVITY_MODES)}; got {gravity!r}.")
+        raise InputError(f"gravity must be one of {', '.join(GRAVITY_MODES)}; got {describe(gravity)}.")
     return gravity
 
 
@@ -133,9 +132,9 @@ def handle_gravity(time_s: np.ndarray, acc: np.ndarray, rates: np.ndarray | None
         levelled, rates, note = _level_by_tilt(time_s, acc, rates, i, j)
     if gravity == "auto":
         which = "norm" if abs(norm - STANDARD_GRAVITY) <= G_TOLERANCE * STANDARD_GRAVITY else "vertical part"
-        warnings.warn(f"{label}: the mean acceleration of its quietest window has a {which} within {G_TOLERANCE:.0%} "
-                      f"of g (norm {norm:.4g}, z {vertical:.4g} m/s^2), so the log is taken to include gravity and is "
-                      f"{note} (--gravity included does the same without this note).", EhmWarning, stacklevel=4)
+        warn(f"{label}: the mean acceleration of its quietest window has a {which} within {G_TOLERANCE:.0%} "
+             f"of g (norm {norm:.4g}, z {vertical:.4g} m/s^2), so the log is taken to include gravity and is "
+             f"{note} (--gravity included does the same without this note).", EhmWarning, stacklevel=4)
     return levelled, rates, note
 
 

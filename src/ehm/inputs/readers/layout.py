@@ -18,11 +18,10 @@ mounting and a gyro logged in a file of its own.
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 
-from ...errors import EhmWarning, InputError
+from ...errors import EhmWarning, InputError, describe, warn
 from ..imu import mounting_matrix, mounting_rotation  # noqa: F401 - mounting_rotation: ehm.inputs.readers'
 from ..resampling import UNIFORM_TOLERANCE
 from .checks import GAP_STEPS, MIN_OVERLAP
@@ -106,7 +105,7 @@ def cut_window(start_s, end_s):
             v = float(value)
         except (TypeError, ValueError):
             raise InputError(f"{name} ({option}) must be a number of seconds from the log's first sample; got "
-                             f"{value!r}.") from None
+                             f"{describe(value)}.") from None
         if isinstance(value, bool) or not math.isfinite(v) or v < 0:
             raise InputError(f"{name} ({option}) must be a number of seconds >= 0 from the log's first sample; "
                              f"got {value!r}.")
@@ -207,8 +206,8 @@ def parse_columns(columns) -> list | None:
         return None
     names = [c.strip() for c in columns.split(",")] if isinstance(columns, str) else columns
     if not isinstance(names, (list, tuple)) or not names or not all(isinstance(c, str) and c.strip() for c in names):
-        raise InputError(f"columns {columns!r} (--columns): give the names of the file's columns, in order, e.g. "
-                         "--columns x,y,z,delay_ms (columns=['x', 'y', 'z', 'delay_ms']).")
+        raise InputError(f"columns {describe(columns)} (--columns): give the names of the file's columns, in order, "
+                         "e.g. --columns x,y,z,delay_ms (columns=['x', 'y', 'z', 'delay_ms']).")
     names = [c.strip() for c in names]
     twice = sorted({c for c in names if names.count(c) > 1})
     if twice:
@@ -242,4 +241,4 @@ def join_gyro(label: str, glabel: str, t: np.ndarray, data: dict, tg: np.ndarray
 
 def reader_note(text: str, depth: int) -> None:
     """One note (a warning) pointing at the caller of read_motion, ``depth`` calls above the caller of reader_note."""
-    warnings.warn(text, EhmWarning, stacklevel=depth + 2)
+    warn(text, EhmWarning, stacklevel=depth + 2)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, checked, describe
 from ...standards.comfort import BAND_WARNING_SHARE, band_share_outside
 from ..handling import check_handling, find_handling, handling_note
 from ..imu import from_imu
@@ -105,6 +105,7 @@ def _open(source, label: str | None, columns=None, encoding: str | None = None) 
     return TextSource(path, label, columns, encoding)  # .csv, .txt and anything else: a text table
 
 
+@checked(only=("channels", "units", "mounting", "label", "columns", "gravity", "imu_options", "frame"))
 def read_motion(source, channels: dict | None = None, units: dict | None = None, rate_hz: float | None = None,
                 imu: bool = False, mounting=None, label: str | None = None, fill_gaps: bool = False, *,
                 columns=None, gyro=None, start_s: float | None = None, end_s: float | None = None,
@@ -232,7 +233,7 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
     gravity = check_mode(gravity)
     handling = check_handling(handling)
     if frame not in FRAMES:
-        raise InputError(f"frame must be one of {', '.join(FRAMES)}; got {frame!r}.")
+        raise InputError(f"frame must be one of {', '.join(FRAMES)}; got {describe(frame)}.")
     named = label or (str(source) if isinstance(source, (str, os.PathLike)) else "DataFrame")
     if frame == "earth":
         _check_earth(named, bool(imu), mounting)
@@ -260,21 +261,21 @@ def _rate(rate_hz) -> float | None:
     if rate_hz is None:
         return None
     if isinstance(rate_hz, (bool, np.bool_)) or not isinstance(rate_hz, numbers.Real):
-        raise InputError(f"rate_hz (--rate) must be a number of samples per second; got {rate_hz!r}.")
+        raise InputError(f"rate_hz (--rate) must be a number of samples per second; got {describe(rate_hz)}.")
     rate = float(rate_hz)
     if not (math.isfinite(rate) and 1.0 / MAX_STEP_S <= rate <= 1.0 / MIN_STEP_S):
         raise InputError(f"rate_hz must be a positive number of samples per second from {1 / MAX_STEP_S:g} Hz to "
                          f"{1e-3 / MIN_STEP_S:g} kHz (--rate; a log keeps the comfort band, 0.5-80 Hz, up to "
                          f"{PASS_FRACTION:g} times its rate: at {1 / MAX_STEP_S:g} Hz "
                          f"0.5-{PASS_FRACTION / MAX_STEP_S:g} Hz of it, with a warning saying how much is lost); "
-                         f"got {rate_hz!r}.")
+                         f"got {describe(rate_hz)}.")
     return rate
 
 
 def _flag(value, name: str, option: str) -> bool:
     """A yes/no argument: True or False only (a string such as "no" is true in Python, and refused here)."""
     if not isinstance(value, (bool, np.bool_)):
-        raise InputError(f"{name} ({option}) must be True or False; got {value!r}.")
+        raise InputError(f"{name} ({option}) must be True or False; got {describe(value)}.")
     return bool(value)
 
 
@@ -289,7 +290,7 @@ def _encoding(encoding) -> str | None:
             raise LookupError(encoding)
         return codecs.lookup(encoding).name
     except LookupError:
-        raise InputError(f"encoding (--encoding) {encoding!r} is not a text encoding Python knows (e.g. utf-8, "
+        raise InputError(f"encoding (--encoding) {describe(encoding)} is not a text encoding Python knows (e.g. utf-8, "
                          "cp1252, latin-1, utf-16).") from None
 
 
@@ -327,11 +328,12 @@ def _imu_options(options: dict | None) -> dict:
         if value is None:
             continue
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < float("inf"):
-            raise InputError(f"imu_options: {key} = {value!r}; give a positive number.")
+            raise InputError(f"imu_options: {key} = {describe(value)}; give a positive number.")
         out[key] = float(value)
     return out
 
 
+@checked
 def load_motion_csv(path: str | os.PathLike[str]) -> SeatMotion:
     """Read a seat motion from a file with the default channel names; the same as
     :func:`ehm.read_motion` ``(path)`` (kept for existing code).

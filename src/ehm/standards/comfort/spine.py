@@ -38,14 +38,13 @@ from __future__ import annotations
 
 import functools
 import math
-import warnings
 from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 from scipy import signal as _sig
 
-from ...errors import EhmWarning, InputError
+from ...errors import EhmWarning, InputError, warn
 from ..references import ISO2631_5_POLES, ISO2631_5_ZERO
 from .checks import positive_float, signal_1d
 
@@ -486,10 +485,10 @@ def lumbar_response(seat_az_mps2, fs_hz: float, remove_mean: bool = True) -> Lum
     if x.size == 0:
         raise InputError("seat_az_mps2 is empty; the lumbar response needs a record.")
     if fs / 2.0 < _TIGHT_BAND_HZ:
-        warnings.warn(f"a record sampled at {fs:g} Hz holds nothing above {fs / 2:g} Hz; ISO 2631-5's transfer "
-                      f"function reaches to 80 Hz (0.33 at 40 Hz), so the lumbar response misses what the seat did "
-                      f"above {fs / 2:g} Hz and the dose (D, S_d, R) may be low by that part; a log at 160 Hz or "
-                      "faster holds it.", EhmWarning, stacklevel=2)
+        warn(f"a record sampled at {fs:g} Hz holds nothing above {fs / 2:g} Hz; ISO 2631-5's transfer "
+             f"function reaches to 80 Hz (0.33 at 40 Hz), so the lumbar response misses what the seat did "
+             f"above {fs / 2:g} Hz and the dose (D, S_d, R) may be low by that part; a log at 160 Hz or "
+             "faster holds it.", EhmWarning, stacklevel=2)
     if remove_mean:
         x = x - np.mean(x)
     factor = math.ceil(FILTER_MIN_RATE_HZ / fs - 1e-9)

@@ -23,14 +23,13 @@ from __future__ import annotations
 
 import functools
 import math
-import warnings
 from typing import NamedTuple
 
 import numpy as np
 from scipy import optimize as _opt
 from scipy import signal as _sig
 
-from ...errors import EhmWarning, InputError, frequencies_hz
+from ...errors import EhmWarning, InputError, frequencies_hz, warn
 from .checks import positive_float, signal_1d
 
 _Q_BAND = 1.0 / math.sqrt(2.0)
@@ -155,9 +154,9 @@ def _warn_band_beyond_nyquist(name: str, fs: float) -> None:
     f2 = _PARAMETERS[name][1]
     if f2 > fs / 2 and (name, fs) not in _WARNED:
         _WARNED.add((name, fs))
-        warnings.warn(f"{name} reaches up to {f2:g} Hz but data sampled at {fs:g} Hz hold nothing above "
-                      f"{fs / 2:g} Hz, so weighted values cover only the content below {fs / 2:g} Hz.",
-                      EhmWarning, stacklevel=3)
+        warn(f"{name} reaches up to {f2:g} Hz but data sampled at {fs:g} Hz hold nothing above "
+             f"{fs / 2:g} Hz, so weighted values cover only the content below {fs / 2:g} Hz.",
+             EhmWarning, stacklevel=3)
 
 
 def _section_kinds(name: str) -> list[str]:
