@@ -243,7 +243,7 @@ def read_frf_csv(path: Path | str) -> FrfTable:
 
     Required columns: ``input_axis``, ``point``, ``dof``, ``freq_hz``, ``gain``; optional: ``phase_deg``,
     ``coherence``, ``gain_sd``, ``weight`` (per curve; the same on every row of a curve).  Lines starting with
-    ``#`` are comments.  A table ehm wrote (:meth:`FrfTable.to_csv`: a ``# ehm:`` line with its record before the
+    ``#`` are comments.  A table ehm wrote (``FrfTable.to_csv``: a ``# ehm:`` line with its record before the
     header) comes back with its method and record (``meta["person"]``, ``meta["written_by"]``); any other is
     ``measured``.  Rejects, with file and line: unknown axis, point or dof, a non-positive or repeated
     frequency, a NaN, infinite or negative gain, a non-numeric value, a missing column.

@@ -172,7 +172,7 @@ class Validation:
         write_text_atomic(path, buffer.getvalue())
 
     def sources(self) -> list[str]:
-        """The works the checks cite (:func:`citation` of each check's source), each once, in the order the checks
+        """The works the checks cite (``citation`` of each check's source), each once, in the order the checks
         first cite them (``[1]`` is the first): what :meth:`format_table` lists under the table."""
         return list(dict.fromkeys(work for c in self.checks for work in citations(c.source)))
 

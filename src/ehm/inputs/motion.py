@@ -103,7 +103,7 @@ class SeatMotion:
         times the slower rate (:meth:`resample` sets it).  None: half its own rate.
     handling : tuple of dict, optional
         The stretches at the start and end of a measured log that :func:`ehm.read_motion` left out because the
-        logger was handled rather than carried by the vehicle (:mod:`ehm.inputs.handling`): each a dict with
+        logger was handled rather than carried by the vehicle (``ehm.inputs.handling``): each a dict with
         ``where`` (``"start"`` or ``"end"``), ``start_s`` and ``end_s`` (seconds from the log's first sample),
         ``turn_deg``, ``turned_s``, ``peak_mps2`` and ``drive_peak_mps2``.  Empty: nothing was left out.
 
@@ -225,7 +225,7 @@ class SeatMotion:
 
         Low: 1 / duration (the longest period the log holds once).  High: the log's Nyquist frequency (half its own
         rate, :attr:`rate_hz`), or the content limit of a log that was resampled from a slower rate
-        (:attr:`content_limit_hz`: a phone's 51 Hz sensor read onto a 50 Hz grid, or a 100 Hz log read with
+        (``content_limit_hz``: a phone's 51 Hz sensor read onto a 50 Hz grid, or a 100 Hz log read with
         ``--rate 500``, holds nothing above 20 and 40 Hz); and when it is run at another rate ``run_rate_hz`` (the
         model's step), at most 0.4 times the lower of the two rates, where the resampler's anti-alias filter starts
         to cut.

@@ -251,7 +251,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     workers : int
         Processes to run on: this one (the first segment, streamed chunk by chunk as it is computed, while the
         others start) and ``workers - 1`` spawned worker processes, which ignore Ctrl-C and SIGHUP (they end the
-        run here and stop them); no more than the machine holds (:func:`ehm.processes.capped_workers`: its cores,
+        run here and stop them); no more than the machine holds (``ehm.processes.capped_workers``: its cores,
         and its memory at about 0.4 GB per worker), with a warning.  1, or a motion too short to gain from a
         second process (fewer steps than this process makes while a worker starts, :data:`WORKER_START_S`), runs
         in this process as one segment: bit for bit :meth:`~ehm.SeatedHuman.stream`.  With ``client``: at least

@@ -197,9 +197,9 @@ def read_motion(source, channels: dict | None = None, units: dict | None = None,
         ``cut`` (default): a stretch at the start or end of a seat or floor log with gravity in it where the logger
         was handled rather than carried by the vehicle (turned against gravity for a second or more, with
         accelerations far above the drive's) is left out, with one note naming the seconds and why, and recorded in
-        :attr:`ehm.SeatMotion.handling`; never more than the first or last 20 % of the log, and never without a
+        ``SeatMotion.handling``; never more than the first or last 20 % of the log, and never without a
         sustained turn (a pothole is not cut).  ``keep`` (``--keep-handling``): every sample is kept.  See
-        :mod:`ehm.inputs.handling`.
+        ``ehm.inputs.handling``.
 
     Returns
     -------
