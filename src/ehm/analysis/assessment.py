@@ -544,6 +544,7 @@ def write_assessment_arrays(result: Assessment, path) -> None:
     replace_atomically(path, write, "the assessment's arrays")
 
 
+@checked
 def read_assessment(folder, as_frame: bool = False):
     """The :class:`Assessment` of an ``ehm assess --out FOLDER`` run folder, back in Python.
 
