@@ -100,9 +100,10 @@ def frequencies_hz(values: object, name: str = "freq_hz", positive: bool = False
     return f
 
 
-def frequency_grid(func: str, values: object, name: str = "freq_hz") -> np.ndarray:
-    """``values`` as a 1-D array of at least one frequency [Hz], finite and non-negative, or one sentence
-    (:class:`InputError`) naming ``func`` and the argument ``name``."""
+def frequency_grid(func: str, values: object, name: str = "freq_hz", positive: bool = False) -> np.ndarray:
+    """``values`` as a 1-D array of at least one frequency [Hz], finite and non-negative (``positive``: above 0, as
+    a frequency response needs, :func:`frequencies_hz`), or one sentence (:class:`InputError`) naming ``func`` and
+    the argument ``name``."""
     try:
         f = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
@@ -111,6 +112,8 @@ def frequency_grid(func: str, values: object, name: str = "freq_hz") -> np.ndarr
     if f.ndim != 1 or f.size == 0:
         raise InputError(f"{func}: {name} must be a list or 1-D array of at least one frequency in Hz, not "
                          f"{describe(values)}.")
+    if positive and np.all(np.isfinite(f)) and np.any(f <= 0):
+        frequencies_hz(f, f"{func}: {name}", positive=True)  # names the first at or below 0 Hz
     bad = np.flatnonzero(~np.isfinite(f) | (f < 0))
     if bad.size:
         raise InputError(f"{func}: {name} must be finite, non-negative frequencies in Hz; item {bad[0]} is "

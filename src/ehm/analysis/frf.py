@@ -460,8 +460,7 @@ def linear_frf(human, axis: str = "all", freq_hz: np.ndarray | None = None, line
     if freq_hz is None:
         f = np.arange(0.1, 12.0 + 1e-9, 0.05)
     else:  # one number or a 1-D list of them, each above 0 Hz
-        f = frequency_grid("linear_frf", [freq_hz] if isinstance(freq_hz, int | float) else freq_hz)
-        frequencies_hz(f, positive=True)
+        f = frequency_grid("linear_frf", [freq_hz] if isinstance(freq_hz, int | float) else freq_hz, positive=True)
     human = _seated(human)
     axes = _axes(axis)
     cols = [AXES.index(a) for a in axes]
