@@ -87,3 +87,12 @@ def test_the_public_names_import_without_a_warning():
 def test_every_new_path_exists():
     for old, new in _compat.MOVED.items():
         assert importlib.util.find_spec(new) is not None, f"{old} -> {new}: {new} does not exist"
+
+
+def test_python_dash_m_with_the_old_command_line_path_runs_it():
+    # 'python -m ehm.cli' (the command line's old path) runs ehm.interfaces.cli's __main__, with the warning
+    run = subprocess.run([sys.executable, "-W", "default::DeprecationWarning", "-m", "ehm.cli", "--version"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.startswith(f"ehm {ehm.__version__}")
+    assert "ehm.cli is deprecated, import ehm.interfaces.cli" in run.stderr

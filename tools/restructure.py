@@ -610,6 +610,16 @@ class _Alias(importlib.abc.Loader):
     def exec_module(self, module):
         module.__spec__ = self.spec  # the import system set the alias's spec on the module; the real one back
 
+    def is_package(self, fullname) -> bool:
+        """Whether the module at the new name is a package (``python -m`` of an old package name runs its
+        ``__main__``)."""
+        return importlib.util.find_spec(self.new).submodule_search_locations is not None
+
+    def get_code(self, fullname):
+        """The code of the module at the new name (``python -m`` with an old name runs it)."""
+        spec = importlib.util.find_spec(self.new)
+        return spec.loader.get_code(self.new)
+
 
 class _OldPaths(importlib.abc.MetaPathFinder):
     """Finds old names of moved modules (first on ``sys.meta_path``, so a moved package's old name is never
