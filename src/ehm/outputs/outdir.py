@@ -238,6 +238,11 @@ def resolved_path(path: Path | str, what: str = "output") -> Path:
     """``path`` with its symbolic links followed (:meth:`pathlib.Path.resolve`), or one sentence when they cannot
     be (a link loop, whose RuntimeError or OSError would otherwise end the command in a traceback)."""
     try:
+        try:  # Python 3.13 no longer raises on a loop unless strict: ask strictly, a missing path is no loop
+            Path(path).resolve(strict=True)
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                raise
         return Path(path).resolve()
     except (RuntimeError, OSError) as exc:
         why = "a symbolic link loop" if isinstance(exc, RuntimeError) or exc.errno == errno.ELOOP else (
