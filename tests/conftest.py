@@ -21,6 +21,7 @@ requires_dask"`` deselects them.  :data:`REQUIREMENTS` lists the markers and wha
 from __future__ import annotations
 
 import importlib.util
+from pathlib import Path
 
 import pytest
 
@@ -90,3 +91,26 @@ def human() -> ehm.SeatedHuman:
     h = ehm.SeatedHuman()
     h.settle()
     return h
+
+
+def _session_processes(sid: int) -> list[int]:
+    """The live processes of the session ``sid`` (Linux /proc): a command's own and every child it started."""
+    out = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            text = stat.read_text()
+        except OSError:
+            continue
+        fields = text[text.rindex(")") + 2:].split()
+        if int(fields[3]) == sid and fields[0] != "Z":
+            out.append(int(stat.parent.name))
+    return out
+
+
+@pytest.fixture
+def session_processes():
+    """``session_processes(sid)``: the live processes of a session (Linux /proc); skips where there is no /proc."""
+    if not Path("/proc/self/stat").exists():
+        pytest.skip("reads the processes from /proc (Linux)")
+    return _session_processes
+

@@ -357,7 +357,7 @@ def test_a_second_study_into_a_folder_in_use_is_refused(tmp_path, capsys):
             first.stdout.close()
 
 
-def test_sigterm_to_ehm_alone_ends_a_batch_with_its_cluster(tmp_path):
+def test_sigterm_to_ehm_alone_ends_a_batch_with_its_cluster(tmp_path, session_processes):
     # issue 38: SIGTERM to the main process was ignored whenever a Dask cluster ran.  Sent to ehm alone (a service
     # manager, kill PID): exit 143, one line, no process of its session left, no lock or hidden folder.
     import signal
@@ -368,20 +368,7 @@ def test_sigterm_to_ehm_alone_ends_a_batch_with_its_cluster(tmp_path):
 
     import ehm
 
-    if not Path("/proc/self/stat").exists():
-        pytest.skip("reads the processes from /proc (Linux)")
-
-    def session(sid):
-        out = []
-        for stat in Path("/proc").glob("[0-9]*/stat"):
-            try:
-                text = stat.read_text()
-            except OSError:
-                continue
-            fields = text[text.rindex(")") + 2:].split()
-            if int(fields[3]) == sid and fields[0] != "Z":
-                out.append(int(stat.parent.name))
-        return out
+    session = session_processes
 
     study = tmp_path / "study.toml"
     study.write_text('[study]\ncompute = ["comfort"]\n[grid]\n"joints.t12.z.stiffness_N_per_m" = [14000.0, 16000.0]\n'

@@ -205,21 +205,8 @@ def test_an_empty_path_option_is_refused(tmp_path, capsys, argv, option):
     assert "--out is empty ('': an unset shell variable?); give where to write" in capsys.readouterr().err
 
 
-def _session(sid: int) -> list[int]:
-    """The live processes of the session ``sid`` (Linux /proc): a command's own and every child it started."""
-    out = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            text = stat.read_text()
-        except OSError:
-            continue
-        fields = text[text.rindex(")") + 2:].split()
-        if int(fields[3]) == sid and fields[0] != "Z":
-            out.append(int(stat.parent.name))
-    return out
-
-
-def signalled(argv: list[str], folder: Path, sig, group: bool, processes: int = 1, timeout_s: float = 60.0):
+def signalled(session, argv: list[str], folder: Path, sig, group: bool, processes: int = 1,
+              timeout_s: float = 60.0):
     """Run ``ehm argv`` in a session of its own, send it ``sig`` (to its whole group with ``group``: a closed
     terminal or Ctrl-C) once it has ``processes`` processes (more than one: its workers, running) or else a staging
     folder in ``folder``; returns its exit code and stderr after checking that nothing is left: no process of its
@@ -238,7 +225,7 @@ def signalled(argv: list[str], folder: Path, sig, group: bool, processes: int = 
     try:
         end = time.monotonic() + timeout_s
         while time.monotonic() < end and proc.poll() is None and not (
-                len(_session(proc.pid)) >= processes if processes > 1
+                len(session(proc.pid)) >= processes if processes > 1
                 else any(p.name.startswith(".") for p in folder.iterdir())):
             time.sleep(0.1)
         time.sleep(1.0 if processes > 1 else 0.0)  # the workers at work
@@ -250,29 +237,27 @@ def signalled(argv: list[str], folder: Path, sig, group: bool, processes: int = 
             os.killpg(proc.pid, 9)
             proc.communicate()
     end = time.monotonic() + 10.0
-    while _session(proc.pid) and time.monotonic() < end:
+    while session(proc.pid) and time.monotonic() < end:
         time.sleep(0.1)
-    assert not _session(proc.pid), "processes left"
+    assert not session(proc.pid), "processes left"
     assert not [p.name for p in folder.iterdir() if p.name.startswith(".")], "hidden staging or lock left"
     return proc.returncode, err
 
 
-@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads the processes from /proc (Linux)")
 @pytest.mark.parametrize("sig, group, code, words", [
     ("SIGHUP", False, 129, "ehm: hung up (SIGHUP: its terminal closed)"),  # issue 38: ended silently, 35 MB left
     ("SIGTERM", False, 143, "ehm: terminated"),
 ])
-def test_simulate_ends_on_sighup_and_sigterm_leaving_nothing(tmp_path, sig, group, code, words):
+def test_simulate_ends_on_sighup_and_sigterm_leaving_nothing(tmp_path, session_processes, sig, group, code, words):
     import signal
 
-    rc, err = signalled(["simulate", "--duration", "600", "--out", str(tmp_path / "run"), "-q"], tmp_path,
-                        getattr(signal, sig), group)
+    argv = ["simulate", "--duration", "600", "--out", str(tmp_path / "run"), "-q"]
+    rc, err = signalled(session_processes, argv, tmp_path, getattr(signal, sig), group)
     assert rc == code and err.strip().splitlines()[-1] == words, err
     assert "Traceback" not in err and not (tmp_path / "run").exists()
 
 
-@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads the processes from /proc (Linux)")
-def test_assess_with_workers_ends_on_a_closed_terminal_with_its_workers(tmp_path):
+def test_assess_with_workers_ends_on_a_closed_terminal_with_its_workers(tmp_path, session_processes):
     # The terminal's SIGHUP goes to the whole group: ehm ends its workers, which ignore it (as they do Ctrl-C).
     import signal
 
@@ -281,7 +266,8 @@ def test_assess_with_workers_ends_on_a_closed_terminal_with_its_workers(tmp_path
     acc = 0.3 * np.random.default_rng(0).standard_normal((t.size, 3))
     np.savetxt(drive, np.column_stack([t, acc]), delimiter=",", header="time_s,ax_mps2,ay_mps2,az_mps2",
                comments="", fmt="%.5f")
-    rc, err = signalled(["assess", "--motion", str(drive), "--method", "nonlinear", "--workers", "2", "--out",
-                         str(tmp_path / "a"), "-q"], tmp_path, signal.SIGHUP, True, processes=3)
+    argv = ["assess", "--motion", str(drive), "--method", "nonlinear", "--workers", "2", "--out", str(tmp_path / "a"),
+            "-q"]
+    rc, err = signalled(session_processes, argv, tmp_path, signal.SIGHUP, True, processes=3)
     assert rc == 129 and err.strip().splitlines()[-1] == "ehm: hung up (SIGHUP: its terminal closed)", err
     assert "Traceback" not in err
