@@ -808,3 +808,22 @@ def test_the_checks_read_unions_pairs_classes_and_leave_the_rest():
     assert argument_checks(f) == {"band_hz": "a pair (tuple) of numbers", "motion": argument_checks(f)["motion"],
                                   "out": "a path (str or pathlib.Path) or a str", "count": "a whole number",
                                   "data": None, "free": None}
+
+
+def test_a_person_thrown_off_the_seat_is_told_as_a_fall_not_blamed_on_the_step():
+    # SYNTHETIC: 0.6 g forward, sustained, beyond the pan's friction (0.5): the person without back support slides
+    # off backwards at a physical speed; the sentence says so, names the way and the remedy, and does not ask for
+    # a smaller step
+    import ehm
+    from ehm.errors import DivergenceError
+
+    t = np.arange(0.0, 3.0, 0.001)
+    acc = np.zeros((t.size, 3))
+    acc[:, 0] = 6.0 * np.clip((t - 0.2) / 0.3, 0.0, 1.0)
+    motion = ehm.SeatMotion(t, acc, "SYNTHETIC sustained 6 m/s^2 forward")
+    with pytest.raises(DivergenceError) as exc:
+        ehm.SeatedHuman(back_support="none").simulate(motion, method="nonlinear")
+    text = str(exc.value)
+    assert text.startswith("the person fell off the seat at t = ") and getattr(exc.value, "fell", False)
+    assert "backward" in text and "m/s: a body leaving its seat at a physical speed" in text
+    assert "back support none" in text and "--back-support" in text and "try a smaller time step" not in text

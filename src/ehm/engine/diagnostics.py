@@ -13,6 +13,11 @@ from ..errors import DivergenceError, InputError
 from .model import Model
 
 DIVERGED_M = 0.5  #: A point further than this from its settled position means the run has diverged [m].
+#: A pelvis that left its seat slower than this [m/s], with every value finite and no warning from MuJoCo, fell off
+#: the seat (a physical fall, which no smaller step changes); faster, the integration blew up.
+FALL_SPEED_MPS = 5.0
+#: ... and with no degree of freedom faster than this [m/s or rad/s] (a blow-up shakes some joint or pad far faster).
+FALL_DOF_SPEED = 20.0
 CHECK_EVERY = 100  #: Steps between divergence checks (0.1 s at the default step).
 
 
@@ -88,8 +93,37 @@ def instability(model: Model, d: mujoco.MjData) -> str | None:
         return "the state became infinite or NaN"
     pelvis = d.qpos[model.pelvis_qpos:model.pelvis_qpos + 3]
     if np.abs(pelvis).max() > DIVERGED_M:
-        return f"the pelvis moved {np.linalg.norm(pelvis):.3g} m from its seated position"
+        why = f"the pelvis moved {np.linalg.norm(pelvis):.3g} m from its seated position"
+        speed = float(np.linalg.norm(d.qvel[model.pelvis_qpos:model.pelvis_qpos + 3]))
+        if speed < FALL_SPEED_MPS and np.abs(d.qvel).max() < FALL_DOF_SPEED and not _warnings:
+            return Fall(f"{why}, {_direction(pelvis)}, {_tilt(model, d)}, at {speed:.2g} m/s")
+        return why
     return None
+
+
+class Fall(str):
+    """The reason of :func:`instability` when the person left the seat at a physical speed (a fall, not a blow-up
+    of the integration)."""
+
+
+def _direction(offset: np.ndarray) -> str:
+    """Where the pelvis went, in words (seat axes: x forward, y left, z up)."""
+    names = (("forward", "backward"), ("to the left", "to the right"), ("up", "down"))
+    parts = [names[i][0 if offset[i] > 0 else 1] for i in np.argsort(-np.abs(offset)) if abs(offset[i]) > 0.05]
+    return " and ".join(parts[:2]) or "away"
+
+
+def _tilt(model: Model, d: mujoco.MjData) -> str:
+    """How far the pelvis turned from its settled orientation, in words (degrees, for people)."""
+    q0 = (model.settled or {}).get("qpos")
+    a = model.pelvis_qpos + 3
+    if q0 is None:
+        return "turning"
+    dq = np.zeros(3)
+    mujoco.mju_subQuat(dq, d.qpos[a:a + 4], q0[a:a + 4])
+    k = int(np.argmax(np.abs(dq)))
+    how = (("rolling", "rolling"), ("pitching back", "pitching forward"), ("turning", "turning"))[k][int(dq[k] > 0)]
+    return f"{how} {np.degrees(abs(dq[k])):.0f} deg"
 
 
 def divergence_error(model: Model, t: float, why: str, phase: str = "") -> DivergenceError:
@@ -100,9 +134,18 @@ def divergence_error(model: Model, t: float, why: str, phase: str = "") -> Diver
         said, when = _warning_sentence(model, message)
         why = f"{why}; MuJoCo: {said}"
         t = when if when is not None else t
-    err = DivergenceError(
-        f"the simulation diverged at t = {t:.3f} s{phase} ({why}); try a smaller time step than dt = {dt:g} s "
-        "or check the stiffness and damping parameters."
-    )
+    if isinstance(why, Fall) and not phase:  # (while settling nothing moves the seat: a fall there is the model's)
+        back = model.params.back_support
+        err = DivergenceError(
+            f"the person fell off the seat at t = {t:.3f} s{phase} ({why}: a body leaving its seat at a physical "
+            f"speed, not a numerical divergence, so a smaller time step does not change it); ehm's person on a seat "
+            f"with back support {back} does not stay seated through this motion: give a back support (--back-support "
+            "high; back_support='high'), or check the drive's sustained accelerations.")
+        err.fell = True
+    else:
+        err = DivergenceError(
+            f"the simulation diverged at t = {t:.3f} s{phase} ({why}); try a smaller time step than dt = {dt:g} s "
+            "or check the stiffness and damping parameters."
+        )
     err.time_s = None if phase else float(t)  # (settling has a clock of its own)
     return err
