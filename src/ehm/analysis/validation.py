@@ -212,7 +212,7 @@ class Validation:
         for c in self.checks:
             where = "" if np.isnan(c.at_hz) else f"{c.at_hz:.2f}"
             lines.append(f"{c.condition:<{w}}{c.name:<44}{c.value:>9.3g}  {c.unit:<{u}}{where:>6}  "
-                         f"{_band_text(c.low, c.high, strict=is_strict(c)):<14}{'pass' if c.passed else 'FAIL':<6}"
+                         f"{_band_text(c.low, c.high, strict=_is_strict(c)):<14}{'pass' if c.passed else 'FAIL':<6}"
                          f"[{', '.join(str(sources.index(w) + 1) for w in citations(c.source))}]")
         lines.append(f"{len(self.checks) - len(self.failed)} of {len(self.checks)} checks pass.")
         lines.append("sources (each check's figures in validation.csv's source column; the band widths are ehm's "
@@ -245,7 +245,7 @@ def _csv_cell(value) -> str:
     return str(value)
 
 
-def is_strict(check: Check) -> bool:
+def _is_strict(check: Check) -> bool:
     """Whether a check's limit excludes the limit itself: a locking finding asks for more than its least change, a
     finding across two conditions for a figure strictly lower (a band includes its limits)."""
     return check.name.startswith("locking_") or check.name in _COMPARISON_NAMES
@@ -311,6 +311,7 @@ def _unit(band: references.Band) -> str:
     return "kg" if band.path[1] == "support" else "(m/s^2)/(m/s^2)"
 
 
+@checked
 def bands_applying(posture: str, back_support: str) -> tuple:
     """The bands of :data:`ehm.standards.references.BANDS` whose sources speak of a person in ``posture`` on
     ``back_support`` (:meth:`ehm.standards.references.Band.applies`): the bands a validation grades there."""
@@ -341,16 +342,18 @@ _CHECK_AXIS = {**{b.name: b.path[0] for b in references.BANDS},
                **{c.name: _BAND_BY_NAME[c.band].path[0] for c in references.COMPARISONS}}
 
 
-def comparison_label(comparison: references.Comparison) -> str:
+def _comparison_label(comparison: references.Comparison) -> str:
     """The condition column of a comparison's check: both conditions it compares, ``"slouched, back support none vs
     erect, back support none"`` (the one expected lower first)."""
     return f"{_condition_label(*comparison.lower)} vs {_condition_label(*comparison.higher)}"
 
 
-def comparison_checks(tables: dict, comparisons=None) -> list[Check]:
+@checked
+def comparison_checks(tables: dict, comparisons: tuple | list | None = None) -> list[Check]:
     """The findings across two conditions (default :data:`ehm.standards.references.COMPARISONS`) in ``tables``
     (``condition label -> FrfTable``, as :attr:`Validation.tables`): one check per finding whose two conditions are
-    both there, each one row naming both (:func:`comparison_label`).  Its figure is the band's figure in the lower
+    both there, each one row naming both conditions (the one expected lower first: ``"slouched, back support none vs
+    erect, back support none"``).  Its figure is the band's figure in the lower
     condition minus that in the higher one (its unit's), taken from the tables whether or not the band is graded in
     either condition; it passes when strictly below 0."""
     out = []
@@ -360,7 +363,7 @@ def comparison_checks(tables: dict, comparisons=None) -> list[Check]:
             continue
         band = _BAND_BY_NAME[comp.band]
         a, b = band_figure(tables[lower], band)[0], band_figure(tables[higher], band)[0]
-        out.append(Check(comp.name, comparison_label(comp), f"{comp.describe()} ({a:.3g} against {b:.3g})",
+        out.append(Check(comp.name, _comparison_label(comp), f"{comp.describe()} ({a:.3g} against {b:.3g})",
                          comp.difference(a, b), np.nan, np.nan, 0.0, _unit(band), comp.holds(a, b),
                          comp.source))
     return out

@@ -16,7 +16,7 @@ if "MPLBACKEND" not in os.environ:  # draw to files; no display is needed
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..errors import InputError  # noqa: E402
+from ..errors import InputError, checked  # noqa: E402
 from ..files import replace_atomically  # noqa: E402
 from ..standards.transfer import band_select  # noqa: E402
 from .results import RunResult  # noqa: E402
@@ -560,6 +560,7 @@ _GRID_COLUMNS = (("seat z → lumbar z", _lumbar_panel), ("apparent mass z", _ap
                  ("seat y → head y", _horizontal_panel("y")[1]))
 
 
+@checked
 def plot_validation_grid(validation, path: Path | str | None = None):
     """Every condition of a validation (:func:`ehm.validate` with ``every_condition=True``, ``ehm validate --all``)
     in one grid: a row per condition (posture and back support), a column per curve the bands grade: (a) seat-to-lumbar
