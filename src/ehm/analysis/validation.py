@@ -212,7 +212,7 @@ class Validation:
         for c in self.checks:
             where = "" if np.isnan(c.at_hz) else f"{c.at_hz:.2f}"
             lines.append(f"{c.condition:<{w}}{c.name:<44}{c.value:>9.3g}  {c.unit:<{u}}{where:>6}  "
-                         f"{_band_text(c.low, c.high, strict=_is_strict(c)):<14}{'pass' if c.passed else 'FAIL':<6}"
+                         f"{band_text(c):<14}{'pass' if c.passed else 'FAIL':<6}"
                          f"[{', '.join(str(sources.index(w) + 1) for w in citations(c.source))}]")
         lines.append(f"{len(self.checks) - len(self.failed)} of {len(self.checks)} checks pass.")
         lines.append("sources (each check's figures in validation.csv's source column; the band widths are ehm's "
@@ -249,6 +249,13 @@ def _is_strict(check: Check) -> bool:
     """Whether a check's limit excludes the limit itself: a locking finding asks for more than its least change, a
     finding across two conditions for a figure strictly lower (a band includes its limits)."""
     return check.name.startswith("locking_") or check.name in _COMPARISON_NAMES
+
+
+@checked
+def band_text(check: Check) -> str:
+    """A check's band as the table prints it: ``"4 to 5.5"``, ``"<= 0.75"``, ``"< 0"`` (a strict limit: a locking
+    finding, a finding across two conditions)."""
+    return _band_text(check.low, check.high, strict=_is_strict(check))
 
 
 def _band_text(low: float, high: float, strict: bool = False) -> str:
@@ -351,11 +358,11 @@ def _comparison_label(comparison: references.Comparison) -> str:
 @checked
 def comparison_checks(tables: dict, comparisons: tuple | list | None = None) -> list[Check]:
     """The findings across two conditions (default :data:`ehm.standards.references.COMPARISONS`) in ``tables``
-    (``condition label -> FrfTable``, as :attr:`Validation.tables`): one check per finding whose two conditions are
-    both there, each one row naming both conditions (the one expected lower first: ``"slouched, back support none vs
-    erect, back support none"``).  Its figure is the band's figure in the lower
-    condition minus that in the higher one (its unit's), taken from the tables whether or not the band is graded in
-    either condition; it passes when strictly below 0."""
+    (``condition label -> FrfTable``, as a :class:`~ehm.Validation`'s ``tables``): one check per finding whose two
+    conditions are both there, each one row naming both conditions (the one expected lower first: ``"slouched, back
+    support none vs erect, back support none"``).  Its figure is the band's figure in the lower condition minus that
+    in the higher one (its unit's), taken from the tables whether or not the band is graded in either condition; it
+    passes when strictly below 0."""
     out = []
     for comp in references.COMPARISONS if comparisons is None else comparisons:
         lower, higher = _condition_label(*comp.lower), _condition_label(*comp.higher)
