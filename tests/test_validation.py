@@ -422,6 +422,9 @@ def test_the_posture_comparison_is_one_row_naming_both_conditions():
     (c,) = comparison_checks({ERECT: low, SLOUCHED: low})
     assert c.value == 0.0 and not c.passed
     assert comparison_checks({ERECT: low}) == [] and comparison_checks({SLOUCHED: low, OWN: high}) == []
+    wrong = references.Comparison("x", "no_such_band", ("slouched", "none"), ("erect", "none"), "s", "c")
+    with pytest.raises(InputError, match="names the band 'no_such_band'"):
+        comparison_checks({ERECT: low, SLOUCHED: high}, (wrong,))
     v = Validation(checks=tuple(comparison_checks({ERECT: high, SLOUCHED: low})), tables={})
     line = v.format_table().splitlines()[1]
     assert line.startswith(ACROSS) and "< 0 " in line and " pass " in line  # strict: '< 0', not '<= 0'
@@ -518,6 +521,14 @@ def test_the_grid_has_a_row_per_condition_and_draws_only_graded_bands(every_vali
         red = head_x.title.get_color() == "tab:red"
         assert red is not all(c.passed for c in checks)
     assert "across two conditions" in fig.get_suptitle()
+    import matplotlib.pyplot as plt
+
+    from ehm.outputs.plotting import plot_validation
+
+    plt.close(fig)
+
+    with pytest.raises(InputError, match="8 conditions.*plot_validation_grid"):  # 8 lines per panel: refused
+        plot_validation(v, "z")
     plot_validation_grid(v, tmp_path / "grid.png")
     assert (tmp_path / "grid.png").stat().st_size > 50_000
 

@@ -368,7 +368,10 @@ def comparison_checks(tables: dict, comparisons: tuple | list | None = None) -> 
         lower, higher = _condition_label(*comp.lower), _condition_label(*comp.higher)
         if lower not in tables or higher not in tables:
             continue
-        band = _BAND_BY_NAME[comp.band]
+        band = _BAND_BY_NAME.get(comp.band)
+        if band is None:
+            raise InputError(f"the comparison {comp.name} names the band {comp.band!r}; the bands are "
+                             f"{', '.join(_BAND_BY_NAME)}.")
         a, b = band_figure(tables[lower], band)[0], band_figure(tables[higher], band)[0]
         out.append(Check(comp.name, _comparison_label(comp), f"{comp.describe()} ({a:.3g} against {b:.3g})",
                          comp.difference(a, b), np.nan, np.nan, 0.0, _unit(band), comp.holds(a, b),

@@ -381,6 +381,10 @@ def plot_validation(validation, axis: str, path: Path | str | None = None):
     """
     if axis not in _SOURCES:
         raise InputError(f"axis {axis!r}: use x, y or z.")
+    if len(validation.tables) > len(_CONDITION_STYLES):
+        raise InputError(f"the validation holds {len(validation.tables)} conditions, more than one figure per axis "
+                         f"tells apart ({len(_CONDITION_STYLES)}): draw it with plot_validation_grid (what ehm "
+                         "validate --all draws).")
     panels = _Z_PANELS if axis == "z" else ((_horizontal_panel(axis),))
     one = len(panels) == 1  # a single panel keeps its legend at its right, several theirs below them
     fig, axes = plt.subplots(1, len(panels), figsize=(10.5, 5.2) if one else (5.4 * len(panels) + 1.0, 6.4),
