@@ -154,13 +154,18 @@ class Validation:
         return out
 
     def format_counts(self) -> str:
-        """One line per condition: how many of its checks pass, and which fail."""
+        """One line per condition: how many of its checks pass (of them the paper's locking findings, on its seat),
+        and which fail."""
         w = max(len(c) for c in self.conditions()) + 2 if self.checks else 0
         lines = []
         for condition, (passing, n) in self.counts().items():
-            failed = [c.name for c in self.checks if c.condition == condition and not c.passed]
-            lines.append(f"{condition:<{w}}{passing:>3} of {n:<3} pass" + (f"; FAIL: {', '.join(failed)}" if failed
-                                                                          else ""))
+            here = [c for c in self.checks if c.condition == condition]
+            failed = [c.name for c in here if not c.passed]
+            locking = [c for c in here if c.name.startswith("locking_")]
+            line = f"{condition:<{w}}{passing:>3} of {n:<3} pass"
+            if locking:
+                line += f" (locking findings {sum(c.passed for c in locking)} of {len(locking)})"
+            lines.append(line + (f"; FAIL: {', '.join(failed)}" if failed else ""))
         return "\n".join(lines)
 
     def on_axis(self, axis: str) -> tuple:
