@@ -13,11 +13,14 @@ import ehm
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "_ext"))
 import param_table  # noqa: E402
+import validation_table  # noqa: E402
+
+os.environ.setdefault("MPLBACKEND", "Agg")
 
 # The model page's parameter table, generated from the file ehm ships (never copied by hand).
 param_table.write(HERE.parent / "src" / "ehm" / "data" / "default_params.toml", HERE / "_generated")
-
-os.environ.setdefault("MPLBACKEND", "Agg")
+# The validation page's table and grid of every posture and back support, computed by this version of ehm.
+validation_table.write(HERE / "_generated")
 
 project = "ehm"
 author = "the ehm authors"

@@ -82,7 +82,7 @@ def test_bands_carry_their_source_and_condition():
     """"Each with its source and what condition it describes": every band names both; the literature's own bands
     carry the address where they were read; names are unique; holds() takes limits as inclusive and refuses NaN."""
     names = [b.name for b in ref.BANDS]
-    assert len(names) == len(set(names)) == 12
+    assert len(names) == len(set(names)) == 14
     for band in ref.BANDS:
         assert band.source and band.condition and (band.low is not None or band.high is not None), band
         assert band.quantity in ("peak_hz", "peak_gain", "gain", "gain_minus_reference"), band
@@ -95,6 +95,43 @@ def test_bands_carry_their_source_and_condition():
     assert by["apparent_mass_15_20hz"].holds([0.5, 0.6]) and not by["apparent_mass_15_20hz"].holds([0.5, 0.61])
     assert by["lumbar_gain_vs_iso2631_5"].describe() == \
         "gain_minus_reference of z->lumbar z over 1-12 Hz within -0.2-0.2"
+
+
+def test_each_band_says_where_its_source_applies():
+    """"Where each band applies, as data": postures and back supports (None: every one), read by applies() and
+    where(); the measurements without back support (ISO 2631-5, the apparent-mass peak, the spine's resonance, the
+    whole-body mode) apply there only, erect or slouched; the apparent mass above resonance and the seat-to-head bands
+    everywhere; the horizontal head gains at most 3, their source saying the limit is ehm's choice; the locking
+    findings on the paper's seat."""
+    by = {b.name: b for b in ref.BANDS}
+    for name in ("lumbar_gain_vs_iso2631_5", "lumbar_peak_frequency", "spine_first_resonance",
+                 "apparent_mass_peak_frequency", "apparent_mass_peak", "pelvis_peak_frequency"):
+        b = by[name]
+        assert (b.postures, b.back_supports) == (("erect", "slouched"), ("none",)), name
+        assert b.applies("slouched", "none") and not b.applies("erect", "low") and not b.applies("reclined", "none")
+        assert b.where() == "postures erect, slouched; back support none"
+    for name in ("apparent_mass_10hz", "apparent_mass_15_20hz", "head_vertical_peak_gain",
+                 "head_vertical_peak_frequency", "head_fore_aft_peak_frequency", "head_lateral_peak_frequency",
+                 "head_fore_aft_peak_gain", "head_lateral_peak_gain"):
+        assert by[name].applies("reclined", "full") and by[name].where() == "every posture and back support", name
+    for name in ("head_fore_aft_peak_gain", "head_lateral_peak_gain"):
+        b = by[name]
+        assert (b.quantity, b.low, b.high) == ("peak_gain", None, 3.0)
+        assert "ehm's choice" in b.source and "https://" in b.source
+    assert "no source ehm has read gives a lateral" in by["head_lateral_peak_gain"].source
+    assert ref.PAPER_SEAT == ("erect", "high")
+    assert all(f.seat == ref.PAPER_SEAT for f in ref.LOCKING_FINDINGS)
+
+
+def test_the_posture_comparison_is_data_with_its_source():
+    """Kitazaki & Griffin 1998: slouched's principal resonance below erect's, without back support; holds() is
+    strict (equal is not lower) and refuses NaN."""
+    (c,) = ref.COMPARISONS
+    assert (c.band, c.lower, c.higher) == ("apparent_mass_peak_frequency", ("slouched", "none"), ("erect", "none"))
+    assert c.band in {b.name for b in ref.BANDS}
+    assert "Kitazaki & Griffin 1998" in c.source and "Kitazaki & Griffin 1998" in ref.KITAZAKI_GRIFFIN_SOURCE
+    assert c.holds(4.0, 4.5) and not c.holds(4.5, 4.5) and not c.holds(5.0, 4.5) and not c.holds(np.nan, 4.5)
+    assert c.difference(4.0, 4.5) == pytest.approx(-0.5)
 
 
 def test_the_references_own_curves_meet_their_bands():

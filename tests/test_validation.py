@@ -19,12 +19,13 @@ import pytest
 import ehm
 from ehm.analysis.frf import FrfTable
 from ehm.analysis.validation import (
-    ANY_SEAT_BANDS,
     FREQ_HZ,
     Check,
     Validation,
     band_checks,
+    bands_applying,
     citations,
+    comparison_checks,
     locking_checks,
     validate,
 )
@@ -173,10 +174,14 @@ def test_locking_checks_on_a_stub_study():
 
 # --- the default person ----------------------------------------------------------------------------------------
 
+COMPARISON_NAMES = {c.name for c in references.COMPARISONS}
+
+
 def _consistent(c: Check) -> bool:
     """The verdict a check's figure and band give: limits included for a band; a locking finding asks for more
-    than its least change (strict, as ehm.standards.references.LockingFinding.holds)."""
-    if c.name.startswith("locking_"):
+    than its least change (strict, as ehm.standards.references.LockingFinding.holds), a finding across two
+    conditions for a figure strictly below the other's."""
+    if c.name.startswith("locking_") or c.name in COMPARISON_NAMES:
         return bool(c.value > c.low) if np.isnan(c.high) else bool(c.value < c.high)
     return bool((np.isnan(c.low) or c.value >= c.low) and (np.isnan(c.high) or c.value <= c.high))
 
@@ -189,14 +194,16 @@ def default_validation():
 
 
 def test_validate_the_default_person_gives_every_check_in_both_conditions(default_validation):
-    """The default person: every band in the references' condition; the seat-to-head bands and the locking findings
-    on its own seat (the paper's, high back support); each verdict as its figure and band say; one progress call
-    per linearisation (2 conditions + 3 locking variants)."""
+    """The default person: in the references' condition and on its own seat (the paper's, high back support) the
+    bands that apply there (every band without a back support; on the high one those of every seat), the locking
+    findings on the paper's seat; each verdict as its figure and band say; one progress call per linearisation
+    (2 conditions + 3 locking variants)."""
     v, calls = default_validation
     assert list(v.tables) == [REF, OWN]
+    on_own = [b.name for b in references.BANDS if b.postures is None and b.back_supports is None]
+    assert "lumbar_gain_vs_iso2631_5" not in on_own and "head_lateral_peak_gain" in on_own
     assert [(c.condition, c.name) for c in v.checks] == (
-        [(REF, n) for n in BAND_NAMES] + [(OWN, n) for n in BAND_NAMES if n in ANY_SEAT_BANDS]
-        + [(OWN, n) for n in LOCKING_NAMES])
+        [(REF, n) for n in BAND_NAMES] + [(OWN, n) for n in on_own] + [(OWN, n) for n in LOCKING_NAMES])
     for c in v.checks:
         assert c.passed == _consistent(c), c
         assert np.isfinite(c.value)
@@ -225,7 +232,8 @@ def test_validation_table_outputs_agree(default_validation, tmp_path):
         assert f" {c.unit} " in line and line.endswith(f"[{numbers}]")
     assert lines[len(v.checks) + 2].startswith("sources") and all("issue" not in s for s in sources)
     assert any("ISO 2631-5:2018" in s for s in sources) and any("Fairley & Griffin 1989" in s for s in sources)
-    assert len(sources) == 5 and any("Desai" in s for s in sources)
+    assert len(sources) == len({w for c in v.checks for w in citations(c.source)})
+    assert any("Desai" in s for s in sources)
     assert repr(v).startswith(f"<Validation: {len(v.checks) - len(v.failed)} of {len(v.checks)} checks pass")
     v.to_csv(tmp_path / "v.csv")
     with open(tmp_path / "v.csv", encoding="utf-8") as f:
@@ -237,14 +245,16 @@ def test_validation_table_outputs_agree(default_validation, tmp_path):
     assert data["n_failed"] == len(v.failed) and data["checks"][-1]["at_hz"] is None
     by_axis = [v.on_axis(a) for a in "xyz"]
     assert sum(len(x) for x in by_axis) == len(v.checks)
-    assert {c.name for c in v.on_axis("x")} == {"head_fore_aft_peak_frequency", "locking_NL_x_head_pitch_peak_gain",
+    assert {c.name for c in v.on_axis("x")} == {"head_fore_aft_peak_frequency", "head_fore_aft_peak_gain",
+                                                 "locking_NL_x_head_pitch_peak_gain",
                                                  "locking_NL_x_head_pitch_band_mean_gain"}
     with pytest.raises(InputError, match="use one of x, y, z"):
         v.on_axis("q")
 
 
 def test_validate_one_condition_evaluates_every_band_there():
-    """back_support="none": that one condition, every band (no own-seat repeat); without the locking study."""
+    """back_support="none": that one condition, the bands that apply there (every band: the references' own
+    condition; no own-seat repeat); without the locking study."""
     v = validate(back_support="none", locking=False)
     assert list(v.tables) == [REF]
     assert [c.name for c in v.checks] == BAND_NAMES and {c.condition for c in v.checks} == {REF}
@@ -282,7 +292,7 @@ def test_figures_count_the_checks_they_draw(tmp_path):
                                                                "3 of 3 checks pass"]
     iso = axes[0].get_lines()[0]  # the reference drawn is the standard's curve
     assert np.allclose(iso.get_ydata(), np.abs(references.iso2631_5_lumbar_tf(iso.get_xdata())))
-    assert "0 of 1 checks pass" in plot_validation(v, "y").axes[0].get_title()
+    assert "1 of 2 checks pass" in plot_validation(v, "y").axes[0].get_title()  # its peak at 3.5 Hz, gain 2
     plot_validation(v, "x", tmp_path / "x.png")
     assert (tmp_path / "x.png").stat().st_size > 10_000
     with pytest.raises(InputError, match="use x, y or z"):
@@ -382,3 +392,192 @@ def test_validate_honours_the_head_control_options(default_validation, capsys):
     assert on > base + 0.1 and abs(stiff.value - on) > 0.01, (base, on, stiff.value)
     assert main(["validate", "--no-locking", "-q", "--head-control"]) == 1  # the command line too: 2 checks fail
     assert name in capsys.readouterr().err
+
+
+# --- where each band applies, every condition (ehm validate --all) ----------------------------------------------
+
+def _am_peak_table(f0_hz: float) -> FrfTable:
+    """SYNTHETIC: the hand-made table with its apparent mass replaced by 70 kg times a bump peaking at ``f0_hz``."""
+    t = synthetic_table()
+    curves = {k: t.curve(*k) for k in t.keys()}
+    curves[("z", "support", "z")] = _curve(70.0 * _bump(f0_hz, 0.5, 1.0))
+    return FrfTable(curves, method="linear")
+
+
+SLOUCHED, ERECT = "slouched, back support none", "erect, back support none"
+ACROSS = f"{SLOUCHED} vs {ERECT}"
+
+
+def test_the_posture_comparison_is_one_row_naming_both_conditions():
+    """Kitazaki & Griffin: slouched's principal resonance (the apparent mass's peak frequency) below erect's.  On
+    constructed tables (SYNTHETIC bumps at known frequencies): 4.0 against 5.0 Hz passes with -1.0 Hz; the reverse
+    fails with +1.0 Hz; equal frequencies fail (not lower); with one condition missing there is no row."""
+    low, high = _am_peak_table(4.0), _am_peak_table(5.0)
+    (c,) = comparison_checks({ERECT: high, SLOUCHED: low})
+    assert (c.name, c.condition, c.unit) == ("slouched_resonance_below_erect", ACROSS, "Hz")
+    assert c.value == pytest.approx(-1.0) and c.passed and "Kitazaki & Griffin 1998" in c.source
+    assert np.isnan(c.at_hz) and np.isnan(c.low) and c.high == 0.0
+    (c,) = comparison_checks({ERECT: low, SLOUCHED: high})
+    assert c.value == pytest.approx(1.0) and not c.passed
+    (c,) = comparison_checks({ERECT: low, SLOUCHED: low})
+    assert c.value == 0.0 and not c.passed
+    assert comparison_checks({ERECT: low}) == [] and comparison_checks({SLOUCHED: low, OWN: high}) == []
+    wrong = references.Comparison("x", "no_such_band", ("slouched", "none"), ("erect", "none"), "s", "c")
+    with pytest.raises(InputError, match="names the band 'no_such_band'"):
+        comparison_checks({ERECT: low, SLOUCHED: high}, (wrong,))
+    v = Validation(checks=tuple(comparison_checks({ERECT: high, SLOUCHED: low})), tables={})
+    line = v.format_table().splitlines()[1]
+    assert line.startswith(ACROSS) and "< 0 " in line and " pass " in line  # strict: '< 0', not '<= 0'
+
+
+def test_bands_apply_where_their_sources_speak():
+    """The lumbar, apparent-mass peak and whole-body-mode bands without a back support, erect or slouched; the
+    apparent mass above resonance and the seat-to-head bands on every posture and back support, a posture of one's
+    own included."""
+    unsupported = {"lumbar_gain_vs_iso2631_5", "lumbar_peak_frequency", "spine_first_resonance",
+                   "apparent_mass_peak_frequency", "apparent_mass_peak", "pelvis_peak_frequency"}
+    everywhere = set(BAND_NAMES) - unsupported
+    assert {"apparent_mass_10hz", "apparent_mass_15_20hz", "head_vertical_peak_gain", "head_fore_aft_peak_gain",
+            "head_lateral_peak_gain", "head_fore_aft_peak_frequency"} <= everywhere
+    for posture in ("erect", "slouched", "reclined"):
+        for back in ("none", "low", "high", "full"):
+            got = {b.name for b in bands_applying(posture, back)}
+            own_posture = posture == "reclined"
+            assert got == (everywhere | unsupported if back == "none" and not own_posture else everywhere), (posture,
+                                                                                                               back)
+    assert all(f.applies("erect", "high") and not f.applies("erect", "none") for f in references.LOCKING_FINDINGS)
+
+
+@pytest.fixture(scope="module")
+def every_validation():
+    calls = []
+    v = validate(every_condition=True, locking=False, progress=lambda done, total: calls.append((done, total)))
+    return v, calls
+
+
+CONDITIONS = [f"{p}, back support {b}" for p in ("erect", "slouched") for b in ("none", "low", "high", "full")]
+
+
+def test_every_condition_grades_each_band_only_where_it_applies(every_validation, tmp_path):
+    """validate(every_condition=True): the shipped file's two postures on the four back supports, one linearisation
+    each; in each condition exactly the bands that apply there, then the posture comparison naming both conditions;
+    a band is never graded on a seat its source does not cover; the text table, CSV and JSON carry every condition;
+    verdicts as the figures and bands say (never the count: the model is being changed)."""
+    v, calls = every_validation
+    assert list(v.tables) == CONDITIONS and v.person["conditions"] == CONDITIONS and v.person["every_condition"]
+    assert calls == [(i, 8) for i in range(1, 9)]
+    expected = [(f"{p}, back support {b}", band.name) for p in ("erect", "slouched")
+                for b in ("none", "low", "high", "full") for band in bands_applying(p, b)]
+    assert [(c.condition, c.name) for c in v.checks] == expected + [(ACROSS, "slouched_resonance_below_erect")]
+    by_band = {b.name: b for b in references.BANDS}
+    for c in v.checks:
+        assert c.passed == _consistent(c), c
+        if c.name in by_band:
+            posture, back = c.condition.split(", back support ")
+            assert by_band[c.name].applies(posture, back), c
+    assert v.conditions() == (*CONDITIONS, ACROSS)
+    assert sum(n for _, n in v.counts().values()) == len(v.checks)
+    assert [line.split("  ")[0] for line in v.format_counts().splitlines()] == [*CONDITIONS, ACROSS]
+    # the comparison's figure is the two conditions' own apparent-mass peak frequencies, apart
+    peak = {c.condition: c.value for c in v.checks if c.name == "apparent_mass_peak_frequency"}
+    assert v.check("slouched_resonance_below_erect").value == pytest.approx(peak[SLOUCHED] - peak[ERECT])
+    table = v.format_table()
+    assert all(f"\n{cond}  " in table for cond in (*CONDITIONS, ACROSS))
+    v.to_csv(tmp_path / "all.csv")
+    with open(tmp_path / "all.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    assert [(r["condition"], r["name"]) for r in rows] == [(c.condition, c.name) for c in v.checks]
+    data = json.loads(json.dumps(v.as_dict(), allow_nan=False))
+    assert [c["condition"] for c in data["checks"]] == [c.condition for c in v.checks]
+
+
+def test_every_condition_refuses_a_single_condition():
+    """every_condition=True with posture or back_support: one sentence naming both ways (Python and --all), before
+    any linearisation."""
+    for kwargs in (dict(posture="slouched"), dict(back_support="none")):
+        with pytest.raises(InputError, match=r"every_condition=True \(--all\).*leave out posture and back_support"):
+            validate(every_condition=True, locking=False, **kwargs)
+
+
+def test_the_grid_has_a_row_per_condition_and_draws_only_graded_bands(every_validation, tmp_path):
+    """plot_validation_grid: a row per condition, five columns; each panel's title counts its condition's checks;
+    the lumbar panel draws ISO 2631-5 only where its bands are graded (no back support) and says so elsewhere; a
+    failing panel's title is red."""
+    from ehm.outputs.plotting import plot_validation_grid
+
+    v, _ = every_validation
+    fig = plot_validation_grid(v)
+    axes = [ax for ax in fig.axes if ax.get_visible()]
+    assert len(axes) == 5 * len(CONDITIONS)
+    for r, condition in enumerate(CONDITIONS):
+        lumbar = axes[5 * r]
+        graded = any(c.name == "lumbar_gain_vs_iso2631_5" and c.condition == condition for c in v.checks)
+        iso_drawn = any(line.get_label().startswith("ISO 2631-5") for line in lumbar.get_lines())
+        assert iso_drawn == graded == condition.endswith("none"), condition
+        assert any("not graded here" in t.get_text() for t in lumbar.texts) is not graded
+        head_x = axes[5 * r + 3]
+        checks = [c for c in v.checks if c.condition == condition and c.name.startswith("head_fore_aft")]
+        assert head_x.get_title().endswith(f"{sum(c.passed for c in checks)} of {len(checks)} checks pass")
+        red = head_x.title.get_color() == "tab:red"
+        assert red is not all(c.passed for c in checks)
+    assert "across two conditions" in fig.get_suptitle()
+    import matplotlib.pyplot as plt
+
+    from ehm.outputs.plotting import plot_validation
+
+    plt.close(fig)
+
+    with pytest.raises(InputError, match="8 conditions.*plot_validation_grid"):  # 8 lines per panel: refused
+        plot_validation(v, "z")
+    plot_validation_grid(v, tmp_path / "grid.png")
+    assert (tmp_path / "grid.png").stat().st_size > 50_000
+
+
+def test_cli_all_writes_the_table_csv_json_and_grid_and_keeps_the_exit_codes(tmp_path, capsys):
+    """`ehm validate --all --out DIR`: the table with a line per condition, validation.csv/.json with every
+    condition, validation_grid.png; exit status 1 exactly when a check fails (0 otherwise)."""
+    out = tmp_path / "all"
+    code = main(["validate", "--all", "--no-locking", "--out", str(out), "-q"])
+    cap = capsys.readouterr()
+    data = json.loads((out / "validation.json").read_text())
+    assert code == (0 if data["passed"] else 1) and ("checks fail" in cap.err) is not data["passed"]
+    assert data["person"]["conditions"] == CONDITIONS and data["person"]["every_condition"] is True
+    assert "per condition:" in cap.out
+    assert f"wrote {out}/validation.csv, validation.json, validation_grid.png" in cap.out
+    with open(out / "validation.csv", encoding="utf-8") as f:
+        conditions = list(dict.fromkeys(r["condition"] for r in csv.DictReader(f)))
+    assert conditions == [*CONDITIONS, ACROSS]
+    assert sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) == sorted(
+        ["validation.csv", "validation.json", "validation_grid.png"])
+    assert (out / "validation_grid.png").stat().st_size > 50_000
+
+
+@pytest.mark.parametrize("passing", [True, False])
+def test_cli_all_exit_status_follows_the_checks(monkeypatch, capsys, passing):
+    """--all keeps the exit codes: 0 when every check passes, 1 when one fails (validate() replaced by a stub that
+    records that it was asked for every condition)."""
+    import ehm.analysis.validation
+
+    asked = {}
+    check = Check("head_lateral_peak_gain", REF, "stub", 2.0 if passing else 3.5, 1.0, np.nan, 3.0, "1", passing,
+                  "stub")
+
+    def stub(*a, **k):
+        asked.update(k)
+        return Validation((check,), {}, {})
+
+    monkeypatch.setattr(ehm.analysis.validation, "validate", stub)
+    assert main(["validate", "--all", "-q"]) == (0 if passing else 1)
+    assert asked["every_condition"] is True
+    assert ("checks fail" in capsys.readouterr().err) is not passing
+
+
+def test_cli_all_with_a_condition_is_one_sentence_exit_2(tmp_path, capsys):
+    """--all with --posture or --back-support: refused in one sentence naming the options and the Python
+    arguments, exit status 2, no output folder."""
+    out = tmp_path / "all"
+    for option in (["--posture", "slouched"], ["--back-support", "none"]):
+        assert main(["validate", "--all", *option, "--out", str(out)]) == 2
+        err = _error_line(capsys)
+        assert "--all evaluates every posture on every back support" in err and "every_condition" in err
+    assert not out.exists()

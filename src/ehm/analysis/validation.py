@@ -1,38 +1,42 @@
 """Is the person like people?  The model against the standards' reference curves, published fits and findings.
 
 :func:`ehm.validate` builds a person (any parameter file, size, posture and seat), computes the exact frequency
-response of its linearised model (:func:`ehm.linear_frf`, 0.1-20 Hz) and evaluates every band of
+response of its linearised model (:func:`ehm.linear_frf`, 0.1-20 Hz) and evaluates the bands of
 :data:`ehm.standards.references.BANDS` (ISO 2631-5's seat-to-lumbar transfer function, the one-mass apparent-mass fit of
-Fairley & Griffin, the vertical whole-body mode, the seat-to-head ranges) and every joint-locking finding of the
-paper (:data:`ehm.standards.references.LOCKING_FINDINGS`, through :func:`ehm.analysis.study.locking_study`).  The result
-is a
-table: each check's figure, its band, and whether it passes.
+Fairley & Griffin, the vertical whole-body mode, the seat-to-head ranges), the findings across two conditions
+(:data:`ehm.standards.references.COMPARISONS`) and the joint-locking findings of the paper
+(:data:`ehm.standards.references.LOCKING_FINDINGS`, through :func:`ehm.analysis.study.locking_study`).  The result is
+a table: each check's figure, its band, and whether it passes.
 
-The references describe people sitting erect without a back support, feet supported (ISO 2631-5, the
-apparent-mass measurements); the seat-to-head ranges and the locking findings hold on the person's own seat
-too.  So by default the person is evaluated twice: in the references' condition (erect, back support
-``none``), where every band is checked, and on its own seat (the default person: the paper's seat with a high
-back support), where the seat-to-head bands and the locking findings are checked.  Giving ``posture`` or
-``back_support`` evaluates that one condition only, with every check.
+Each band says on which postures and back supports its source applies (:meth:`ehm.standards.references.Band.applies`),
+and is graded only there: the lumbar, apparent-mass peak and whole-body-mode bands without a back support (erect or
+slouched), the apparent mass above its resonance and the seat-to-head bands on every seat, the locking findings on
+the paper's seat (erect, high back support).  By default the person is evaluated in the references' condition (erect,
+back support ``none``) and on its own seat (the default person: the paper's seat); ``posture`` or ``back_support``
+evaluates that one condition; ``every_condition=True`` (``ehm validate --all``) every posture the parameter file
+defines on every back support, with the findings across two conditions (a slouched posture's lower resonance).
 
 >>> import ehm
 >>> v = ehm.validate()                                   # the default person
->>> v.passed, len(v.checks)
-(True, 26)
+>>> v.person["conditions"]
+['erect, back support none', 'erect, back support high']
 >>> print(v.format_table())                              # doctest: +ELLIPSIS
 condition                 check ...
 erect, back support none  lumbar_gain_vs_iso2631_5 ...
 ...
-26 of 26 checks pass.
 sources (each check's figures in validation.csv's source column; ...):
   [1] ISO 2631-5:2018 cl. 5.2 Formula 1 ...
 ...
 >>> import shutil
 >>> _ = shutil.copy(ehm.body.params.default_params_path(), "my.toml")  # a parameter file of one's own
 >>> v = ehm.validate("my.toml", size=ehm.BodySize(1.62, 58.0))   # a parameter file, a body size
+>>> every = ehm.validate(every_condition=True, locking=False)   # every posture on every back support
+>>> len(every.tables), every.check("slouched_resonance_below_erect").condition
+(8, 'slouched, back support none vs erect, back support none')
 
 ``ehm validate`` runs it from the command line (:doc:`/validation`), with a figure per seat input axis
-(:func:`ehm.outputs.plotting.plot_validation`).
+(:func:`ehm.outputs.plotting.plot_validation`); ``ehm validate --all`` with one figure grid, a row per condition
+(:func:`ehm.outputs.plotting.plot_validation_grid`).
 """
 
 from __future__ import annotations
@@ -46,6 +50,7 @@ from pathlib import Path
 import numpy as np
 
 from ..body.params import Parameters
+from ..body.supports import BACK_SUPPORTS
 from ..errors import InputError, checked, checked_class
 from ..files import write_text_atomic
 from ..person.person import Person, as_person
@@ -56,9 +61,8 @@ from .frf import AXES, FrfTable, linear_frf
 FREQ_HZ = np.round(np.arange(0.1, 20.0 + 1e-9, 0.05), 10)
 #: The condition the reference curves describe: posture and back support.
 REFERENCE_CONDITION = ("erect", "none")
-#: Bands checked on the person's own seat too (they hold for seated people on any seat).
-ANY_SEAT_BANDS = ("head_vertical_peak_gain", "head_vertical_peak_frequency", "head_fore_aft_peak_frequency",
-                  "head_lateral_peak_frequency")
+#: The bands whose sources speak of every seat and posture (graded wherever the person is evaluated).
+ANY_SEAT_BANDS = tuple(b.name for b in references.BANDS if b.postures is None and b.back_supports is None)
 
 
 @dataclass(frozen=True)
@@ -137,6 +141,33 @@ class Validation:
         raise InputError(f"no check {name!r}{'' if condition is None else ' in ' + condition}; the checks are "
                          f"{', '.join(sorted({c.name for c in self.checks}))}.")
 
+    def conditions(self) -> tuple:
+        """The conditions the checks were taken in, in order, each once (a comparison's names both)."""
+        return tuple(dict.fromkeys(c.condition for c in self.checks))
+
+    def counts(self) -> dict:
+        """``condition -> (checks passing, checks)``, in the order of :meth:`conditions`."""
+        out = {}
+        for c in self.checks:
+            passing, n = out.get(c.condition, (0, 0))
+            out[c.condition] = (passing + bool(c.passed), n + 1)
+        return out
+
+    def format_counts(self) -> str:
+        """One line per condition: how many of its checks pass (of them the paper's locking findings, on its seat),
+        and which fail."""
+        w = max(len(c) for c in self.conditions()) + 2 if self.checks else 0
+        lines = []
+        for condition, (passing, n) in self.counts().items():
+            here = [c for c in self.checks if c.condition == condition]
+            failed = [c.name for c in here if not c.passed]
+            locking = [c for c in here if c.name.startswith("locking_")]
+            line = f"{condition:<{w}}{passing:>3} of {n:<3} pass"
+            if locking:
+                line += f" (locking findings {sum(c.passed for c in locking)} of {len(locking)})"
+            lines.append(line + (f"; FAIL: {', '.join(failed)}" if failed else ""))
+        return "\n".join(lines)
+
     def on_axis(self, axis: str) -> tuple:
         """The checks of one seat input axis (``x``, ``y`` or ``z``): the bands on its paths and the locking
         findings under it."""
@@ -186,7 +217,7 @@ class Validation:
         for c in self.checks:
             where = "" if np.isnan(c.at_hz) else f"{c.at_hz:.2f}"
             lines.append(f"{c.condition:<{w}}{c.name:<44}{c.value:>9.3g}  {c.unit:<{u}}{where:>6}  "
-                         f"{_band_text(c.low, c.high):<14}{'pass' if c.passed else 'FAIL':<6}"
+                         f"{band_text(c):<14}{'pass' if c.passed else 'FAIL':<6}"
                          f"[{', '.join(str(sources.index(w) + 1) for w in citations(c.source))}]")
         lines.append(f"{len(self.checks) - len(self.failed)} of {len(self.checks)} checks pass.")
         lines.append("sources (each check's figures in validation.csv's source column; the band widths are ehm's "
@@ -219,11 +250,24 @@ def _csv_cell(value) -> str:
     return str(value)
 
 
-def _band_text(low: float, high: float) -> str:
+def _is_strict(check: Check) -> bool:
+    """Whether a check's limit excludes the limit itself: a locking finding asks for more than its least change, a
+    finding across two conditions for a figure strictly lower (a band includes its limits)."""
+    return check.name.startswith("locking_") or check.name in _COMPARISON_NAMES
+
+
+@checked
+def band_text(check: Check) -> str:
+    """A check's band as the table prints it: ``"4 to 5.5"``, ``"<= 0.75"``, ``"< 0"`` (a strict limit: a locking
+    finding, a finding across two conditions)."""
+    return _band_text(check.low, check.high, strict=_is_strict(check))
+
+
+def _band_text(low: float, high: float, strict: bool = False) -> str:
     if np.isnan(low):
-        return f"<= {high:g}"
+        return f"{'<' if strict else '<='} {high:g}"
     if np.isnan(high):
-        return f">= {low:g}"
+        return f"{'>' if strict else '>='} {low:g}"
     return f"{low:g} to {high:g}"
 
 
@@ -279,8 +323,16 @@ def _unit(band: references.Band) -> str:
     return "kg" if band.path[1] == "support" else "(m/s^2)/(m/s^2)"
 
 
+@checked
+def bands_applying(posture: str, back_support: str) -> tuple:
+    """The bands of :data:`ehm.standards.references.BANDS` whose sources speak of a person in ``posture`` on
+    ``back_support`` (:meth:`ehm.standards.references.Band.applies`): the bands a validation grades there."""
+    return tuple(b for b in references.BANDS if b.applies(posture, back_support))
+
+
 def band_checks(table: FrfTable, condition: str, bands=None) -> list[Check]:
-    """Every band (default :data:`ehm.standards.references.BANDS`) evaluated on one frequency-response table."""
+    """Bands (default every band of :data:`ehm.standards.references.BANDS`, wherever it applies: give
+    :func:`bands_applying`'s to grade only those) evaluated on one frequency-response table."""
     out = []
     for b in references.BANDS if bands is None else bands:
         value, at = band_figure(table, b)
@@ -294,9 +346,42 @@ def _locking_name(finding: references.LockingFinding, quantity: str) -> str:
     return f"locking_{finding.variant}_{finding.input_axis}_{finding.point}_{finding.dof}_{quantity}"
 
 
-#: Each check's seat input axis, by name: the bands' paths and the locking findings' input axes.
+_BAND_BY_NAME = {b.name: b for b in references.BANDS}
+_COMPARISON_NAMES = frozenset(c.name for c in references.COMPARISONS)
+#: Each check's seat input axis, by name: the bands' paths, the locking findings' input axes, the comparisons' bands'.
 _CHECK_AXIS = {**{b.name: b.path[0] for b in references.BANDS},
-               **{_locking_name(f, q): f.input_axis for f in references.LOCKING_FINDINGS for q in f.quantities}}
+               **{_locking_name(f, q): f.input_axis for f in references.LOCKING_FINDINGS for q in f.quantities},
+               **{c.name: _BAND_BY_NAME[c.band].path[0] for c in references.COMPARISONS}}
+
+
+def _comparison_label(comparison: references.Comparison) -> str:
+    """The condition column of a comparison's check: both conditions it compares, ``"slouched, back support none vs
+    erect, back support none"`` (the one expected lower first)."""
+    return f"{_condition_label(*comparison.lower)} vs {_condition_label(*comparison.higher)}"
+
+
+@checked
+def comparison_checks(tables: dict, comparisons: tuple | list | None = None) -> list[Check]:
+    """The findings across two conditions (default :data:`ehm.standards.references.COMPARISONS`) in ``tables``
+    (``condition label -> FrfTable``, as a :class:`~ehm.Validation`'s ``tables``): one check per finding whose two
+    conditions are both there, each one row naming both conditions (the one expected lower first: ``"slouched, back
+    support none vs erect, back support none"``).  Its figure is the band's figure in the lower condition minus that
+    in the higher one (its unit's), taken from the tables whether or not the band is graded in either condition; it
+    passes when strictly below 0."""
+    out = []
+    for comp in references.COMPARISONS if comparisons is None else comparisons:
+        lower, higher = _condition_label(*comp.lower), _condition_label(*comp.higher)
+        if lower not in tables or higher not in tables:
+            continue
+        band = _BAND_BY_NAME.get(comp.band)
+        if band is None:
+            raise InputError(f"the comparison {comp.name} names the band {comp.band!r}; the bands are "
+                             f"{', '.join(_BAND_BY_NAME)}.")
+        a, b = band_figure(tables[lower], band)[0], band_figure(tables[higher], band)[0]
+        out.append(Check(comp.name, _comparison_label(comp), f"{comp.describe()} ({a:.3g} against {b:.3g})",
+                         comp.difference(a, b), np.nan, np.nan, 0.0, _unit(band), comp.holds(a, b),
+                         comp.source))
+    return out
 
 
 def locking_checks(study, condition: str) -> list[Check]:
@@ -324,22 +409,25 @@ def _person(person: Person, posture, back_support):
     return SeatedHuman(person.replace(posture=posture, back_support=back_support))
 
 
-def _conditions(params: Parameters, posture, back_support) -> list[tuple[str, str, bool]]:
-    """(posture, back support, every band?) for each condition to evaluate."""
+def _conditions(params: Parameters, posture, back_support, every_condition: bool) -> list[tuple[str, str]]:
+    """(posture, back support) of each condition to evaluate."""
+    if every_condition:
+        if posture is not None or back_support is not None:
+            raise InputError("every_condition=True (--all) evaluates every posture on every back support: leave out "
+                             "posture and back_support (--posture, --back-support), or evaluate that one condition "
+                             "without every_condition (--all).")
+        return [(post, back) for post in params.postures() for back in BACK_SUPPORTS]
     if posture is not None or back_support is not None:
-        return [(posture or params.posture, back_support or params.back_support, True)]
+        return [(posture or params.posture, back_support or params.back_support)]
     own = (params.posture, params.back_support)
-    out = [(*REFERENCE_CONDITION, True)]
-    if own != REFERENCE_CONDITION:
-        out.append((*own, False))
-    return out
+    return [REFERENCE_CONDITION] + ([own] if own != REFERENCE_CONDITION else [])
 
 
 @checked
 def validate(params: Person | Parameters | str | None = None, size=None, posture: str | None = None,
              back_support: str | None = None, locking: bool = True, dt_s: float | None = None,
-             progress: Callable | None = None) -> Validation:
-    """The person against every reference of :mod:`ehm.standards.references`.
+             progress: Callable | None = None, every_condition: bool = False) -> Validation:
+    """The person against every reference of :mod:`ehm.standards.references`, each where its source applies.
 
     Parameters
     ----------
@@ -349,41 +437,48 @@ def validate(params: Person | Parameters | str | None = None, size=None, posture
     size : ehm.BodySize, optional
         An individual body size; default the reference person (a shortcut that changes the Person).
     posture, back_support : str, optional
-        Evaluate this condition only (every band and the locking findings in it).  Default: the references'
-        condition (erect, no back support) for every band, and the person's own seat for the seat-to-head
-        bands and the locking findings.
+        Evaluate this condition only (the bands that apply there).  Default: the references' condition (erect, no
+        back support) and the person's own seat, each with the bands that apply there.
     locking : bool
-        Evaluate the paper's joint-locking findings (three more linearisations of the person).
+        Evaluate the paper's joint-locking findings, on the paper's seat (erect, high back support: three more
+        linearisations of the person there).
     dt_s : float, optional
         The time step the person is linearised at (default: its own; a shortcut that changes the Person).
     progress : callable, optional
         ``progress(done, total)`` after each linearisation (one per condition, and one per locking variant).
+    every_condition : bool
+        Evaluate every posture the parameter file defines (the shipped file: erect, slouched) on every back support
+        (none, low, high, full), each with the bands that apply there, and the findings across two conditions
+        (:data:`ehm.standards.references.COMPARISONS`); ``ehm validate --all``.  Not together with ``posture`` or
+        ``back_support``.
 
     Returns
     -------
     Validation
-        Its checks in order: each condition's bands, then the locking findings (on the person's own seat).
+        Its checks in order: each condition's bands, the findings across two conditions evaluated, then the
+        locking findings.
     """
     person = as_person(params, size=size, dt_s=dt_s, posture=posture, back_support=back_support)
     p = person.params
-    conditions = _conditions(p, person.posture, person.back_support)
+    conditions = _conditions(p, person.posture, person.back_support, bool(every_condition))
     total = len(conditions) + (len(references.LOCKING_VARIANTS) if locking else 0)
     done = _Counter(progress, total)
     checks, tables = [], {}
-    for post, back, every in conditions:
+    for post, back in conditions:
         label = _condition_label(post, back)
         table = linear_frf(_person(person, post, back), "all", freq_hz=FREQ_HZ)
         tables[label] = table
-        bands = None if every else [b for b in references.BANDS if b.name in ANY_SEAT_BANDS]
-        checks += band_checks(table, label, bands)
+        checks += band_checks(table, label, bands_applying(post, back))
         done()
+    checks += comparison_checks(tables)
     if locking:
-        post, back, _ = conditions[-1]  # the person's own seat (the paper's study ran on its validation seat)
+        post, back = references.PAPER_SEAT  # where the paper's locking study ran
         checks += locking_checks(_locking_study(person.replace(posture=post, back_support=back), done),
                                  _condition_label(post, back))
     record = {"params": p.value("about.name") if _has(p, "about.name") else "custom", "origin": str(p.origin),
               "size": None if person.size is None else repr(person.size), "dt_s": person.dt_s,
-              "locking": bool(locking), "conditions": [_condition_label(a, b) for a, b, _ in conditions],
+              "locking": bool(locking), "every_condition": bool(every_condition),
+              "conditions": [_condition_label(a, b) for a, b in conditions],
               "head_control": person.to_dict()["head_control"], "lock": list(person.lock),
               "unlock": list(person.unlock)}
     return Validation(checks=tuple(checks), tables=tables, person=record)

@@ -14,7 +14,9 @@ iso2631_5_annex_d_tf(freq_hz)           the Annex D filter's frequency response 
 FAIRLEY_GRIFFIN_NATURAL_FREQUENCY_HZ, FAIRLEY_GRIFFIN_DAMPING_RATIO    the one-mass apparent-mass fit
 apparent_mass_one_mass(freq_hz, frame_share=0.0, normalise_at_hz=0.5)  that fit's normalised apparent mass
 SPINE_FIRST_RESONANCE_HZ                the seated spine's first resonance band (low, high) [Hz]
-Band, BANDS                             the bands a default person should meet
+Band, BANDS                             the bands a person should meet, each with where it applies
+Comparison, COMPARISONS                 findings across two conditions (a slouched posture's lower resonance)
+PAPER_SEAT                              the paper's posture and back support (its locking study's seat)
 LockingFinding, LOCKING_FINDINGS, LOCKING_VARIANTS    the paper's joint-locking findings (section 4)
 literature_anchors()                    the rows of the shipped table of literature figures
 
@@ -38,7 +40,8 @@ __all__ = [
     "ISO2631_5_SOURCE", "iso2631_5_lumbar_tf", "iso2631_5_annex_d_tf",
     "FAIRLEY_GRIFFIN_NATURAL_FREQUENCY_HZ", "FAIRLEY_GRIFFIN_DAMPING_RATIO", "FAIRLEY_GRIFFIN_SOURCE",
     "apparent_mass_one_mass", "SPINE_FIRST_RESONANCE_HZ", "SPINE_FIRST_RESONANCE_SOURCE",
-    "Band", "BANDS", "LockingFinding", "LOCKING_FINDINGS", "LOCKING_VARIANTS", "literature_anchors",
+    "Band", "BANDS", "Comparison", "COMPARISONS", "KITAZAKI_GRIFFIN_SOURCE", "PAPER_SEAT", "LockingFinding",
+    "LOCKING_FINDINGS", "LOCKING_VARIANTS", "literature_anchors",
 ]
 
 _ISO_FILE = "iso2631_5_2018_seat_to_spine.csv"
@@ -239,9 +242,10 @@ SPINE_FIRST_RESONANCE_HZ = (float(_spine["lower"]), float(_spine["upper"]))
 #: Where that band comes from, and the address where it was read.
 SPINE_FIRST_RESONANCE_SOURCE = f"{_spine['source']} ({_spine['location']})"
 
-#: ehm's documented ranges reported for seated people (docs/model.md); no measured curve ships behind them.
-_SEATED_RANGES = ("ranges reported for seated people, as ehm's model page states them (docs/model.md; no measured "
-                  "seat-to-head curve or ISO 5982 table ships with ehm)")
+#: The seat-to-head ranges as ehm states them: the 'tuned' source of the shipped parameter file names them; no
+#: measured curve or paper behind them ships with ehm (the horizontal peak gains have a source of their own).
+_SEATED_RANGES = ("ranges reported for seated people, as ehm states them (the 'tuned' source of default_params.toml; "
+                  "no measured seat-to-head curve, ISO 5982 table or paper behind these figures ships with ehm)")
 _ISO_CONDITION = ("the standard's model of seated people under vertical seat vibration; compared with a person "
                   "sitting erect without back support, feet supported")
 _AM_CONDITION = ("60 seated people (24 men, 24 women, 12 children), legs moving with the seat; the one-mass fit "
@@ -276,6 +280,11 @@ class Band:
         Divide the gain by its value at this frequency first (the apparent mass over its 0.5 Hz value).
     reference : str or None
         Name of the function of this module giving the reference curve (``gain_minus_reference``).
+    postures : tuple of str or None
+        The postures the band applies to (names of a parameter file's ``[postures.NAME]``); None: every posture.
+    back_supports : tuple of str or None
+        The back supports it applies to (``none``, ``low``, ``high``, ``full``); None: every back support.
+        A validation grades the band only where both hold (:meth:`applies`).
     """
 
     name: str
@@ -288,6 +297,18 @@ class Band:
     condition: str
     normalise_at_hz: float | None = None
     reference: str | None = None
+    postures: tuple[str, ...] | None = None
+    back_supports: tuple[str, ...] | None = None
+
+    def applies(self, posture: str, back_support: str) -> bool:
+        """Whether the band's source speaks of a person in ``posture`` on ``back_support`` (so that a validation
+        grades the band there)."""
+        return ((self.postures is None or posture in self.postures)
+                and (self.back_supports is None or back_support in self.back_supports))
+
+    def where(self) -> str:
+        """Where the band applies, in words: ``"postures erect, slouched; back support none"``."""
+        return _where(self.postures, self.back_supports)
 
     def holds(self, value) -> bool:
         """Whether ``value`` (a number, or every number of an array) lies within the band, limits included."""
@@ -307,45 +328,139 @@ class Band:
         return f"{self.quantity} of {a}->{p} {d}{norm} {where} {limits}"
 
 
+def _where(postures, back_supports) -> str:
+    """Where a reference applies, in words (None: every one)."""
+    if postures is None and back_supports is None:
+        return "every posture and back support"
+    post = "every posture" if postures is None else "posture" + ("s " if len(postures) > 1 else " ") + \
+        ", ".join(postures)
+    back = "every back support" if back_supports is None else "back support" + \
+        ("s " if len(back_supports) > 1 else " ") + ", ".join(back_supports)
+    return f"{post}; {back}"
+
+
 _LUMBAR = ("z", "lumbar", "z")
 _SUPPORT = ("z", "support", "z")
+#: The postures the measurements without back support speak of: sitting erect (the references' posture), and
+#: slouched (the same bands asked of it: a slouched posture changes where the resonance lies, not that there is one).
+_UNSUPPORTED_POSTURES = ("erect", "slouched")
+#: Where the references measured without a back support apply: those postures, no back support.
+_UNSUPPORTED = {"postures": _UNSUPPORTED_POSTURES, "back_supports": ("none",)}
+
+#: The paper's seat: its posture and back support (where its joint-locking study ran).
+PAPER_SEAT = ("erect", "high")
 
 #: The paper ehm implements, as a reader can look it up; its section 4 is the joint-locking study.
 PAPER_SOURCE = ("paper section 4, the joint-locking study (Desai, Cvetkovic, Wu, Papaioannou, Happee, 'Computationally "
                 "efficient human body modelling for real time motion comfort assessment', TU Delft)")
 
-#: The bands the default person should meet; each with its source and the condition it describes.
+#: A measured fore-and-aft seat-to-head transmissibility, as a reader can look it up (the page read shows the
+#: abstract, not the authors).
+_FORE_AFT_STUDY = ("16 seated men under fore-and-aft sinusoidal vibration at 2-6 Hz, 0.31-2.43 m/s^2 rms, abstract "
+                   "(authors not shown on the page read, https://katalog.lib.cas.cz/KNAV/EdsRecord/edsair,"
+                   "edsair.doi.dedup.....d872e48dfa7beeff2bf8d1a30639e9e7)")
+_HEAD_GAIN_LIMIT = ("the limit of 3 is ehm's choice round that median (1.5 times it: people vary widely), not a figure "
+                    "of the source")
+
+#: The bands a person should meet, each with its source, the condition it describes and where it applies.
 BANDS: tuple[Band, ...] = (
     Band("lumbar_gain_vs_iso2631_5", "gain_minus_reference", _LUMBAR, -0.20, 0.20, (1.0, 12.0),
          f"ISO 2631-5:2018 cl. 5.2 Formula 1 ({ISO2631_5_SOURCE}); {_BAND_WIDTH}", _ISO_CONDITION,
-         reference="iso2631_5_lumbar_tf"),
+         reference="iso2631_5_lumbar_tf", **_UNSUPPORTED),
     Band("lumbar_peak_frequency", "peak_hz", _LUMBAR, 4.0, 5.5, (0.5, 20.0),
-         f"ISO 2631-5:2018 cl. 5.2 Formula 1 ({ISO2631_5_SOURCE}): peak at 4.7 Hz; {_BAND_WIDTH}", _ISO_CONDITION),
+         f"ISO 2631-5:2018 cl. 5.2 Formula 1 ({ISO2631_5_SOURCE}): peak at 4.7 Hz; {_BAND_WIDTH}", _ISO_CONDITION,
+         **_UNSUPPORTED),
     Band("spine_first_resonance", "peak_hz", _LUMBAR, *SPINE_FIRST_RESONANCE_HZ, (0.5, 20.0),
-         SPINE_FIRST_RESONANCE_SOURCE, _spine["condition"]),
+         SPINE_FIRST_RESONANCE_SOURCE, _spine["condition"], **_UNSUPPORTED),
     Band("apparent_mass_peak_frequency", "peak_hz", _SUPPORT, 4.0, 6.5, (0.5, 20.0),
-         f"{FAIRLEY_GRIFFIN_SOURCE}; {_BAND_WIDTH}", _AM_CONDITION, normalise_at_hz=0.5),
+         f"{FAIRLEY_GRIFFIN_SOURCE}; {_BAND_WIDTH}", _AM_CONDITION, normalise_at_hz=0.5, **_UNSUPPORTED),
     Band("apparent_mass_peak", "peak_gain", _SUPPORT, 1.3, 1.7, (0.5, 20.0),
          f"{FAIRLEY_GRIFFIN_SOURCE}: 1.49 at 4.3 Hz without, 1.37 with a fifth of the mass on the frame; "
-         f"{_BAND_WIDTH}", _AM_CONDITION, normalise_at_hz=0.5),
+         f"{_BAND_WIDTH}", _AM_CONDITION, normalise_at_hz=0.5, **_UNSUPPORTED),
     Band("apparent_mass_10hz", "gain", _SUPPORT, None, 0.75, (10.0, 10.0),
-         f"{FAIRLEY_GRIFFIN_SOURCE}: at most 0.61 with a frame share up to 0.5; {_BAND_WIDTH}", _AM_CONDITION,
+         f"{FAIRLEY_GRIFFIN_SOURCE}: at most 0.61 with a frame share up to 0.5; {_BAND_WIDTH}",
+         f"{_AM_CONDITION}; on every seat (above the whole-body resonance the body decouples from the seat through "
+         "the soft tissue under it, with or without a backrest; every support the person touches)",
          normalise_at_hz=0.5),
     Band("apparent_mass_15_20hz", "gain", _SUPPORT, None, 0.6, (15.0, 20.0),
          f"{FAIRLEY_GRIFFIN_SOURCE}: at most 0.53 at 15 Hz with a frame share up to 0.5; {_BAND_WIDTH}",
-         _AM_CONDITION, normalise_at_hz=0.5),
+         f"{_AM_CONDITION}; on every seat (as at 10 Hz)", normalise_at_hz=0.5),
     Band("pelvis_peak_frequency", "peak_hz", ("z", "pelvis", "z"), None, 6.5, (0.5, 20.0),
          f"ISO 2631-5:2018 cl. 5.2 Formula 1 ({ISO2631_5_SOURCE}) and {SPINE_FIRST_RESONANCE_SOURCE}: seated people "
          "move in one whole-body mode near 5 Hz (the standard's lumbar peak at 4.7 Hz, the seated spine's first "
-         f"resonance at 4.5-5.5 Hz); {_BAND_WIDTH}", _ISO_CONDITION),
+         f"resonance at 4.5-5.5 Hz); {_BAND_WIDTH}", _ISO_CONDITION, **_UNSUPPORTED),
     Band("head_vertical_peak_gain", "peak_gain", ("z", "head", "z"), 1.5, 2.0, (0.5, 20.0), _SEATED_RANGES,
-         "seated people, vertical seat vibration; on ehm's own seat too"),
+         "seated people, vertical seat vibration; on every seat"),
     Band("head_vertical_peak_frequency", "peak_hz", ("z", "head", "z"), 4.0, 6.0, (0.5, 20.0), _SEATED_RANGES,
-         "seated people, vertical seat vibration; on ehm's own seat too"),
+         "seated people, vertical seat vibration; on every seat"),
     Band("head_fore_aft_peak_frequency", "peak_hz", ("x", "head", "x"), None, 3.0, (0.5, 12.0), _SEATED_RANGES,
-         "seated people, fore-aft seat vibration"),
+         "seated people, fore-aft seat vibration; on every seat"),
     Band("head_lateral_peak_frequency", "peak_hz", ("y", "head", "y"), None, 3.0, (0.5, 12.0), _SEATED_RANGES,
-         "seated people, lateral seat vibration"),
+         "seated people, lateral seat vibration; on every seat"),
+    Band("head_fore_aft_peak_gain", "peak_gain", ("x", "head", "x"), None, 3.0, (0.5, 20.0),
+         f"{_FORE_AFT_STUDY}: the fore-and-aft seat-to-head transmissibility peaks at 2-2.4 Hz, median peak 2, with "
+         f"high variability between people; {_HEAD_GAIN_LIMIT}",
+         "seated men, fore-and-aft seat vibration; on every seat (a head moving several times as far as the seat "
+         "would leave it)"),
+    Band("head_lateral_peak_gain", "peak_gain", ("y", "head", "y"), None, 3.0, (0.5, 20.0),
+         f"{_FORE_AFT_STUDY}: the fore-and-aft seat-to-head transmissibility peaks at median 2; no source ehm has "
+         "read gives a lateral seat-to-head peak gain, so the fore-and-aft limit is carried over to lateral input, "
+         f"{_HEAD_GAIN_LIMIT}",
+         "seated people, lateral seat vibration; on every seat"),
+)
+
+
+_KITAZAKI = _anchor("principal_resonance_posture_effect")
+#: Where the posture's effect on the principal resonance comes from (no page stored: a literature summary).
+KITAZAKI_GRIFFIN_SOURCE = f"{_KITAZAKI['source']} ({_KITAZAKI['location']})"
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """A finding across two conditions: one band's figure lower in one condition than in another.
+
+    Attributes
+    ----------
+    name : str
+        Short identifier.
+    band : str
+        The name of the band (of :data:`BANDS`) whose figure is compared.
+    lower, higher : tuple
+        (posture, back support) of the condition whose figure should be the lower, and of the other one.
+    source : str
+        Where the finding comes from.
+    condition : str
+        The people and vibration it describes.
+    """
+
+    name: str
+    band: str
+    lower: tuple
+    higher: tuple
+    source: str
+    condition: str
+
+    def difference(self, lower_value: float, higher_value: float) -> float:
+        """The figure in ``lower`` minus the figure in ``higher`` (negative when the finding holds)."""
+        return float(lower_value) - float(higher_value)
+
+    def holds(self, lower_value: float, higher_value: float) -> bool:
+        """Whether the figure in ``lower`` lies strictly below the one in ``higher`` (equal: not lower)."""
+        d = self.difference(lower_value, higher_value)
+        return bool(np.isfinite(d) and d < 0.0)
+
+    def describe(self) -> str:
+        """The finding in words."""
+        return (f"{self.band} lower in {self.lower[0]}, back support {self.lower[1]} than in {self.higher[0]}, "
+                f"back support {self.higher[1]}")
+
+
+#: Findings across two conditions, each graded where both conditions are evaluated (``ehm validate --all``).
+COMPARISONS: tuple[Comparison, ...] = (
+    Comparison("slouched_resonance_below_erect", "apparent_mass_peak_frequency", ("slouched", "none"),
+               ("erect", "none"), f"{KITAZAKI_GRIFFIN_SOURCE}: a slouched posture lowers the principal resonance",
+               "seated people under vertical vibration, without a back support; the principal resonance read as the "
+               "apparent mass's peak frequency"),
 )
 
 
@@ -379,6 +494,8 @@ class LockingFinding:
     paper : str
         What the paper states.
     source : str
+    seat : tuple
+        (posture, back support) the finding was made on: the paper's seat, :data:`PAPER_SEAT`.
     """
 
     label: str
@@ -391,6 +508,11 @@ class LockingFinding:
     least_change: float
     paper: str
     source: str = PAPER_SOURCE
+    seat: tuple = PAPER_SEAT
+
+    def applies(self, posture: str, back_support: str) -> bool:
+        """Whether the finding speaks of a person in ``posture`` on ``back_support``: the paper's seat only."""
+        return (posture, back_support) == tuple(self.seat)
 
     @property
     def locked(self) -> tuple[str, ...]:

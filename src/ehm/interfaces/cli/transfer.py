@@ -322,6 +322,8 @@ def _write_locking_study(study, variants: dict, out: Path) -> dict:
 
 #: The files ``ehm validate --out`` writes.
 VALIDATION_FILES = ("validation.csv", "validation.json", "validation_z.png", "validation_x.png", "validation_y.png")
+#: The files ``ehm validate --all --out`` writes: the table and one figure grid, a row per condition.
+VALIDATION_ALL_FILES = ("validation.csv", "validation.json", "validation_grid.png")
 
 
 def add_validate(sub) -> None:
@@ -334,17 +336,25 @@ def add_validate(sub) -> None:
                     "paper's joint-locking findings.  Prints one line per check (the model's figure and its unit, "
                     "the band, pass or FAIL, its sources by number) and the sources a reader can look up.  Without "
                     "--posture and --back-support the person is evaluated in the "
-                    "references' condition (erect, back support none: every band) and on its own seat (the "
-                    "seat-to-head bands and the locking findings); with either, in that one condition, every "
-                    "check.  Exit status: 0 when every check passes, 1 when some check fails, 2 on bad input.")
+                    "references' condition (erect, back support none) and on its own seat; with either, in that one "
+                    "condition; with --all, every posture "
+                    "on every back support, and the findings across two conditions.  Each band is graded only where "
+                    "its source applies; the locking findings on the paper's seat (erect, high back support).  Exit "
+                    "status: 0 when every check passes, 1 when some check fails, 2 on bad input.")
     p.add_argument("--params", metavar="FILE.toml", help="parameter file (default: the shipped defaults)")
     seating_options(p)
     size_options(p)
     p.add_argument("--dt", type=float, help="time step the person is linearised at [s] (default: its own)")
+    p.add_argument("--all", action="store_true", dest="every_condition",
+                   help="every posture the parameter file defines (shipped: erect, slouched) on every back support "
+                        "(none, low, high, full), each band where its source applies, and the findings across two "
+                        "conditions; --out writes " + ", ".join(VALIDATION_ALL_FILES) + " (not with --posture or "
+                        "--back-support)")
     p.add_argument("--no-locking", action="store_true",
                    help="leave out the paper's joint-locking findings (three fewer linearisations)")
     p.add_argument("--out", metavar="DIR",
-                   help="output folder: " + ", ".join(VALIDATION_FILES) + " (default: print the table only)")
+                   help="output folder: " + ", ".join(VALIDATION_FILES) + " (with --all: "
+                        + ", ".join(VALIDATION_ALL_FILES) + "; default: print the table only)")
     progress_options(p)
     p.set_defaults(func=cmd_validate)
 
@@ -354,15 +364,22 @@ def cmd_validate(args) -> int:
 
     if args.dt is not None:
         check_time_step(args.dt, "--dt")
+    every = args.every_condition
+    if every and (args.posture is not None or args.back_support is not None):
+        raise InputError("--all evaluates every posture on every back support: leave out --posture and "
+                         "--back-support (posture, back_support in Python), or evaluate that one condition without "
+                         "--all (every_condition).")
     final = None if args.out is None else check_output_folder(args.out, inputs=input_files(args))
-    validation = validate(person_from_args(args), locking=not args.no_locking,
+    validation = validate(person_from_args(args), locking=not args.no_locking, every_condition=every,
                           progress=progress_count("linearisations", args.quiet))
     end_progress_line()
     print(validation.format_table())
+    if every:
+        print("per condition:\n" + validation.format_counts())
     if final is not None:
         with RunFolder(final) as out:
-            _write_validation(validation, out)
-        print(f"wrote {final}/" + ", ".join(VALIDATION_FILES))
+            _write_validation(validation, out, every)
+        print(f"wrote {final}/" + ", ".join(VALIDATION_ALL_FILES if every else VALIDATION_FILES))
     if not validation.passed:
         print(f"ehm: validate: {len(validation.failed)} of {len(validation.checks)} checks fail: "
               f"{', '.join(dict.fromkeys(c.name for c in validation.failed))}.", file=sys.stderr)
@@ -370,12 +387,16 @@ def cmd_validate(args) -> int:
     return 0
 
 
-def _write_validation(validation, out: Path) -> None:
-    """The checks' table (CSV, JSON) and a figure per seat input axis, written into ``out``."""
-    from ...outputs.plotting import plot_validation
+def _write_validation(validation, out: Path, every_condition: bool = False) -> None:
+    """The checks' table (CSV, JSON) and a figure per seat input axis, or (``every_condition``) one figure grid with
+    a row per condition, written into ``out``."""
+    from ...outputs.plotting import plot_validation, plot_validation_grid
 
     validation.to_csv(out / "validation.csv")
     write_json_atomic(out / "validation.json", validation.as_dict())
+    if every_condition:
+        plot_validation_grid(validation, out / "validation_grid.png")
+        return
     for axis in "zxy":
         plot_validation(validation, axis, out / f"validation_{axis}.png")
 
