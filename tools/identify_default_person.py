@@ -155,6 +155,165 @@ def search_residuals(v) -> np.ndarray:
     return np.array(r)
 
 
+#: Every seat: the conditions the person is identified on together (one parameter set for all of them: the
+#: ``full`` back support of the erect person is its ``high`` one, of the slouched person nearly so).
+EVERY_SEAT = tuple((p, s) for p in ("erect", "slouched") for s in ("none", "low", "high"))
+#: Bands whose sources describe people without a back support (ISO 2631-5, the apparent-mass measurements, the
+#: seated spine's first resonance); every other band holds on every seat.
+UNSUPPORTED_ONLY = ("lumbar_gain_vs_iso2631_5", "lumbar_peak_frequency", "spine_first_resonance",
+                    "apparent_mass_peak_frequency", "apparent_mass_peak", "pelvis_peak_frequency")
+#: The horizontal head response a seated person survives: fore-aft and lateral seat-to-head peaks at most 3.
+HORIZONTAL_HEAD = tuple(references.Band(f"head_{name}_peak_gain", "peak_gain", (axis, "head", axis), None, 3.0,
+                                        (0.5, 12.0), "seated people", "every seat")
+                        for name, axis in (("fore_aft", "x"), ("lateral", "y")))
+#: Values free on every seat, beyond ``FREE``: the back pads' tissue (both pads together) and the trunk's and hips'
+#: lateral bending, which hold the trunk sideways where no backrest does.
+EVERY_SEAT_FREE = {
+    "back pad stiffness": (["contacts.lower_back.stiffness_N_per_m", "contacts.upper_back.stiffness_N_per_m"],
+                           5e3, 80e3),
+    "back pad damping": (["contacts.lower_back.damping_Ns_per_m", "contacts.upper_back.damping_Ns_per_m"],
+                         50.0, 2000.0),
+    "back pad shear stiffness": (["contacts.lower_back.shear_stiffness_N_per_m",
+                                  "contacts.upper_back.shear_stiffness_N_per_m"], 500.0, 20e3),
+    "back pad shear damping": (["contacts.lower_back.shear_damping_Ns_per_m",
+                                "contacts.upper_back.shear_damping_Ns_per_m"], 10.0, 1000.0),
+    "T12 roll stiffness": (["joints.t12.roll.stiffness_Nm_per_rad"], 200.0, 5000.0),
+    "T12 roll damping": (["joints.t12.roll.damping_Nms_per_rad"], 10.0, 400.0),
+    "L4-L5 roll stiffness": (["joints.l4_l5.roll.stiffness_Nm_per_rad"], 200.0, 6000.0),
+    "L4-L5 roll damping": (["joints.l4_l5.roll.damping_Nms_per_rad"], 10.0, 400.0),
+    "hip roll stiffness": (["joints.hip_{s}.roll.stiffness_Nm_per_rad"], 20.0, 1000.0),
+    "hip roll damping": (["joints.hip_{s}.roll.damping_Nms_per_rad"], 1.0, 100.0),
+    "slouched tone": (["postures.slouched.tone"], 0.3, 1.5),
+    "supported tone": (["posture.supported_tone"], 0.3, 1.5),
+}
+FREE.update(EVERY_SEAT_FREE)
+#: The values free in the every-seat search: those that shape the vertical response on every seat, the back pads,
+#: and the trunk's and hips' bending (the legs' joints, the pads' shear under the pelvis and the feet stay).
+EVERY_SEAT_NAMES = ["buttock stiffness", "buttock damping", "thigh stiffness", "thigh damping",
+                    "T12 vertical stiffness", "T12 vertical damping", "T12 pitch stiffness", "T12 pitch damping",
+                    "L4-L5 pitch stiffness", "L4-L5 pitch damping", "hip pitch stiffness", "hip pitch damping",
+                    "lower neck pitch stiffness", "upper neck pitch stiffness", *EVERY_SEAT_FREE]
+#: Fore-aft head motion: the low back support moves the head no more than the high one (Mirakhorlo et al. 2022);
+#: graded on the rms of the head's fore-aft gain over this band (a flat input spectrum).
+FORE_AFT_BAND_HZ = (0.5, 10.0)
+#: Sustained manoeuvres (braking, cornering: 0.1 Hz) lean the trunk and the head by at most this much per m/s^2 of
+#: seat acceleration [deg/(m/s^2)]: a seated body holds itself up against a slowly tilting gravito-inertial force
+#: (an upper body with too soft a hip and spine is an inverted pendulum that falls over in a city drive's 0.18 g).
+LEAN_HZ = 0.1
+LEAN_MAX_DEG = 2.0
+
+
+def every_seat_residuals(params: Parameters) -> np.ndarray:
+    """The residuals of one parameter set on every seat of ``EVERY_SEAT``: each band where its source applies (and
+    the horizontal head peaks), the curves' distance from the references without back support, the low-frequency
+    gains, slouched's resonance below erect's, the head's fore-aft motion on the low against the high support, and
+    the paper's locking findings on its seat."""
+    from ehm.analysis.validation import FREQ_HZ, band_checks, locking_checks
+
+    r, tables = [], {}
+    for post, back in EVERY_SEAT:
+        t = ehm.linear_frf(ehm.SeatedHuman(ehm.Person(params=params, posture=post, back_support=back)), "all",
+                           freq_hz=FREQ_HZ)
+        tables[post, back] = t
+        bands = [b for b in references.BANDS if back == "none" or b.name not in UNSUPPORTED_ONLY] + list(HORIZONTAL_HEAD)
+        r += [3.0 * _hinge(c.value, c.low, c.high, _margin(c)) for c in band_checks(t, f"{post}, {back}", bands)]
+        if back == "none":
+            lumbar = t.curve("z", "lumbar", "z")
+            g = np.interp(CURVE_HZ, lumbar.freq_hz, lumbar.gain)
+            r += list(0.4 * (g - np.abs(references.iso2631_5_lumbar_tf(CURVE_HZ))) / 0.2)
+            am = t.curve("z", "support", "z")
+            m = np.interp(MASS_HZ, am.freq_hz, am.gain) / np.interp(0.5, am.freq_hz, am.gain)
+            r += list(0.2 * (m - np.abs(references.apparent_mass_one_mass(MASS_HZ, FRAME_SHARE))) / 0.15)
+        for point in ("lumbar", "head"):
+            c = t.curve("z", point, "z")
+            low = (c.freq_hz >= LOW_HZ[0]) & (c.freq_hz <= LOW_HZ[1])
+            r.append(_hinge(float(c.gain[low].max()), np.nan, LOW_GAIN_MAX, 0.02))
+        for axis, dof in (("x", "pitch"), ("y", "roll")):  # sustained manoeuvres: the trunk leans, not falls
+            for point in ("trunk", "head"):
+                r.append(3.0 * _hinge(_lean_deg(t.curve(axis, point, dof)), np.nan, LEAN_MAX_DEG, 0.3))
+    peak = {k: _peak_hz(t.curve("z", "support", "z")) for k, t in tables.items()}
+    r.append(3.0 * max(0.0, peak["slouched", "none"] - peak["erect", "none"] + 0.1) / 0.2)
+    for post in ("erect", "slouched"):
+        low, high = (_rms_gain(tables[post, s].curve("x", "head", "x")) for s in ("low", "high"))
+        r.append(3.0 * max(0.0, low - high) / (0.05 * high))
+    from ehm.analysis.study import PAPER_VARIANTS, locking_study
+
+    study = locking_study(params=ehm.Person(params=params, posture="erect", back_support="high"),
+                          variants=dict(PAPER_VARIANTS), method="linear")
+    r += [3.0 * _hinge(c.value, c.low, c.high, _margin(c)) for c in locking_checks(study, "erect, high")]
+    return np.array(r)
+
+
+def _residuals_at(args) -> np.ndarray:
+    """``every_seat_residuals`` of ``with_free(*args)`` (in a worker process); a failing person costs 100 each."""
+    base, x, names, size = args
+    try:
+        return every_seat_residuals(with_free(base, x, names))
+    except ehm.EhmError:
+        return np.full(size, 100.0)
+
+
+def _lean_deg(curve) -> float:
+    """The segment's rotation per m/s^2 of slow seat acceleration (at LEAN_HZ) [deg/(m/s^2)], from the gain of its
+    angular acceleration."""
+    g = float(np.interp(LEAN_HZ, curve.freq_hz, curve.gain))
+    return float(np.degrees(g / (2 * np.pi * LEAN_HZ) ** 2))
+
+
+def _peak_hz(curve) -> float:
+    f, g = np.asarray(curve.freq_hz), np.asarray(curve.gain)
+    sel = (f >= 2.0) & (f <= 12.0)
+    return float(f[sel][int(np.argmax(g[sel]))])
+
+
+def _rms_gain(curve) -> float:
+    f, g = np.asarray(curve.freq_hz), np.asarray(curve.gain)
+    sel = (f >= FORE_AFT_BAND_HZ[0]) & (f <= FORE_AFT_BAND_HZ[1])
+    return float(np.sqrt(np.mean(g[sel] ** 2)))
+
+
+def every_seat_search(base: Parameters, max_evals: int, say, names) -> Parameters:
+    """The band search on every seat at once (``every_seat_residuals``) over the values ``names``."""
+    lo = np.log([FREE[n][1] for n in names])
+    hi = np.log([FREE[n][2] for n in names])
+    x0 = np.clip(np.log(start_values(base, names)), lo + 1e-9, hi - 1e-9)
+    n_eval, t0, best = [0], time.perf_counter(), [np.inf, None]
+
+    def residuals(log_x):
+        n_eval[0] += 1
+        p = with_free(base, np.exp(log_x), names)
+        try:
+            r = every_seat_residuals(p)
+        except ehm.EhmError:
+            r = np.full(residuals.size, 100.0)
+        cost = float(r @ r)
+        if cost < best[0]:
+            best[:] = [cost, p]
+            p.export(say.out / "every_seat_best.toml")
+        if n_eval[0] % 10 == 1:
+            say(f"every seat: {n_eval[0]} evaluations, cost {cost:.4g} (best {best[0]:.4g}), "
+                f"{time.perf_counter() - t0:.0f} s")
+        return r
+
+    residuals.size = every_seat_residuals(with_free(base, np.exp(x0), names)).size
+    from concurrent.futures import ProcessPoolExecutor
+
+    pool = ProcessPoolExecutor(max_workers=say.workers)
+
+    def jacobian(log_x):
+        r0 = residuals(log_x)
+        h = 1e-3 * np.maximum(1.0, np.abs(log_x))
+        steps = [np.minimum(log_x + h[i] * np.eye(len(log_x))[i], hi) for i in range(len(log_x))]
+        rows = list(pool.map(_residuals_at, [(base, np.exp(x), names, residuals.size) for x in steps]))
+        n_eval[0] += len(steps)
+        return np.column_stack([(r - r0) / (x[i] - log_x[i]) for i, (r, x) in enumerate(zip(rows, steps))])
+
+    res = least_squares(residuals, x0, jac=jacobian, bounds=(lo, hi), max_nfev=max_evals)
+    pool.shutdown()
+    say(f"every seat: {res.message} after {n_eval[0]} evaluations, cost {2 * res.cost:.4g}")
+    return with_free(base, np.exp(res.x), names)
+
+
 def band_search(base: Parameters, max_evals: int, say, names=None) -> Parameters:
     """Stage 1 (see the module docstring) over the values ``names`` (default: all of ``FREE``)."""
     names = names or list(FREE)
@@ -256,6 +415,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--start", type=Path, help="start parameter file (default: the shipped person with START's values)")
     ap.add_argument("--max-evals", type=int, default=300, help="stage 1's evaluations (default 300)")
     ap.add_argument("--skip-search", action="store_true", help="start stage 2 from --start (no stage 1)")
+    ap.add_argument("--workers", type=int, default=2, help="processes for the every-seat search's derivatives")
+    ap.add_argument("--every-seat", action="store_true",
+                    help="identify on every posture and back support at once (EVERY_SEAT), from --start or the "
+                         "shipped person, with every value of FREE free; no stage 2")
     ap.add_argument("--write-defaults", type=Path, metavar="PATH",
                     help="also write the identified values into this parameter file (grade identified); the shipped "
                          "one changes only when named: --write-defaults src/ehm/data/default_params.toml")
@@ -267,6 +430,8 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"--out {out} exists; name a new folder (nothing is written into an earlier result)")
     out.mkdir(parents=True)
     say = lambda line: print(line, flush=True)  # noqa: E731
+    if args.every_seat:
+        return _every_seat_main(args, out)
     base = Parameters.load(args.start).seated("erect", "none")
     if args.start is None:
         base = with_free(base, np.array(list(START.values())), list(START))
@@ -306,6 +471,23 @@ def main(argv: list[str] | None = None) -> int:
             write_into_defaults(identified, args.write_defaults, args.write_defaults)
             say(f"wrote the identified values into {args.write_defaults}")
     return 0 if chosen else 1
+
+
+def _every_seat_main(args, out: Path) -> int:
+    """``--every-seat``: the search on every seat, its validation on every seat, the identified person."""
+    def say(line):
+        print(line, flush=True)
+
+    say.out, say.workers = out, args.workers
+    base = Parameters.load(args.start)
+    found = every_seat_search(base, args.max_evals, say, EVERY_SEAT_NAMES)
+    found.export(out / "every_seat.toml")
+    write_into_defaults(found, SHIPPED, out / "identified_params.toml", source="identified")
+    say(f"wrote the identified person to {out / 'identified_params.toml'}")
+    if args.write_defaults is not None:
+        write_into_defaults(found, args.write_defaults, args.write_defaults)
+        say(f"wrote the identified values into {args.write_defaults}")
+    return 0
 
 
 def _write_reference_csv(table: FrfTable, path: Path) -> None:

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, checked_class, describe
-from .posture import DEFAULT_POSTURE, STEP_KEY, check_posture
+from .posture import DEFAULT_POSTURE, OPTIONAL_KEYS, STEP_KEY, TONE_KEY, TONE_RANGE, check_posture
 from .supports import BACK_SUPPORTS, DEFAULT_BACK_SUPPORT
 from .tables import JOINT_NAMES, Body
 from .timestep import CONVERGED_STEP_S, check_time_step
@@ -40,9 +40,10 @@ _SIMULATION = {"dt_s": "time_step", "settle_s": "nonnegative", "back_slide_s": "
 #: fills them in (grade assumed, source "ehm").
 OPTIONAL = {"simulation.back_slide_s": 0.0, "simulation.pad_armature_kg": 0.0,
             "posture.name": DEFAULT_POSTURE, "seat.back_support": DEFAULT_BACK_SUPPORT,
-            "posture.unsupported_integral_joints": ["hip_r", "hip_l"]}
+            "posture.unsupported_integral_joints": ["hip_r", "hip_l"], "posture.tone_joints": [],
+            "posture.supported_tone": 1.0}
 _POSTURE = {"name": "posture", "integral_time_s": "positive", "integral_joints": "joints",
-            "unsupported_integral_joints": "joints"}
+            "unsupported_integral_joints": "joints", "tone_joints": "joints", "supported_tone": "tone"}
 _SEAT = {"back_support": "back_support",
          "pan_angle_deg": "finite", "pan_height_m": "finite", "backrest_angle_deg": "finite",
          "backrest_x_m": "finite", "lower_pad_height_m": "finite", "lower_pad_thickness_m": "nonnegative",
@@ -221,7 +222,25 @@ class Parameters:
         entry = joints[joint][dof]
         keys = _TRANS if dof == "z" else _ROT
         k, c = (float(entry[key]) for key in keys)
+        if dof != "z" and joint in self.value("posture.tone_joints"):
+            tone = self.tone()
+            return k * tone, c * tone
         return k, c
+
+    #: Back supports that carry the upper back (a pad at the scapula, or the whole backrest).
+    UPPER_BACK_SUPPORTS = ("high", "full")
+
+    def tone(self) -> float:
+        """The trunk muscle tone of the person as seated: the factor on the rotational stiffness and damping of the
+        joints of ``posture.tone_joints`` (:meth:`joint_dof` applies it; the file keeps the values at tone 1).
+
+        The posture's own (``postures.NAME.tone``, 1 when not given) times ``posture.supported_tone`` when the back
+        support carries the upper back (``high``, ``full``): the trunk's muscles work less in a slumped posture
+        and when a backrest carries the upper body (docs/model.md, "Muscle tone")."""
+        own = float(self.section(f"postures.{self.posture}").get(TONE_KEY, 1.0))
+        if self.back_support in self.UPPER_BACK_SUPPORTS:
+            own *= float(self.value("posture.supported_tone"))
+        return own
 
     @property
     def posture(self) -> str:
@@ -243,7 +262,8 @@ class Parameters:
 
     def posture_angles(self, name: str | None = None) -> dict[str, float]:
         """The angles [deg] and slide [m] of a posture (default: the one in use), from ``[postures.NAME]``."""
-        return {k: float(v) for k, v in self.section(f"postures.{name or self.posture}").items() if k != STEP_KEY}
+        return {k: float(v) for k, v in self.section(f"postures.{name or self.posture}").items()
+                if k not in OPTIONAL_KEYS}
 
     def converged_step(self) -> float:
         """The largest time step [s] at which the person in its posture is converged (``ehm check-step`` within 2 %):
@@ -521,8 +541,8 @@ def _check_postures(label: str, d: dict, sources: dict) -> None:
             raise InputError(f"{label}: posture name {name!r} in [postures] must be letters, digits, '_' or '-' "
                              "(no dots, spaces or path characters); rename the table, e.g. [postures.my_posture].")
         for key, entry in entries.items():
-            _check_entry(label, sources, f"postures.{name}.{key}", entry, "time_step" if key == STEP_KEY else "finite",
-                         True)
+            rule = {STEP_KEY: "time_step", TONE_KEY: "tone"}.get(key, "finite")
+            _check_entry(label, sources, f"postures.{name}.{key}", entry, rule, True)
         check_posture(name, {k: e["value"] for k, e in entries.items()}, label)
     name = d["posture"]["name"]["value"]
     if name not in postures:
@@ -617,5 +637,8 @@ def _check_value(label: str, where: str, value: Any, rule: str) -> None:
         raise InputError(f"{label}: {where} = {value!r} must not be negative.")
     if rule == "count" and (value != int(value) or value < 0):
         raise InputError(f"{label}: {where} = {value!r} must be a whole number >= 0.")
+    if rule == "tone" and not TONE_RANGE[0] <= value <= TONE_RANGE[1]:
+        raise InputError(f"{label}: {where} = {value!r} is not a plausible muscle tone factor: give one from "
+                         f"{TONE_RANGE[0]:g} to {TONE_RANGE[1]:g} (1: as the joints' values).")
     if rule == "fraction" and not 0 < value < 1:
         raise InputError(f"{label}: {where} = {value!r} must lie between 0 and 1.")

@@ -40,6 +40,13 @@ POSTURE_KEYS = {
 #: The optional key of a posture's own converged time step [s] (the largest step at which ``ehm check-step`` holds
 #: its 2 % for that posture), when it is finer than ``simulation.dt_s``.
 STEP_KEY = "dt_s"
+#: The optional key of a posture's trunk muscle tone: the factor on the stiffness and damping of the joints of
+#: ``posture.tone_joints`` in that posture (1 when it is not given; see :meth:`ehm.Parameters.tone`).
+TONE_KEY = "tone"
+#: Keys of a posture that are not angles.
+OPTIONAL_KEYS = (STEP_KEY, TONE_KEY)
+#: The range a muscle tone factor may take.
+TONE_RANGE = (0.1, 10.0)
 DEFAULT_POSTURE = "erect"  #: The tables' own posture (the paper's).
 #: Largest angle [deg] a posture may turn one joint (or the pelvis) from the tables' reference posture.
 MAX_ANGLE_DEG = 45.0
@@ -56,9 +63,15 @@ def check_posture(name: str, values: dict, where: str) -> None:
     for key, value in values.items():
         if key == STEP_KEY:
             continue
+        if key == TONE_KEY:
+            if not TONE_RANGE[0] <= value <= TONE_RANGE[1]:
+                raise InputError(f"{where}: postures.{name}.{key} = {value:g} is not a plausible muscle tone factor: "
+                                 f"give one from {TONE_RANGE[0]:g} to {TONE_RANGE[1]:g} (1: as the joints' values).")
+            continue
         if key not in POSTURE_KEYS:
             raise InputError(f"{where}: unknown key {key!r} in [postures.{name}]; a posture has "
-                             f"{', '.join(POSTURE_KEYS)} and optionally {STEP_KEY!r} (its converged time step).")
+                             f"{', '.join(POSTURE_KEYS)} and optionally {STEP_KEY!r} (its converged time step) and "
+                             f"{TONE_KEY!r} (its trunk muscle tone).")
         limit = MAX_SLIDE_M if key.endswith("_m") else MAX_ANGLE_DEG
         if not abs(value) <= limit:
             unit = "m" if key.endswith("_m") else "deg"
