@@ -76,10 +76,11 @@ def test_missing_file_names_it(tmp_path):
 def test_export_load_round_trip_every_numeric_value(tmp_path):
     p = Parameters.load()
     paths = list(p.numeric_paths())
-    # The default file holds 7 simulation + 1 posture + 12 seat values, 25 joint DOFs x 2 (t12 z counts as one
-    # DOF), 6 padded contacts x 6 + 2 feet x 3 + 4 bolster contacts x 3 values, 2 postures x 7 angles and slide, and
-    # the slouched posture's own time step, and the head-in-space control's 4 gains: 20 + 50 + 54 + 14 + 1 + 4 = 143.
-    assert len(paths) == 143
+    # The default file holds 7 simulation + 2 posture (integral time, supported tone) + 12 seat values, 25 joint DOFs
+    # x 2 (t12 z counts as one DOF), 6 padded contacts x 6 + 2 feet x 3 + 4 bolster contacts x 3 values, 2 postures
+    # x 7 angles and slide, the slouched posture's own time step and tone, and the head-in-space control's 4 gains:
+    # 21 + 50 + 54 + 14 + 2 + 4 = 145.
+    assert len(paths) == 145
     out = tmp_path / "exported.toml"
     p.export(out)
     q = Parameters.load(out)
@@ -186,3 +187,37 @@ def test_a_head_control_delay_out_of_range_is_one_sentence(delay_s, words):
     refused now when the parameters are changed, before anything is built."""
     with pytest.raises(InputError, match=f"head_control.delay_s = .* {words}"):
         Parameters.load().with_head_control({"delay_s": delay_s})
+
+
+def test_trunk_tone_multiplies_the_trunk_joints_per_posture_and_back_support():
+    # the file keeps the values at tone 1; joint_dof gives them as seated: the posture's tone times supported_tone
+    # when the backrest carries the upper back; the spine's vertical slide and the joints outside tone_joints keep theirs
+    p = Parameters.load().with_values({"postures.slouched.tone": 0.7, "posture.supported_tone": 0.9})
+    raw = p.data["joints"]["l4_l5"]["pitch"]
+    for posture, support, tone in (("erect", "none", 1.0), ("erect", "low", 1.0), ("erect", "high", 0.9),
+                                   ("erect", "full", 0.9), ("slouched", "none", 0.7), ("slouched", "high", 0.63)):
+        q = p.seated(posture, support)
+        assert q.tone() == pytest.approx(tone)
+        k, c = q.joint_dof("l4_l5", "pitch")
+        assert (k, c) == pytest.approx((tone * raw["stiffness_Nm_per_rad"], tone * raw["damping_Nms_per_rad"]))
+        assert q.joint_dof("t12", "z") == p.joint_dof("t12", "z")
+        assert q.joint_dof("upper_neck", "pitch") == p.joint_dof("upper_neck", "pitch")
+        assert "tone" not in q.posture_angles()
+
+
+@pytest.mark.parametrize("path, value", [("postures.slouched.tone", 0.0), ("posture.supported_tone", 50.0)])
+def test_an_implausible_tone_is_one_sentence(path, value):
+    with pytest.raises(InputError, match=r"is not a plausible muscle tone factor: give one from 0\.1 to 10"):
+        Parameters.load().with_values({path: value})
+
+
+def test_a_file_without_tone_keeps_its_joints(tmp_path):
+    # a file exported before the tone existed: no [posture] tone entries, no posture tone; every joint as written
+    text = default_params_path().read_text()
+    text = "\n".join(line for line in text.splitlines()
+                     if not line.startswith(("tone_joints", "supported_tone", "tone =")))
+    (tmp_path / "old.toml").write_text(text)
+    p = Parameters.load(tmp_path / "old.toml").seated("slouched", "high")
+    assert p.tone() == 1.0
+    raw = p.data["joints"]["t12"]["pitch"]
+    assert p.joint_dof("t12", "pitch") == (raw["stiffness_Nm_per_rad"], raw["damping_Nms_per_rad"])
