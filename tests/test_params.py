@@ -99,7 +99,7 @@ def test_with_values_changes_a_copy():
                        "joints.t12.z.stiffness_N_per_m": 12000.0}, grade="identified", source="tuned")
     assert q.value("contacts.buttock_r.stiffness_N_per_m") == 90000.0
     assert q.value("joints.t12.z.stiffness_N_per_m") == 12000.0
-    assert q.joint_dof("t12", "z") == (12000.0, p.joint_dof("t12", "z")[1])  # the damping untouched
+    assert q.joint_dof("t12", "z") == (12000.0 * q.tone(), p.joint_dof("t12", "z")[1])  # damping untouched; x tone
     assert q.data["contacts"]["buttock_r"]["stiffness_N_per_m"]["grade"] == "identified"
     assert p.value("contacts.buttock_r.stiffness_N_per_m") == 47530.0  # original untouched (the shipped value)
 
@@ -191,7 +191,7 @@ def test_a_head_control_delay_out_of_range_is_one_sentence(delay_s, words):
 
 def test_trunk_tone_multiplies_the_trunk_joints_per_posture_and_back_support():
     # the file keeps the values at tone 1; joint_dof gives them as seated: the posture's tone times supported_tone
-    # when the backrest carries the upper back; the spine's vertical slide and the joints outside tone_joints keep theirs
+    # when the backrest carries the upper back; the joints outside tone_joints keep theirs
     p = Parameters.load().with_values({"postures.slouched.tone": 0.7, "posture.supported_tone": 0.9})
     raw = p.data["joints"]["l4_l5"]["pitch"]
     for posture, support, tone in (("erect", "none", 1.0), ("erect", "low", 1.0), ("erect", "high", 0.9),
@@ -200,7 +200,9 @@ def test_trunk_tone_multiplies_the_trunk_joints_per_posture_and_back_support():
         assert q.tone() == pytest.approx(tone)
         k, c = q.joint_dof("l4_l5", "pitch")
         assert (k, c) == pytest.approx((tone * raw["stiffness_Nm_per_rad"], tone * raw["damping_Nms_per_rad"]))
-        assert q.joint_dof("t12", "z") == p.joint_dof("t12", "z")
+        k, c = q.joint_dof("t12", "z")  # the spine's vertical slide too: the trunk's muscles act beside the discs
+        assert (k, c) == pytest.approx((tone * p.data["joints"]["t12"]["z"]["stiffness_N_per_m"],
+                                        tone * p.data["joints"]["t12"]["z"]["damping_Ns_per_m"]))
         assert q.joint_dof("upper_neck", "pitch") == p.joint_dof("upper_neck", "pitch")
         assert "tone" not in q.posture_angles()
 

@@ -222,7 +222,7 @@ class Parameters:
         entry = joints[joint][dof]
         keys = _TRANS if dof == "z" else _ROT
         k, c = (float(entry[key]) for key in keys)
-        if dof != "z" and joint in self.value("posture.tone_joints"):
+        if joint in self.value("posture.tone_joints"):
             tone = self.tone()
             return k * tone, c * tone
         return k, c
@@ -231,8 +231,9 @@ class Parameters:
     UPPER_BACK_SUPPORTS = ("high", "full")
 
     def tone(self) -> float:
-        """The trunk muscle tone of the person as seated: the factor on the rotational stiffness and damping of the
-        joints of ``posture.tone_joints`` (:meth:`joint_dof` applies it; the file keeps the values at tone 1).
+        """The trunk muscle tone of the person as seated: the factor on the stiffness and damping of every degree of
+        freedom of the joints of ``posture.tone_joints`` (:meth:`joint_dof` applies it; the file keeps the values at
+        tone 1).
 
         The posture's own (``postures.NAME.tone``, 1 when not given) times ``posture.supported_tone`` when the back
         support carries the upper back (``high``, ``full``): the trunk's muscles work less in a slumped posture
