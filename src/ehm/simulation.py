@@ -99,7 +99,7 @@ class SeatedHuman:
         self.body, self.params, self.locked, self.size = built.body, built.params, built.locked, built.size
         # the person as built, what the routes read (ehm.routes.built): the model, the linear models' cache, ...
         self.built = BuiltPerson.build(self.body, self.params, self.locked, rotating_seat=rotating_seat,
-                                       size=self.size)
+                                       size=self.size, vibration_rms_mps2=self.person.vibration_rms_mps2)
 
     def recipe(self) -> dict:
         """What rebuilds this person in another process (:meth:`from_recipe`), as plain picklable data: the body
@@ -109,6 +109,7 @@ class SeatedHuman:
         settled = self.model.settled
         return {"person": self.person, "body": self.body, "params": self.params, "locked": frozenset(self.locked),
                 "rotating_seat": self.model.seat is not None, "size": self.size,
+                "vibration_rms_mps2": self.built.vibration_rms_mps2, "level_origin": self.built.level_origin,
                 "settled": None if settled is None else {k: (v.copy() if isinstance(v, np.ndarray) else v)
                                                          for k, v in settled.items()}}
 
@@ -157,6 +158,7 @@ class SeatedHuman:
             "params": self.params.origin,
             "posture": self.params.posture,
             "back_support": self.params.back_support,
+            "vibration_rms_mps2": self.built.vibration_rms_mps2,  # None: the file's reference, a drive's own on a run
             "segments": [{"name": s.name, "mass_kg": s.mass_kg, "com_m": s.com_m.tolist(),
                           "inertia_kgm2": s.inertia_kgm2.tolist()} for s in body.segments],
             "joints": [{"name": j.name, "parent": j.parent, "child": j.child, "type": j.type,

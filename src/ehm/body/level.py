@@ -32,10 +32,13 @@ from .params import Parameters
 APPLIED_KEY = "vibration_rms_mps2"
 
 
-def check_level(value: object, name: str = "vibration_rms_mps2", option: str = "--vibration-rms") -> float:
-    """``value`` as a vibration level [m/s^2 rms]: a positive finite number, else one sentence naming the Python
-    argument ``name`` and the command-line option."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+def check_level(value: object, name: str = "vibration_rms_mps2", option: str = "--vibration-rms",
+                still: bool = False) -> float:
+    """``value`` as a vibration level [m/s^2 rms]: a positive finite number (``still``: or 0, a drive without
+    vibration, which the law clips to ``level.least_rms_mps2``), else one sentence naming the Python argument
+    ``name`` and the command-line option."""
+    ok = not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
+    if not ok or value < 0 or (value == 0 and not still):
         raise InputError(f"{name} ({option}) = {describe(value)} is not a vibration level; give the seat's "
                          "vibration as a positive number in m/s^2 rms (e.g. 0.5), or None to take the drive's own.")
     return float(value)
@@ -47,7 +50,7 @@ def quantised(rms_mps2: float) -> float:
     >>> quantised(0.5349), quantised(1.0), quantised(12.34)
     (0.53, 1.0, 12.0)
     """
-    return float(f"{check_level(rms_mps2, 'rms_mps2'):.2g}")
+    return float(f"{check_level(rms_mps2, 'rms_mps2', still=True):.2g}")
 
 
 def has_level(params: Parameters) -> bool:
@@ -58,7 +61,7 @@ def has_level(params: Parameters) -> bool:
 def clipped(params: Parameters, rms_mps2: float) -> float:
     """The level the law uses: ``rms_mps2`` clipped to ``[level.least_rms_mps2, level.greatest_rms_mps2]`` (the
     level itself for parameters without ``[level]``)."""
-    rms = check_level(rms_mps2, "rms_mps2")
+    rms = check_level(rms_mps2, "rms_mps2", still=True)
     if not has_level(params):
         return rms
     return min(max(rms, float(params.value("level.least_rms_mps2"))), float(params.value("level.greatest_rms_mps2")))
@@ -68,7 +71,7 @@ def level_factors(params: Parameters, rms_mps2: float) -> tuple[float, float]:
     """(stiffness factor, damping factor) at the level ``rms_mps2`` [m/s^2 rms]: ``(a / a_ref) ** -n`` and
     ``(a / a_ref) ** -m`` of the clipped level (1, 1 for parameters without ``[level]``)."""
     if not has_level(params):
-        check_level(rms_mps2, "rms_mps2")
+        check_level(rms_mps2, "rms_mps2", still=True)
         return 1.0, 1.0
     ratio = clipped(params, rms_mps2) / float(params.value("level.reference_rms_mps2"))
     return (ratio ** -float(params.value("level.stiffness_exponent")),
@@ -93,28 +96,31 @@ def scaled_paths(params: Parameters) -> tuple[list[str], list[str]]:
 @checked
 def at_level(params: Parameters, rms_mps2: float) -> Parameters:
     """The parameters of a person at the seat's vibration level ``rms_mps2`` [m/s^2 rms]: a copy with the entries of
-    ``level.scaled`` scaled by the law of ``[level]`` (module docstring), the level recorded in ``[about]``
-    (``vibration_rms_mps2``).  At the reference level (and for parameters without ``[level]``) the parameters
-    themselves, bit for bit.
+    ``level.scaled`` scaled by the law of ``[level]`` (module docstring).  At the reference level, and for
+    parameters without ``[level]``, the parameters themselves, bit for bit.
 
-    Parameters already scaled to a level are returned as they are at that level and refused in one sentence at
-    another (a level is applied to the file's own values, never on top of another level).
+    The copy holds the values at that level: its ``[level]`` table is left out (so that a level is never applied
+    on top of another one: the copy, exported and read back, keeps its values at every level) and ``[about]``
+    records the level (``vibration_rms_mps2``, the level asked for; the law used it clipped, :func:`clipped`).
     """
-    rms = check_level(rms_mps2, "rms_mps2")
-    applied = params.data.get("about", {}).get(APPLIED_KEY)
-    if applied is not None:
-        if applied == rms:
-            return params
-        raise InputError(f"at_level: these parameters are already at {applied:g} m/s^2 rms; scale the unscaled "
-                         f"parameters (the file's own) to {rms:g} m/s^2 instead.")
+    rms = check_level(rms_mps2, "rms_mps2", still=True)
     k_factor, c_factor = level_factors(params, rms)
     if k_factor == 1.0 and c_factor == 1.0:
         return params
     stiffness, damping = scaled_paths(params)
     updates = {path: float(params.value(path)) * k_factor for path in stiffness}
     updates.update({path: float(params.value(path)) * c_factor for path in damping})
-    return params.with_values(updates).with_about({APPLIED_KEY: rms})
+    scaled = params.with_values(updates)  # a deep copy, checked: its data is this function's own
+    del scaled.data["level"]
+    return scaled.with_about({APPLIED_KEY: rms})
 
 
-__all__ = ["APPLIED_KEY", "at_level", "check_level", "clipped", "has_level", "level_factors", "quantised",
-           "scaled_paths"]
+def applied_level(params: Parameters) -> float | None:
+    """The level [m/s^2 rms] parameters were scaled to by :func:`at_level` (``[about]``), or None."""
+    about = params.data.get("about", {})
+    value = about.get(APPLIED_KEY) if isinstance(about, dict) else None
+    return None if value is None else float(value)
+
+
+__all__ = ["APPLIED_KEY", "applied_level", "at_level", "check_level", "clipped", "has_level", "level_factors",
+           "quantised", "scaled_paths"]

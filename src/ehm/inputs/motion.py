@@ -247,8 +247,10 @@ class SeatMotion:
         acc = np.asarray(self.acc_mps2)
         if LEVEL_HIGHPASS_HZ < 0.5 * fs:
             sos = signal.butter(4, LEVEL_HIGHPASS_HZ, btype="highpass", fs=fs, output="sos")
-            pad = min(3 * (2 * len(sos) + 1), self.n_samples - 1)  # sosfiltfilt's own padding, or what a short log holds
+            pad = min(3 * (2 * len(sos) + 1), self.n_samples - 1)  # sosfiltfilt's own padding, or a short log's
             acc = signal.sosfiltfilt(sos, acc, axis=0, padlen=pad)
+        else:  # a log too slow for the high-pass: its mean left out
+            acc = acc - acc.mean(axis=0)
         return float(np.sqrt(np.mean(np.sum(acc ** 2, axis=1))))
 
     def covered_band_hz(self, run_rate_hz: float | None = None) -> tuple[float, float]:
