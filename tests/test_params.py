@@ -78,8 +78,9 @@ def test_export_load_round_trip_every_numeric_value(tmp_path):
     paths = list(p.numeric_paths())
     # The default file holds 7 simulation + 1 posture + 12 seat values, 25 joint DOFs x 2 (t12 z counts as one
     # DOF), 6 padded contacts x 6 + 2 feet x 3 + 4 bolster contacts x 3 values, 2 postures x 7 angles and slide, and
-    # the slouched posture's own time step, and the head-in-space control's 4 gains: 20 + 50 + 54 + 14 + 1 + 4 = 143.
-    assert len(paths) == 143
+    # the slouched posture's own time step, the head-in-space control's 4 gains, and the vibration level's 5 values
+    # ([level]: reference, two exponents, the clip's two ends): 20 + 50 + 54 + 14 + 1 + 4 + 5 = 148.
+    assert len(paths) == 148
     out = tmp_path / "exported.toml"
     p.export(out)
     q = Parameters.load(out)

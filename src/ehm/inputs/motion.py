@@ -247,7 +247,9 @@ class SeatMotion:
         acc = np.asarray(self.acc_mps2)
         if LEVEL_HIGHPASS_HZ < 0.5 * fs:
             sos = signal.butter(4, LEVEL_HIGHPASS_HZ, btype="highpass", fs=fs, output="sos")
-            pad = min(3 * (2 * len(sos) + 1), self.n_samples - 1)  # sosfiltfilt's own padding, or a short log's
+            # padded by the log mirrored about its ends over three of the high-pass's periods (or what the log
+            # holds): scipy's default, 27 samples, left a start and end transient of up to 1 % on a sine
+            pad = min(int(3 * fs / LEVEL_HIGHPASS_HZ), self.n_samples - 1)
             acc = signal.sosfiltfilt(sos, acc, axis=0, padlen=pad)
         else:  # a log too slow for the high-pass: its mean left out
             acc = acc - acc.mean(axis=0)

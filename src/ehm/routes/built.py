@@ -99,6 +99,11 @@ class BuiltPerson:
             self._levels.popitem(last=False)
         return person
 
+    @property
+    def kept_levels(self) -> tuple[float, ...]:
+        """The levels [m/s^2 rms] at which this person is kept built (:meth:`at_level`), least recently used first."""
+        return tuple(self._levels)
+
     def level_record(self) -> dict:
         """The vibration level a run ran at, as plain data (``RunResult.extra["vibration_level"]``, ``summary.json``,
         ``assessment.json``): ``rms_mps2`` (None: the parameter file's reference level), ``origin``, ``scaled``
