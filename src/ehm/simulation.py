@@ -6,8 +6,10 @@
 >>> head_z = run.point("head").acc_mps2[:, 2]   # absolute vertical head acceleration [m/s^2]
 >>> head_z.shape                                # 10 s at the default 1 ms step
 (10001,)
->>> print(f"{(head_z ** 2).mean() ** 0.5:.2f} m/s^2 rms")
-0.39 m/s^2 rms
+>>> print(f"{(head_z ** 2).mean() ** 0.5:.1f} m/s^2 rms")
+0.4 m/s^2 rms
+>>> run.extra["vibration_level"]["line"]       # the person ran at the drive's own level (docs/model.md)
+'vibration level 0.29 m/s^2 rms (from the drive).'
 """
 
 from __future__ import annotations
@@ -213,6 +215,11 @@ class SeatedHuman:
         the seat runs on the linear model of the seat's rotation in the seat's own frame (whether or not the
         person was built with ``rotating_seat=True``): see :func:`ehm.routes.linear.stream_linear` for what it assumes;
         its estimate of the terms it leaves out is in ``result.extra["linear_check"]``.
+
+        A person without a vibration level of its own (``Person(vibration_rms_mps2=None)``, the default) runs at the
+        drive's (:attr:`ehm.SeatMotion.vibration_rms_mps2` of the whole motion, to two significant digits), built
+        once per level and kept (docs/model.md, "Vibration magnitude"); ``result.extra["vibration_level"]`` records
+        it.
 
         ``method`` names a route of :mod:`ehm.routes.registry`: ``"auto"`` (or ``"hybrid"``, the same route),
         ``"linear"``, ``"nonlinear"``, or ``"parallel"``, the nonlinear route in segments on several processes or a
