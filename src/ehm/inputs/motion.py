@@ -244,16 +244,18 @@ class SeatMotion:
         0.707
         """
         fs = self.rate_hz
-        acc = np.asarray(self.acc_mps2)
-        if LEVEL_HIGHPASS_HZ < 0.5 * fs:
-            sos = signal.butter(4, LEVEL_HIGHPASS_HZ, btype="highpass", fs=fs, output="sos")
-            # padded by the log mirrored about its ends over three of the high-pass's periods (or what the log
-            # holds): scipy's default, 27 samples, left a start and end transient of up to 1 % on a sine
-            pad = min(int(3 * fs / LEVEL_HIGHPASS_HZ), self.n_samples - 1)
-            acc = signal.sosfiltfilt(sos, acc, axis=0, padlen=pad)
-        else:  # a log too slow for the high-pass: its mean left out
-            acc = acc - acc.mean(axis=0)
-        return float(np.sqrt(np.mean(np.sum(acc ** 2, axis=1))))
+        sos = signal.butter(4, LEVEL_HIGHPASS_HZ, btype="highpass", fs=fs, output="sos") \
+            if LEVEL_HIGHPASS_HZ < 0.5 * fs else None
+        # padded by the log mirrored about its ends over three of the high-pass's periods (or what the log holds):
+        # scipy's default, 27 samples, left a start and end transient of up to 1 % on a sine
+        pad = min(int(3 * fs / LEVEL_HIGHPASS_HZ), self.n_samples - 1)
+        power = 0.0
+        for k in range(3):  # one axis at a time: a long log is not copied whole
+            a = self.acc_mps2[:, k]
+            # (a log too slow for the high-pass: its mean left out)
+            a = signal.sosfiltfilt(sos, a, padlen=pad) if sos is not None else a - a.mean()
+            power += float(np.mean(a ** 2))
+        return float(np.sqrt(power))
 
     def covered_band_hz(self, run_rate_hz: float | None = None) -> tuple[float, float]:
         """The band [Hz] the seat input actually covers.
