@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from dataclasses import replace as _dataclass_replace
 from typing import Any
 
-from ..body.level import at_level, check_level, has_level
+from ..body.level import applied_level, at_level, check_level, has_level
 from ..body.params import Parameters
 from ..body.tables import Body, joint_names, load_body, resolve_locks
 from ..body.timestep import check_time_step, warn_if_coarse
@@ -228,7 +228,9 @@ class Person:
     def level_words(self) -> str:
         """The person's vibration level in words: ``vibration level 0.5 m/s^2 rms``, or where it comes from."""
         if not has_level(self.params):
-            return "vibration level not modelled (the parameter file has no [level])"
+            fixed = applied_level(self.params)
+            return ("vibration level not modelled (the parameter file has no [level])" if fixed is None else
+                    f"vibration level {fixed:g} m/s^2 rms (the parameter file's values, written at that level)")
         if self.vibration_rms_mps2 is None:
             return (f"vibration level from the drive (without one: the reference, "
                     f"{float(self.params.value('level.reference_rms_mps2')):g} m/s^2 rms)")
