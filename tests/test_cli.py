@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import ehm
 from ehm.body.params import Parameters, default_params_path
 from ehm.interfaces.cli import main
 
@@ -150,10 +151,15 @@ def test_demo_writes_files(tmp_path, capsys):
         assert (out / name).stat().st_size > 0, name
     summary = json.loads((out / "demo_summary.json").read_text())
     peak = summary["transmissibility_peaks"]["z->head"]
-    # Quasi-static limit: at 0.5 Hz, far below the 5 Hz vertical mode, the head follows the seat (gain 1;
-    # 10 % for the estimate from 40 s of data), and the peak lies in 4-6 Hz (README table: 5.3 Hz).
+    # Quasi-static limit: at 0.5 Hz, far below the vertical mode, the head follows the seat (gain 1; 10 % for the
+    # estimate from 40 s of data), and the peak lies where the linear route puts it for the person at the run's
+    # vibration level (the demo's person takes its input's level), within 0.5 Hz (the estimate's 0.1 Hz
+    # resolution and scatter).
     assert peak["gain_at_0.5_hz"] == pytest.approx(1.0, abs=0.1)
-    assert 4.0 <= peak["peak_hz"] <= 6.0
+    level = json.loads((out / "z" / "summary.json").read_text())["vibration_level"]["rms_mps2"]
+    f = np.arange(2.0, 10.0, 0.05)
+    linear = ehm.linear_frf(ehm.Person(vibration_rms_mps2=level), "z", freq_hz=f).curve("z", "head", "z")
+    assert peak["peak_hz"] == pytest.approx(f[np.argmax(linear.gain)], abs=0.5)
 
 
 @pytest.mark.parametrize("duration", ["5", "39.9", "nan"])

@@ -611,6 +611,7 @@ def api(human, tmp_path_factory):
         "read_frf": dict(path="frf.csv"), "compare": dict(measured=frf, model=frf, warn=False),
         "h1_estimate": dict(x=rng.standard_normal(2000), y=rng.standard_normal(2000), fs_hz=100.0, segment_s=5.0),
         "check_step": {}, "validate": {}, "read_results": dict(out=study), "load_body": {},
+        "at_level": dict(params=params, rms_mps2=0.5),
         "Person": {}, "SeatedHuman": {}, "RunResult": _fields(run), "PointMotion": _fields(run.point("head")),
         "Simulator": {}, "StepState": _fields(state), "SeatMotion": _fields(motion), "Assessment": _fields(assessment),
         "FrfTable": _fields(frf), "Parameters": _fields(params), "BodySize": dict(stature_m=1.75, mass_kg=75.0),

@@ -33,6 +33,11 @@ def default_fmu(tmp_path_factory):
     return export_fmu(tmp_path_factory.mktemp("fmu") / "ehm.fmu", python=True)
 
 
+#: The default person at the reference vibration level, given: a unit has no drive to take a level from (it runs at
+#: the reference level), so the whole runs it is compared with run there too (docs/model.md, "Vibration magnitude").
+AT_REFERENCE = ehm.Person(vibration_rms_mps2=1.0)
+
+
 def _input_signal(motion, angvel=None):
     """fmpy input: one row per sample, with the seat acceleration (and angular velocity) columns."""
     sig = np.zeros(motion.time_s.size, dtype=[("time", float)] + [(n, float) for n in INPUTS])
@@ -102,7 +107,7 @@ def test_fmu_run_equals_whole_run(default_fmu):
     # runs one model step with it; the whole run gets the same samples.  Equal to round-off (1e-9 in SI units).
     motion = _on_model_grid(ehm.random_vibration("xyz", 0.5, 0.3, seed=3))
     res = _run(default_fmu, motion)
-    whole = ehm.SeatedHuman().simulate(motion, method="nonlinear")
+    whole = ehm.SeatedHuman(AT_REFERENCE).simulate(motion, method="nonlinear")
     _assert_matches(res, whole)
     assert np.abs(res["head_az_mps2"]).max() > 0.05  # the input really drove the model
 
@@ -116,11 +121,12 @@ def test_embedded_params_and_locks_and_params_file(tmp_path, default_fmu):
     motion = _on_model_grid(ehm.random_vibration("x", 0.3, 0.5, seed=5))
     locked = export_fmu(tmp_path / "locked.fmu", params=tmp_path / "stiff.toml", lock=["lower_neck"], python=True)
     _assert_matches(_run(locked, motion),
-                    ehm.SeatedHuman(params=params, lock=["lower_neck"]).simulate(motion, method="nonlinear"))
+                    ehm.SeatedHuman(AT_REFERENCE.replace(params=params, lock=["lower_neck"])).simulate(
+                        motion, method="nonlinear"))
     res = _run(default_fmu, motion, start_values={"params_file": str(tmp_path / "stiff.toml")})
-    whole = ehm.SeatedHuman(params=params).simulate(motion, method="nonlinear")
+    whole = ehm.SeatedHuman(AT_REFERENCE.replace(params=params)).simulate(motion, method="nonlinear")
     _assert_matches(res, whole)
-    default = ehm.SeatedHuman().simulate(motion, method="nonlinear").point("head").rot_rad[:-1, 1]
+    default = ehm.SeatedHuman(AT_REFERENCE).simulate(motion, method="nonlinear").point("head").rot_rad[:-1, 1]
     assert np.abs(res["head_pitch_rad"][1:] - default).max() > 1e-6  # the file did change the person
 
 

@@ -49,6 +49,15 @@ DISCARD, ERROR = 2, 3  # fmi2Status
 
 
 @pytest.fixture(scope="module")
+def human() -> ehm.SeatedHuman:
+    """The default person at the reference vibration level, given (conftest's takes each drive's level): a unit has
+    no drive to take a level from, so the whole runs it is compared with run at the reference level too."""
+    h = ehm.SeatedHuman(ehm.Person(vibration_rms_mps2=1.0))
+    h.settle()
+    return h
+
+
+@pytest.fixture(scope="module")
 def unit(tmp_path_factory):
     """The default person's native unit: (fmu path, unzipped folder, model description)."""
     folder = tmp_path_factory.mktemp("native")
@@ -500,7 +509,7 @@ def _rotating_reference(human, acc_seat, w):
 
 @pytest.fixture(scope="module")
 def rotating_unit(tmp_path_factory):
-    human = ehm.SeatedHuman(rotating_seat=True)
+    human = ehm.SeatedHuman(ehm.Person(vibration_rms_mps2=1.0), rotating_seat=True)  # the unit's level (above)
     folder = tmp_path_factory.mktemp("rotating")
     path = fmu_native.export_native_fmu(folder / "rotating.fmu", human)
     unzipped = folder / "unzipped"

@@ -11,6 +11,15 @@ from ehm.standards.transfer import discrete_frequency_response, h1_estimate
 
 
 @pytest.fixture(scope="module")
+def human() -> ehm.SeatedHuman:
+    """The default person at the reference vibration level, given (conftest's takes each drive's level): the
+    linearisation below and the runs it is compared with are then one model."""
+    h = ehm.SeatedHuman(ehm.Person(vibration_rms_mps2=1.0))
+    h.settle()
+    return h
+
+
+@pytest.fixture(scope="module")
 def linear(human):
     return engine.linearize(human.model)
 

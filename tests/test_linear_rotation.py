@@ -42,7 +42,9 @@ def _errors(nl, lin) -> dict:
 
 @pytest.fixture(scope="module")
 def human():
-    h = ehm.SeatedHuman(rotating_seat=True)
+    # at the reference vibration level, given: the steady drives here have almost no vibration (their own level
+    # would be the clip's least, a stiffer person), and the figures below were measured at the reference level
+    h = ehm.SeatedHuman(ehm.Person(vibration_rms_mps2=1.0), rotating_seat=True)
     h.settle()
     return h
 
@@ -178,7 +180,7 @@ def test_zero_angular_velocity_is_exactly_the_translation_route(human):
     vib = ehm.random_vibration("xyz", 3.0, 0.3, seed=2, dt_s=0.001)
     zero = SeatMotion(vib.time_s, vib.acc_mps2, vib.description, angvel_radps=np.zeros_like(vib.acc_mps2))
     a, b = human.simulate(vib, method="linear"), human.simulate(zero, method="linear")
-    static = ehm.SeatedHuman().simulate(vib, method="linear")  # the same person on a static seat
+    static = ehm.SeatedHuman(human.person).simulate(vib, method="linear")  # the same person on a static seat
     for p in POINTS:
         for f in TOLERANCE:
             np.testing.assert_array_equal(getattr(a.point(p), f), getattr(b.point(p), f))

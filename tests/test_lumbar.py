@@ -26,6 +26,15 @@ from ehm.standards.transfer import h1_estimate
 
 
 @pytest.fixture(scope="module")
+def human() -> ehm.SeatedHuman:
+    """The default person at the reference vibration level, given (conftest's, at a level that does not follow the
+    drive): its runs, its settled pose, its linearisation and the step-by-step simulator are then one model."""
+    h = ehm.SeatedHuman(ehm.Person(vibration_rms_mps2=1.0))
+    h.settle()
+    return h
+
+
+@pytest.fixture(scope="module")
 def xz_run(human):
     """10 s of SYNTHETIC fore-aft and vertical random vibration (0.5 m/s^2 rms), nonlinear route."""
     return human.simulate(ehm.random_vibration("xz", 10.0, 0.5, seed=2), method="nonlinear")
@@ -99,7 +108,7 @@ def test_linear_route_lumbar_z_matches_the_nonlinear_route(human, back_support):
     # would fail.
     level = 0.3
     if back_support is not None:
-        human = ehm.SeatedHuman(back_support=back_support)
+        human = ehm.SeatedHuman(ehm.Person(back_support=back_support, vibration_rms_mps2=1.0))
         level = 0.1
     run = human.simulate(ehm.random_vibration("z", 60.0, level, seed=5), method="nonlinear")
     est = h1_estimate(run.seat_acc_mps2[:, 2], run.point("lumbar").acc_mps2[:, 2], 1 / run.dt_s, segment_s=10)
@@ -120,7 +129,7 @@ def test_the_lumbar_site_leaves_the_other_outputs_bit_identical(human, monkeypat
     for module in (engine.model, engine.builder, engine.sensors, engine.stepper, engine.linearisation):
         monkeypatch.setattr(module, "POINTS", without)
     monkeypatch.setattr(nonlinear, "POINT_NAMES", tuple(without))  # the nonlinear chunk loop's points
-    plain = ehm.SeatedHuman().simulate(motion, method="nonlinear")
+    plain = ehm.SeatedHuman(human.person).simulate(motion, method="nonlinear")
     assert set(plain.points) == {"pelvis", "trunk", "head"} and "lumbar" in with_lumbar.points
     for p in plain.points:
         for field in ("acc_mps2", "disp_m", "rot_rad", "angacc_radps2", "angvel_radps", "gia_mps2"):
@@ -156,7 +165,7 @@ def test_python_fmu_has_lumbar_outputs_equal_to_simulate(tmp_path):
     assert {"lumbar_az_mps2", "lumbar_pitch_rad", "lumbar_wy_radps"} <= names
     motion = _on_model_grid(ehm.random_vibration("xz", 0.5, 0.5, seed=3))
     res = _run(unit, motion)
-    whole = ehm.SeatedHuman().simulate(motion, method="nonlinear")
+    whole = ehm.SeatedHuman(ehm.Person(vibration_rms_mps2=1.0)).simulate(motion, method="nonlinear")  # the FMU's level
     for field, suffixes in FIELDS.items():
         for j, s in enumerate(suffixes):
             np.testing.assert_allclose(res[f"lumbar_{s}"][1:], getattr(whole.point("lumbar"), field)[:-1, j],
@@ -173,7 +182,8 @@ def test_native_fmu_has_lumbar_outputs_equal_to_simulate(tmp_path):
     from ehm.interfaces import fmu_native
 
     path = fmu_native.export_native_fmu(tmp_path / "person.fmu")
-    whole = ehm.SeatedHuman().simulate(ehm.random_vibration("xz", 1.0, 0.5, seed=4), method="nonlinear")
+    whole = ehm.SeatedHuman(ehm.Person(vibration_rms_mps2=1.0)).simulate(ehm.random_vibration("xz", 1.0, 0.5, seed=4),
+                                                                         method="nonlinear")  # the FMU's level
     sig = np.zeros(whole.time_s.size, dtype=[("time", float)] + [(n, float) for n in fmu_native.INPUTS])
     sig["time"] = whole.time_s
     for j, a in enumerate("xyz"):

@@ -7,6 +7,7 @@ problem is reported (InputError naming the file and the entry) and that nothing 
 from __future__ import annotations
 
 import math
+import tomllib
 
 import pytest
 
@@ -50,9 +51,9 @@ def test_unedited_copy_loads(tmp_path):
     pytest.param("[contacts.buttock_r]\n",
                  '[contacts.buttock_r]\nstifness_N_per_m = { value = 1.0, grade = "assumed", source = "assumed" }\n',
                  ("'stifness_N_per_m'", "contacts.buttock_r"), id="unknown key in a contact"),
-    pytest.param("[contacts.buttock_r]\nstiffness_N_per_m = { value = 47530.0",
-                 "[contacts.buttock_r]\nstiffness_N_per_m = { value = -47530.0",
-                 ("contacts.buttock_r.stiffness_N_per_m", "-47530.0", "positive"), id="negative contact stiffness"),
+    pytest.param("[contacts.buttock_r]\nstiffness_N_per_m = { value = 70650.0",
+                 "[contacts.buttock_r]\nstiffness_N_per_m = { value = -70650.0",
+                 ("contacts.buttock_r.stiffness_N_per_m", "-70650.0", "positive"), id="negative contact stiffness"),
     pytest.param("roll = { stiffness_Nm_per_rad = 40.0,", "roll = { stiffness_Nm_per_rad = -90.0,",
                  ("joints.upper_neck.roll.stiffness_Nm_per_rad", "-90.0", "negative"), id="negative joint stiffness"),
     pytest.param('dt_s = { value = 0.001, grade = "assumed", source = "convergence" }',
@@ -78,9 +79,9 @@ def test_export_load_round_trip_every_numeric_value(tmp_path):
     paths = list(p.numeric_paths())
     # The default file holds 7 simulation + 2 posture (integral time, supported tone) + 12 seat values, 25 joint DOFs
     # x 2 (t12 z counts as one DOF), 6 padded contacts x 6 + 2 feet x 3 + 4 bolster contacts x 3 values, 2 postures
-    # x 7 angles and slide, the slouched posture's own time step and tone, and the head-in-space control's 4 gains:
-    # 21 + 50 + 54 + 14 + 2 + 4 = 145.
-    assert len(paths) == 145
+    # x 7 angles and slide, the slouched posture's tone, the head-in-space control's 4 gains, and the vibration
+    # level's 5 values ([level]: reference, two exponents, the clip's two ends): 21 + 50 + 54 + 14 + 1 + 4 + 5 = 149.
+    assert len(paths) == 149
     out = tmp_path / "exported.toml"
     p.export(out)
     q = Parameters.load(out)
@@ -101,7 +102,8 @@ def test_with_values_changes_a_copy():
     assert q.value("joints.t12.z.stiffness_N_per_m") == 12000.0
     assert q.joint_dof("t12", "z") == (12000.0 * q.tone(), p.joint_dof("t12", "z")[1])  # damping untouched; x tone
     assert q.data["contacts"]["buttock_r"]["stiffness_N_per_m"]["grade"] == "identified"
-    assert p.value("contacts.buttock_r.stiffness_N_per_m") == 47530.0  # original untouched (the shipped value)
+    shipped = tomllib.loads(default_params_path().read_text())["contacts"]["buttock_r"]["stiffness_N_per_m"]["value"]
+    assert p.value("contacts.buttock_r.stiffness_N_per_m") == shipped != 90000.0  # original untouched
 
 
 @pytest.mark.parametrize("path", ["contacts.buttock_r.stifness_N_per_m", "joints.elbow.pitch.stiffness_Nm_per_rad",

@@ -183,7 +183,7 @@ def test_cli_posture_and_back_support_reach_the_native_fmu(tmp_path, capsys):
     assert (setup["posture"], setup["back_support"]) == ("slouched", "low")
     # "The FMU export takes the person's step": the slouched person's own converged 0.5 ms (exactly the number)
     assert setup["dt_s"] == 0.0005 and 'stepSize="0.0005"' in description
-    human = _person("slouched", "low")
+    human = ehm.SeatedHuman(ehm.Person(posture="slouched", back_support="low", vibration_rms_mps2=1.0))  # the FMU's
     whole = human.simulate(ehm.random_vibration("xyz", 1.0, 0.5, seed=4), method="nonlinear")
     names = list(fmu_native.INPUTS)
     sig = np.zeros(whole.time_s.size, dtype=[("time", float)] + [(n, float) for n in names])

@@ -27,6 +27,8 @@ check_step, StepWarning    transfer functions at a time step against the same mo
 validate, Validation    the person against the standards' reference curves and the paper's findings (``ehm validate``)
 LinearRouteError   an input too large for the linear route (a contact lifts off or slides)
 Parameters         a checked parameter file (``Parameters.load``, ``.with_values``, ``.export``)
+at_level           the parameters at a seat vibration level (the ``[level]`` table: tissue and muscle soften as the
+                   vibration grows; ``Person(vibration_rms_mps2=...)`` builds a person at one)
 BodySize           individual body sizes (stature, mass, sitting height)
 load_body          the body tables (segments, joints, contacts)
 Curve, h1_estimate seat-to-body transfer function from time histories
@@ -70,6 +72,7 @@ from .analysis.criterion import compare
 from .analysis.frf import FrfTable, linear_frf, read_frf, time_domain_frf
 from .analysis.stepping import Simulator, StepState
 from .analysis.validation import Validation, validate
+from .body.level import at_level
 from .body.params import Parameters
 from .body.tables import load_body
 from .errors import DivergenceError, EhmError, EhmWarning, InputError
@@ -90,6 +93,6 @@ __all__ = [
     "SeatMotion", "random_vibration", "sine", "sweep", "read_motion", "load_motion_csv", "from_imu",
     "city_drive", "rough_road", "assess", "Assessment", "read_assessment",
     "FrfTable", "linear_frf", "time_domain_frf", "read_frf", "compare",
-    "Parameters", "BodySize", "load_body", "Curve", "h1_estimate", "check_step", "StepWarning",
+    "Parameters", "at_level", "BodySize", "load_body", "Curve", "h1_estimate", "check_step", "StepWarning",
     "LinearRouteError", "validate", "Validation", "__version__",
 ]

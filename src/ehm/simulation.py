@@ -6,8 +6,10 @@
 >>> head_z = run.point("head").acc_mps2[:, 2]   # absolute vertical head acceleration [m/s^2]
 >>> head_z.shape                                # 10 s at the default 1 ms step
 (10001,)
->>> print(f"{(head_z ** 2).mean() ** 0.5:.2f} m/s^2 rms")
-0.39 m/s^2 rms
+>>> print(f"{(head_z ** 2).mean() ** 0.5:.1f} m/s^2 rms")
+0.4 m/s^2 rms
+>>> run.extra["vibration_level"]["line"]       # the person ran at the drive's own level (docs/model.md)
+'vibration level 0.29 m/s^2 rms (from the drive).'
 """
 
 from __future__ import annotations
@@ -99,7 +101,7 @@ class SeatedHuman:
         self.body, self.params, self.locked, self.size = built.body, built.params, built.locked, built.size
         # the person as built, what the routes read (ehm.routes.built): the model, the linear models' cache, ...
         self.built = BuiltPerson.build(self.body, self.params, self.locked, rotating_seat=rotating_seat,
-                                       size=self.size)
+                                       size=self.size, vibration_rms_mps2=self.person.vibration_rms_mps2)
 
     def recipe(self) -> dict:
         """What rebuilds this person in another process (:meth:`from_recipe`), as plain picklable data: the body
@@ -109,6 +111,7 @@ class SeatedHuman:
         settled = self.model.settled
         return {"person": self.person, "body": self.body, "params": self.params, "locked": frozenset(self.locked),
                 "rotating_seat": self.model.seat is not None, "size": self.size,
+                "vibration_rms_mps2": self.built.vibration_rms_mps2, "level_origin": self.built.level_origin,
                 "settled": None if settled is None else {k: (v.copy() if isinstance(v, np.ndarray) else v)
                                                          for k, v in settled.items()}}
 
@@ -157,6 +160,7 @@ class SeatedHuman:
             "params": self.params.origin,
             "posture": self.params.posture,
             "back_support": self.params.back_support,
+            "vibration_rms_mps2": self.built.vibration_rms_mps2,  # None: the file's reference, a drive's own on a run
             "segments": [{"name": s.name, "mass_kg": s.mass_kg, "com_m": s.com_m.tolist(),
                           "inertia_kgm2": s.inertia_kgm2.tolist()} for s in body.segments],
             "joints": [{"name": j.name, "parent": j.parent, "child": j.child, "type": j.type,
@@ -211,6 +215,11 @@ class SeatedHuman:
         the seat runs on the linear model of the seat's rotation in the seat's own frame (whether or not the
         person was built with ``rotating_seat=True``): see :func:`ehm.routes.linear.stream_linear` for what it assumes;
         its estimate of the terms it leaves out is in ``result.extra["linear_check"]``.
+
+        A person without a vibration level of its own (``Person(vibration_rms_mps2=None)``, the default) runs at the
+        drive's (:attr:`ehm.SeatMotion.vibration_rms_mps2` of the whole motion, to two significant digits), built
+        once per level and kept (docs/model.md, "Vibration magnitude"); ``result.extra["vibration_level"]`` records
+        it.
 
         ``method`` names a route of :mod:`ehm.routes.registry`: ``"auto"`` (or ``"hybrid"``, the same route),
         ``"linear"``, ``"nonlinear"``, or ``"parallel"``, the nonlinear route in segments on several processes or a

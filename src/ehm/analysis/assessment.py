@@ -136,6 +136,8 @@ class Assessment:
     route: dict | None = None  # how the drive was run and checked (ehm.routes.hybrid.RouteReport.as_dict)
     iso2631_5: dict | None = None  # ISO 2631-5 spinal dose (ehm.standards.comfort.spine.iso2631_5_summary)
     handling: tuple = ()  # the handled stretches read_motion left out of the drive (ehm.SeatMotion.handling)
+    #: the vibration level the person ran at (ehm.routes.built.BuiltPerson.level_record: rms_mps2, origin, line)
+    vibration_level: dict | None = None
 
     def total_value(self, location: str) -> float:
         """Vibration total value a_v = sqrt(a_wx^2 + a_wy^2 + a_wz^2), k = 1 (comfort) [m/s^2]."""
@@ -151,6 +153,7 @@ class Assessment:
                "input_band_hz": list(self.input_band_hz) if self.input_band_hz else None,
                "band_outside_share": dict(self.band_outside_share),
                **({"route": self.route} if self.route else {}),
+               **({"vibration_level": self.vibration_level} if self.vibration_level else {}),
                **({"handling_cut": handling_summary(self.handling)} if self.handling else {}),
                "locations": {}}
         seat_av = self.total_value("seat")
@@ -494,10 +497,11 @@ def _evaluate(running: _Running, chunks, rotating_motion, description: str, dura
     """The assessment of a run's chunks, accumulated in ``running``; ``rotating_motion``: the drive when its seat
     turns (its angular velocity drives the seat's sickness run).  The last chunk of the linear and hybrid routes
     carries their report (``extra["route"]``)."""
-    route = None
+    route = level = None
     for chunk in chunks:
         running.add(chunk, None if rotating_motion is None else _seat_angvel(rotating_motion, chunk.time_s))
         route = chunk.extra.get("route", route)
+        level = chunk.extra.get("vibration_level", level)
         del chunk  # the next chunk is made without this one held
     wall = time.perf_counter() - t0
     metrics = {loc: {a: running.comfort[loc][a].result() for a in "xyz"} for loc in LOCATIONS}
@@ -508,6 +512,7 @@ def _evaluate(running: _Running, chunks, rotating_motion, description: str, dura
         sickness={key: acc.result() for key, acc in running.sickness.items()},
         trace_time_s=np.arange(n_trace) * keep * dt, max_displacement_m=running.max_disp,
         final_displacement_m=running.final_disp, input_band_hz=band, band_outside_share=shares, route=route,
+        vibration_level=level,
     )
 
 
@@ -614,7 +619,7 @@ def read_assessment(folder, as_frame: bool = False):
             final_displacement_m={k: np.asarray(v, float) for k, v in summary["body_displacement_final_m"].items()},
             input_band_hz=None if band is None else tuple(band),
             band_outside_share=dict(summary.get("band_outside_share") or {}), route=summary.get("route"),
-            iso2631_5=summary.get("iso2631_5"))
+            iso2631_5=summary.get("iso2631_5"), vibration_level=summary.get("vibration_level"))
     except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile) as exc:
         raise InputError(f"{arrays_path}: not the arrays of this assessment ({type(exc).__name__}: {exc}); run "
                          "'ehm assess' again.") from None

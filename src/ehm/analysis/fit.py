@@ -353,10 +353,14 @@ def on_bounds(values: dict, limits: dict) -> tuple:
 
 
 def _time_criterion(objective: _Objective, params: Parameters, body: Body, lock, unlock, band_hz) -> float:
-    """Total criterion of a parameter set from time-domain runs (the fit's check)."""
+    """Total criterion of a parameter set from time-domain runs (the fit's check), of the person at the parameter
+    file's reference vibration level (where the linear route identifies it), not at the runs' own."""
+    from ..body.level import has_level
+    from ..person.person import Person
     from ..simulation import SeatedHuman
 
-    human = SeatedHuman(params=params, body=body, lock=lock, unlock=unlock)
+    level = float(params.value("level.reference_rms_mps2")) if has_level(params) else None
+    human = SeatedHuman(Person(params=params, body=body, lock=lock, unlock=unlock, vibration_rms_mps2=level))
     axes = sorted({k[0] for k in objective.keys}, key=AXES.index)
     # excite the fitting band, starting one estimate bin (0.1 Hz) lower so that its edge is covered
     table = time_domain_frf(human, "all" if len(axes) > 1 else axes[0],

@@ -425,20 +425,21 @@ def time_domain_frf(human, axis: str = "all", duration_s: float = 60.0, rms_mps2
         for a in moved:
             curves.update(run_curves(run, a, band_hz, segment_s))
         meta = {"input": motion.description, "segment_s": segment_s, "route": route,
-                **_person_record(human)}
+                **_person_record(human), "vibration_level": run.extra.get("vibration_level")}
         return FrfTable(curves=curves, method="time", meta=meta)
 
     if not duration_s >= segment_s:
         raise InputError(f"duration_s = {duration_s:g} s: a run must last at least one {segment_s:g} s estimation "
                          "segment.")
     dt = float(human.params.value("simulation.dt_s"))
-    curves = {}
+    curves, levels = {}, []
     for axis_name in _axes(axis):
         run = human.simulate(random_vibration(axis_name, duration_s, rms_mps2, seed=seed, dt_s=dt, band_hz=band_hz),
                              method=route)
         curves.update(run_curves(run, axis_name, band_hz, segment_s))
+        levels.append(run.extra.get("vibration_level"))
     meta = {"duration_s": duration_s, "rms_mps2": rms_mps2, "seed": seed, "segment_s": segment_s, "route": route,
-            **_person_record(human)}
+            **_person_record(human), "vibration_level": levels[0] if len(levels) == 1 else levels}
     return FrfTable(curves=curves, method="time", meta=meta)
 
 

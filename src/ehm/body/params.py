@@ -59,6 +59,10 @@ HEAD_CONTROL = {"enabled": "bool", "tilt_stiffness_Nm_per_rad": "nonnegative",
 #: The longest head-control delay a parameter file may give [s]: a person's sensory delay is tens of milliseconds;
 #: far longer ones would fill memory with the delay line (1e7 s overflowed MuJoCo's sizes).
 MAX_DELAY_S = 10.0
+#: [level] (``ehm.body.level``, the vibration magnitude): optional in a file; a file without it keeps its values at
+#: every level (it is not filled in from the shipped file).
+LEVEL = {"reference_rms_mps2": "positive", "stiffness_exponent": "nonnegative", "damping_exponent": "nonnegative",
+         "least_rms_mps2": "positive", "greatest_rms_mps2": "positive", "scaled": "scaled"}
 #: What a posture's name may hold: it is a key of [postures] and part of dotted paths (postures.NAME.dt_s).
 _POSTURE_NAME = re.compile(r"[A-Za-z0-9_-]+")
 _ROT = {"stiffness_Nm_per_rad": "nonnegative", "damping_Nms_per_rad": "nonnegative"}
@@ -431,6 +435,7 @@ class Parameters:
         _check_joints(label, d, sources)
         _check_contacts(label, d, sources)
         _check_postures(label, d, sources)
+        _check_level(label, d)
 
 
 def _check_sections(label: str, d: dict) -> dict:
@@ -445,7 +450,7 @@ def _check_sections(label: str, d: dict) -> dict:
     for section in required:
         if not isinstance(d.get(section), dict):
             raise InputError(f"{label}: missing section [{section}].")
-    unknown = set(d) - {"about", "sources", "postures", "head_control", *required}
+    unknown = set(d) - {"about", "sources", "postures", "head_control", "level", *required}
     if unknown:
         raise InputError(f"{label}: unknown section [{sorted(unknown)[0]}].")
     return sources
@@ -458,6 +463,10 @@ def _check_flat_sections(label: str, d: dict, sources: dict) -> None:
         if not isinstance(d["head_control"], dict):
             raise InputError(f"{label}: [head_control] must be a table.")
         flat += (("head_control", HEAD_CONTROL),)
+    if "level" in d:
+        if not isinstance(d["level"], dict):
+            raise InputError(f"{label}: [level] must be a table.")
+        flat += (("level", LEVEL),)
     for section, allowed in flat:
         for key, entry in d[section].items():
             if key not in allowed:
@@ -466,6 +475,33 @@ def _check_flat_sections(label: str, d: dict, sources: dict) -> None:
         for key in allowed:
             if key not in d[section]:
                 raise InputError(f"{label}: [{section}] needs {key!r}.")
+
+
+def _check_level(label: str, d: dict) -> None:
+    """[level]: least <= reference <= greatest, and every name of ``scaled`` a contact or a joint's degree of freedom
+    of the file (each entry's own value is checked with the flat sections)."""
+    if "level" not in d:
+        return
+    v = {k: e["value"] for k, e in d["level"].items()}
+    least, ref, greatest = v["least_rms_mps2"], v["reference_rms_mps2"], v["greatest_rms_mps2"]
+    if not least <= greatest:
+        raise InputError(f"{label}: level.least_rms_mps2 ({least:g}) is above level.greatest_rms_mps2 ({greatest:g}); "
+                         "give the lower level first.")
+    if not least <= ref <= greatest:
+        raise InputError(f"{label}: level.reference_rms_mps2 ({ref:g}) lies outside level.least_rms_mps2 to "
+                         f"level.greatest_rms_mps2 ({least:g} to {greatest:g} m/s^2); the reference must be a level "
+                         "the person can be at.")
+    for name in v["scaled"]:
+        parts = name.split(".")
+        ok = (len(parts) == 2 and parts[0] == "contacts" and isinstance(d["contacts"].get(parts[1]), dict)) or (
+            len(parts) == 3 and parts[0] == "joints" and isinstance(d["joints"].get(parts[1]), dict)
+            and isinstance(d["joints"][parts[1]].get(parts[2]), dict) and parts[2] not in _META)
+        if not ok:
+            raise InputError(f"{label}: level.scaled names {name!r}, which is no contact (contacts.NAME) or joint "
+                             "degree of freedom (joints.NAME.DOF, e.g. joints.t12.z) of the file.")
+    if len(set(v["scaled"])) != len(v["scaled"]):
+        twice = next(n for n in v["scaled"] if v["scaled"].count(n) > 1)
+        raise InputError(f"{label}: level.scaled names {twice!r} twice; name each entry once.")
 
 
 def _check_joints(label: str, d: dict, sources: dict) -> None:
@@ -617,6 +653,11 @@ def _check_value(label: str, where: str, value: Any, rule: str) -> None:
     if rule == "joints":
         if not isinstance(value, list) or any(v not in JOINT_NAMES for v in value):
             raise InputError(f"{label}: {where} must be a list of joint names from {', '.join(JOINT_NAMES)}.")
+        return
+    if rule == "scaled":
+        if not isinstance(value, list) or any(not isinstance(v, str) for v in value):
+            raise InputError(f"{label}: {where} must be a list of dotted names, e.g. [\"contacts.buttock_r\", "
+                             "\"joints.t12.z\"].")
         return
     if rule == "time_step":
         check_time_step(value, f"{label}: {where}")

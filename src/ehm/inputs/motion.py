@@ -24,6 +24,7 @@ where.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from numbers import Integral
@@ -71,6 +72,11 @@ _FADE_MAX_S = 1.0
 _FADE_FRACTION = 0.1
 #: Butterworth order of each band edge of the random-vibration filter.
 _FILTER_ORDER = 4
+
+
+#: The high-pass [Hz] before a motion's vibration level is taken (:attr:`SeatMotion.vibration_rms_mps2`): the
+#: vibration a person's tissues feel, without the vehicle's manoeuvres (braking, cornering: 0.1 Hz and below).
+LEVEL_HIGHPASS_HZ = 0.5
 
 
 # --------------------------------------------------------------------------
@@ -219,6 +225,37 @@ class SeatMotion:
     def rate_hz(self) -> float:
         """The log's own sample rate [Hz], from its median time step."""
         return 1.0 / float(np.median(np.diff(self.time_s)))
+
+    @functools.cached_property
+    def vibration_rms_mps2(self) -> float:
+        """The seat's vibration level [m/s^2 rms], what a person whose level is not given runs at
+        (:class:`ehm.Person`'s ``vibration_rms_mps2``; docs/model.md, "Vibration magnitude").
+
+        The rms over the whole motion of the translational acceleration vector, sqrt(mean(ax^2 + ay^2 + az^2)),
+        after a zero-phase 4th-order Butterworth high-pass at :data:`LEVEL_HIGHPASS_HZ` (forward and backward, at
+        the log's own rate, :attr:`rate_hz`): the vibration, not the manoeuvres (braking and cornering, below it, do
+        not count).  A 5 Hz sine of amplitude A on one axis gives A / sqrt(2):
+
+        >>> import numpy as np
+        >>> t = np.arange(0.0, 10.0, 0.001)
+        >>> acc = np.zeros((t.size, 3))
+        >>> acc[:, 2] = 1.0 * np.sin(2 * np.pi * 5.0 * t)
+        >>> print(f"{SeatMotion(t, acc, 'a 5 Hz sine').vibration_rms_mps2:.3f}")
+        0.707
+        """
+        fs = self.rate_hz
+        sos = signal.butter(4, LEVEL_HIGHPASS_HZ, btype="highpass", fs=fs, output="sos") \
+            if LEVEL_HIGHPASS_HZ < 0.5 * fs else None
+        # padded by the log mirrored about its ends over three of the high-pass's periods (or what the log holds):
+        # scipy's default, 27 samples, left a start and end transient of up to 1 % on a sine
+        pad = min(int(3 * fs / LEVEL_HIGHPASS_HZ), self.n_samples - 1)
+        power = 0.0
+        for k in range(3):  # one axis at a time: a long log is not copied whole
+            a = self.acc_mps2[:, k]
+            # (a log too slow for the high-pass: its mean left out)
+            a = signal.sosfiltfilt(sos, a, padlen=pad) if sos is not None else a - a.mean()
+            power += float(np.mean(a ** 2))
+        return float(np.sqrt(power))
 
     def covered_band_hz(self, run_rate_hz: float | None = None) -> tuple[float, float]:
         """The band [Hz] the seat input actually covers.

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from dataclasses import replace as _dataclass_replace
 from typing import Any
 
+from ..body.level import applied_level, at_level, check_level, has_level
 from ..body.params import Parameters
 from ..body.tables import Body, joint_names, load_body, resolve_locks
 from ..body.timestep import check_time_step, warn_if_coarse
@@ -25,7 +26,8 @@ from ..errors import InputError, checked_class, describe
 from .scaling import BodySize
 
 #: The fields of :class:`Person`, in order (what :meth:`Person.replace` accepts).
-FIELDS = ("params", "body", "size", "posture", "back_support", "head_control", "lock", "unlock", "dt_s")
+FIELDS = ("params", "body", "size", "posture", "back_support", "head_control", "lock", "unlock", "dt_s",
+          "vibration_rms_mps2")
 
 
 @dataclass(frozen=True)
@@ -80,6 +82,12 @@ class Person:
         Joints to lock or unlock on top of the body table's defaults (the waist is locked by default); kept sorted.
     dt_s : float, optional
         Time step [s]; None: the step the parameters run at (:meth:`ehm.Parameters.time_step`).
+    vibration_rms_mps2 : float, optional
+        The seat's vibration level the person is built at [m/s^2 rms] (:func:`ehm.body.level.at_level`: the soft
+        tissue and muscle named in the parameter file's ``[level]`` soften as the vibration grows; docs/model.md,
+        "Vibration magnitude").  None (the default): the drive's own level on every route that runs one
+        (:attr:`ehm.SeatMotion.vibration_rms_mps2`), the file's reference level where there is no drive
+        (``linear_frf``, ``validate``, ``check_step``, ``Simulator``, the FMUs).
 
     Examples
     --------
@@ -104,6 +112,7 @@ class Person:
     lock: tuple = ()
     unlock: tuple = ()
     dt_s: float | None = None
+    vibration_rms_mps2: float | None = None
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -133,12 +142,14 @@ class Person:
             resolve_locks(self.body if self.body is not None else load_body(), self.lock, self.unlock)
         if self.dt_s is not None:
             set_(self, "dt_s", check_time_step(self.dt_s, "dt_s"))
+        if self.vibration_rms_mps2 is not None:
+            set_(self, "vibration_rms_mps2", check_level(self.vibration_rms_mps2, "Person: vibration_rms_mps2"))
 
     # ------------------------------------------------------------------ value semantics
     def _key(self) -> tuple:
         size = None if self.size is None else (self.size.stature_m, self.size.mass_kg, self.size.sitting_height_m)
         return (self.params.origin, self.posture, self.back_support, self.head_control, self.lock, self.unlock,
-                self.dt_s, size)
+                self.dt_s, size, self.vibration_rms_mps2)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Person):
@@ -161,7 +172,7 @@ class Person:
         if self.size is not None:
             s = self.size
             parts.append(f"size=BodySize({s.stature_m:g}, {s.mass_kg:g}, {s.sitting_height_m:g})")
-        for name in ("posture", "back_support", "head_control", "lock", "unlock", "dt_s"):
+        for name in ("posture", "back_support", "head_control", "lock", "unlock", "dt_s", "vibration_rms_mps2"):
             value = getattr(self, name)
             if value not in (None, ()):
                 parts.append(f"{name}={value!r}")
@@ -196,7 +207,9 @@ class Person:
         """What the model builder needs, as plain data (``Built``): the parameters seated in the posture and
         back support, with the head control and the time step (a step coarser than the converged one gives a
         :class:`ehm.body.timestep.StepWarning`), the tables and parameters scaled to the body size (refused in one
-        sentence if that body cannot be built), and the locked joints resolved."""
+        sentence if that body cannot be built), then at the person's vibration level when it has one
+        (:func:`ehm.body.level.at_level`; None: the file's reference level, what the routes change to a drive's own),
+        and the locked joints resolved."""
         body = self.body if self.body is not None else load_body()
         params = self.seated_params().at_step(self.dt_s)
         warn_if_coarse(float(params.value("simulation.dt_s")), converged_s=params.converged_step(),
@@ -207,9 +220,22 @@ class Person:
             body0, params0 = body, params
             body, params = scale_body(body, self.size), scale_params(params, self.size, body)
             check_buildable(self.size, body0, params0, body, params)  # one sentence, with masses that work
+        if self.vibration_rms_mps2 is not None:
+            params = at_level(params, self.vibration_rms_mps2)
         return Built(body=body, params=params, locked=resolve_locks(body, self.lock, self.unlock), size=self.size)
 
     # ------------------------------------------------------------------ records
+    def level_words(self) -> str:
+        """The person's vibration level in words: ``vibration level 0.5 m/s^2 rms``, or where it comes from."""
+        if not has_level(self.params):
+            fixed = applied_level(self.params)
+            return ("vibration level not modelled (the parameter file has no [level])" if fixed is None else
+                    f"vibration level {fixed:g} m/s^2 rms (the parameter file's values, written at that level)")
+        if self.vibration_rms_mps2 is None:
+            return (f"vibration level from the drive (without one: the reference, "
+                    f"{float(self.params.value('level.reference_rms_mps2')):g} m/s^2 rms)")
+        return f"vibration level {self.vibration_rms_mps2:g} m/s^2 rms"
+
     def describe(self) -> str:
         """The person in one line, every setting as it takes effect (the file's where the person keeps it)."""
         p = self.seated_params()
@@ -222,7 +248,7 @@ class Person:
         joints = "".join([f", locked {', '.join(self.lock)}" if self.lock else "",
                           f", unlocked {', '.join(self.unlock)}" if self.unlock else ""])
         return (f"{p.posture}, back support {p.back_support}, {size}, head control {hc}{joints}, "
-                f"step {dt * 1e3:g} ms, parameters {self.params.origin}"
+                f"step {dt * 1e3:g} ms, {self.level_words()}, parameters {self.params.origin}"
                 + ("" if self.body is None else ", custom body tables"))
 
     def to_dict(self) -> dict[str, Any]:
@@ -235,7 +261,8 @@ class Person:
         hc = self.head_control_gains if isinstance(self.head_control, tuple) else self.head_control
         return {"params": self.params.origin, "body": "shipped" if self.body is None else "custom", "size": size,
                 "posture": self.posture, "back_support": self.back_support, "head_control": hc,
-                "lock": list(self.lock), "unlock": list(self.unlock), "dt_s": self.dt_s}
+                "lock": list(self.lock), "unlock": list(self.unlock), "dt_s": self.dt_s,
+                "vibration_rms_mps2": self.vibration_rms_mps2}
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], body: Body | None = None) -> Person:

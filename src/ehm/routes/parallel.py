@@ -275,7 +275,8 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     """
     _check(workers, segment_s, lead_in_s, chunk_s)
     require_motion("simulate_parallel()", motion)
-    human = built_of(human)
+    # the person at the WHOLE drive's level (unless its own is given): every segment runs at that one level
+    human = built_of(human).for_motion(motion)
     dt = human.check_nonlinear_motion(motion)
     lead_s = DEFAULT_LEAD_IN_S if lead_in_s is None else float(lead_in_s)
     n_steps = Resampler.of_motion(motion, dt).n_samples
@@ -297,7 +298,8 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
     if _stats is not None:
         _stats.update(segments=segments, tasks=[])
     if len(segments) == 1 or (workers == 1 and local):
-        yield from stream_nonlinear(human, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
+        yield from human.recorded(stream_nonlinear(human, motion, chunk_s=chunk_s, progress=progress,
+                                                   pose_rate_hz=pose_rate_hz))
         return
     if human.model.settled is None:
         human.settle()  # once here, not in every worker: the recipe carries the settled state
@@ -309,7 +311,8 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
         submitted = time.time()
         futures = runner.submit_all(recipe, motion, remote, args)
         if local:  # the first segment here, chunk by chunk: the continuous run's start, bit for bit
-            yield from stream_span(human, motion, 0, segments[0].stop, 0, chunk_s=chunk_s, pose_rate_hz=pose_rate_hz)
+            yield from human.recorded(stream_span(human, motion, 0, segments[0].stop, 0, chunk_s=chunk_s,
+                                                  pose_rate_hz=pose_rate_hz))
             done_s = segments[0].stop * dt
             if _stats is not None:
                 _stats["first_end"] = time.time()
@@ -321,7 +324,7 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
                 _stats["tasks"].append({**times, "submitted": submitted, "received": time.time()})
             done_s += (seg.stop - seg.first) * dt
             while pieces:  # the segment's chunks, each let go once it is passed on
-                yield pieces.pop(0)
+                yield from human.recorded([pieces.pop(0)])
             if progress:
                 progress(min(done_s, motion.duration_s), motion.duration_s)
 

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from ..errors import DivergenceError, InputError
 from ..inputs.motion import require_motion
 from . import hybrid, nonlinear, parallel
+from .built import built_of
 
 
 @dataclass(frozen=True)
@@ -105,11 +106,20 @@ def stream(person, motion, method: str = "auto", chunk_s: float = 10.0, progress
            pose_rate_hz: float | None = None, **options):
     """The run of ``motion`` by the route :func:`choose` picks for ``method`` and ``options`` (``tolerance``,
     ``workers``, ``client``, ``lead_in_s``, ``segment_s``), chunk by chunk; a ``motion`` that is no
-    :class:`ehm.SeatMotion` is refused in one sentence."""
+    :class:`ehm.SeatMotion` is refused in one sentence.
+
+    A person without a vibration level of its own runs at the drive's (:meth:`ehm.routes.built.BuiltPerson.for_motion`:
+    the rms of the whole motion above 0.5 Hz, :attr:`ehm.SeatMotion.vibration_rms_mps2`, to two significant digits);
+    every chunk records the level in ``extra["vibration_level"]``
+    (:meth:`ehm.routes.built.BuiltPerson.level_record`)."""
     require_motion("simulate()", motion)
     unknown = sorted(set(options) - set(OPTIONS))
     if unknown:
         raise InputError(f"unknown option {unknown[0]!r} of a run; the options are method, chunk_s, progress, "
                          f"pose_rate_hz, {', '.join(OPTIONS)}.")
     chosen, kept = choose(method, **options)
-    yield from chosen.run(person, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz, **kept)
+    # the person at the vibration level of the WHOLE drive, taken once here (unless the person's own is given), so
+    # that every route, the parallel route's segments and the hybrid route's two models run at one level
+    person = built_of(person).for_motion(motion)
+    yield from person.recorded(chosen.run(person, motion, chunk_s=chunk_s, progress=progress,
+                                          pose_rate_hz=pose_rate_hz, **kept))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...body.level import at_level
 from ...body.params import Parameters
 from ...body.tables import load_body
 from ...body.timestep import check_time_step
@@ -46,7 +47,8 @@ def check_empty_paths(args) -> None:
 def person_from_args(args) -> Person:
     """The one :class:`ehm.Person` of the shared person options, for every command: --params, --posture,
     --back-support, --head-control, --head-control-gains, --lock, --unlock, --segments/--joints/--contacts,
-    --stature/--mass/--sitting-height and --dt (an option a command does not declare keeps the person's default)."""
+    --stature/--mass/--sitting-height, --dt and --vibration-rms (an option a command does not declare keeps the
+    person's default)."""
     dt = getattr(args, "dt", None)
     if dt is not None:
         check_time_step(dt, "--dt")
@@ -55,14 +57,18 @@ def person_from_args(args) -> Person:
                   size=size_from_args(args), posture=getattr(args, "posture", None),
                   back_support=getattr(args, "back_support", None), head_control=_head_control(args),
                   lock=joint_list(getattr(args, "lock", None)), unlock=joint_list(getattr(args, "unlock", None)),
-                  dt_s=dt)
+                  dt_s=dt, vibration_rms_mps2=getattr(args, "vibration_rms", None))
 
 
 def params_from_args(args) -> Parameters:
     """The parameter file of --params, in the posture of --posture and with the back support of --back-support, with
-    the head-in-space control of --head-control and --head-control-gains (the person's, before its step and size)."""
-    return Person(params=getattr(args, "params", None), posture=getattr(args, "posture", None),
-                  back_support=getattr(args, "back_support", None), head_control=_head_control(args)).seated_params()
+    the head-in-space control of --head-control and --head-control-gains (the person's, before its step and size), at
+    the level of --vibration-rms when given (its values at that level, ehm.body.level.at_level)."""
+    person = Person(params=getattr(args, "params", None), posture=getattr(args, "posture", None),
+                    back_support=getattr(args, "back_support", None), head_control=_head_control(args),
+                    vibration_rms_mps2=getattr(args, "vibration_rms", None))
+    params = person.seated_params()
+    return params if person.vibration_rms_mps2 is None else at_level(params, person.vibration_rms_mps2)
 
 
 def _head_control(args):

@@ -34,6 +34,7 @@ def cmd_info(args) -> int:
           f"time step {info['dt_s'] * 1000:g} ms, parameters: {info['params']}")
     print(f"posture: {info['posture']}; back support: {info['back_support']} (backrest contacts: "
           f"{', '.join(c['name'] for c in info['contacts'] if c['surface'].startswith('backrest')) or 'none'})")
+    print(f"{human.person.level_words()} (docs/model.md, 'Vibration magnitude')")
     print("segments (centre of gravity in m, x forward, y left, z up):")
     for s in info["segments"]:
         x, y, z = s["com_m"]

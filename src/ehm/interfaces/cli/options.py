@@ -24,6 +24,11 @@ def seating_options(p: argparse.ArgumentParser) -> None:
                    help="head-in-space control with these gains (implies --head-control), e.g. "
                         "tilt_stiffness_Nm_per_rad=30,tilt_damping_Nms_per_rad=2,yaw_damping_Nms_per_rad=1,"
                         "delay_s=0.03")
+    p.add_argument("--vibration-rms", type=float, metavar="RMS",
+                   help="the seat's vibration level the person is built at [m/s^2 rms]: the soft tissue and muscle "
+                        "the parameter file's [level] names soften as the vibration grows (docs/model.md, 'Vibration "
+                        "magnitude') (default: the drive's own level, its rms above 0.5 Hz; without a drive the "
+                        "file's reference level, 1 m/s^2)")
 
 
 def model_options(p: argparse.ArgumentParser) -> None:

@@ -121,6 +121,8 @@ def cmd_simulate(args) -> int:
           f"{s['output_rate_hz']:g} rows per s)")
     if "route" in s:
         print(f"  {s['route']['summary_line']}")
+    if s.get("vibration_level"):
+        print(f"  {s['vibration_level']['line']}")
     return 0
 
 
@@ -378,6 +380,8 @@ def _print_assessment(result, summary: dict, out: Path) -> None:
         print(f"  handled logger: {summary['handling_cut']['note']}")
     if summary.get("route"):
         print(f"  {summary['route']['summary_line']}")
+    if summary.get("vibration_level"):
+        print(f"  {summary['vibration_level']['line']}")
     print(f"  motion sickness incidence at the end: head {summary['sickness']['head']['final_msi_percent']:.2f} %, "
           f"head fixed to the seat {summary['sickness']['seat']['final_msi_percent']:.2f} %")
     for line in _iso2631_5_lines(summary.get("iso2631_5")):

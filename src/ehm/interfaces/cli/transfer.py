@@ -155,6 +155,9 @@ def _fit_inputs(args):
     if size_from_args(args) is not None:
         raise InputError("--stature/--mass/--sitting-height: ehm fit identifies the reference person's parameters; "
                          "fit without them (body sizes scale a parameter file when it is used).")
+    if getattr(args, "vibration_rms", None) is not None:
+        raise InputError("--vibration-rms: ehm fit identifies the parameters at the parameter file's reference level "
+                         "([level] reference_rms_mps2); fit without it, with measurements taken near that level.")
     check_output_file(args.out, "parameter file")
     refuse_defaults(args.out)
     band = checked_band(args.band)
