@@ -76,14 +76,15 @@ def test_rotation_about_the_earth_vertical_gives_no_conflict():
 # --- frequency dependence -------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("axis", [2, 1], ids=["vertical", "lateral"])
-def test_0p2_hz_is_more_sickening_than_1_hz_at_equal_acceleration(axis):
+@pytest.mark.parametrize(("axis", "factor"), [(2, 10.0), (1, 3.0)], ids=["vertical", "lateral"])
+def test_0p2_hz_is_more_sickening_than_1_hz_at_equal_acceleration(axis, factor):
     # Bos and Bles (1998) reproduce O'Hanlon and McCauley's finding that, at equal acceleration
-    # amplitude, sickness peaks near 0.2 Hz and falls off steeply towards 1 Hz.  30 min exposure.
+    # amplitude, vertical sickness peaks near 0.2 Hz and falls off steeply towards 1 Hz.  The horizontal
+    # axes (the UNIPG model's broader band) fall off too, less steeply.  30 min exposure.
     low = subjective_vertical_conflict(*_translation(1800.0, 0.2, axis)).final_msi_percent
     high = subjective_vertical_conflict(*_translation(1800.0, 1.0, axis)).final_msi_percent
-    assert low > 10.0 * high, (low, high)
     assert high > 0.0
+    assert low > factor * high, (low, high)
 
 
 def test_sickness_peaks_near_0p2_hz():
@@ -92,6 +93,53 @@ def test_sickness_peaks_near_0p2_hz():
     freqs = [0.05, 0.1, 0.2, 0.4, 0.8]
     msi = [subjective_vertical_conflict(*_translation(1800.0, f, axis=2)).final_msi_percent for f in freqs]
     assert freqs[int(np.argmax(msi))] == 0.2, dict(zip(freqs, msi))
+
+
+def _minutes_to(level_percent: float, result: SicknessResult) -> float:
+    """Minutes until the MSI first reaches ``level_percent`` (inf if it never does)."""
+    reached = np.flatnonzero(result.msi_percent >= level_percent)
+    return float(result.time_s[reached[0]] / 60.0) if reached.size else np.inf
+
+
+@pytest.mark.parametrize("axis", [0, 1], ids=["fore-aft", "lateral"])
+def test_horizontal_frequency_dependence_as_golding_measured(axis):
+    # Golding, Mueller and Gresty (2001), fore-aft at 1.0 m/s^2 peak: moderate nausea after a mean 18.0 / 11.2
+    # / 20.2 min at 0.1 / 0.2 / 0.4 Hz, about 1.6-1.8 times as long at 0.1 and 0.4 Hz as at 0.2 Hz.  The
+    # check of issue 37: the level 0.2 Hz reaches after 11 min is reached within 30 min at 0.1 and 0.4 Hz,
+    # after 1.3-2.5 times as long, and 0.2 Hz stays the most provocative; Griffin and Mills (2002) found
+    # lateral and fore-aft alike, so the same holds laterally.
+    runs = {f: subjective_vertical_conflict(*_translation(1800.0, f, axis)) for f in (0.1, 0.2, 0.4)}
+    level = float(np.interp(660.0, runs[0.2].time_s, runs[0.2].msi_percent))
+    minutes = {f: _minutes_to(level, r) for f, r in runs.items()}
+    assert minutes[0.2] == pytest.approx(11.0, abs=DT / 60)
+    for f in (0.1, 0.4):
+        assert 1.3 <= minutes[f] / minutes[0.2] <= 2.5, minutes
+        assert runs[f].final_msi_percent < runs[0.2].final_msi_percent
+
+
+def test_vertical_behaviour_is_the_isotropic_models():
+    # The horizontal parameters act on x and y alone: vertical oscillation gives what the model gave when
+    # every axis had the vertical's time constant and gain (the published, McCauley-based behaviour).
+    isotropic = SvcParameters(horizontal_time_constant_s=SvcParameters().vertical_time_constant_s,
+                              k_vc_horizontal_per_s=SvcParameters().k_vc_per_s)
+    for f in (0.1, 0.2, 0.5):
+        motion = _translation(1800.0, f, axis=2)
+        np.testing.assert_allclose(subjective_vertical_conflict(*motion).msi_percent,
+                                   subjective_vertical_conflict(*motion, params=isotropic).msi_percent,
+                                   rtol=1e-12, atol=1e-12)
+
+
+def test_horizontal_parameters_set_the_horizontal_band():
+    # The conflict of a horizontal axis is the band-pass of the module docstring with that axis's time constant
+    # and gain: its steady amplitude at 0.1 Hz matches the formula (hand computation) for the horizontal values.
+    p = SvcParameters()
+    f, amp = 0.1, 1.0
+    w = 2 * np.pi * f
+    c = 1.0 / (1.0 + p.k_ac)
+    expected = (1 - p.k_a) * c * w / abs(p.k_vc_horizontal_per_s * c - p.horizontal_time_constant_s * w**2 + 1j * w)
+    res = subjective_vertical_conflict(*_translation(600.0, f, axis=0, amp_mps2=amp))
+    steady = res.conflict_mps2[res.time_s > 300.0, 0]
+    assert np.max(np.abs(steady)) == pytest.approx(expected * amp, rel=0.01)
 
 
 # --- time course ------------------------------------------------------------------------------------

@@ -16,6 +16,12 @@ Bos, J.E. and Bles, W. (2002).  Theoretical considerations on canal-otolith inte
 Kamiji, N., Kurata, Y., Wada, T. and Doi, S. (2007).  Modeling and validation of carsickness
     mitigation mechanism.  Proc. IEEE Int. Conf. Systems, Man and Cybernetics, 1740-1745.  (The
     6-DOF SVC model whose parameter set is the default here; see "Where the literature differs".)
+Braccesi, C. and Cianetti, F. (2011).  Motion sickness.  Part I: development of a model for predicting
+    motion sickness incidence.  Int. J. Human Factors Modelling and Simulation 2(3), 163-187.  (The UNIPG
+    model, with a time constant and gain per axis; its values as in the MIT-licensed parameter file
+    ``Kinetose-Modelle/Modell_Barccesi/ParameterBarccesiUNIPG.m`` of ``Sseidel248/Kinetosis_Optimization``.)
+Golding, J.F., Mueller, A.G. and Gresty, M.A. (2001).  A motion sickness maximum around the 0.2 Hz
+    frequency range of horizontal translational oscillation.  Aviat. Space Environ. Med. 72(3), 188-192.
 Wada, T., Kamiji, N. and Doi, S. (2015).  A mathematical model of motion sickness in 6DOF motion and
     its application to vehicle passengers.  arXiv:1504.05261.
 Newman, M.C. et al. (2009).  J Neurophysiol 102(4), 2232-2244, Table 4 (canal time constants of the
@@ -55,13 +61,36 @@ remains: ``w^ = (K_w + K_wc S) / (1 + K_wc S) w`` and ``a^ = (K_a a + K_ac (f - 
 Sickness::
 
     c    = v^ - v_s                    (conflict, reported as subjective minus sensed vertical)
+    |c|  = |(g_h c_x, g_h c_y, c_z)|   (g_h: horizontal_conflict_gain, 1 by default)
     h    = P (|c|/b)^n / (1 + (|c|/b)^n)                  (Hill function)
     MSI  = h / (tau_I s + 1)^2                            (second-order lag, unit DC gain)
 
 For motion without rotation the model is linear and the conflict per axis is a band-pass of the
 acceleration, ``|c/a| = (1 - K_a) w / ((1 + K_ac) |K_vc/(1 + K_ac) - tau w^2 + j w|)``, which peaks at
-``sqrt(K_vc / ((1 + K_ac) tau))`` = 1.29 rad/s = 0.21 Hz with the default values, where
+``sqrt(K_vc / ((1 + K_ac) tau))``; vertically (z) that is 1.29 rad/s = 0.21 Hz with the default values, where
 O'Hanlon and McCauley's seasickness data peak (reproduced by Bos and Bles 1998).
+
+Horizontal axes
+---------------
+``tau`` and ``K_vc`` are set per head axis: the vertical values above on z, the horizontal ones
+(``horizontal_time_constant_s``, ``k_vc_horizontal_per_s``) on x and y.  Why: with one value for every axis
+(as in Kamiji et al. 2007) the model is isotropic in translation, and its band-pass is narrow (damping ratio
+``1 / (2 sqrt(tau K_vc / (1 + K_ac)))`` = 0.19, a conflict amplitude 4.2 times as large at 0.2 Hz as at 0.1 Hz),
+which the Hill function (square law below b) turns into ten times less sickness at 0.1 and 0.4 Hz than at
+0.2 Hz.  That fits McCauley's vertical data, on which the parameters rest, but not horizontal oscillation:
+Golding, Mueller and Gresty (2001) found moderate nausea under fore-aft oscillation at 1.0 m/s^2 peak after a
+mean 18.0, 11.2 and 20.2 min at 0.1, 0.2 and 0.4 Hz, 1.6-1.8 times as long off the peak, not ten times less
+sickness.  The UNIPG model (Braccesi and Cianetti 2011) has its own time constant and loop gain per axis:
+2.4 s and 3.36 1/s vertically (close to this model's 2 s and 5 / 1.5 = 3.33 1/s), 0.6 s and 0.84 1/s on both
+horizontal axes (values as in the MIT-licensed parameter file of ``Sseidel248/Kinetosis_Optimization``).  Its
+per-axis structure is the one above with loop gain ``K_vc / (1 + K_ac)``, so the horizontal axes here take
+``tau`` = 0.6 s and ``K_vc`` = 0.84 (1 + K_ac) = 1.26 1/s: the peak stays near 0.19 Hz, the damping ratio is
+0.70.  Fore-aft or lateral at 1.0 m/s^2 peak then reaches the MSI that 0.2 Hz reaches after 11 min after 14.6
+min at 0.1 Hz and 16.4 min at 0.4 Hz (1.33 and 1.49 times as long; before: never within 30 min), and 0.2 Hz
+stays the most provocative; vertical oscillation is untouched (tested against the isotropic model to 1e-12).
+The UNIPG model also scales horizontal acceleration by 1.414 before its filters (``horizontal_conflict_gain``
+here, default 1): with it the 0.1 Hz case takes only 1.24 times as long as 0.2 Hz, below Golding's figure, so
+it is not adopted.
 
 Where the literature differs
 ----------------------------
@@ -159,6 +188,16 @@ class SvcParameters:
     msi_time_constant_s : float
         Time constant tau_I [s] of the second-order lag (1 / (tau_I s + 1)^2) from Hill output to
         MSI.  720 s: Bos and Bles (1998), Kamiji et al. (2007).
+    horizontal_time_constant_s : float
+        ``tau`` of the head's x and y axes [s] (``vertical_time_constant_s`` is z's).  0.6 s: the UNIPG
+        model's horizontal time constant (Braccesi and Cianetti 2011).
+    k_vc_horizontal_per_s : float
+        ``K_vc`` of the head's x and y axes [1/s] (``k_vc_per_s`` is z's).  1.26 1/s: the UNIPG model's
+        horizontal loop gain 0.84 1/s (Braccesi and Cianetti 2011) times ``1 + k_ac``, this structure's loop
+        gain being ``K_vc / (1 + K_ac)``.
+    horizontal_conflict_gain : float
+        Weight of the conflict's x and y components in the Hill function's argument [-].  1 (the UNIPG model
+        has 1.414; see "Horizontal axes" in the module docstring for why it is not the default).
     """
 
     scc_cupula_time_constant_s: float = 7.0  # Kamiji et al. 2007 (5.7 s: Newman et al. 2009)
@@ -173,6 +212,9 @@ class SvcParameters:
     hill_n: float = 2.0  # Bos and Bles 1998; Kamiji et al. 2007
     msi_max_percent: float = 85.0  # Bos and Bles 1998; Kamiji et al. 2007
     msi_time_constant_s: float = 720.0  # Bos and Bles 1998; Kamiji et al. 2007
+    horizontal_time_constant_s: float = 0.6  # UNIPG model, Braccesi and Cianetti 2011 (x and y)
+    k_vc_horizontal_per_s: float = 1.26  # UNIPG horizontal loop gain 0.84 1/s times (1 + k_ac)
+    horizontal_conflict_gain: float = 1.0  # 1.414 in the UNIPG model; not adopted (see the module docstring)
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -182,11 +224,12 @@ class SvcParameters:
             if not np.isfinite(value):
                 raise InputError(f"SvcParameters.{f.name} must be finite, got {value!r}.")
         positive = ("scc_cupula_time_constant_s", "scc_adaptation_time_constant_s", "vertical_time_constant_s",
-                    "hill_b_mps2", "hill_n", "msi_time_constant_s")
+                    "hill_b_mps2", "hill_n", "msi_time_constant_s", "horizontal_time_constant_s")
         for name in positive:
             if getattr(self, name) <= 0:
                 raise InputError(f"SvcParameters.{name} must be positive, got {getattr(self, name)!r}.")
-        for name in ("k_a", "k_omega", "k_ac", "k_omega_c", "k_vc_per_s"):
+        for name in ("k_a", "k_omega", "k_ac", "k_omega_c", "k_vc_per_s", "k_vc_horizontal_per_s",
+                     "horizontal_conflict_gain"):
             if getattr(self, name) < 0:
                 raise InputError(f"SvcParameters.{name} must not be negative, got {getattr(self, name)!r}.")
         if not 0 < self.msi_max_percent <= 100:
@@ -225,7 +268,8 @@ class SicknessResult:
 
     @property
     def conflict_magnitude_mps2(self) -> np.ndarray:
-        """``|conflict|`` per sample [m/s^2], the argument of the Hill function."""
+        """``|conflict|`` per sample [m/s^2]: the Hill function's argument when ``horizontal_conflict_gain`` is 1
+        (the default)."""
         return np.linalg.norm(self.conflict_mps2, axis=1)
 
 
@@ -298,7 +342,8 @@ class SicknessTrace:
     msi_percent : (n,) array
         Motion sickness incidence [%].
     conflict_magnitude_mps2 : (n,) array
-        ``|subjective minus sensed vertical|`` [m/s^2], the argument of the Hill function.
+        ``|subjective minus sensed vertical|`` [m/s^2], its horizontal components weighted by
+        ``horizontal_conflict_gain``: the argument of the Hill function.
     """
 
     time_s: np.ndarray
@@ -388,10 +433,10 @@ class SicknessAccumulator:
 
     def _check_linear_rate(self) -> None:
         p, h = self.params, self.dt_s
-        tau = p.vertical_time_constant_s
-        # fastest eigenvalue magnitude of the linear part: the low-pass 1/tau and the vertical-feedback loop
-        # s^2 + s/tau + K_vc / ((1 + K_ac) tau) = 0
-        linear_rate = max(1.0 / tau, np.sqrt(p.k_vc_per_s / ((1.0 + p.k_ac) * tau)))
+        tau, kvc = axis_time_constants_s(p), axis_feedback_gains_per_s(p)
+        # fastest eigenvalue magnitude of the linear part, over the axes: the low-pass 1/tau and the
+        # vertical-feedback loop s^2 + s/tau + K_vc / ((1 + K_ac) tau) = 0
+        linear_rate = float(np.max(np.maximum(1.0 / tau, np.sqrt(kvc / ((1.0 + p.k_ac) * tau)))))
         if h * linear_rate > _MAX_STEP_RAD:
             raise InputError(f"{self._name} has a sample interval of {h:g} s, too coarse for the model's fastest time "
                              f"scale of {1.0 / linear_rate:g} s; sample at {_MAX_STEP_RAD / linear_rate:g} s or finer.")
@@ -436,7 +481,7 @@ class SicknessAccumulator:
             u = u[1:]
         vs, vh = states[:, 0:3], states[:, 6:9]
         conflict = vh - vs
-        magnitude = np.linalg.norm(conflict, axis=1)
+        magnitude = np.linalg.norm(conflict * axis_conflict_weights(p), axis=1)
         b_msi, a_msi = self._filters["msi"]
         msi, zi_msi = signal.lfilter(b_msi, a_msi, hill_percent(magnitude, p), zi=self._zi["msi"])
         # Round-off of the recursive filter must not turn a zero or a bounded input into a value outside
@@ -459,6 +504,25 @@ class SicknessAccumulator:
 
 # ----------------------------------------------------------------------------------------------------
 # helpers
+
+
+def axis_time_constants_s(params: SvcParameters | None = None) -> np.ndarray:
+    """The otolith-canal interaction's time constant per head axis x, y, z [s]: the horizontal one on x and y,
+    the vertical one on z."""
+    p = _params(params)
+    return np.array([p.horizontal_time_constant_s, p.horizontal_time_constant_s, p.vertical_time_constant_s])
+
+
+def axis_feedback_gains_per_s(params: SvcParameters | None = None) -> np.ndarray:
+    """The vertical-conflict feedback gain K_vc per head axis x, y, z [1/s]."""
+    p = _params(params)
+    return np.array([p.k_vc_horizontal_per_s, p.k_vc_horizontal_per_s, p.k_vc_per_s])
+
+
+def axis_conflict_weights(params: SvcParameters | None = None) -> np.ndarray:
+    """The weight of the conflict's x, y, z components in the Hill function's argument [-]."""
+    p = _params(params)
+    return np.array([p.horizontal_conflict_gain, p.horizontal_conflict_gain, 1.0])
 
 
 def _check_inputs(time_s, gia_mps2, omega_radps):
@@ -576,19 +640,18 @@ def _vertical_states(p: SvcParameters, f, u, w_s, w_hat, w_hat_s, h, x0):
         dv^/dt  = -w^_s x v^ + (f^ - v^) / tau,  f^ = (K_a (f - u) + K_ac f + u^) / (1 + K_ac)
     """
     n = f.shape[0]
-    tau, kvc = p.vertical_time_constant_s, p.k_vc_per_s
+    rate, kvc = 1.0 / axis_time_constants_s(p), axis_feedback_gains_per_s(p)  # (3,) each: x, y, z of the head
     c = 1.0 / (1.0 + p.k_ac)
-    eye3 = np.eye(3)
     a_lin = np.zeros((9, 9))
-    a_lin[0:3, 0:3] = -eye3 / tau
-    a_lin[3:6, 0:3] = kvc * eye3
-    a_lin[3:6, 6:9] = -kvc * eye3
-    a_lin[6:9, 3:6] = c * eye3 / tau
-    a_lin[6:9, 6:9] = -eye3 / tau
-    # forcing g = (f / tau, 0, (K_a (f - u) + K_ac f) c / tau)
+    a_lin[0:3, 0:3] = -np.diag(rate)
+    a_lin[3:6, 0:3] = np.diag(kvc)
+    a_lin[3:6, 6:9] = -np.diag(kvc)
+    a_lin[6:9, 3:6] = c * np.diag(rate)
+    a_lin[6:9, 6:9] = -np.diag(rate)
+    # forcing g = (f / tau, 0, (K_a (f - u) + K_ac f) c / tau), per axis
     g = np.zeros((n, 9))
-    g[:, 0:3] = f / tau
-    g[:, 6:9] = (p.k_a * (f - u) + p.k_ac * f) * c / tau
+    g[:, 0:3] = f * rate
+    g[:, 6:9] = (p.k_a * (f - u) + p.k_ac * f) * (c * rate)
 
     def a_of(ws, wh, whs):
         m = ws.shape[0]
