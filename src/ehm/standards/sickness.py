@@ -133,14 +133,15 @@ steps as the whole record (equal to round-off, tested to 1e-10) in memory set by
 from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
+from pathlib import Path
 
 import numpy as np
 from scipy import signal
 
-from ..errors import InputError
+from ..errors import InputError, checked, checked_class
 
-__all__ = ["SvcParameters", "SicknessResult", "SicknessTrace", "SicknessAccumulator", "subjective_vertical_conflict",
-           "hill_percent"]
+__all__ = ["SvcParameters", "MiscParameters", "SicknessResult", "SicknessTrace", "SicknessAccumulator",
+           "subjective_vertical_conflict", "hill_percent", "misc_rating"]
 
 _MAX_STEP_RAD = 0.5  # largest accepted (rate x sample interval), rad
 _CHUNK = 2048  # samples per batch of step maps (memory: about 10 arrays of _CHUNK x 9 x 9 floats, 13 MB)
@@ -236,6 +237,94 @@ class SvcParameters:
             raise InputError(f"SvcParameters.msi_max_percent must lie in (0, 100] %, got {self.msi_max_percent!r}.")
 
 
+MISC_MAX = 10.0  #: top of the MISC scale (vomiting)
+
+
+@checked_class
+@dataclass(frozen=True)
+class MiscParameters:
+    """Parameters of the accumulation model that turns the conflict into a MISC rating (0-10).
+
+    ``y = K1 |c| / (T1 s + 1)^2 + K2 |c| / (T2 s + 1)^2``, ``MISC = min(y^p, 10)``: a fast and a slow path (the
+    accumulation model of Oman 1990 with the output power law of Irmak et al. 2022), fed the conflict magnitude
+    of the SVC model (as in Kotian, Pool and Happee 2025, whose individual model frees K1 and T1 alone).
+    The defaults are a group's (see the attributes); :func:`ehm.analysis.sickness_fit.fit_sickness` gives a
+    person's K1 and T1.
+
+    Attributes
+    ----------
+    fast_gain : float
+        K1 [(m/s^2)^-1]: 246, fitted in ehm so that fore-aft oscillation at 0.2 Hz, 1.0 m/s^2 peak reaches
+        MISC 7 ("medium nausea") after 11.2 min, the mean time to moderate nausea of Golding, Mueller and Gresty
+        (2001) (12 susceptible people: the group is a susceptible one), with K2 = K1 (an assumption: the
+        published group gains could not be read here).
+    fast_time_constant_s : float
+        T1 [s]: 66.2 s, the group's fast time constant of Irmak, Pool and Happee (2022).
+    slow_gain : float
+        K2 [(m/s^2)^-1]: equal to K1 (assumption, see ``fast_gain``).
+    slow_time_constant_s : float
+        T2 [s]: 502 s, the group's slow time constant of Irmak, Pool and Happee (2022).
+    exponent : float
+        p [-]: 0.4, the output power law that described MISC better than Oman's 2 (Irmak, Pool and Happee 2022).
+    """
+
+    fast_gain: float = 246.0  # fitted in ehm to Golding et al. 2001's 11.2 min at 0.2 Hz (benchmarks/sickness_misc.py)
+    fast_time_constant_s: float = 66.2  # Irmak, Pool and Happee 2022 (group)
+    slow_gain: float = 246.0  # = fast_gain (assumption)
+    slow_time_constant_s: float = 502.0  # Irmak, Pool and Happee 2022 (group)
+    exponent: float = 0.4  # Irmak, Pool and Happee 2022
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+                    or not np.isfinite(value):
+                raise InputError(f"MiscParameters.{f.name} must be a finite number, got {value!r}.")
+            if f.name.endswith("_gain") and value < 0:
+                raise InputError(f"MiscParameters.{f.name} must not be negative, got {value!r}.")
+            if not f.name.endswith("_gain") and value <= 0:
+                raise InputError(f"MiscParameters.{f.name} must be positive, got {value!r}.")
+
+
+def _misc_params(params) -> MiscParameters:
+    p = MiscParameters() if params is None else params
+    if not isinstance(p, MiscParameters):
+        raise InputError(f"misc_params must be a MiscParameters instance or None, got {type(params).__name__}.")
+    return p
+
+
+def misc_filters(params: MiscParameters | None, dt_s: float) -> tuple:
+    """Discrete (b, a) of the accumulation model's fast and slow paths (gain included) at the interval ``dt_s``.
+
+    Each path's ``1/(T s + 1)^2`` is two first-order lags in cascade, each exact for an input linear between samples
+    (first-order hold): ``y[n+1] = e y[n] + u[n+1] - e u[n] - (T/h)(1 - e)(u[n+1] - u[n])``, ``e = exp(-h/T)``;
+    written out, not by ``scipy.signal.cont2discrete``, which takes a thousand times as long (the fit calls this
+    for every candidate)."""
+    p = _misc_params(params)
+    out = []
+    for gain, tau in ((p.fast_gain, p.fast_time_constant_s), (p.slow_gain, p.slow_time_constant_s)):
+        e = float(np.exp(-dt_s / tau))
+        k = tau / dt_s * (1.0 - e)  # tau/h (1 - e), 1 - h/(2 tau) + ... for h << tau
+        b1, a1 = np.array([1.0 - k, k - e]), np.array([1.0, -e])
+        out.append((gain * np.convolve(b1, b1), np.convolve(a1, a1)))
+    return tuple(out)
+
+
+def misc_rating(conflict_magnitude_mps2, dt_s: float, params: MiscParameters | None = None) -> np.ndarray:
+    """The MISC rating (0-10) over time from the conflict magnitude [m/s^2] sampled every ``dt_s`` [s] from rest
+    (the accumulation model of :class:`MiscParameters`)."""
+    c = np.asarray(conflict_magnitude_mps2, dtype=float)
+    p = _misc_params(params)
+    y = sum(signal.lfilter(b, a, c) for b, a in misc_filters(p, dt_s))
+    return misc_of_accumulated(y, p)
+
+
+def misc_of_accumulated(y: np.ndarray, params: MiscParameters | None = None) -> np.ndarray:
+    """``min(y^p, 10)`` of the summed paths (round-off below zero taken as zero)."""
+    p = _misc_params(params)
+    return np.minimum(np.maximum(y, 0.0) ** p.exponent, MISC_MAX)
+
+
 @dataclass(frozen=True)
 class SicknessResult:
     """Time histories of the SVC model.
@@ -253,6 +342,8 @@ class SicknessResult:
         [m/s^2].
     sensed_vertical_mps2 : (n, 3) array
         Vertical sensed by the otolith-canal interaction, head axes [m/s^2].
+    misc : (n,) array
+        Predicted MISC rating (0-10) of the accumulation model (:class:`MiscParameters`).
     """
 
     time_s: np.ndarray
@@ -260,11 +351,17 @@ class SicknessResult:
     conflict_mps2: np.ndarray
     subjective_vertical: np.ndarray
     sensed_vertical_mps2: np.ndarray
+    misc: np.ndarray
 
     @property
     def final_msi_percent(self) -> float:
         """MSI at the last sample [%]."""
         return float(self.msi_percent[-1])
+
+    @property
+    def final_misc(self) -> float:
+        """MISC rating at the last sample (0-10)."""
+        return float(self.misc[-1])
 
     @property
     def conflict_magnitude_mps2(self) -> np.ndarray:
@@ -291,7 +388,8 @@ def hill_percent(conflict_magnitude_mps2: np.ndarray | float, params: SvcParamet
     return p.msi_max_percent * x / (1.0 + x)
 
 
-def subjective_vertical_conflict(time_s, gia_mps2, omega_radps, params: SvcParameters | None = None) -> SicknessResult:
+def subjective_vertical_conflict(time_s, gia_mps2, omega_radps, params: SvcParameters | None = None,
+                                 misc_params: MiscParameters | None = None) -> SicknessResult:
     """Run the six-degree-of-freedom SVC model and predict the motion sickness incidence.
 
     The whole record in one piece; :class:`SicknessAccumulator` gives the same numbers for a record fed
@@ -308,6 +406,8 @@ def subjective_vertical_conflict(time_s, gia_mps2, omega_radps, params: SvcParam
         Head angular velocity in head axes [rad/s].
     params : SvcParameters, optional
         Model parameters; defaults to Kamiji et al. (2007).
+    misc_params : MiscParameters, optional
+        The accumulation model's parameters of the MISC rating (default: the group's).
 
     Returns
     -------
@@ -327,7 +427,8 @@ def subjective_vertical_conflict(time_s, gia_mps2, omega_radps, params: SvcParam
     """
     p = _params(params)
     t, f, w, h = _check_inputs(time_s, gia_mps2, omega_radps)
-    model = SicknessAccumulator(h, p, start_s=float(t[0]), keep_trace=False, _interval_name="time_s")
+    model = SicknessAccumulator(h, p, start_s=float(t[0]), keep_trace=False, misc_params=misc_params,
+                                _interval_name="time_s")
     return replace(model._advance(f, w), time_s=t)
 
 
@@ -344,16 +445,25 @@ class SicknessTrace:
     conflict_magnitude_mps2 : (n,) array
         ``|subjective minus sensed vertical|`` [m/s^2], its horizontal components weighted by
         ``horizontal_conflict_gain``: the argument of the Hill function.
+    misc : (n,) array or None
+        Predicted MISC rating (0-10) of the accumulation model; None in a trace read from a run folder written
+        before ehm predicted it.
     """
 
     time_s: np.ndarray
     msi_percent: np.ndarray
     conflict_magnitude_mps2: np.ndarray
+    misc: np.ndarray | None = None
 
     @property
     def final_msi_percent(self) -> float:
         """MSI at the last sample [%]."""
         return float(self.msi_percent[-1])
+
+    @property
+    def final_misc(self) -> float | None:
+        """MISC rating at the last sample (0-10); None without a MISC trace."""
+        return None if self.misc is None else float(self.misc[-1])
 
 
 class SicknessAccumulator:
@@ -373,7 +483,9 @@ class SicknessAccumulator:
     start_s : float
         Time of the first sample [s]; the head is taken to be at rest, every state adapted, there.
     keep_trace : bool
-        Keep the MSI and the conflict magnitude of every sample for :meth:`result`.
+        Keep the MSI, the conflict magnitude and the MISC rating of every sample for :meth:`result`.
+    misc_params : MiscParameters, optional
+        The accumulation model's parameters of the MISC rating (default: the group's).
 
     Raises
     ------
@@ -382,8 +494,9 @@ class SicknessAccumulator:
     """
 
     def __init__(self, dt_s: float, params: SvcParameters | None = None, start_s: float = 0.0,
-                 keep_trace: bool = True, _interval_name: str = "dt_s"):
+                 keep_trace: bool = True, misc_params: MiscParameters | None = None, _interval_name: str = "dt_s"):
         self.params = p = _params(params)
+        self.misc_params = _misc_params(misc_params)
         self._name = _interval_name
         if isinstance(dt_s, bool) or not isinstance(dt_s, (int, float, np.integer, np.floating)) \
                 or not np.isfinite(dt_s) or dt_s <= 0:
@@ -397,16 +510,21 @@ class SicknessAccumulator:
         self._filters = _discrete_filters(p, h)
         self._zi = {k: np.zeros((max(b.size, a.size) - 1, *(() if k == "msi" else (3,))))
                     for k, (b, a) in self._filters.items()}
+        self._misc_filters = misc_filters(self.misc_params, h)
+        self._misc_zi = [np.zeros(max(b.size, a.size) - 1) for b, a in self._misc_filters]
         self._last = None  # the previous piece's last sample: w, u, w_s, w_hat, w_hat_s, g and the 9 states
         self._keep = bool(keep_trace)
         self._msi: list[np.ndarray] = []
         self._conflict: list[np.ndarray] = []
+        self._misc: list[np.ndarray] = []
         #: Samples fed so far.
         self.n_samples = 0
         #: MSI at the latest sample [%] (0 before any sample).
         self.last_msi_percent = 0.0
         #: Largest conflict magnitude so far [m/s^2].
         self.max_conflict_mps2 = 0.0
+        #: MISC rating at the latest sample (0 before any sample).
+        self.last_misc = 0.0
 
     def add(self, gia_mps2, omega_radps) -> SicknessResult:
         """Feed the next samples: gravito-inertial acceleration and angular velocity, (m, 3) each, head axes
@@ -424,10 +542,10 @@ class SicknessAccumulator:
             raise InputError("no samples were added.")
         if not self._keep:
             raise InputError("this SicknessAccumulator keeps no trace (keep_trace=False).")
-        msi, conflict = np.concatenate(self._msi), np.concatenate(self._conflict)
-        self._msi, self._conflict = [msi], [conflict]
+        msi, conflict, misc = (np.concatenate(x) for x in (self._msi, self._conflict, self._misc))
+        self._msi, self._conflict, self._misc = [msi], [conflict], [misc]
         return SicknessTrace(time_s=self.start_s + np.arange(self.n_samples) * self.dt_s, msi_percent=msi,
-                             conflict_magnitude_mps2=conflict)
+                             conflict_magnitude_mps2=conflict, misc=misc)
 
     # -- steps of one piece ------------------------------------------------------------------------
 
@@ -487,7 +605,10 @@ class SicknessAccumulator:
         # Round-off of the recursive filter must not turn a zero or a bounded input into a value outside
         # the lag's exact range [0, P].
         msi = np.clip(msi, 0.0, p.msi_max_percent)
+        paths = [signal.lfilter(b, a, magnitude, zi=z) for (b, a), z in zip(self._misc_filters, self._misc_zi)]
+        misc = misc_of_accumulated(paths[0][0] + paths[1][0], self.misc_params)
         # commit
+        self._misc_zi = [path[1] for path in paths]
         self._zi = {**zi, "msi": zi_msi}
         self._last = {"f": f[-1].copy(), "w": w[-1].copy(), "w_s": w_s[-1].copy(), "w_hat": w_hat[-1].copy(),
                       "w_hat_s": w_hat_s[-1].copy(), "u": u[-1].copy(), "x": states[-1].copy()}
@@ -495,11 +616,13 @@ class SicknessAccumulator:
         self.n_samples += m
         self.last_msi_percent = float(msi[-1])
         self.max_conflict_mps2 = max(self.max_conflict_mps2, float(magnitude.max()))
+        self.last_misc = float(misc[-1])
         if self._keep:
             self._msi.append(msi.copy())
             self._conflict.append(magnitude.copy())
+            self._misc.append(misc.copy())
         return SicknessResult(time_s=t, msi_percent=msi, conflict_mps2=conflict, subjective_vertical=vh,
-                              sensed_vertical_mps2=vs)
+                              sensed_vertical_mps2=vs, misc=misc)
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -599,7 +722,8 @@ def _steady(b: np.ndarray, a: np.ndarray, first: np.ndarray) -> np.ndarray:
 
 def _empty_result() -> SicknessResult:
     z1, z3 = np.zeros(0), np.zeros((0, 3))
-    return SicknessResult(time_s=z1, msi_percent=z1, conflict_mps2=z3, subjective_vertical=z3, sensed_vertical_mps2=z3)
+    return SicknessResult(time_s=z1, msi_percent=z1, conflict_mps2=z3, subjective_vertical=z3, sensed_vertical_mps2=z3,
+                          misc=z1)
 
 
 def _skew(v):
@@ -687,3 +811,177 @@ def _vertical_states(p: SvcParameters, f, u, w_s, w_hat, w_hat_s, h, x0):
             x = step[j] @ x + shift[j]
             out[start + j + 1] = x
     return out
+
+
+# ----------------------------------------------------------------------------------------------------
+# a person's MISC parameters: the fit and its file
+
+#: What ``fit_misc`` frees: the individual accumulation model's two parameters (Kotian, Pool and Happee 2025).
+FITTED = ("fast_gain", "fast_time_constant_s")
+_FIT_BOUNDS = ((1e-6, 1.0), (1e9, 1e5))  #: (lower, upper) of (K1 [(m/s^2)^-1], T1 [s]) in the search
+SICKNESS_PARAMS_KIND = "ehm sickness parameters"
+
+
+@dataclass(frozen=True)
+class MiscFit:
+    """One person's MISC parameters fitted to their ratings (:func:`fit_misc`).
+
+    Attributes
+    ----------
+    params : MiscParameters
+        The person's parameters: ``fast_gain`` (K1) and ``fast_time_constant_s`` (T1) fitted, the rest as given.
+    std : dict
+        Standard error of each fitted parameter (name -> value in its unit), from the residuals and the
+        Jacobian at the optimum (linearised, ``s^2 (J^T J)^-1``).
+    rms_misc : float
+        Root mean square of rating minus model at the rating times [MISC].
+    rms_misc_group : float
+        The same for the group's (the starting) parameters.
+    n_ratings : int
+        Ratings used.
+    time_s, misc_rated, misc_model : (n,) arrays
+        The ratings and the fitted model at their times.
+    """
+
+    params: MiscParameters
+    std: dict
+    rms_misc: float
+    rms_misc_group: float
+    n_ratings: int
+    time_s: np.ndarray
+    misc_rated: np.ndarray
+    misc_model: np.ndarray
+
+    def interval(self, name: str, k: float = 2.0) -> tuple[float, float]:
+        """``value -/+ k std`` of a fitted parameter (k = 2: about 95 %)."""
+        value = getattr(self.params, name)
+        return value - k * self.std[name], value + k * self.std[name]
+
+
+def fit_misc(conflict_time_s, conflict_magnitude_mps2, rating_time_s, rating_misc,
+             params: MiscParameters | None = None) -> MiscFit:
+    """Fit a person's K1 (``fast_gain``) and T1 (``fast_time_constant_s``) to their MISC ratings.
+
+    The conflict magnitude is the SVC model's over a drive (uniformly sampled from the drive's start, when the
+    person was well: MISC 0); the ratings are the person's MISC at their times within that span.  The model's MISC
+    is linearly interpolated at the rating times; the two parameters are searched in log space
+    (``scipy.optimize.least_squares``), the others kept at ``params`` (default the group's).
+
+    Raises
+    ------
+    InputError
+        Fewer than 3 ratings, ratings outside 0-10 or the conflict's time span, or a fit that cannot be made.
+    """
+    from scipy.optimize import least_squares
+
+    p0 = _misc_params(params)
+    t = np.asarray(conflict_time_s, dtype=float)
+    c = np.asarray(conflict_magnitude_mps2, dtype=float)
+    tr = np.asarray(rating_time_s, dtype=float)
+    r = np.asarray(rating_misc, dtype=float)
+    if t.ndim != 1 or t.size < 2 or c.shape != t.shape or not np.all(np.isfinite(c)):
+        raise InputError("fit_misc: give the conflict as two 1-D arrays of equal length (at least 2 samples), "
+                         "time_s and |conflict| [m/s^2], finite.")
+    if tr.ndim != 1 or tr.shape != r.shape:
+        raise InputError("fit_misc: give the ratings as two 1-D arrays of equal length, their times and MISC values.")
+    if tr.size < 3:
+        raise InputError(f"fit_misc: {tr.size} rating(s); two parameters need at least 3 ratings.")
+    if np.any(tr < t[0] - 1e-9) or np.any(tr > t[-1] + 1e-9):
+        k = int(np.flatnonzero((tr < t[0] - 1e-9) | (tr > t[-1] + 1e-9))[0])
+        raise InputError(f"fit_misc: rating {k} at {tr[k]:g} s lies outside the drive's {t[0]:g}-{t[-1]:g} s.")
+    if np.any((r < 0) | (r > MISC_MAX)):
+        k = int(np.flatnonzero((r < 0) | (r > MISC_MAX))[0])
+        raise InputError(f"fit_misc: rating {k} is MISC {r[k]:g}, outside the scale's 0-10.")
+    dt = float((t[-1] - t[0]) / (t.size - 1))
+
+    def model(theta):
+        q = replace(p0, fast_gain=float(np.exp(theta[0])), fast_time_constant_s=float(np.exp(theta[1])))
+        return np.interp(tr, t, misc_rating(c, dt, q))
+
+    theta0 = np.log([max(p0.fast_gain, 1e-6), p0.fast_time_constant_s])
+    group = model(theta0)
+    # a few starts over the gain: the power law and the 10 cap make the sum of squares flat far from the data
+    best = None
+    lower, upper = np.log(_FIT_BOUNDS[0]), np.log(_FIT_BOUNDS[1])
+    for shift in (0.0, -2.0, 2.0):
+        start = theta0 + np.array([shift, 0.0])
+        sol = least_squares(lambda th: model(th) - r, start, method="trf", x_scale=1.0, bounds=(lower, upper))
+        if best is None or sol.cost < best.cost:
+            best = sol
+    residual = best.fun
+    dof = max(tr.size - 2, 1)
+    s2 = float(residual @ residual) / dof
+    jac = best.jac
+    try:
+        cov_log = s2 * np.linalg.inv(jac.T @ jac)
+    except np.linalg.LinAlgError:
+        raise InputError("fit_misc: the ratings do not determine K1 and T1 (the model does not change at the "
+                         "ratings' times with them); give ratings over the time the person's sickness grew.") from None
+    values = np.exp(best.x)
+    std_log = np.sqrt(np.maximum(np.diag(cov_log), 0.0))
+    fitted = replace(p0, fast_gain=float(values[0]), fast_time_constant_s=float(values[1]))
+    # undetermined: pinned on a search bound (within 1 %), or a standard error beyond the value itself
+    loose = [name for name, x, lo, hi, sd in zip(FITTED, best.x, lower, upper, std_log)
+             if min(x - lo, hi - x) < 0.01 or sd > 1.0]
+    if loose:
+        from ..errors import EhmWarning, warn
+
+        warn(f"fit_misc: the ratings do not determine {' and '.join(loose)} (on the search bound, K1 "
+             f"{_FIT_BOUNDS[0][0]:g}-{_FIT_BOUNDS[1][0]:g} (m/s^2)^-1, T1 {_FIT_BOUNDS[0][1]:g}-{_FIT_BOUNDS[1][1]:g} "
+             "s, or a standard error beyond the value): ratings that grow without levelling off fit a path slower "
+             "than the drive, so the values are not the person's; rate a longer drive, or use the group's.",
+             EhmWarning, stacklevel=2)
+    return MiscFit(params=fitted, std={"fast_gain": float(values[0] * std_log[0]),
+                                       "fast_time_constant_s": float(values[1] * std_log[1])},
+                   rms_misc=float(np.sqrt(np.mean(residual**2))),
+                   rms_misc_group=float(np.sqrt(np.mean((group - r) ** 2))), n_ratings=int(tr.size),
+                   time_s=tr, misc_rated=r, misc_model=residual + r)
+
+
+def sickness_params_text(fit: MiscFit, about: dict) -> str:
+    """The TOML text of a person's parameter file: ``[misc]`` (every value of the accumulation model, what
+    :func:`read_sickness_params` reads), ``[fit]`` (which were fitted, their standard errors, the rms) and
+    ``[about]`` (``about``: where the drive and the ratings came from)."""
+    from dataclasses import asdict
+
+    import tomli_w
+
+    doc = {"about": {"kind": SICKNESS_PARAMS_KIND, **{k: str(v) for k, v in about.items()}},
+           "misc": asdict(fit.params),
+           "fit": {"fitted": list(FITTED), "grade": "fitted to this person's ratings",
+                   "source": "K1 and T1 of the individual accumulation model (Kotian, Pool and Happee 2025); "
+                             "the other values the group's (ehm.standards.sickness.MiscParameters)",
+                   **{f"{k}_std": v for k, v in fit.std.items()},
+                   "rms_misc": fit.rms_misc, "rms_misc_group": fit.rms_misc_group, "n_ratings": fit.n_ratings}}
+    return ("# One person's MISC accumulation model, written by 'ehm fit-sickness'; read by\n"
+            "# 'ehm assess --sickness-params FILE', batch studies and ehm.read_sickness_params.\n" + tomli_w.dumps(doc))
+
+
+@checked
+def read_sickness_params(path: str | Path) -> MiscParameters:
+    """A person's MISC parameters from the file ``ehm fit-sickness`` wrote (``[misc]``; a value left out is the
+    group's).  Anything else is refused in one sentence naming the file and what to do."""
+    import tomllib
+
+    path = Path(path)
+    try:
+        doc = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such sickness parameter file (--sickness-params, sickness_params=); "
+                         "'ehm fit-sickness' writes one.") from None
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise InputError(f"{path}: not a sickness parameter file ehm can read ({type(exc).__name__}: {exc}); "
+                         "'ehm fit-sickness' writes one.") from None
+    misc = doc.get("misc")
+    if not isinstance(misc, dict):
+        raise InputError(f"{path}: no [misc] table of MISC parameters (--sickness-params, sickness_params=); "
+                         "'ehm fit-sickness' writes one.")
+    known = {f.name for f in fields(MiscParameters)}
+    unknown = sorted(set(misc) - known)
+    if unknown:
+        raise InputError(f"{path}: [misc] has no parameter {unknown[0]!r}; it knows {', '.join(sorted(known))}.")
+    try:
+        return MiscParameters(**misc)
+    except InputError as exc:
+        raise InputError(f"{path}: {str(exc).rstrip('.')}; correct it, or write the file again with 'ehm "
+                         "fit-sickness' (--sickness-params, sickness_params=).") from None
