@@ -13,9 +13,12 @@ import ehm
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "_ext"))
 import param_table  # noqa: E402
+import sickness_figures  # noqa: E402
 
 # The model page's parameter table, generated from the file ehm ships (never copied by hand).
 param_table.write(HERE.parent / "src" / "ehm" / "data" / "default_params.toml", HERE / "_generated")
+# The motion-sickness page's figures, drawn from the model as it is (again only when it changed).
+sickness_figures.write(HERE / "_generated", HERE.parent / "src" / "ehm")
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 

@@ -20,9 +20,10 @@ accelerations are in seat axes.
 Memory: every figure is accumulated chunk by chunk (comfort: :class:`ehm.standards.comfort.ComfortAccumulator`;
 sickness: :class:`ehm.standards.sickness.SicknessAccumulator`, the model run along on 20 Hz block means), so the working
 memory is set by the chunk, not by the drive.  What grows with the drive is only what the figures draw: the
-running rms of 15 signals at 10 Hz and the MSI and ``|conflict|`` of the two sickness runs at 20 Hz, about 7 MB
-of numbers per hour of drive (4.4 + 2.3 MB), 10 MB with the overhead of the per-chunk pieces they are gathered
-in (measured with 12 signals: 6 and 9 MB; a 200 Hz log's own time and three channels take 23 MB per hour).
+running rms of 15 signals at 10 Hz and the MSI, ``|conflict|`` and MISC of the two sickness runs at 20 Hz, about
+8 MB of numbers per hour of drive (4.4 + 3.5 MB; the MISC trace added 1.2 MB), more with the overhead of the
+per-chunk pieces they are gathered in (measured before the MISC trace, with 12 signals: 6 and 9 MB; a 200 Hz log's
+own time and three channels take 23 MB per hour).
 """
 
 from __future__ import annotations

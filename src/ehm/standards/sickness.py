@@ -24,6 +24,13 @@ Golding, J.F., Mueller, A.G. and Gresty, M.A. (2001).  A motion sickness maximum
     frequency range of horizontal translational oscillation.  Aviat. Space Environ. Med. 72(3), 188-192.
 Wada, T., Kamiji, N. and Doi, S. (2015).  A mathematical model of motion sickness in 6DOF motion and
     its application to vehicle passengers.  arXiv:1504.05261.
+Irmak, T., Pool, D.M. and Happee, R. (2022).  Amplitude and temporal dynamics of motion sickness.  Front. Syst.
+    Neurosci. 16, 866503.  (Fast and slow time constants 66.2 s and 502 s, output exponent 0.4: the abstract.)
+Kotian, V., Pool, D.M. and Happee, R. (2025).  Personalizing motion sickness models: estimation and statistical
+    modeling of individual-specific parameters.  Front. Syst. Neurosci. 19, 1531795.  (Two individual parameters,
+    K1 and T1, fit individuals about 1.7 times better than the group model.)
+Oman, C.M. (1990).  Motion sickness: a synthesis and evaluation of the sensory conflict theory.  Can. J. Physiol.
+    Pharmacol. 68, 294-303.  (The accumulation of conflict in a fast and a slow path; not read here.)
 Newman, M.C. et al. (2009).  J Neurophysiol 102(4), 2232-2244, Table 4 (canal time constants of the
     observer model, quoted for comparison only).
 
@@ -112,6 +119,14 @@ Where the literature differs
   ``SvcParameters(hill_b_mps2=0.7)`` for the 1998 value.
 * The canal cupula time constant is 7 s with a 190 s adaptation stage in the Kamiji line; other
   observer models use 5.7 s and 80 s (Newman et al. 2009, Table 4).
+
+MISC
+----
+Beside the MSI, the conflict magnitude drives an accumulation model that predicts a rating on the misery scale
+(MISC, 0-10), what experiments record (:class:`MiscParameters`: Oman's fast and slow paths with the group time
+constants and output exponent of Irmak, Pool and Happee 2022, the gain fitted in ehm to Golding et al. 2001).
+:func:`fit_misc` fits one person's K1 and T1 to their ratings (the individual model of Kotian, Pool and Happee
+2025), with standard errors; :func:`read_sickness_params` reads the file ``ehm fit-sickness`` writes.
 
 Numerics
 --------
@@ -472,7 +487,7 @@ class SicknessAccumulator:
     Every filter and state is carried from one piece to the next, so the pieces give the same time
     histories as the whole record in one run (same arithmetic, per sample), in working memory
     proportional to the piece, not to the record.  What grows with the record is only the kept trace
-    (MSI and conflict magnitude, 16 bytes per sample; ``keep_trace=False`` keeps none of it).
+    (MSI, conflict magnitude and MISC, 24 bytes per sample; ``keep_trace=False`` keeps none of it).
 
     Parameters
     ----------
