@@ -9,7 +9,7 @@ and at the pelvis, trunk, head and lumbar spine:
 * motion sickness: the subjective vertical conflict model driven by the head's angular velocity and
   gravito-inertial acceleration (and, for comparison, by the seat's, as if the head were rigidly fixed to
   the seat): the motion sickness incidence (MSI) and, from the same conflict, a predicted MISC rating (0-10) by
-  an accumulation model (:class:`ehm.standards.sickness.MiscParameters`: a group's, or a person's from
+  an accumulation model (:class:`ehm.MiscParameters`: a group's, or a person's from
   :func:`ehm.fit_sickness`);
 * ISO 2631-5 spinal dose (:mod:`ehm.standards.comfort.spine`): the lumbar response's peaks, the daily dose, S_d and R by
   the standard's transfer function from the seat's vertical acceleration, at the drive's own rate.

@@ -41,7 +41,7 @@ def read_ratings(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
 
 
 def rating_rows(path: str | Path) -> tuple[np.ndarray, np.ndarray, list[int]]:
-    """:func:`read_ratings` with the file's line of each rating (for messages)."""
+    """:func:`ehm.read_ratings` with the file's line of each rating (for messages)."""
     path = Path(path)
     try:
         with open(path, newline="", encoding="utf-8-sig") as fh:
@@ -140,7 +140,7 @@ def fit_sickness(drive, ratings, human=None, method: str = "auto", location: str
         The drive the person rated (assessed here), or its assessment (:func:`ehm.assess`,
         :func:`ehm.read_assessment`).
     ratings : path or (time_s, misc)
-        A CSV file with ``time_s,misc`` (:func:`read_ratings`), or the two arrays: seconds from the drive's start
+        A CSV file with ``time_s,misc`` (:func:`ehm.read_ratings`), or the two arrays: seconds from the drive's start
         and MISC 0-10.
     human : Person or SeatedHuman, optional
         Who sat there (for a drive; default the default person).

@@ -123,10 +123,10 @@ Where the literature differs
 MISC
 ----
 Beside the MSI, the conflict magnitude drives an accumulation model that predicts a rating on the misery scale
-(MISC, 0-10), what experiments record (:class:`MiscParameters`: Oman's fast and slow paths with the group time
+(MISC, 0-10), what experiments record (:class:`ehm.MiscParameters`: Oman's fast and slow paths with the group time
 constants and output exponent of Irmak, Pool and Happee 2022, the gain fitted in ehm to Golding et al. 2001).
 :func:`fit_misc` fits one person's K1 and T1 to their ratings (the individual model of Kotian, Pool and Happee
-2025), with standard errors; :func:`read_sickness_params` reads the file ``ehm fit-sickness`` writes.
+2025), with standard errors; :func:`ehm.read_sickness_params` reads the file ``ehm fit-sickness`` writes.
 
 Numerics
 --------
@@ -263,7 +263,7 @@ class MiscParameters:
     ``y = K1 |c| / (T1 s + 1)^2 + K2 |c| / (T2 s + 1)^2``, ``MISC = min(y^p, 10)``: a fast and a slow path (the
     accumulation model of Oman 1990 with the output power law of Irmak et al. 2022), fed the conflict magnitude
     of the SVC model (as in Kotian, Pool and Happee 2025, whose individual model frees K1 and T1 alone).
-    The defaults are a group's (see the attributes); :func:`ehm.analysis.sickness_fit.fit_sickness` gives a
+    The defaults are a group's (see the attributes); :func:`ehm.fit_sickness` gives a
     person's K1 and T1.
 
     Attributes
@@ -327,7 +327,7 @@ def misc_filters(params: MiscParameters | None, dt_s: float) -> tuple:
 
 def misc_rating(conflict_magnitude_mps2, dt_s: float, params: MiscParameters | None = None) -> np.ndarray:
     """The MISC rating (0-10) over time from the conflict magnitude [m/s^2] sampled every ``dt_s`` [s] from rest
-    (the accumulation model of :class:`MiscParameters`)."""
+    (the accumulation model of :class:`ehm.MiscParameters`)."""
     c = np.asarray(conflict_magnitude_mps2, dtype=float)
     p = _misc_params(params)
     y = sum(signal.lfilter(b, a, c) for b, a in misc_filters(p, dt_s))
@@ -358,7 +358,7 @@ class SicknessResult:
     sensed_vertical_mps2 : (n, 3) array
         Vertical sensed by the otolith-canal interaction, head axes [m/s^2].
     misc : (n,) array
-        Predicted MISC rating (0-10) of the accumulation model (:class:`MiscParameters`).
+        Predicted MISC rating (0-10) of the accumulation model (:class:`ehm.MiscParameters`).
     """
 
     time_s: np.ndarray
@@ -955,7 +955,7 @@ def fit_misc(conflict_time_s, conflict_magnitude_mps2, rating_time_s, rating_mis
 
 def sickness_params_text(fit: MiscFit, about: dict) -> str:
     """The TOML text of a person's parameter file: ``[misc]`` (every value of the accumulation model, what
-    :func:`read_sickness_params` reads), ``[fit]`` (which were fitted, their standard errors, the rms) and
+    :func:`ehm.read_sickness_params` reads), ``[fit]`` (which were fitted, their standard errors, the rms) and
     ``[about]`` (``about``: where the drive and the ratings came from)."""
     from dataclasses import asdict
 
