@@ -29,6 +29,10 @@ SUPPORTS = ("none", "low", "high", "full")
 FREQ_HZ, RMS_MPS2 = 0.25, 0.7
 
 
+def rms(x: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(x**2)))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--minutes", type=float, default=30.0)
@@ -51,7 +55,6 @@ def main() -> None:
             head = run.point("head")
             late = run.time_s >= 20.0
             gia_x = head.gia_mps2[late, 0] - head.gia_mps2[late, 0].mean()
-            rms = (lambda x: float(np.sqrt(np.mean(x**2))))
             h, s = a.sickness["head"], a.sickness["seat"]
             print(f"| {posture} | {support} | {h.final_msi_percent:.2f} | {s.final_msi_percent:.2f} | "
                   f"{h.final_misc:.2f} | {s.final_misc:.2f} | {rms(gia_x):.3f} | {rms(head.acc_mps2[late, 0]):.3f} | "
