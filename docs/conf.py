@@ -13,6 +13,7 @@ import ehm
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "_ext"))
 import param_table  # noqa: E402
+import sickness_figures  # noqa: E402
 import validation_table  # noqa: E402
 
 os.environ.setdefault("MPLBACKEND", "Agg")
@@ -21,6 +22,8 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 param_table.write(HERE.parent / "src" / "ehm" / "data" / "default_params.toml", HERE / "_generated")
 # The validation page's table and grid of every posture and back support, computed by this version of ehm.
 validation_table.write(HERE / "_generated")
+# The motion-sickness page's figures, drawn from the model as it is (again only when it changed).
+sickness_figures.write(HERE / "_generated", HERE.parent / "src" / "ehm")
 
 project = "ehm"
 author = "the ehm authors"

@@ -396,3 +396,26 @@ def test_sigterm_to_ehm_alone_ends_a_batch_with_its_cluster(tmp_path, session_pr
     assert "Traceback" not in err
     assert not session(proc.pid)
     assert not [p.name for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+@pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
+def test_a_comfort_study_reads_a_persons_sickness_parameters(tmp_path, capsys):
+    """[input] sickness_params: a person's MISC parameters (the file 'ehm fit-sickness' writes), beside the study
+    file; the runs record the head's MISC, a changed file reruns them, and a bad one is refused before any run."""
+    _drive_file(tmp_path / "drive.csv", 0.5)  # SYNTHETIC
+    (tmp_path / "person.toml").write_text("[misc]\nfast_gain = 100.0\n", encoding="utf-8")
+    study = tmp_path / "study.toml"
+    study.write_text('[study]\ncompute = ["comfort"]\n[input]\ndrive = "drive.csv"\nduration_s = 3.0\n'
+                     'route = "linear"\nsickness_params = "person.toml"\n')
+    out = tmp_path / "res"
+    assert main(["batch", str(study), "--out", str(out), "--workers", "1"]) == 0
+    first = {r["output"]: r["value"] for r in pq.read_table(out / "results.parquet").to_pylist()}
+    assert 0.0 < first["head.misc"] <= 10.0
+    (tmp_path / "person.toml").write_text("[misc]\nfast_gain = 10000.0\n", encoding="utf-8")
+    assert main(["batch", str(study), "--out", str(out), "--workers", "1"]) == 0
+    assert "rerun because an input changed (sickness parameter file content)" in capsys.readouterr().out
+    second = {r["output"]: r["value"] for r in pq.read_table(out / "results.parquet").to_pylist()}
+    assert second["head.misc"] > first["head.misc"]
+    (tmp_path / "person.toml").write_text("[misc]\nspeed = 1.0\n", encoding="utf-8")
+    with pytest.raises(InputError, match=r"person.toml: \[misc\] has no parameter 'speed'"):
+        load_study(study)

@@ -200,6 +200,8 @@ def test_bad_segment_file_one_sentence(tmp_path, capsys, column, value, expected
     (["assess", "--motion", " "], "--motion"),
     (["simulate", "--params", "", "--duration", "1"], "--params"),
     (["frf", "--motion", "", "--method", "time"], "--motion"),
+    (["fit-sickness", "--motion", "road", "--ratings", " "], "--ratings"),
+    (["assess", "--motion", "road", "--sickness-params", ""], "--sickness-params"),
 ])
 def test_an_empty_path_option_is_refused(tmp_path, capsys, argv, option):
     out = tmp_path / "run"

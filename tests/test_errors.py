@@ -591,6 +591,10 @@ def api(human, tmp_path_factory):
         validation = ehm.Validation(checks=(), tables={})
         study = folder / "study"
         study.mkdir()
+        ratings_file = folder / "ratings.csv"  # SYNTHETIC ratings of the 2 s drive
+        ratings_file.write_text("time_s,misc\n0.5,0\n1.0,0\n1.5,1\n", encoding="utf-8")
+        sickness_params = folder / "sickness_params.toml"
+        sickness_params.write_text("[misc]\nfast_gain = 100.0\n", encoding="utf-8")
     rng = np.random.default_rng(0)  # SYNTHETIC signals for h1_estimate and from_imu
     imu_t = np.arange(500) / 100.0
     instances = {"Person": person, "SeatedHuman": human, "RunResult": run, "PointMotion": run.point("head"),
@@ -606,6 +610,8 @@ def api(human, tmp_path_factory):
                          + 0.01 * rng.standard_normal((500, 3))),
         "city_drive": dict(duration_s=2.0), "rough_road": dict(duration_s=2.0),
         "assess": dict(motion=drive, human=human),
+        "fit_sickness": dict(drive=assessment, ratings=ratings_file), "read_ratings": dict(path=ratings_file),
+        "read_sickness_params": dict(path=sickness_params), "MiscParameters": {},
         "linear_frf": dict(human=human, axis="z", freq_hz=[1.0, 2.0]),
         "time_domain_frf": dict(human=human, axis="z", duration_s=2.0, segment_s=1.0, route="linear"),
         "read_frf": dict(path="frf.csv"), "compare": dict(measured=frf, model=frf, warn=False),

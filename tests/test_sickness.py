@@ -11,12 +11,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ehm.errors import InputError
+from ehm.errors import EhmWarning, InputError
 from ehm.standards.sickness import (
+    MiscParameters,
     SicknessAccumulator,
     SicknessResult,
     SvcParameters,
+    fit_misc,
     hill_percent,
+    misc_rating,
+    read_sickness_params,
+    sickness_params_text,
     subjective_vertical_conflict,
 )
 
@@ -76,14 +81,15 @@ def test_rotation_about_the_earth_vertical_gives_no_conflict():
 # --- frequency dependence -------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("axis", [2, 1], ids=["vertical", "lateral"])
-def test_0p2_hz_is_more_sickening_than_1_hz_at_equal_acceleration(axis):
+@pytest.mark.parametrize(("axis", "factor"), [(2, 10.0), (1, 3.0)], ids=["vertical", "lateral"])
+def test_0p2_hz_is_more_sickening_than_1_hz_at_equal_acceleration(axis, factor):
     # Bos and Bles (1998) reproduce O'Hanlon and McCauley's finding that, at equal acceleration
-    # amplitude, sickness peaks near 0.2 Hz and falls off steeply towards 1 Hz.  30 min exposure.
+    # amplitude, vertical sickness peaks near 0.2 Hz and falls off steeply towards 1 Hz.  The horizontal
+    # axes (the UNIPG model's broader band) fall off too, less steeply.  30 min exposure.
     low = subjective_vertical_conflict(*_translation(1800.0, 0.2, axis)).final_msi_percent
     high = subjective_vertical_conflict(*_translation(1800.0, 1.0, axis)).final_msi_percent
-    assert low > 10.0 * high, (low, high)
     assert high > 0.0
+    assert low > factor * high, (low, high)
 
 
 def test_sickness_peaks_near_0p2_hz():
@@ -92,6 +98,53 @@ def test_sickness_peaks_near_0p2_hz():
     freqs = [0.05, 0.1, 0.2, 0.4, 0.8]
     msi = [subjective_vertical_conflict(*_translation(1800.0, f, axis=2)).final_msi_percent for f in freqs]
     assert freqs[int(np.argmax(msi))] == 0.2, dict(zip(freqs, msi))
+
+
+def _minutes_to(level_percent: float, result: SicknessResult) -> float:
+    """Minutes until the MSI first reaches ``level_percent`` (inf if it never does)."""
+    reached = np.flatnonzero(result.msi_percent >= level_percent)
+    return float(result.time_s[reached[0]] / 60.0) if reached.size else np.inf
+
+
+@pytest.mark.parametrize("axis", [0, 1], ids=["fore-aft", "lateral"])
+def test_horizontal_frequency_dependence_as_golding_measured(axis):
+    # Golding, Mueller and Gresty (2001), fore-aft at 1.0 m/s^2 peak: moderate nausea after a mean 18.0 / 11.2
+    # / 20.2 min at 0.1 / 0.2 / 0.4 Hz, about 1.6-1.8 times as long at 0.1 and 0.4 Hz as at 0.2 Hz.  The
+    # check of issue 37: the level 0.2 Hz reaches after 11 min is reached within 30 min at 0.1 and 0.4 Hz,
+    # after 1.3-2.5 times as long, and 0.2 Hz stays the most provocative; Griffin and Mills (2002) found
+    # lateral and fore-aft alike, so the same holds laterally.
+    runs = {f: subjective_vertical_conflict(*_translation(1800.0, f, axis)) for f in (0.1, 0.2, 0.4)}
+    level = float(np.interp(660.0, runs[0.2].time_s, runs[0.2].msi_percent))
+    minutes = {f: _minutes_to(level, r) for f, r in runs.items()}
+    assert minutes[0.2] == pytest.approx(11.0, abs=DT / 60)
+    for f in (0.1, 0.4):
+        assert 1.3 <= minutes[f] / minutes[0.2] <= 2.5, minutes
+        assert runs[f].final_msi_percent < runs[0.2].final_msi_percent
+
+
+def test_vertical_behaviour_is_the_isotropic_models():
+    # The horizontal parameters act on x and y alone: vertical oscillation gives what the model gave when
+    # every axis had the vertical's time constant and gain (the published, McCauley-based behaviour).
+    isotropic = SvcParameters(horizontal_time_constant_s=SvcParameters().vertical_time_constant_s,
+                              k_vc_horizontal_per_s=SvcParameters().k_vc_per_s)
+    for f in (0.1, 0.2, 0.5):
+        motion = _translation(1800.0, f, axis=2)
+        np.testing.assert_allclose(subjective_vertical_conflict(*motion).msi_percent,
+                                   subjective_vertical_conflict(*motion, params=isotropic).msi_percent,
+                                   rtol=1e-12, atol=1e-12)
+
+
+def test_horizontal_parameters_set_the_horizontal_band():
+    # The conflict of a horizontal axis is the band-pass of the module docstring with that axis's time constant
+    # and gain: its steady amplitude at 0.1 Hz matches the formula (hand computation) for the horizontal values.
+    p = SvcParameters()
+    f, amp = 0.1, 1.0
+    w = 2 * np.pi * f
+    c = 1.0 / (1.0 + p.k_ac)
+    expected = (1 - p.k_a) * c * w / abs(p.k_vc_horizontal_per_s * c - p.horizontal_time_constant_s * w**2 + 1j * w)
+    res = subjective_vertical_conflict(*_translation(600.0, f, axis=0, amp_mps2=amp))
+    steady = res.conflict_mps2[res.time_s > 300.0, 0]
+    assert np.max(np.abs(steady)) == pytest.approx(expected * amp, rel=0.01)
 
 
 # --- time course ------------------------------------------------------------------------------------
@@ -301,3 +354,129 @@ def test_bad_parameters_raise_input_error():
         SvcParameters(msi_max_percent=120.0)
     with pytest.raises(InputError, match="tau|time_constant"):
         SvcParameters(msi_time_constant_s=float("nan"))
+
+
+# --- MISC: the accumulation model ----------------------------------------------------------------------
+
+
+def test_misc_of_a_constant_conflict_follows_the_two_lags_by_hand():
+    # The accumulation model by hand: a conflict that steps to c at t = 0 gives y(t) = sum K c (1 - e^(-t/T)(1 + t/T))
+    # (the step response of 1/(T s + 1)^2) and MISC = min(y^p, 10).
+    p = MiscParameters(fast_gain=2.0, fast_time_constant_s=50.0, slow_gain=1.0, slow_time_constant_s=400.0,
+                       exponent=0.5)
+    dt, c = 0.5, 3.0
+    t = np.arange(0.0, 8000.0, dt)
+    misc = misc_rating(np.full(t.size, c), dt, p)
+
+    # the discretisation takes the step as a ramp over the sample before t = 0: half a sample earlier
+    te = t + dt / 2
+
+    def step(tau):
+        return 1 - np.exp(-te / tau) * (1 + te / tau)
+
+    y = 2.0 * c * step(50.0) + 1.0 * c * step(400.0)
+    late = t > 10.0
+    np.testing.assert_allclose(misc[late], np.minimum(y**0.5, 10.0)[late], rtol=5e-4)
+    assert misc[-1] == pytest.approx(np.sqrt(9.0), rel=1e-3)  # steady: (K1 + K2) c = 9
+
+
+def test_misc_is_capped_at_10_and_grows_with_the_gain():
+    t = _time(1200.0)
+    res = subjective_vertical_conflict(*_translation(1200.0, 0.2, axis=0))
+    c = res.conflict_magnitude_mps2
+    low, high = (misc_rating(c, DT, MiscParameters(fast_gain=k, slow_gain=k)) for k in (50.0, 5e5))
+    assert np.all(low <= high) and np.all(np.diff(low)[t[1:] > 10.0] > -1e-6)  # grows under steady motion
+    assert high.max() == 10.0 and low.max() < 10.0
+    np.testing.assert_allclose(res.misc, misc_rating(c, DT))  # the run carries the group's MISC
+
+
+def test_misc_in_pieces_equals_the_whole_run():
+    t, gia, w = _translation(600.0, 0.3, axis=1)
+    whole = subjective_vertical_conflict(t, gia, w)
+    acc = SicknessAccumulator(DT)
+    for i in range(0, t.size, 777):
+        acc.add(gia[i:i + 777], w[i:i + 777])
+    np.testing.assert_allclose(acc.result().misc, whole.misc, rtol=1e-10, atol=1e-10)
+    assert acc.last_misc == pytest.approx(whole.final_misc)
+
+
+def test_misc_parameters_are_checked():
+    with pytest.raises(InputError, match="MiscParameters.fast_time_constant_s must be positive"):
+        MiscParameters(fast_time_constant_s=0.0)
+    with pytest.raises(InputError, match="MiscParameters.slow_gain must not be negative"):
+        MiscParameters(slow_gain=-1.0)
+    with pytest.raises(InputError, match="misc_params must be a MiscParameters"):
+        SicknessAccumulator(DT, misc_params={"fast_gain": 1.0})
+
+
+# --- a person's K1 and T1 ---------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def foreaft_half_hour() -> SicknessResult:
+    return subjective_vertical_conflict(*_translation(1800.0, 0.2, axis=0))
+
+
+@pytest.mark.parametrize(("k1", "t1"), [(120.0, 150.0), (600.0, 40.0)])
+def test_fit_recovers_synthetic_k1_and_t1_within_their_stated_uncertainty(foreaft_half_hour, k1, t1):
+    # SYNTHETIC ratings: the model's MISC of a known person once a minute, with rating noise (0.3 MISC), rounded to
+    # whole numbers as people rate, 30 sets; the fit gives K1 and T1 back within 2 stated standard errors in at
+    # least 80 % of them (measured: 87-97 %), with standard errors well below the values.  The conflict at 0.5 s
+    # (block means) keeps the 60 fits short.
+    r = foreaft_half_hour
+    k = 10
+    n = r.time_s.size // k
+    t, c = r.time_s[::k][:n], r.conflict_magnitude_mps2[: n * k].reshape(-1, k).mean(1)
+    true = MiscParameters(fast_gain=k1, fast_time_constant_s=t1)
+    times = np.arange(60.0, 1740.0, 60.0)
+    exact = np.interp(times, t, misc_rating(c, k * DT, true))
+    inside, last = [], None
+    for seed in range(30):
+        noise = 0.3 * np.random.default_rng(seed).standard_normal(times.size)
+        last = fit_misc(t, c, times, np.clip(np.round(exact + noise), 0, 10))
+        inside.append([lo <= value <= hi for lo, hi, value in ((*last.interval("fast_gain"), k1),
+                                                               (*last.interval("fast_time_constant_s"), t1))])
+        assert last.std["fast_gain"] < 0.5 * k1 and last.std["fast_time_constant_s"] < 0.5 * t1
+    assert np.mean(inside, axis=0).min() >= 0.8, np.mean(inside, axis=0)
+    assert last.rms_misc < last.rms_misc_group
+    assert last.params.slow_gain == MiscParameters().slow_gain  # the rest the group's
+
+
+def test_fit_refuses_ratings_it_cannot_use(foreaft_half_hour):
+    r = foreaft_half_hour
+    t, c = r.time_s, r.conflict_magnitude_mps2
+    with pytest.raises(InputError, match="rating 1 at 2000 s lies outside the drive's 0-1800 s"):
+        fit_misc(t, c, [60.0, 2000.0, 2100.0], [1.0, 2.0, 3.0])
+    with pytest.raises(InputError, match="rating 2 is MISC 11, outside the scale's 0-10"):
+        fit_misc(t, c, [60.0, 120.0, 180.0], [1.0, 2.0, 11.0])
+    with pytest.raises(InputError, match="2 rating.*at least 3"):
+        fit_misc(t, c, [60.0, 120.0], [1.0, 2.0])
+
+
+def test_a_fit_the_ratings_do_not_determine_says_so(foreaft_half_hour):
+    # SYNTHETIC ratings that climb straight for half an hour: a fast path slower than the drive fits them best.
+    r = foreaft_half_hour
+    times = np.arange(60.0, 1800.0, 60.0)
+    with pytest.warns(EhmWarning, match="do not determine fast_gain and fast_time_constant_s.*not the person's"):
+        fit_misc(r.time_s, r.conflict_magnitude_mps2, times, times / 200.0)
+
+
+def test_sickness_params_file_round_trip(foreaft_half_hour, tmp_path):
+    r = foreaft_half_hour
+    times = np.arange(60.0, 1800.0, 60.0)
+    rated = np.interp(times, r.time_s, misc_rating(r.conflict_magnitude_mps2, DT, MiscParameters(fast_gain=120.0)))
+    fit = fit_misc(r.time_s, r.conflict_magnitude_mps2, times, rated)
+    path = tmp_path / "p.toml"
+    path.write_text(sickness_params_text(fit, {"drive": "SYNTHETIC"}), encoding="utf-8")
+    assert read_sickness_params(path) == fit.params
+    path.write_text("[misc]\nfast_gain = 10.0\nspeed = 3\n", encoding="utf-8")
+    with pytest.raises(InputError, match=r"p.toml: \[misc\] has no parameter 'speed'"):
+        read_sickness_params(path)
+    path.write_text("[misc]\nfast_gain = -10.0\n", encoding="utf-8")
+    with pytest.raises(InputError, match=r"p.toml: MiscParameters.fast_gain must not be negative, got -10.0; correct"):
+        read_sickness_params(path)
+    path.write_text("[other]\n", encoding="utf-8")
+    with pytest.raises(InputError, match=r"p.toml: no \[misc\] table"):
+        read_sickness_params(path)
+    with pytest.raises(InputError, match="no such sickness parameter file"):
+        read_sickness_params(tmp_path / "none.toml")

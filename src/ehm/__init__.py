@@ -21,6 +21,8 @@ from_imu           the seat's motion from an IMU log (specific force and gyro ra
 city_drive, rough_road    SYNTHETIC drives
 assess, Assessment       ISO 2631-1 comfort, ISO 2631-5 spinal dose and motion sickness of a drive, seat and body
 read_assessment    an ``ehm assess`` run folder back as an Assessment (or a DataFrame, ``as_frame=True``)
+fit_sickness, read_ratings    one person's MISC parameters (K1, T1) fitted to their ratings of a drive
+MiscParameters, read_sickness_params    the MISC accumulation model's parameters: the group's, or a person's file
 FrfTable, linear_frf, time_domain_frf, read_frf    transmissibility and apparent mass tables
 compare            the paper's criterion (Eqs. 2-3) of measured against model curves
 check_step, StepWarning    transfer functions at a time step against the same model at finer steps
@@ -48,7 +50,7 @@ ehm.standards.comfort  ISO 2631-1 weightings (any sampling rate) and metrics; IS
 ehm.standards.references  reference curves, bands and the paper's findings, with their sources
 ehm.analysis.validation  the person against them: validate, band_checks, locking_checks
 ehm.standards.sickness  subjective vertical conflict motion sickness model (whole record, or piece by piece:
-                   SicknessAccumulator)
+                   SicknessAccumulator), MSI and a predicted MISC rating
 ehm.routes.linear         the linearised person as a state-space model (the linear route)
 ehm.analysis.convergence  is the time step small enough? (``ehm check-step``)
 ehm.interfaces.batch  batch studies on Dask; ehm.interfaces.fmu FMI export; ehm.outputs.animation pictures;
@@ -70,6 +72,7 @@ from .analysis.assessment import Assessment, assess, read_assessment
 from .analysis.convergence import StepWarning, check_step
 from .analysis.criterion import compare
 from .analysis.frf import FrfTable, linear_frf, read_frf, time_domain_frf
+from .analysis.sickness_fit import fit_sickness, read_ratings
 from .analysis.stepping import Simulator, StepState
 from .analysis.validation import Validation, validate
 from .body.level import at_level
@@ -85,13 +88,15 @@ from .person.scaling import BodySize
 from .routes.linear import LinearRouteError
 from .routes.parallel import simulate_parallel
 from .simulation import PointMotion, RunResult, SeatedHuman
+from .standards.sickness import MiscParameters, read_sickness_params
 from .standards.transfer import Curve, h1_estimate
 
 __all__ = [
     "DivergenceError", "EhmError", "EhmWarning", "InputError",
     "Person", "SeatedHuman", "RunResult", "PointMotion", "simulate_parallel", "Simulator", "StepState",
     "SeatMotion", "random_vibration", "sine", "sweep", "read_motion", "load_motion_csv", "from_imu",
-    "city_drive", "rough_road", "assess", "Assessment", "read_assessment",
+    "city_drive", "rough_road", "assess", "Assessment", "read_assessment", "fit_sickness", "read_ratings",
+    "read_sickness_params", "MiscParameters",
     "FrfTable", "linear_frf", "time_domain_frf", "read_frf", "compare",
     "Parameters", "at_level", "BodySize", "load_body", "Curve", "h1_estimate", "check_step", "StepWarning",
     "LinearRouteError", "validate", "Validation", "__version__",

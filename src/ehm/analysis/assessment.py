@@ -8,7 +8,9 @@ and at the pelvis, trunk, head and lumbar spine:
   comfort reaction, MSDV (Wf, vertical), the SEAT value (body over seat), weighted spectra and running rms;
 * motion sickness: the subjective vertical conflict model driven by the head's angular velocity and
   gravito-inertial acceleration (and, for comparison, by the seat's, as if the head were rigidly fixed to
-  the seat);
+  the seat): the motion sickness incidence (MSI) and, from the same conflict, a predicted MISC rating (0-10) by
+  an accumulation model (:class:`ehm.MiscParameters`: a group's, or a person's from
+  :func:`ehm.fit_sickness`);
 * ISO 2631-5 spinal dose (:mod:`ehm.standards.comfort.spine`): the lumbar response's peaks, the daily dose, S_d and R by
   the standard's transfer function from the seat's vertical acceleration, at the drive's own rate.
 
@@ -18,9 +20,10 @@ accelerations are in seat axes.
 Memory: every figure is accumulated chunk by chunk (comfort: :class:`ehm.standards.comfort.ComfortAccumulator`;
 sickness: :class:`ehm.standards.sickness.SicknessAccumulator`, the model run along on 20 Hz block means), so the working
 memory is set by the chunk, not by the drive.  What grows with the drive is only what the figures draw: the
-running rms of 15 signals at 10 Hz and the MSI and ``|conflict|`` of the two sickness runs at 20 Hz, about 7 MB
-of numbers per hour of drive (4.4 + 2.3 MB), 10 MB with the overhead of the per-chunk pieces they are gathered
-in (measured with 12 signals: 6 and 9 MB; a 200 Hz log's own time and three channels take 23 MB per hour).
+running rms of 15 signals at 10 Hz and the MSI, ``|conflict|`` and MISC of the two sickness runs at 20 Hz, about
+8 MB of numbers per hour of drive (4.4 + 3.5 MB; the MISC trace added 1.2 MB), more with the overhead of the
+per-chunk pieces they are gathered in (measured before the MISC trace, with 12 signals: 6 and 9 MB; a 200 Hz log's
+own time and three channels take 23 MB per hour).
 """
 
 from __future__ import annotations
@@ -44,7 +47,7 @@ from ..standards.comfort import (
     comfort_reaction,
 )
 from ..standards.comfort.spine import SpinalDoseAccumulator, SpineExposure, iso2631_5_summary, spinal_dose
-from ..standards.sickness import SicknessAccumulator
+from ..standards.sickness import MiscParameters, SicknessAccumulator
 
 LOCATIONS = ("seat", "pelvis", "trunk", "head", "lumbar")
 AXIS_WEIGHTING = {"x": "Wd", "y": "Wd", "z": "Wk"}  #: ISO 2631-1 seated, comfort/health axes
@@ -127,7 +130,7 @@ class Assessment:
     wall_s: float
     metrics: dict                    # location -> axis -> ComfortMetrics
     spectra: dict                    # location -> axis -> (freq_hz, psd (m/s^2)^2/Hz) of the weighted signal
-    sickness: dict                   # "head" / "seat" -> SicknessTrace (MSI and |conflict| at 20 Hz)
+    sickness: dict                   # "head" / "seat" -> SicknessTrace (MSI, |conflict| and MISC at 20 Hz)
     trace_time_s: np.ndarray         # for the running rms traces
     max_displacement_m: dict = field(default_factory=dict)  # point -> (3,) largest |displacement|
     final_displacement_m: dict = field(default_factory=dict)
@@ -138,6 +141,7 @@ class Assessment:
     handling: tuple = ()  # the handled stretches read_motion left out of the drive (ehm.SeatMotion.handling)
     #: the vibration level the person ran at (ehm.routes.built.BuiltPerson.level_record: rms_mps2, origin, line)
     vibration_level: dict | None = None
+    misc_params: dict | None = None  # the MISC accumulation model's parameters and whose they are (misc_summary)
 
     def total_value(self, location: str) -> float:
         """Vibration total value a_v = sqrt(a_wx^2 + a_wy^2 + a_wz^2), k = 1 (comfort) [m/s^2]."""
@@ -174,8 +178,12 @@ class Assessment:
                 **({"seat_value_total_pct": 100 * a_v / seat_av if seat_av > 0 else None} if loc != "seat" else {}),
             }
         out["sickness"] = {k: {"final_msi_percent": r.final_msi_percent,
-                               "max_conflict_mps2": float(np.max(r.conflict_magnitude_mps2))}
+                               "max_conflict_mps2": float(np.max(r.conflict_magnitude_mps2)),
+                               **({} if r.misc is None else {"final_misc": r.final_misc,
+                                                             "max_misc": float(np.max(r.misc))})}
                            for k, r in self.sickness.items()}
+        if self.misc_params:
+            out["sickness_misc_params"] = self.misc_params
         out["body_displacement_max_m"] = {k: v.tolist() for k, v in self.max_displacement_m.items()}
         out["body_displacement_final_m"] = {k: v.tolist() for k, v in self.final_displacement_m.items()}
         if self.iso2631_5:
@@ -193,10 +201,11 @@ class Assessment:
         (``x``, ``y``, ``z``, or ``xyz`` for the total value and the sickness model), ``metric`` (``a_w``, ``mtvv``,
         ``vdv``, ``crest_factor``, ``mtvv_ratio``, ``vdv_ratio``, ``seat_value``; ``total_value``, ``msdv``,
         ``displacement_max``; the sickness model driven by the head and by the seat: ``msi_final``,
-        ``conflict_max``; and ISO 2631-5 at ``seat`` z by the standard's route and at ``lumbar`` z by the body model's
-        lumbar point: ``iso2631_5_peak_max``, ``iso2631_5_dz``, ``iso2631_5_dzd``, ``iso2631_5_sd``,
-        ``iso2631_5_r``, ``iso2631_5_p``), ``value`` and ``unit`` (``m/s^2``, ``m/s^1.75``, ``m/s^1.5``, ``m``,
-        ``%``, ``MPa``, ``1``);
+        ``conflict_max``, ``misc_final`` (the predicted MISC rating at the end, 0-10, unit ``MISC``); and ISO
+        2631-5 at ``seat`` z by the standard's route and at ``lumbar`` z by the body model's lumbar point:
+        ``iso2631_5_peak_max``, ``iso2631_5_dz``, ``iso2631_5_dzd``, ``iso2631_5_sd``, ``iso2631_5_r``,
+        ``iso2631_5_p``), ``value`` and ``unit`` (``m/s^2``, ``m/s^1.75``, ``m/s^1.5``, ``m``, ``%``, ``MPa``,
+        ``1``, ``MISC``);
         an undefined figure (the crest factor of an axis without motion) is NaN.  The drive's description, route
         and duration are in ``DataFrame.attrs``."""
         from ..outputs.dataframes import frame
@@ -229,7 +238,9 @@ class Assessment:
         facts = {"input": self.description, "route": self._attrs()["route"],
                  "duration": f"{self.duration_s:g} s, assessed in {self.wall_s:.3g} s",
                  "motion sickness (MSI at the end)": ", ".join(f"{k} {v['final_msi_percent']:.4g} %"
-                                                               for k, v in sick.items())}
+                                                               for k, v in sick.items()),
+                 "predicted MISC at the end (0-10)": ", ".join(f"{k} {v['final_misc']:.3g}" for k, v in sick.items()
+                                                              if "final_misc" in v)}
         for route, label in (("standard_route", "the standard's route"), ("model_route", "the model's lumbar point")):
             v = (self.iso2631_5 or {}).get(route)
             if v:
@@ -261,6 +272,8 @@ def _summary_rows(summary: dict) -> list:
     for by, v in summary["sickness"].items():
         rows += [(by, "xyz", "msi_final", v["final_msi_percent"], "%"),
                  (by, "xyz", "conflict_max", v["max_conflict_mps2"], "m/s^2")]
+        if "final_misc" in v:
+            rows.append((by, "xyz", "misc_final", v["final_misc"], "MISC"))
     spine = summary.get("iso2631_5") or {}
     for loc, route in (("seat", "standard_route"), ("lumbar", "model_route")):  # the standard's, the model's
         if spine.get(route):
@@ -302,14 +315,16 @@ class _Running:
     partial: dict = field(default_factory=dict)  # sickness input -> the samples of its unfinished block
 
     @classmethod
-    def start(cls, fs: float, keep: int, nper: int, k_sick: int, dt: float) -> _Running:
+    def start(cls, fs: float, keep: int, nper: int, k_sick: int, dt: float,
+              misc_params: MiscParameters | None = None) -> _Running:
         from ..outputs.results import POINT_NAMES
 
         return cls(comfort={loc: {a: ComfortAccumulator(AXIS_WEIGHTING[a], fs, keep_every=keep) for a in "xyz"}
                             for loc in LOCATIONS},
                    spectra={loc: {a: _Spectrum(fs, nper) for a in "xyz"} for loc in LOCATIONS},
                    # the sickness model runs along, piece by piece, on 20 Hz block means of the chunks
-                   sickness={key: SicknessAccumulator(k_sick * dt) for key in ("head", "seat")},
+                   sickness={key: SicknessAccumulator(k_sick * dt, misc_params=misc_params)
+                             for key in ("head", "seat")},
                    spine=SpinalDoseAccumulator(fs, lumbar=True), k_sick=k_sick,
                    max_disp={p: np.zeros(3) for p in POINT_NAMES})
 
@@ -383,7 +398,8 @@ def needs_rotating_seat(motion: SeatMotion, method: str) -> bool:
 @checked
 def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress: Callable | None = None,
            method: str = "auto", tolerance: float | None = None, workers: int = 1, client=None,
-           lead_in_s: float | None = None, exposure: SpineExposure | None = None) -> Assessment:
+           lead_in_s: float | None = None, exposure: SpineExposure | None = None,
+           sickness_params: MiscParameters | None = None) -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
 
     Parameters
@@ -418,6 +434,9 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress: Call
     exposure : SpineExposure, optional
         The daily exposure and the person of the ISO 2631-5 dose (default ``SpineExposure()``: 8 h a day, the
         standard's Annex C example's man).
+    sickness_params : MiscParameters, optional
+        The MISC accumulation model's parameters: a person's (:func:`ehm.fit_sickness`, or
+        :func:`ehm.read_sickness_params` of its file); default the group's.
     """
     from ..simulation import SeatedHuman
 
@@ -438,7 +457,7 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress: Call
     chunk_s = max(1, round(chunk_s * fs / k_sick)) * k_sick * dt
     # Welch segments of about 4 s (0.25 Hz resolution), at most half the drive
     nper = int(2 ** np.floor(np.log2(min(4 * fs, motion.duration_s * fs / 2))))
-    running = _Running.start(fs, keep, nper, k_sick, dt)
+    running = _Running.start(fs, keep, nper, k_sick, dt, sickness_params)
     band = motion.covered_band_hz(fs)
     shares = band_coverage(band)
     for sentence in band_warnings(band, shares):
@@ -459,7 +478,17 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress: Call
                                  route=f"the body model's lumbar point (L4-L5 joint centre), z, at {1 / dt:g} Hz")
     result.iso2631_5 = iso2631_5_summary(standard, model)
     result.handling = tuple(motion.handling)
+    result.misc_params = misc_summary(sickness_params)
     return result
+
+
+def misc_summary(params: MiscParameters | None, whose: str | None = None) -> dict:
+    """``assessment.json``'s ``sickness_misc_params``: the MISC accumulation model's values and whose they are
+    (``whose``; default ``group`` for the group's values, ``given`` for others)."""
+    from dataclasses import asdict
+
+    p = MiscParameters() if params is None else params
+    return {"whose": whose or ("group" if p == MiscParameters() else "given"), **asdict(p)}
 
 
 #: How a handled start or end that read_motion left out is kept instead.
@@ -539,14 +568,37 @@ def write_assessment_arrays(result: Assessment, path) -> None:
         for a, (f, psd) in by_axis.items():
             arrays[f"spectra/{loc}/{a}"] = np.vstack([f, psd]).astype(float)
     for key, trace in result.sickness.items():
-        arrays[f"sickness/{key}"] = np.vstack([trace.time_s, trace.msi_percent,
-                                               trace.conflict_magnitude_mps2]).astype(float)
+        rows = [trace.time_s, trace.msi_percent, trace.conflict_magnitude_mps2]
+        arrays[f"sickness/{key}"] = np.vstack(rows + ([] if trace.misc is None else [trace.misc])).astype(float)
 
     def write(tmp):
         with open(tmp, "wb") as fh:  # a file object: numpy adds no .npz to the temporary name
             np.savez_compressed(fh, **arrays)
 
     replace_atomically(path, write, "the assessment's arrays")
+
+
+#: The sickness time course beside an assessment: one CSV per location the model was driven by.
+SICKNESS_CSV = "sickness_{location}.csv"
+
+
+def write_sickness_csv(result: Assessment, folder) -> list:
+    """``sickness_head.csv`` and ``sickness_seat.csv`` in ``folder``: ``time_s,msi_percent,conflict_mps2,misc`` at
+    the sickness model's 20 Hz (``misc``: the predicted MISC rating, the column a person's ratings file has);
+    returns the paths written."""
+    from pathlib import Path
+
+    from ..files import write_csv_atomic
+
+    paths = []
+    for key, trace in result.sickness.items():
+        path = Path(folder) / SICKNESS_CSV.format(location=key)
+        names = ["time_s", "msi_percent", "conflict_mps2"] + ([] if trace.misc is None else ["misc"])
+        columns = [trace.time_s, trace.msi_percent, trace.conflict_magnitude_mps2] + (
+            [] if trace.misc is None else [trace.misc])
+        write_csv_atomic(path, names, np.column_stack(columns))
+        paths.append(path)
+    return paths
 
 
 @checked
@@ -619,7 +671,8 @@ def read_assessment(folder, as_frame: bool = False):
             final_displacement_m={k: np.asarray(v, float) for k, v in summary["body_displacement_final_m"].items()},
             input_band_hz=None if band is None else tuple(band),
             band_outside_share=dict(summary.get("band_outside_share") or {}), route=summary.get("route"),
-            iso2631_5=summary.get("iso2631_5"), vibration_level=summary.get("vibration_level"))
+            iso2631_5=summary.get("iso2631_5"), vibration_level=summary.get("vibration_level"),
+            misc_params=summary.get("sickness_misc_params"))
     except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile) as exc:
         raise InputError(f"{arrays_path}: not the arrays of this assessment ({type(exc).__name__}: {exc}); run "
                          "'ehm assess' again.") from None

@@ -37,6 +37,8 @@ A study file (TOML) names what varies and what to compute::
     # drop_held = false         keep held samples (default true: a slow sensor's repeated rows are dropped)
     # encoding = "cp1252"       the drive file's text encoding (default: from its byte-order mark, else UTF-8)
     # handling = "keep"         keep a handled start and end of the drive file (default "cut": left out, with a note)
+    # sickness_params = "person.toml"   comfort: a person's MISC parameters ('ehm fit-sickness'; default the
+    #                           group's); a relative path starts from the study file's folder
     duration_s = 30.0
     route = "auto"              # simulation route of a drive's runs: "auto" (ehm.routes.hybrid, the default),
     #                           "nonlinear" (MuJoCo) or "linear"; transmissibility by method = "time": "nonlinear"
@@ -161,7 +163,7 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
     inp = dict(doc.get("input", {}))
     allowed_input = {"axes", "method", "route", "drive", "duration_s", "rms_mps2", "seed", "channels", "units", "imu",
                      "rate_hz", "fill_gaps", "columns", "gyro", "mounting", "start_s", "end_s", "gravity", "frame",
-                     "drop_held", "encoding", "handling"}
+                     "drop_held", "encoding", "handling", "sickness_params"}
     if set(inp) - allowed_input:
         raise InputError(f"{label}: unknown key {sorted(set(inp) - allowed_input)[0]!r} in [input]; "
                          f"use {', '.join(sorted(allowed_input))}.")
@@ -170,6 +172,15 @@ def load_study(path: Path | str) -> tuple[str, list[RunSpec]]:
         inp["drive"] = drive_beside(inp["drive"], Path(path))
     if isinstance(inp.get("gyro"), str) and not Path(inp["gyro"]).is_absolute():
         inp["gyro"] = str(Path(path).absolute().parent / inp["gyro"])
+    if "sickness_params" in inp:
+        from ..standards.sickness import read_sickness_params
+
+        if not isinstance(inp["sickness_params"], str):
+            raise InputError(f"{label}: [input] sickness_params must be the path of the file 'ehm fit-sickness' "
+                             f"wrote, not {inp['sickness_params']!r}.")
+        if not Path(inp["sickness_params"]).is_absolute():
+            inp["sickness_params"] = str(Path(path).absolute().parent / inp["sickness_params"])
+        read_sickness_params(inp["sickness_params"])  # refused before any run
     _check_input(label, inp, written.get("drive"), written.get("gyro"))
     _check_before_running(label, rows, grid, locks)
     name = str(study.get("name", Path(path).stem))
@@ -257,6 +268,8 @@ def _common_fingerprint(inp: dict, compute: tuple) -> dict:
         out["drive file content"] = _file_digest(drive_path(drive))
         if isinstance(inp.get("gyro"), str) and Path(inp["gyro"]).is_file():
             out["gyro file content"] = _file_digest(Path(inp["gyro"]))
+    if "comfort" in compute and isinstance(inp.get("sickness_params"), str) and Path(inp["sickness_params"]).is_file():
+        out["sickness parameter file content"] = _file_digest(Path(inp["sickness_params"]))
     return out
 
 
@@ -442,7 +455,12 @@ def _run_point(spec: RunSpec) -> dict:
             motion = _drive(inp, params.time_step())
             route = inp.get("route", "auto")  # the hybrid route, as ehm.assess and ehm assess by default
             human = SeatedHuman(person, rotating_seat=needs_rotating_seat(motion, route))
-            result = assess(motion, human, method=route)
+            misc = None
+            if inp.get("sickness_params"):
+                from ..standards.sickness import read_sickness_params
+
+                misc = read_sickness_params(inp["sickness_params"])
+            result = assess(motion, human, method=route, sickness_params=misc)
             record["simulated_s"] += motion.duration_s
             summary = result.summary()
             for loc, v in summary["locations"].items():
@@ -450,6 +468,7 @@ def _run_point(spec: RunSpec) -> dict:
                 for a in "xyz":
                     record["outputs"][f"{loc}.a_w_{a}_mps2"] = v["axes"][a]["a_w_mps2"]
             record["outputs"]["head.msi_percent"] = summary["sickness"]["head"]["final_msi_percent"]
+            record["outputs"]["head.misc"] = summary["sickness"]["head"]["final_misc"]
             if "route" in summary:  # the hybrid and linear routes: how much of the drive the linear model carried
                 record["outputs"]["route.linear_share"] = summary["route"]["linear_share"]
     except EhmError as exc:
@@ -467,6 +486,7 @@ _OUTPUT_NAMES = (
     (re.compile(r"(?P<location>\w+)\.a_w_(?P<axis>[xyz])_mps2"), "a_w", "m/s^2"),
     (re.compile(r"(?P<location>\w+)\.a_v_mps2"), "total_value", "m/s^2"),
     (re.compile(r"(?P<location>\w+)\.msi_percent"), "msi_final", "%"),
+    (re.compile(r"(?P<location>\w+)\.misc"), "misc_final", "MISC"),
     (re.compile(r"route\.linear_share"), "linear_share", "1"),
 )
 

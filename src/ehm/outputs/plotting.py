@@ -334,20 +334,45 @@ def plot_running_rms(assessment, path: Path | str | None = None):
 
 
 def plot_sickness(assessment, path: Path | str | None = None):
-    """Predicted motion sickness incidence over time: head motion against a head fixed to the seat."""
-    fig, axes = plt.subplots(2, 1, figsize=(12, 6), sharex=True)
+    """Predicted motion sickness incidence and MISC rating over time: head motion against a head fixed to the
+    seat."""
+    with_misc = any(getattr(r, "misc", None) is not None for r in assessment.sickness.values())
+    fig, axes = plt.subplots(3 if with_misc else 2, 1, figsize=(12, 8.5 if with_misc else 6), sharex=True)
     styles = {"head": ("tab:red", "head (through the body)"), "seat": ("0.3", "seat (head fixed to the seat)")}
     for key, r in assessment.sickness.items():
         color, label = styles[key]
         axes[0].plot(r.time_s, r.msi_percent, color=color, label=f"{label}: {r.final_msi_percent:.2f} % at the end")
         axes[1].plot(r.time_s, r.conflict_magnitude_mps2, color=color, lw=0.8, label=label)
+        if with_misc and r.misc is not None:
+            axes[2].plot(r.time_s, r.misc, color=color, label=f"{label}: {r.final_misc:.2f} at the end")
     axes[0].set_ylabel("MSI [%]")
     axes[1].set_ylabel("vertical conflict [m/s²]")
-    axes[1].set_xlabel("time [s]")
+    if with_misc:
+        axes[2].set_ylabel("predicted MISC (0-10)")
+        axes[2].set_ylim(0, 10)
+    axes[-1].set_xlabel("time [s]")
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     _suptitle(fig, "Motion sickness incidence (subjective vertical conflict model)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_sickness_fit(fit, path: Path | str | None = None):
+    """A person's MISC ratings against the accumulation model fitted to them (:func:`ehm.fit_sickness`)."""
+    fig, ax = plt.subplots(figsize=(10, 4.5))
+    f = fit.fit
+    ax.plot(fit.trace_time_s / 60.0, fit.trace_misc, color="tab:red",
+            label=f"model: K1 {f.params.fast_gain:.3g} ± {f.std['fast_gain']:.2g} (m/s²)⁻¹, "
+                  f"T1 {f.params.fast_time_constant_s:.3g} ± {f.std['fast_time_constant_s']:.2g} s")
+    ax.plot(f.time_s / 60.0, f.misc_rated, "ko", ms=4, label=f"ratings ({f.n_ratings}); rms misfit {f.rms_misc:.2f}")
+    ax.set_xlabel("time [min]")
+    ax.set_ylabel("MISC (0-10)")
+    ax.set_ylim(0, 10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    _suptitle(fig, f"MISC ratings and the fitted accumulation model ({fit.location}'s conflict)")
     fig.tight_layout()
     return _save(fig, path)
 

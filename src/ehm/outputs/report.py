@@ -57,6 +57,17 @@ def _img(path: Path) -> str:
     return f'<img alt="{html.escape(Path(path).stem)}" src="data:image/png;base64,{data}">'
 
 
+def _misc_html(summary: dict) -> str:
+    """The predicted MISC rating of an assessment's summary (none for a summary without it)."""
+    sick = summary["sickness"]
+    if "final_misc" not in sick.get("head", {}):
+        return ""
+    whose = (summary.get("sickness_misc_params") or {}).get("whose", "group")
+    return (f"<p>Predicted MISC rating (0-10, accumulation model, {html.escape(whose)} parameters) at the end: "
+            f"<b>{sick['head']['final_misc']:.2f}</b> from the head's motion (highest "
+            f"{sick['head']['max_misc']:.2f}), {sick['seat']['final_misc']:.2f} for a head fixed to the seat.</p>\n")
+
+
 def _iso2631_5_html(section: dict | None) -> str:
     """The ISO 2631-5 section of the report: one row per route that was computed."""
     if not section:
@@ -141,6 +152,7 @@ Comfort reactions: ISO 2631-1 Annex C bands for public transport.</p>
 <p>Predicted motion sickness incidence at the end of the drive (subjective vertical conflict model):
 <b>{sick['head']['final_msi_percent']:.2f} %</b> from the head's motion,
 {sick['seat']['final_msi_percent']:.2f} % for a head fixed to the seat.</p>
+{_misc_html(summary)}
 {_iso2631_5_html(summary.get("iso2631_5"))}<h2>Figures</h2>
 {''.join(_img(p) for p in figures.values())}
 <h2>Body motion</h2>

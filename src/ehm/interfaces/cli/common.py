@@ -31,6 +31,8 @@ _PATH_OPTIONS = {
     "joints": "give a joint table, or leave --joints out for the paper's",
     "contacts": "give a contact table, or leave --contacts out for the shipped one",
     "out": "give where to write, e.g. --out runs/first",
+    "ratings": "give the person's ratings file (time_s,misc)",
+    "sickness_params": "give the file 'ehm fit-sickness' wrote, or leave --sickness-params out for the group's values",
 }
 
 
@@ -41,7 +43,7 @@ def check_empty_paths(args) -> None:
     for name, advice in _PATH_OPTIONS.items():
         value = getattr(args, name, None)
         if isinstance(value, str) and not value.strip():
-            raise InputError(f"--{name} is empty ({value!r}: an unset shell variable?); {advice}.")
+            raise InputError(f"--{name.replace('_', '-')} is empty ({value!r}: an unset shell variable?); {advice}.")
 
 
 def person_from_args(args) -> Person:

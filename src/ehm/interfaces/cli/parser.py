@@ -19,6 +19,7 @@ SUBCOMMANDS = (
     transfer.add_study,
     transfer.add_validate,
     run.add_assess,
+    run.add_fit_sickness,
     interfaces.add_realtime,
     interfaces.add_batch,
     interfaces.add_drive,

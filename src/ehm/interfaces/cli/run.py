@@ -259,6 +259,9 @@ def add_assess(sub) -> None:
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder: assessment.json, assessment.npz (ehm.read_assessment reads the two back), "
                         "report.html and figures (replaced whole if ehm wrote it)")
+    p.add_argument("--sickness-params", metavar="FILE",
+                   help="a person's MISC parameters, the sickness_params.toml 'ehm fit-sickness' wrote (default: the "
+                        "group's; in Python: assess(..., sickness_params=ehm.read_sickness_params(FILE)))")
     _route_options(p)
     _exposure_options(p)
     parallel_options(p)
@@ -281,6 +284,15 @@ def _exposure_options(p) -> None:
                         "strength, injury risk; default male); the body model is set by --params, --mass and the rest")
 
 
+def _sickness_params(path: str | None):
+    """--sickness-params FILE: a person's MISC parameters (None: the group's)."""
+    if path is None:
+        return None
+    from ...standards.sickness import read_sickness_params
+
+    return read_sickness_params(path)
+
+
 def _exposure(args):
     from ...standards.comfort.spine import SpineExposure
 
@@ -291,8 +303,10 @@ def _exposure(args):
 def cmd_assess(args) -> int:
     from ...analysis.assessment import assess, needs_rotating_seat
 
-    final = check_output_folder(args.out, inputs=input_files(args))
+    final = check_output_folder(args.out, inputs=input_files(args) + (
+        [args.sickness_params] if args.sickness_params else []))
     exposure = _exposure(args)
+    misc_params = _sickness_params(args.sickness_params)
     with _warnings_shown() as shown:  # what the console prints goes into assessment.json and the report too
         motion = read_motion_file(args)
         human = human_from_args(args, rotating_seat=needs_rotating_seat(motion, args.method))
@@ -300,7 +314,11 @@ def cmd_assess(args) -> int:
             kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
                                               "lead_in_s": parallel.lead_in_s}
             result = assess(motion, human, progress=progress_bar("assess", args.quiet), method=args.method,
-                            tolerance=_tolerance(args), exposure=exposure, **kw)
+                            tolerance=_tolerance(args), exposure=exposure, sickness_params=misc_params, **kw)
+    if args.sickness_params:
+        from ...analysis.assessment import misc_summary
+
+        result.misc_params = misc_summary(misc_params, whose=f"person ({args.sickness_params})")
     summary = _assessment_summary(result, human)
     summary["warnings"] = list(dict.fromkeys(shown))
     with RunFolder(final) as out:
@@ -345,12 +363,13 @@ def _assessment_summary(result, human) -> dict:
 def _write_assessment(result, summary: dict, out: Path) -> None:
     """assessment.json, assessment.npz (the arrays: ehm.read_assessment gives the Assessment back), the three
     figures and report.html, written into ``out``."""
-    from ...analysis.assessment import ARRAYS_FILE, write_assessment_arrays
+    from ...analysis.assessment import ARRAYS_FILE, write_assessment_arrays, write_sickness_csv
     from ...outputs.plotting import plot_running_rms, plot_sickness, plot_weighted_spectra
     from ...outputs.report import write_report
 
     write_json_atomic(out / "assessment.json", summary)
     write_assessment_arrays(result, out / ARRAYS_FILE)
+    write_sickness_csv(result, out)
     figures = {"spectra": out / "weighted_spectra.png", "running_rms": out / "running_rms.png",
                "sickness": out / "sickness.png"}
     plot_weighted_spectra(result, figures["spectra"])
@@ -382,12 +401,18 @@ def _print_assessment(result, summary: dict, out: Path) -> None:
         print(f"  {summary['route']['summary_line']}")
     if summary.get("vibration_level"):
         print(f"  {summary['vibration_level']['line']}")
-    print(f"  motion sickness incidence at the end: head {summary['sickness']['head']['final_msi_percent']:.2f} %, "
-          f"head fixed to the seat {summary['sickness']['seat']['final_msi_percent']:.2f} %")
+    sick = summary["sickness"]
+    print(f"  motion sickness incidence at the end: head {sick['head']['final_msi_percent']:.2f} %, "
+          f"head fixed to the seat {sick['seat']['final_msi_percent']:.2f} %")
+    if "final_misc" in sick["head"]:
+        whose = (summary.get("sickness_misc_params") or {}).get("whose", "group")
+        print(f"  predicted MISC rating at the end (0-10, {whose} parameters): head {sick['head']['final_misc']:.2f}, "
+              f"head fixed to the seat {sick['seat']['final_misc']:.2f} (highest: head "
+              f"{sick['head']['max_misc']:.2f})")
     for line in _iso2631_5_lines(summary.get("iso2631_5")):
         print(f"  {line}")
     print(f"wrote {out}/assessment.json, assessment.npz, report.html, weighted_spectra.png, running_rms.png, "
-          "sickness.png (in Python: ehm.read_assessment(folder))")
+          "sickness.png, sickness_head.csv, sickness_seat.csv (in Python: ehm.read_assessment(folder))")
 
 
 def _iso2631_5_lines(section: dict | None) -> list[str]:
@@ -410,6 +435,54 @@ def _iso2631_5_lines(section: dict | None) -> list[str]:
     if section.get("routes_differ"):
         lines.append(section["routes_differ"])
     return lines
+
+
+# --- ehm fit-sickness ----------------------------------------------------------------------------------------------
+
+def add_fit_sickness(sub) -> None:
+    p = sub.add_parser("fit-sickness", help="one person's MISC parameters (K1, T1) from their ratings of a drive")
+    model_options(p)
+    motion_file_options(p, True, "the drive the person rated (as for 'ehm assess'; 'city' / 'road' for the shipped "
+                                  "SYNTHETIC drives)")
+    p.add_argument("--ratings", required=True, metavar="RATINGS.csv",
+                   help="the person's MISC ratings: columns time_s (seconds from the drive's start) and misc (0-10)")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="output folder: sickness_params.toml (for 'ehm assess --sickness-params' and batch studies), "
+                        "sickness_fit.csv and sickness_fit.png (replaced whole if ehm wrote it)")
+    p.add_argument("--location", choices=("head", "seat"), default="head",
+                   help="whose conflict the ratings are fitted to: the head's through the body (default) or a head "
+                        "fixed to the seat")
+    _route_options(p)
+    progress_options(p)
+    p.set_defaults(func=cmd_fit_sickness)
+
+
+def cmd_fit_sickness(args) -> int:
+    from ...analysis.assessment import assess, needs_rotating_seat
+    from ...analysis.sickness_fit import FIT_FIGURE, fit_sickness, rating_rows
+    from ...outputs.plotting import plot_sickness_fit
+
+    final = check_output_folder(args.out, inputs=input_files(args) + [args.ratings])
+    times, _, lines = rating_rows(args.ratings)  # a bad ratings file is refused before the drive is run
+    motion = read_motion_file(args)
+    late = [k for k, t in enumerate(times) if t > motion.duration_s]
+    if late:
+        raise InputError(f"{args.ratings} row {lines[late[0]]}: time_s {times[late[0]]:g} s lies after the end of the "
+                         f"drive '{motion.description}' ({motion.duration_s:g} s); ratings are seconds from the "
+                         "drive's start (--ratings).")
+    human = human_from_args(args, rotating_seat=needs_rotating_seat(motion, args.method))
+    assessment = assess(motion, human, progress=progress_bar("assess", args.quiet), method=args.method,
+                        tolerance=_tolerance(args))
+    result = fit_sickness(assessment, args.ratings, location=args.location)
+    with RunFolder(final) as out:
+        result.write(out)
+        plot_sickness_fit(result, out / FIT_FIGURE)
+    print(f"{len(result.fit.time_s)} ratings of '{result.drive}' fitted ({args.location}'s conflict):")
+    for line in result.summary_lines():
+        print(f"  {line}")
+    print(f"wrote {final}/sickness_params.toml, sickness_fit.csv, {FIT_FIGURE} (ehm assess --sickness-params "
+          f"{final}/sickness_params.toml)")
+    return 0
 
 
 # --- ehm animate ----------------------------------------------------------------------------------------------------
