@@ -106,7 +106,7 @@ def test_resolved_is_what_the_constructor_did():
     assert isinstance(built, Built)
     assert built.params.posture == "slouched" and built.params.back_support == "none"
     assert built.params.value("head_control.enabled") is True
-    assert built.params.value("simulation.dt_s") == 0.0005  # the slouched posture's own step
+    assert built.params.value("simulation.dt_s") == 0.001  # the slouched posture converges at the shipped step
     assert {"lower_neck", "waist"} <= built.locked
     assert built.body.mass_kg == pytest.approx(90.0)
     with pytest.warns(ehm.StepWarning):
@@ -194,7 +194,7 @@ def test_check_step_honours_posture_and_head_control(monkeypatch):
         ehm.check_step(Person(posture="slouched", head_control=True))
     human = seen[0]
     assert human.params.posture == "slouched" and human.head_control
-    assert human.params.value("simulation.dt_s") == pytest.approx(0.0005 / 8)  # the posture's own step, / 8
+    assert human.params.value("simulation.dt_s") == pytest.approx(0.001 / 8)  # the person's own step, / 8
 
 
 def test_validate_honours_locks_and_head_control(monkeypatch):

@@ -24,9 +24,10 @@ __all__ = ["CONVERGED_STEP_S", "DEFAULT_STEP_ERRORS", "MAX_STEP_S", "MIN_STEP_S"
 DEFAULT_STEP_ERRORS = {0.0005: 0.0056, 0.001: 0.0077, 0.0015: 0.0243, 0.002: 0.0558, 0.004: 0.297}
 #: The largest step at which the default person is converged [s] (a posture may have its own: postures.NAME.dt_s).
 CONVERGED_STEP_S = 0.001
-#: The same for the shipped postures with a converged step of their own (postures.NAME.dt_s): worst path over the
-#: back supports none, low and high (docs/model.md, postures).
-POSTURE_STEP_ERRORS = {"slouched": {0.0005: 0.0056, 0.001: 0.0124, 0.002: 0.0558}}
+#: The same for postures with a converged step of their own (postures.NAME.dt_s), measured, by posture name: none
+#: of the shipped postures has one (each converges at the shipped 1 ms, docs/model.md, postures); a posture not
+#: listed gets the default person's errors scaled by the ratio of the converged steps (:func:`expected_error`).
+POSTURE_STEP_ERRORS: dict = {}
 
 
 #: The shortest time step taken [s]: a step costs about 30 us of wall time (measured, default person), so the
