@@ -21,7 +21,7 @@ __all__ = ["CONVERGED_STEP_S", "DEFAULT_STEP_ERRORS", "MAX_STEP_S", "MIN_STEP_S"
 #: ehm 0.1 on this formulation: trapezoidal contacts and trunk/neck damping, Euler; README "Time step and
 #: accuracy").  Between the steps listed the error is interpolated, beyond them extrapolated in proportion
 #: to the step.
-DEFAULT_STEP_ERRORS = {0.0005: 0.0056, 0.001: 0.0077, 0.0015: 0.0243, 0.002: 0.0558, 0.004: 0.297}
+DEFAULT_STEP_ERRORS = {0.0005: 0.0090, 0.001: 0.0100, 0.0015: 0.0341, 0.002: 0.0735, 0.004: 0.391}
 #: The largest step at which the default person is converged [s] (a posture may have its own: postures.NAME.dt_s).
 CONVERGED_STEP_S = 0.001
 #: The same for postures with a converged step of their own (postures.NAME.dt_s), measured, by posture name: none
