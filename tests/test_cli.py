@@ -135,8 +135,8 @@ def test_params_export_and_reuse(tmp_path, capsys):
     exported = tmp_path / "mine.toml"
     assert main(["params", "--export", str(exported)]) == 0
     text = exported.read_text()
-    assert text.count("stiffness_N_per_m = 32510.0") == 1  # the T12 compression spring
-    exported.write_text(text.replace("stiffness_N_per_m = 32510.0", "stiffness_N_per_m = 12000.0"))
+    assert text.count("stiffness_N_per_m = 37490.0") == 1  # the T12 compression spring
+    exported.write_text(text.replace("stiffness_N_per_m = 37490.0", "stiffness_N_per_m = 12000.0"))
     assert main(["info", "--json", "--params", str(exported)]) == 0
     info = json.loads(capsys.readouterr().out.split("\n", 1)[1])
     assert info["params"] == str(exported)

@@ -72,9 +72,9 @@ def test_fit_file_records_provenance(synthetic, tmp_path):
     # values that were not fitted keep their grade, also the damping that shares the t12 z entry
     shipped = Parameters.load()
     for kept in ("joints.t12.z.damping_Ns_per_m", "joints.t12.pitch.stiffness_Nm_per_rad",
-                 "joints.t12.roll.stiffness_Nm_per_rad"):
+                 "joints.t12.yaw.stiffness_Nm_per_rad"):
         assert fitted.provenance(kept) == shipped.provenance(kept), kept
-    assert fitted.provenance("joints.t12.roll.stiffness_Nm_per_rad")[0] == "assumed"
+    assert fitted.provenance("joints.t12.yaw.stiffness_Nm_per_rad")[0] == "assumed"
     key = "joints.t12.z.stiffness_N_per_m"
     assert fitted.value(key) == pytest.approx(result.final[key])
     with pytest.raises(InputError, match="shipped default"):
@@ -196,12 +196,12 @@ def test_converged_fit_identifies_the_values_it_moved_and_validated(synthetic):
 
 @pytest.mark.filterwarnings("always::ehm.errors.EhmWarning")  # the command line prints them: read on stderr
 def test_fit_pinned_on_its_bound_is_graded_at_bound_and_exits_3(synthetic, tmp_path, capsys):
-    # The synthetic t12 z stiffness is 21000 N/m (fitted alone, the other two values at their defaults: 23350); a
-    # bound of [25000, 40000] (the start, 32510, inside) keeps the optimum outside.
+    # The synthetic t12 z stiffness is 21000 N/m (fitted alone, the other two values at their defaults, the optimum
+    # is 31070); a bound of [35000, 50000] (the start, the shipped 37490, inside) keeps the optimum outside.
     _, path = synthetic
     path_k = "joints.t12.z.stiffness_N_per_m"
     narrow = Parameters.load()
-    narrow.data["joints"]["t12"]["z"]["bounds"] = {"stiffness_N_per_m": [25000.0, 40000.0]}
+    narrow.data["joints"]["t12"]["z"]["bounds"] = {"stiffness_N_per_m": [35000.0, 50000.0]}
     start = tmp_path / "narrow.toml"
     narrow.export(start)
     out = tmp_path / "fit.toml"
@@ -210,11 +210,11 @@ def test_fit_pinned_on_its_bound_is_graded_at_bound_and_exits_3(synthetic, tmp_p
     captured = capsys.readouterr()
     assert code == 3
     verdict = [ln for ln in captured.err.splitlines() if ln.startswith("ehm: fit: ")]
-    assert len(verdict) == 1 and f"{path_k} on its lower bound 25000" in verdict[0]
+    assert len(verdict) == 1 and f"{path_k} on its lower bound 35000" in verdict[0]
     assert "widen the bound" in verdict[0] and "nothing is marked identified" in verdict[0]
     assert "(at its lower bound)" in captured.out
     fitted = Parameters.load(out)  # written (the criterion went down), graded honestly
-    assert fitted.value(path_k) == pytest.approx(25000.0, rel=ehm.analysis.fit.AT_BOUND_REL)
+    assert fitted.value(path_k) == pytest.approx(35000.0, rel=ehm.analysis.fit.AT_BOUND_REL)
     assert fitted.provenance(path_k)[0] == "at bound"
     doc = tomllib.loads(out.read_text())
     assert doc["about"]["fit_identified"] == [] and doc["about"]["fit_at_bound"] == [path_k]
