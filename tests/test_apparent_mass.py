@@ -33,7 +33,8 @@ def test_linear_route_vertical_apparent_mass_at_half_a_hertz_is_the_supported_ma
     the rise towards the 5 Hz mode)."""
     table = linear_frf(human, "z", freq_hz=np.array([0.5, 1.0, 2.0, 5.0]))
     mass = supported_mass_kg(human)
-    # the body rests on its supports (the linear model's outputs at rest: measured 0.14 % below the weight)
+    # the body rests on its supports (the linear model's outputs at rest: measured 0.14 % below the weight, see
+    # test_linear_route's converged-step test)
     assert mass["support"] == pytest.approx(human.mass_kg, rel=2e-3)
     assert table.curve("z", "support", "z").at(0.5) == pytest.approx(mass["support"], rel=0.015)
     # the seat pan's part: positive, below the whole, and its sum with the backrest and floor is the whole

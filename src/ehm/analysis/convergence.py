@@ -16,7 +16,7 @@ at its default step of 1 ms, the paper's step (``DEFAULT_STEP_ERRORS``).
 >>> check = check_step()                     # the default person at its default step
 >>> path, error = check.worst(8)             # the path furthest from the model at step / 8, and its error
 >>> path, round(error, 3)
-(('y', 'pelvis', 'yaw'), 0.008)
+(('x', 'pelvis', 'z'), 0.01)
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@
 >>> state.head.acc_mps2.shape               # absolute head acceleration, seat axes
 (3,)
 >>> print(f"{state.head.acc_mps2[2]:.3f} m/s^2")
-0.011 m/s^2
+0.010 m/s^2
 
 Each step gives the same numbers as a whole run of the same input (``SeatedHuman.simulate``); memory
 stays constant.  With ``comfort=True`` the running ISO 2631-1 figures (1 s running rms, a_w so far) of
