@@ -101,7 +101,7 @@ def at_level(params: Parameters, rms_mps2: float) -> Parameters:
 
     The copy holds the values at that level: its ``[level]`` table is left out (so that a level is never applied
     on top of another one: the copy, exported and read back, keeps its values at every level) and ``[about]``
-    records the level (``vibration_rms_mps2``, the level asked for; the law used it clipped, :func:`clipped`).
+    records the level (``vibration_rms_mps2``, the level asked for; the law used it clipped, ``clipped``).
     """
     rms = check_level(rms_mps2, "rms_mps2", still=True)
     k_factor, c_factor = level_factors(params, rms)

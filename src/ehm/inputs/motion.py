@@ -232,7 +232,7 @@ class SeatMotion:
         (:class:`ehm.Person`'s ``vibration_rms_mps2``; docs/model.md, "Vibration magnitude").
 
         The rms over the whole motion of the translational acceleration vector, sqrt(mean(ax^2 + ay^2 + az^2)),
-        after a zero-phase 4th-order Butterworth high-pass at :data:`LEVEL_HIGHPASS_HZ` (forward and backward, at
+        after a zero-phase 4th-order Butterworth high-pass at ``LEVEL_HIGHPASS_HZ`` (forward and backward, at
         the log's own rate, :attr:`rate_hz`): the vibration, not the manoeuvres (braking and cornering, below it, do
         not count).  A 5 Hz sine of amplitude A on one axis gives A / sqrt(2):
 

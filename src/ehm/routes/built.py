@@ -75,7 +75,7 @@ class BuiltPerson:
 
     def at_level(self, rms_mps2: float, origin: str = FROM_DRIVE) -> BuiltPerson:
         """This person (built at the reference level) built at the level ``rms_mps2`` [m/s^2 rms]: the parameters
-        as built scaled by :func:`ehm.body.level.at_level`, kept per level (the last :data:`KEPT_LEVELS`), so that
+        as built scaled by :func:`ehm.body.level.at_level`, kept per level (the last ``KEPT_LEVELS``), so that
         a second run at the same level neither rebuilds nor settles again.  At the reference level (or for
         parameters without ``[level]``) the values are the same: the person shares this one's model, settled state
         and linear models."""
