@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import csv
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -55,8 +56,9 @@ def rating_rows(path: str | Path) -> tuple[np.ndarray, np.ndarray, list[int]]:
     header = [h.strip() for h in rows[0]]
     missing = [c for c in ("time_s", "misc") if c not in header]
     if missing:
-        raise InputError(f"{path}: the header has no column {missing[0]!r} (it has {', '.join(header) or 'none'}); "
-                         "ratings need time_s (seconds from the drive's start) and misc (0-10).")
+        shown = ", ".join(repr(re.split(r"[.!?]\s", h)[0][:24]) for h in header[:6]) or "none"
+        raise InputError(f"{path}: the header has no column {missing[0]!r} (it has {shown}); ratings need time_s "
+                         "(seconds from the drive's start) and misc (0-10).")
     it, im = header.index("time_s"), header.index("misc")
     times, values, lines = [], [], []
     for line, row in enumerate(rows[1:], start=2):

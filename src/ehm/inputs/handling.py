@@ -100,8 +100,9 @@ class HandledStretch:
 def check_handling(handling) -> str:
     """``handling`` checked: "cut" (default) or "keep"."""
     if not isinstance(handling, str) or handling not in HANDLING_MODES:
+        got = repr(handling[:40]) if isinstance(handling, str) else f"a value of type {type(handling).__name__}"
         raise InputError(f"handling must be 'cut' (leave a handled start and end out, the default) or 'keep' "
-                         f"(--keep-handling); got {handling!r}.")
+                         f"(--keep-handling); got {got}.")
     return handling
 
 
