@@ -71,7 +71,7 @@ def test_fit_sickness_gives_back_the_person_the_ratings_were_made_from(foreaft_a
 
 
 @pytest.mark.parametrize(("text", "words"), [
-    ("time_s,rating\n1,2\n", "the header has no column 'misc' (it has time_s, rating)"),
+    ("time_s,rating\n1,2\n", "the header has no column 'misc' (it has 'time_s', 'rating')"),
     ("time_s,misc\n10,1\n20,x\n", "row 3: misc 'x' is not a number"),
     ("time_s,misc\n10,1\n20,11\n", "row 3: misc 11 lies outside the MISC scale's 0-10"),
     ("time_s,misc\n10,1\n\n5,2\n", "row 4: time_s 5 s does not follow the row before's 10 s"),
