@@ -123,7 +123,7 @@ SHIPPED = Path(default_params_path())
 
 
 def paths(name: str) -> list[str]:
-    return [t.format(s=s) for t in FREE[name][0] for s in (SIDES if "{s}" in t else ("",))]
+    return [t.format(s=s) for t in SPEC[name][0] for s in (SIDES if "{s}" in t else ("",))]
 
 
 def with_free(base: Parameters, x: np.ndarray, names=None) -> Parameters:
@@ -152,19 +152,32 @@ def _margin(check) -> float:
 def search_residuals(v) -> np.ndarray:
     """Stage 1's residuals of one validation: checks outside their bands, curve distances, low-frequency gains."""
     r = [3.0 * _hinge(c.value, c.low, c.high, _margin(c)) for c in v.checks]
-    ref = v.tables[v.person["conditions"][0]]
-    lumbar = ref.curve("z", "lumbar", "z")
-    g = np.interp(CURVE_HZ, lumbar.freq_hz, lumbar.gain)
-    r += list(0.6 * (g - np.abs(references.iso2631_5_lumbar_tf(CURVE_HZ))) / 0.2)
-    am = ref.curve("z", "support", "z")
-    m = np.interp(MASS_HZ, am.freq_hz, am.gain) / np.interp(0.5, am.freq_hz, am.gain)
-    r += list(0.3 * (m - np.abs(references.apparent_mass_one_mass(MASS_HZ, FRAME_SHARE))) / 0.15)
+    r += curve_residuals(v.tables[v.person["conditions"][0]], 0.6, 0.3)
     for table in v.tables.values():
-        for point in ("lumbar", "head"):
-            c = table.curve("z", point, "z")
-            low = (c.freq_hz >= LOW_HZ[0]) & (c.freq_hz <= LOW_HZ[1])
-            r.append(_hinge(float(c.gain[low].max()), np.nan, LOW_GAIN_MAX, 0.02))
+        r += low_gain_residuals(table)
     return np.array(r)
+
+
+def curve_residuals(table: FrfTable, lumbar_weight: float, mass_weight: float) -> list:
+    """The lumbar gain's distance from ISO 2631-5's at ``CURVE_HZ`` (per 0.2) and the normalised apparent mass's
+    from the one-mass fit at ``MASS_HZ`` (per 0.15), each times its weight."""
+    lumbar = table.curve("z", "lumbar", "z")
+    g = np.interp(CURVE_HZ, lumbar.freq_hz, lumbar.gain)
+    am = table.curve("z", "support", "z")
+    m = np.interp(MASS_HZ, am.freq_hz, am.gain) / np.interp(0.5, am.freq_hz, am.gain)
+    return (list(lumbar_weight * (g - np.abs(references.iso2631_5_lumbar_tf(CURVE_HZ))) / 0.2)
+            + list(mass_weight * (m - np.abs(references.apparent_mass_one_mass(MASS_HZ, FRAME_SHARE))) / 0.15))
+
+
+def low_gain_residuals(table: FrfTable) -> list:
+    """How far the lumbar and head vertical gains over ``LOW_HZ`` exceed ``LOW_GAIN_MAX`` (the body follows the
+    seat there)."""
+    out = []
+    for point in ("lumbar", "head"):
+        c = table.curve("z", point, "z")
+        low = (c.freq_hz >= LOW_HZ[0]) & (c.freq_hz <= LOW_HZ[1])
+        out.append(_hinge(float(c.gain[low].max()), np.nan, LOW_GAIN_MAX, 0.02))
+    return out
 
 
 #: Every seat: the conditions the person is identified on together (one parameter set for all of them: the
@@ -190,7 +203,8 @@ EVERY_SEAT_FREE = {
     "slouched tone": (["postures.slouched.tone"], 0.3, 1.5),
     "supported tone": (["posture.supported_tone"], 0.3, 1.5),
 }
-FREE.update(EVERY_SEAT_FREE)
+#: Every value this script can free: ``FREE`` and ``EVERY_SEAT_FREE`` (name -> paths, bounds).
+SPEC = {**FREE, **EVERY_SEAT_FREE}
 #: The values free in the every-seat search: those that shape the vertical response on every seat, the back pads,
 #: and the trunk's and hips' bending (the legs' joints, the pads' shear under the pelvis and the feet stay).
 EVERY_SEAT_NAMES = ["buttock stiffness", "buttock damping", "thigh stiffness", "thigh damping",
@@ -223,16 +237,8 @@ def every_seat_residuals(params: Parameters) -> np.ndarray:
         checks = band_checks(t, f"{post}, {back}", bands_applying(post, back))
         r += [3.0 * _hinge(c.value, c.low, c.high, _margin(c)) for c in checks]
         if back == "none":
-            lumbar = t.curve("z", "lumbar", "z")
-            g = np.interp(CURVE_HZ, lumbar.freq_hz, lumbar.gain)
-            r += list(0.4 * (g - np.abs(references.iso2631_5_lumbar_tf(CURVE_HZ))) / 0.2)
-            am = t.curve("z", "support", "z")
-            m = np.interp(MASS_HZ, am.freq_hz, am.gain) / np.interp(0.5, am.freq_hz, am.gain)
-            r += list(0.2 * (m - np.abs(references.apparent_mass_one_mass(MASS_HZ, FRAME_SHARE))) / 0.15)
-        for point in ("lumbar", "head"):
-            c = t.curve("z", point, "z")
-            low = (c.freq_hz >= LOW_HZ[0]) & (c.freq_hz <= LOW_HZ[1])
-            r.append(_hinge(float(c.gain[low].max()), np.nan, LOW_GAIN_MAX, 0.02))
+            r += curve_residuals(t, 0.4, 0.2)
+        r += low_gain_residuals(t)
         for axis, dof in (("x", "pitch"), ("y", "roll")):  # sustained manoeuvres: the trunk leans, not falls
             for point, most in LEAN_MAX_DEG.items():
                 r.append(3.0 * _hinge(_lean_deg(t.curve(axis, point, dof)), np.nan, most, 0.3))
@@ -279,8 +285,8 @@ def _rms_gain(curve) -> float:
 
 def every_seat_search(base: Parameters, max_evals: int, say, names) -> Parameters:
     """The band search on every seat at once (``every_seat_residuals``) over the values ``names``."""
-    lo = np.log([FREE[n][1] for n in names])
-    hi = np.log([FREE[n][2] for n in names])
+    lo = np.log([SPEC[n][1] for n in names])
+    hi = np.log([SPEC[n][2] for n in names])
     x0 = np.clip(np.log(start_values(base, names)), lo + 1e-9, hi - 1e-9)
     n_eval, t0, best = [0], time.perf_counter(), [np.inf, None]
 
@@ -376,9 +382,11 @@ def with_bounds(p: Parameters, factor: float) -> Parameters:
     return q
 
 
-def write_into_defaults(identified: Parameters, template: Path, target: Path, source: str = "identified") -> None:
+def write_into_defaults(identified: Parameters, template: Path, target: Path, source: str = "identified",
+                        names=None) -> None:
     """Write ``target``: the parameter file ``template``'s text with the free values of ``identified`` in it, graded
-    ``identified`` with ``source`` (its comments and layout kept; each value's line found in its own section).
+    ``identified`` with ``source`` (its comments and layout kept; each value's line found in its own section); the
+    values of ``names`` (default: ``FREE``).
     ``template`` is only read (unless it is ``target``)."""
     lines = template.read_text(encoding="utf-8").splitlines()
     section = None
@@ -392,7 +400,7 @@ def write_into_defaults(identified: Parameters, template: Path, target: Path, so
             continue
         key, body = m.groups()
         changed = False
-        for name in FREE:
+        for name in names or FREE:
             for dotted in paths(name):
                 head, _, leaf = dotted.rpartition(".")
                 # a contact's value: section contacts.X, key = leaf; a joint's: section joints.X, key = dof
@@ -423,7 +431,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--workers", type=int, default=2, help="processes for the every-seat search's derivatives")
     ap.add_argument("--every-seat", action="store_true",
                     help="identify on every posture and back support at once (EVERY_SEAT), from --start or the "
-                         "shipped person, with every value of FREE free; no stage 2")
+                         "shipped person, with the values of EVERY_SEAT_NAMES free; no stage 2")
     ap.add_argument("--write-defaults", type=Path, metavar="PATH",
                     help="also write the identified values into this parameter file (grade identified); the shipped "
                          "one changes only when named: --write-defaults src/ehm/data/default_params.toml")
@@ -487,10 +495,10 @@ def _every_seat_main(args, out: Path) -> int:
     base = Parameters.load(args.start)
     found = every_seat_search(base, args.max_evals, say, EVERY_SEAT_NAMES)
     found.export(out / "every_seat.toml")
-    write_into_defaults(found, SHIPPED, out / "identified_params.toml", source="identified")
+    write_into_defaults(found, SHIPPED, out / "identified_params.toml", names=EVERY_SEAT_NAMES)
     say(f"wrote the identified person to {out / 'identified_params.toml'}")
     if args.write_defaults is not None:
-        write_into_defaults(found, args.write_defaults, args.write_defaults)
+        write_into_defaults(found, args.write_defaults, args.write_defaults, names=EVERY_SEAT_NAMES)
         say(f"wrote the identified values into {args.write_defaults}")
     return 0
 

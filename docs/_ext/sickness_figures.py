@@ -77,11 +77,8 @@ def frequency(out: Path, lines: list) -> None:
     ax2.set_ylabel("MSI after 30 min [%]")
     ax2.legend(fontsize=8)
     ax2.grid(alpha=0.3)
-    fig.suptitle("Horizontal frequency dependence against Golding, Mueller and Gresty (2001); the vertical unchanged",
-                 fontsize=10)
-    fig.tight_layout()
-    fig.savefig(out / "sickness_frequency.png", dpi=90)
-    plt.close(fig)
+    _finish(fig, "Horizontal frequency dependence against Golding, Mueller and Gresty (2001); the vertical unchanged",
+            out / "sickness_frequency.png")
     lines += ["| fore-aft, 1.0 m/s² peak | 0.1 Hz | 0.2 Hz | 0.4 Hz |", "|---|---|---|---|",
               "| Golding et al. 2001: minutes to moderate nausea (reached by) | "
               + " | ".join(f"{m:g} ({n} of 12)" for m, n in GOLDING.values()) + " |",
@@ -114,11 +111,8 @@ def direction(out: Path, lines: list) -> None:
         ax.set_xlabel("time [min]")
         ax.grid(alpha=0.3)
     ax1.legend(fontsize=7)
-    fig.suptitle("Fore-aft against lateral at 0.315 Hz (Griffin and Mills 2002: similar; growing with magnitude "
-                 "and duration)", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(out / "sickness_direction.png", dpi=90)
-    plt.close(fig)
+    _finish(fig, "Fore-aft against lateral at 0.315 Hz (Griffin and Mills 2002: similar; growing with magnitude "
+                 "and duration)", out / "sickness_direction.png")
 
 
 def support(out: Path, lines: list, minutes: float = 30.0) -> None:
@@ -148,10 +142,17 @@ def support(out: Path, lines: list, minutes: float = 30.0) -> None:
         ax.set_xlabel("time [min]")
         ax.grid(alpha=0.3)
     ax1.legend(fontsize=8)
-    fig.suptitle("Low against high back support (Mills and Griffin 2000: the low backrest the most nauseogenic)",
-                 fontsize=10)
+    _finish(fig, "Low against high back support (Mills and Griffin 2000: the low backrest the most nauseogenic)",
+            out / "sickness_support.png")
+
+
+def _finish(fig, title: str, path: Path) -> None:
+    """Title a figure, lay it out, write it to ``path`` and close it."""
+    import matplotlib.pyplot as plt
+
+    fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(out / "sickness_support.png", dpi=90)
+    fig.savefig(path, dpi=90)
     plt.close(fig)
 
 
