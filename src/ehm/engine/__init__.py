@@ -29,6 +29,8 @@ Map of the package (each module one idea; underscore names are private to the pa
   fictitious loads about :func:`seat_pivot` as inputs (:func:`rotation_loads`).
 * :mod:`.export`: the compiled model as an MJB file, the MuJoCo C library (both for the native FMU) and the
   geometry for pictures.
+* :mod:`.native`: :func:`run`'s stepping loop compiled (``native/ehm_steps.c``, built at first use and cached), so
+  that Python stays outside the per-step loop; the Python loop where no C compiler is found.
 
 How the paper's model maps onto MuJoCo (measured in the project's feasibility study and re-checked by
 the tests):
@@ -81,6 +83,8 @@ from .linearisation import (
                              seat_pivot,
 )
 from .model import G0, POINT_JOINTS, POINTS, SUPPORT_GROUPS, Model
+from .native import NativeStepWarning, compiler_command
+from .native import available as native_steps_available
 from .seat_geometry import SEAT_DOFS, SEAT_INERTIA_KGM2, SeatGeometry, check_seat, seated_body
 from .sensors import (
                              SENSOR_KINDS,
@@ -113,10 +117,12 @@ __all__ = [
     "delay_line", "feedback", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS",
     "S_ENTRIES", "PAD_INERTIA_KGM2", "POINT_JOINTS", "POINTS",
     "SEAT_DOFS", "SEAT_INERTIA_KGM2", "SENSOR_KINDS", "SUPPORT_GROUPS", "TRAPEZOIDAL_JOINTS",
-    "ImpossibleInertia", "LinearModel", "Model", "RawRun", "SeatGeometry",
-    "build", "c_library", "captured_warnings", "check_seat", "contact_forces", "contact_solver_params",
+    "ImpossibleInertia", "LinearModel", "Model", "NativeStepWarning", "RawRun", "SeatGeometry",
+    "build", "c_library", "compiler_command", "captured_warnings", "check_seat", "contact_forces",
+    "contact_solver_params",
     "data_at_deviation", "deviation_of", "deviation_poses", "dof_name", "drawing_geometry", "evaluate_velocities",
-    "get_state", "inertia_problem", "linearize", "new_data", "point_accelerations", "qpos_at_deviation",
+    "get_state", "inertia_problem", "linearize", "native_steps_available", "new_data", "point_accelerations",
+    "qpos_at_deviation",
     "rotating_data_at", "rotating_qpos", "rotation_loads", "run",
     "save_binary", "seat_pivot", "seated_body", "segment_mass_properties", "sensor_slices", "set_seat", "set_state",
     "settle", "settled_data", "settled_point_poses", "sliding_contacts", "static_deviation_of", "step",

@@ -10,6 +10,7 @@ import mujoco
 import numpy as np
 
 from ..errors import InputError
+from . import native
 from .control import after_step
 from .diagnostics import CHECK_EVERY, divergence_error, instability
 from .model import G0, POINTS, Model
@@ -139,7 +140,12 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
     sens = np.empty((n, mj.nsensordata))
     drive = _seat_drive(model, d, seat_rotation, n) if seat_rotation is not None else None
     poses = _pose_buffers(model, n, int(pose_every), int(pose_first)) if pose_every else None
-    advance = _advancer(mj, d, G0[None, :] - acc, sens, drive, model.head_control)
+    gravity = np.ascontiguousarray(G0[None, :] - acc)
+    control = model.head_control
+    advance = native.advancer(mj, d, gravity, sens, drive,
+                              None if control is None else np.array(control.numeric(), dtype=float))
+    if advance is None:
+        advance = _advancer(mj, d, gravity, sens, drive, control)
     try:
         _run_blocks(model, d, n, advance, poses)
     finally:
@@ -155,9 +161,10 @@ def _seat_drive(model: Model, d: mujoco.MjData, seat_rotation: tuple, n: int) ->
     ctrl = np.empty((n, 6))
     ctrl[:, 0::2], ctrl[:, 1::2] = q_des, qd_des
     ctrl_idx = np.column_stack([ctrl_adr, ctrl_adr + 1]).ravel()
-    ff = SEAT_INERTIA_KGM2 * qdd_des  # feed-forward torque of the heavy seat
-    return {"ctrl": ctrl, "ff": ff, "c_view": _run_of(d.ctrl, ctrl_idx),
-            "f_view": _run_of(d.qfrc_applied, model.seat["dofs"])}
+    ff = np.ascontiguousarray(SEAT_INERTIA_KGM2 * qdd_des)  # feed-forward torque of the heavy seat
+    c_view, f_view = _run_of(d.ctrl, ctrl_idx), _run_of(d.qfrc_applied, model.seat["dofs"])
+    return {"ctrl": ctrl, "ff": ff, "c_view": c_view, "f_view": f_view, "ctrl_adr": int(ctrl_idx[0]),
+            "ff_adr": int(model.seat["dofs"][0])}
 
 
 def _drawn_bodies(model: Model) -> np.ndarray:

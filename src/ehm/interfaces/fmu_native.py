@@ -31,7 +31,6 @@ import hashlib
 import json
 import os
 import platform
-import shlex
 import shutil
 import subprocess
 import sys
@@ -53,6 +52,8 @@ STATE_RESOURCE = "ehm_state.txt"
 PARAMS_RESOURCE = "ehm_params.toml"
 SETUP_RESOURCE = "ehm_fmu.json"
 C_SOURCE = "ehm_fmu.c"
+#: The header it shares with ehm's compiled stepping loop (the head control after each step).
+C_SHARED = "ehm_head_control.h"
 C_CONFIG = "ehm_fmu_config.h"
 #: Seat accelerations beyond this are refused (fmi2Discard) [m/s^2]: the person sits unbelted, held by contact
 #: and friction only; 10 g is far beyond ride and handling motion.
@@ -94,18 +95,12 @@ def native_platform_supported() -> bool:
 
 def find_compiler() -> list[str]:
     """The C compiler command to build with: ``$CC`` (it may carry words, e.g. ``ccache gcc``), else ``cc``,
-    ``gcc`` or ``clang`` on ``PATH``."""
-    words = shlex.split(os.environ.get("CC", ""))
-    if words:
-        found = shutil.which(words[0])
-        if found is None:
-            raise InputError(f"the C compiler named by CC ({' '.join(words)!r}) was not found; set CC to an installed "
-                             "compiler.")
-        return [found, *words[1:]]
-    for name in ("cc", "gcc", "clang"):
-        found = shutil.which(name)
-        if found:
-            return [found]
+    ``gcc`` or ``clang`` on ``PATH`` (:func:`ehm.engine.compiler_command`)."""
+    cc, why = engine.compiler_command()
+    if cc is not None:
+        return cc
+    if os.environ.get("CC", "").strip():
+        raise InputError(f"{why}; set CC to an installed compiler.")
     raise InputError("building the native FMU needs a C compiler (cc, gcc or clang on PATH, or CC set), and none "
                      "was found: install one (e.g. 'apt install gcc') or export with --python.")
 
@@ -277,6 +272,7 @@ def export_native_fmu(out_path, human=None) -> Path:
     rotating = model.seat is not None
     state = _state_text(human)
     c_source = _native_file(C_SOURCE)
+    c_shared = _native_file(C_SHARED)
     dt = float(model.mj.opt.timestep)
     setup = {"format": 1, "ehm_version": __version__, "mujoco_version": lib["version"], "platform": PLATFORM,
              "params_origin": human.params.origin, "posture": human.params.posture,
@@ -301,9 +297,10 @@ def export_native_fmu(out_path, human=None) -> Path:
         (res / STATE_RESOURCE).write_text(state, encoding="utf-8")
         (res / PARAMS_RESOURCE).write_text(human.params.to_toml(), encoding="utf-8")
         (res / SETUP_RESOURCE).write_text(json.dumps(setup, indent=2) + "\n", encoding="utf-8")
-        guid = _guid((res / MODEL_RESOURCE).read_bytes(), state.encode(), c_source,
+        guid = _guid((res / MODEL_RESOURCE).read_bytes(), state.encode(), c_source + c_shared,
                      "\n".join(INPUTS + OUTPUTS).encode())
         (sources / C_SOURCE).write_bytes(c_source)
+        (sources / C_SHARED).write_bytes(c_shared)
         (sources / C_CONFIG).write_text(_config_header(guid), encoding="utf-8")
         (sources / "CMakeLists.txt").write_bytes(_native_file("CMakeLists.txt"))
         for f in lib["licenses"]:

@@ -39,6 +39,7 @@
 #include <mujoco/mujoco.h>
 
 #include "ehm_fmu_config.h"
+#include "ehm_head_control.h"
 
 #define EHM_MAX_POINTS 8
 #define EHM_MAX_GROUPS 8
@@ -491,9 +492,9 @@ static int load_resources(Ehm *e, const char *uri) {
 /* -------------------------------------------------------------------------------------- the model step */
 
 /* Head-in-space control (ehm.engine.control): the numeric ehm_head_control holds delay_steps, head_body,
- * torso_body, quat_adr, angvel_adr (sensordata), tilt stiffness, tilt damping, yaw damping; userdata holds the
- * reference up (head axes) and the line of the last N - 1 torques, oldest first. */
-enum { HC_STEPS, HC_HEAD, HC_TORSO, HC_QUAT, HC_ANGVEL, HC_KP, HC_KD, HC_KYAW };
+ * torso_body, quat_adr, angvel_adr (sensordata), tilt stiffness, tilt damping, yaw damping (ehm_head_control.h's
+ * HC_ names); userdata holds the reference up (head axes) and the line of the last N - 1 torques, oldest first.  The
+ * law after each step is ehm_head_control_after_step, shared with ehm's compiled stepping loop. */
 
 /* Start the law in the current state (ehm.engine.control.start): its head orientation the reference. */
 static void head_control_start(Ehm *e) {
@@ -503,28 +504,6 @@ static void head_control_start(Ehm *e) {
     mju_negQuat(qc, e->d->sensordata + (int)e->head_control[HC_QUAT]);
     mju_zero(e->d->userdata, e->m->nuserdata);
     mju_rotVecQuat(e->d->userdata, ez, qc);
-}
-
-/* After a MuJoCo step (ehm.engine.control.after_step): the torque of the state it started from into the line, the
- * mean of the two oldest onto head and upper torso for the next step. */
-static void head_control_after_step(Ehm *e) {
-    const mjtNum *c = e->head_control, *s = e->d->sensordata;
-    const mjtNum *w = s + (int)c[HC_ANGVEL];
-    mjtNum u[3], tau[3], applied[3], *line = e->d->userdata + 3, *head, *torso;
-    int n = (int)e->m->nuserdata - 3, k;
-    mju_rotVecQuat(u, e->d->userdata, s + (int)c[HC_QUAT]);
-    tau[0] = c[HC_KP] * u[1] - c[HC_KD] * w[0];
-    tau[1] = -c[HC_KP] * u[0] - c[HC_KD] * w[1];
-    tau[2] = -c[HC_KYAW] * w[2];
-    for (k = 0; k < 3; k++) applied[k] = 0.5 * (line[k] + (n > 3 ? line[3 + k] : tau[k]));
-    memmove(line, line + 3, (size_t)(n - 3) * sizeof(mjtNum));
-    mju_copy3(line + n - 3, tau);
-    head = e->d->xfrc_applied + 6 * (int)c[HC_HEAD] + 3;
-    torso = e->d->xfrc_applied + 6 * (int)c[HC_TORSO] + 3;
-    for (k = 0; k < 3; k++) {
-        head[k] = applied[k];
-        torso[k] = -applied[k];
-    }
 }
 
 /* The settled state at the unit's start time, as ehm.engine.settled_data. */
@@ -611,7 +590,7 @@ static void model_step(Ehm *e, const double a[3], const double w[3]) {
     } else {
         mj_step(e->m, e->d);
     }
-    if (e->head_control) head_control_after_step(e);
+    if (e->head_control) ehm_head_control_after_step(e->m, e->d, e->head_control);
     e->pos_ready = 0;
     g[0] = G0[0];
     g[1] = G0[1];
