@@ -7,34 +7,43 @@ call: the process's first one, which also first touches its memory, then best an
 its real-time factor, and the accuracy: rms difference of the pelvis, trunk and head accelerations from
 the nonlinear (MuJoCo) route on the same motion, as a share of their rms.
 
-One core: unless the environment says otherwise, the BLAS library is limited to one thread (set before
-numpy is imported).
+BLAS threads as installed: the routes keep their own small matrix products on one BLAS thread (threadpoolctl), so the
+environment need not say anything.  With --busy a second process keeps one core busy meanwhile (what a user's
+other work, or a Dask worker beside this one, does), where a threaded BLAS loses most.
 
-Usage: python benchmarks/bench_linear.py [--duration 35] [--repeat 20]
+Usage: python benchmarks/bench_linear.py [--duration 35] [--repeat 20] [--busy]
 """
 
 from __future__ import annotations
 
-import os
+import argparse
+import multiprocessing
+import resource
+import time
 
-for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ.setdefault(_var, "1")
+import numpy as np
+from threadpoolctl import threadpool_info
 
-import argparse  # noqa: E402
-import resource  # noqa: E402
-import time  # noqa: E402
+import ehm
+from ehm.routes import linear
 
-import numpy as np  # noqa: E402
 
-import ehm  # noqa: E402
-from ehm.routes import linear  # noqa: E402
+def _spin() -> None:
+    """Keep one core busy (--busy)."""
+    while True:
+        pass
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--duration", type=float, default=35.0)
     ap.add_argument("--repeat", type=int, default=20)
+    ap.add_argument("--busy", action="store_true", help="keep one other core busy while timing")
     args = ap.parse_args()
+    busy = None
+    if args.busy:
+        busy = multiprocessing.Process(target=_spin, daemon=True)
+        busy.start()
     human = ehm.SeatedHuman()
     human.settle()
     t0 = time.perf_counter()
@@ -42,7 +51,10 @@ def main() -> None:
     built = time.perf_counter() - t0
     modes = linear.modal_form(ss)
     n_states = modes.n_real + 2 * (modes.lam.size - modes.n_real)
-    print(f"ehm {ehm.__version__}, BLAS threads {os.environ['OPENBLAS_NUM_THREADS']}: linear model {ss.A.shape[0]} "
+    blas = ", ".join(f"{i['internal_api']} {i['num_threads']} threads" for i in threadpool_info()
+                     if i["user_api"] == "blas") or "none found"
+    print(f"ehm {ehm.__version__}, BLAS as installed ({blas}; the routes use one), "
+          f"{'one other core busy' if busy else 'machine otherwise idle'}: linear model {ss.A.shape[0]} "
           f"states, {len(ss.output_names)} outputs, built in {built:.2f} s after settling (linearised at "
           f"{ss.linearised_at_step_s * 1e6:.1f} us); time runs use {n_states} states ({modes.unreached} not "
           f"reached by the input left out, {len(modes.static_hz)} above {linear.STATIC_ABOVE_HZ:g} Hz static)")
@@ -61,7 +73,7 @@ def main() -> None:
             walls.append(time.perf_counter() - t0)
         best, median = min(walls), float(np.median(walls))
         t0 = time.perf_counter()
-        nl = human.simulate(motion)
+        nl = human.simulate(motion, method="nonlinear")
         wall_nl = time.perf_counter() - t0
         errs = []
         every = int(round(dt / nl.dt_s))  # the nonlinear run is sampled at the model's step
@@ -75,6 +87,8 @@ def main() -> None:
               f"({args.duration / wall_nl:.0f}x); acceleration rms difference pelvis/trunk/head x,y,z: "
               + ", ".join("/".join(f"{e:.1f}" for e in row) for row in errs) + " %")
     print(f"peak memory {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+    if busy is not None:
+        busy.terminate()
 
 
 if __name__ == "__main__":

@@ -46,3 +46,41 @@ def test_a_parallel_run_asking_for_too_many_workers_runs_on_what_the_machine_hol
     with pytest.warns(EhmWarning, match="1000 worker processes asked for"):
         run = simulate_parallel(human, motion, workers=1000, lead_in_s=1.0)
     assert run.time_s[-1] == pytest.approx(4.0, abs=0.002)
+
+
+def _blas_threads() -> int:
+    from threadpoolctl import threadpool_info
+
+    return max((i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"), default=1)
+
+
+def test_a_routes_chunks_run_on_one_blas_thread_and_the_callers_code_as_it_was():
+    from threadpoolctl import threadpool_limits
+
+    seen = []
+
+    def chunks():
+        for k in range(3):
+            seen.append(_blas_threads())
+            yield k
+
+    with threadpool_limits(limits=2, user_api="blas"):  # the caller's own setting, whatever the machine
+        caller = _blas_threads()
+        between = [(_blas_threads(), k) for k in processes.on_one_blas_thread(chunks())]
+    assert seen == [1, 1, 1]
+    assert [b for b, _ in between] == [caller] * 3 and [k for _, k in between] == [0, 1, 2]
+
+
+def test_simulate_computes_on_one_blas_thread(human, monkeypatch):
+    from ehm.routes import hybrid
+
+    seen = []
+    original = hybrid.block_chunk
+
+    def watched(*args, **kwargs):
+        seen.append(_blas_threads())
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(hybrid, "block_chunk", watched)  # the linear model's time run
+    human.simulate(ehm.random_vibration("z", 2.0, 0.3, seed=1), method="linear")  # SYNTHETIC
+    assert seen and set(seen) == {1}

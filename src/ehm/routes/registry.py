@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 from ..errors import DivergenceError, InputError
 from ..inputs.motion import require_motion
+from ..processes import on_one_blas_thread
 from . import hybrid, nonlinear, parallel
 from .built import built_of
 
@@ -121,5 +122,6 @@ def stream(person, motion, method: str = "auto", chunk_s: float = 10.0, progress
     # the person at the vibration level of the WHOLE drive, taken once here (unless the person's own is given), so
     # that every route, the parallel route's segments and the hybrid route's two models run at one level
     person = built_of(person).for_motion(motion)
-    yield from person.recorded(chosen.run(person, motion, chunk_s=chunk_s, progress=progress,
-                                          pose_rate_hz=pose_rate_hz, **kept))
+    # the route's small matrix products on one BLAS thread (a threaded BLAS oversubscribes the cores with them)
+    yield from on_one_blas_thread(person.recorded(chosen.run(person, motion, chunk_s=chunk_s, progress=progress,
+                                          pose_rate_hz=pose_rate_hz, **kept)))
