@@ -2,14 +2,18 @@
 
 Usage::
 
-    python benchmarks/bench_parallel.py                     # speed: 1 and 2 workers against one continuous run
+    python benchmarks/bench_parallel.py                     # speed: the default and 2 workers against one process
+    python benchmarks/bench_parallel.py --city              # the SYNTHETIC 10-minute city drive (rotating seat)
     python benchmarks/bench_parallel.py --duration 1200     # a longer SYNTHETIC drive
     python benchmarks/bench_parallel.py --motion LOG.csv --rate 500 --no-time   # your own log (x, y, z columns)
     python benchmarks/bench_parallel.py --lead-in           # the lead-in measurement (module docstring of segments)
 
 Speed: every configuration runs in a fresh Python process from the person's construction (building, settling,
 worker start-up, resampling and joining all counted), so that wall time and peak memory (this process's and its
-children's largest resident set) are what a user sees.  Accuracy: the segmented run against the continuous one,
+children's largest resident set) are what a user sees.  The configurations: one continuous run
+(``simulate(motion, workers=1)``), the default (``simulate(motion)``: a drive of three minutes or more on the
+machine's cores, ``ehm.routes.parallel.default_workers``) and ``simulate_parallel`` with 2 workers.
+Accuracy: the segmented run against the continuous one,
 per point rms(difference) / rms(continuous) over the run and over the 10 s after each join, and the relative
 difference of a_v, VDV_z, MSDV_z (pelvis, trunk, head) and the head-driven final MSI.
 
@@ -52,16 +56,13 @@ def _human(motion):
 
 # --- accuracy -------------------------------------------------------------------------------------------------------
 
-class _Replay:
-    """A stand-in person for :func:`ehm.assess` that replays a finished run in the chunks assess asks for."""
-
-    def __init__(self, human, run):
-        self.params, self.run = human.params, run
-
-    def stream(self, motion, chunk_s, progress=None, method="nonlinear"):
-        n = int(round(chunk_s / self.run.dt_s))
-        for lo in range(0, self.run.time_s.size, n):
-            yield self.run.take(slice(lo, lo + n))
+def _replay(run):
+    """A ``stream`` that replays a finished run in the chunks :func:`ehm.assess` asks for."""
+    def stream(motion, chunk_s, progress=None, **kw):
+        n = int(round(chunk_s / run.dt_s))
+        for lo in range(0, run.time_s.size, n):
+            yield run.take(slice(lo, lo + n))
+    return stream
 
 
 def _figures(motion, human, run) -> dict:
@@ -69,9 +70,13 @@ def _figures(motion, human, run) -> dict:
 
     from ehm.analysis.assessment import assess
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        a = assess(motion, _Replay(human, run))
+    human.stream = _replay(run)  # this person's own stream, for the one call: the figures of the finished run
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            a = assess(motion, human)
+    finally:
+        del human.stream
     out = {}
     for p in POINTS:
         out[f"a_v {p}"] = a.total_value(p)
@@ -161,7 +166,9 @@ def one(args) -> dict:
     stats = {}
     t_epoch, t0, cpu0 = time.time(), time.perf_counter(), time.process_time()
     human = _human(motion)
-    if args.workers == 0:
+    if args.workers == 0:  # one continuous run
+        run = human.simulate(motion, workers=1)
+    elif args.workers == -1:  # as a user calls it
         run = human.simulate(motion)
     else:
         run = concatenate_runs(list(stream_parallel(human, motion, workers=args.workers, lead_in_s=args.lead_in_s,
@@ -179,7 +186,8 @@ def one(args) -> dict:
     peak_children = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
     np.save(args.save, np.hstack([run.point(p).acc_mps2 for p in POINTS]))
     return {"workers": args.workers, "wall_s": wall, "duration_s": run.duration_s, "peak_mb": peak_self,
-            "peak_worker_mb": peak_children, "run_wall_s": run.wall_s, **phases}
+            "peak_worker_mb": peak_children, "run_wall_s": run.wall_s, "figures": _figures(motion, human, run),
+            **phases}
 
 
 def measure_speed(args) -> None:
@@ -193,10 +201,11 @@ def measure_speed(args) -> None:
         base.append("--city")
     if args.lead_in_s is not None:
         base += ["--lead-in-s", str(args.lead_in_s)]
-    res, walls = {}, {0: [], 1: [], 2: []}
+    configs = (0, -1, 2)
+    res, walls = {}, {w: [] for w in configs}
     with tempfile.TemporaryDirectory() as tmp:
         for _ in range(args.repeat):  # rounds of all three, interleaved: on a shared machine the best of each
-            for w in (0, 1, 2):
+            for w in configs:
                 out = subprocess.run(base + ["--workers", str(w), "--save", f"{tmp}/acc{w}.npy"],
                                      capture_output=True, text=True, check=True)
                 r = json.loads(out.stdout.strip().splitlines()[-1])
@@ -209,13 +218,21 @@ def measure_speed(args) -> None:
           f"included); best of {args.repeat} interleaved rounds (all rounds: "
           + "; ".join(f"{w}: " + "/".join(f"{x:.1f}" for x in v) for w, v in walls.items()) + " s)")
     for w, r in res.items():
-        label = "continuous (simulate)" if w == 0 else f"simulate_parallel, {w} worker{'s' if w > 1 else ''}"
+        label = {0: "one process (workers=1)", -1: "default (simulate(motion))"}.get(
+            w, f"simulate_parallel, {w} worker{'s' if w > 1 else ''}")
         d = np.abs(acc[w] - acc[0])
         share = max(np.sqrt(np.mean(d[:, 3 * i:3 * i + 3] ** 2)) / np.sqrt(np.mean(acc[0][:, 3 * i:3 * i + 3] ** 2))
                     for i in range(3))
         print(f"  {label:<30} {r['wall_s']:7.2f} s  {r['duration_s'] / r['wall_s']:5.1f}x real time  "
               f"speed-up {c['wall_s'] / r['wall_s']:4.2f}x  CPU {r['cpu_s']:6.2f} s  peak {r['peak_mb']:4.0f} MB "
               f"here, {r['peak_worker_mb']:4.0f} MB largest child  acc difference {100 * share:.3f} % of rms")
+        if w != 0:
+            worst = max(abs(r["figures"][k] - c["figures"][k]) / abs(c["figures"][k]) for k in c["figures"]
+                        if c["figures"][k])
+            name = max((k for k in c["figures"] if c["figures"][k]),
+                       key=lambda k: abs(r["figures"][k] - c["figures"][k]) / abs(c["figures"][k]))
+            print(f"      figures (a_v, VDV_z, MSDV_z of pelvis, trunk, head; final MSI): worst {100 * worst:.3f} % "
+                  f"of the one-process run's ({name})")
         if r["worker_start_s"]:
             f = lambda xs: "/".join(f"{x:.2f}" for x in xs)  # noqa: E731
             print(f"      {r['segments']} segments; first (here) done at {r['first_segment_end_s']:.2f} s; worker "
@@ -241,7 +258,7 @@ def main() -> None:
     ap.add_argument("--city-s", type=float, default=60.0, help="--lead-in: the city drive's length [s] (default 60)")
     ap.add_argument("--ramp", action="store_true", help="--lead-in: also with the input faded in over the lead-in")
     ap.add_argument("--one", action="store_true", help=argparse.SUPPRESS)
-    ap.add_argument("--workers", type=int, default=0, help=argparse.SUPPRESS)
+    ap.add_argument("--workers", type=int, default=0, help=argparse.SUPPRESS)  # 0: one process, -1: the default
     ap.add_argument("--save", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.one:

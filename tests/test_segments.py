@@ -118,10 +118,10 @@ def test_wrong_motion_or_seat_is_refused(human):
 @pytest.mark.parametrize("extra, words", [
     (["--workers", "0"], "--workers 0: use 1 or more"),
     (["--lead-in", "5"], "--lead-in is for a run in segments"),
-    (["--workers", "2", "--method", "linear"], "split the nonlinear route"),
+    (["--scheduler", "tcp://127.0.0.1:1", "--method", "linear"], "add --method nonlinear (the linear route runs"),
     (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
     (["--workers", "2", "--method", "nonlinear", "--lead-in", "-1"], "--lead-in -1.0: give the lead-in in seconds"),
-    (["--workers", "2"], "add --method nonlinear (the auto route, the default, runs in one process)"),
+    (["--scheduler", "tcp://127.0.0.1:1"], "add --method nonlinear (the auto route, the default, runs in one process)"),
 ])
 def test_cli_parallel_options_are_checked_in_one_sentence(tmp_path, capsys, extra, words):
     code = main(["simulate", "--duration", "2", "--out", str(tmp_path / "run"), *extra])
@@ -133,8 +133,8 @@ def test_cli_parallel_options_are_checked_in_one_sentence(tmp_path, capsys, extr
 def test_assess_in_segments_keeps_the_figures(human, vibration):
     one = ehm.assess(vibration, human, method="nonlinear")
     two = ehm.assess(vibration, human, method="nonlinear", workers=2, lead_in_s=2.0)
-    with pytest.raises(InputError, match="split the nonlinear route into segments"):
-        ehm.assess(vibration, human, workers=2)  # the hybrid route, the default, runs in one process
+    with pytest.raises(InputError, match="a Dask client runs the nonlinear route in segments"):
+        ehm.assess(vibration, human, client=object())  # the hybrid route, the default, runs in one process
     for p in POINTS:
         assert abs(two.total_value(p) / one.total_value(p) - 1) < 0.01
         assert abs(two.metrics[p]["z"].vdv / one.metrics[p]["z"].vdv - 1) < 0.01
@@ -148,3 +148,64 @@ def test_a_rebuilt_person_is_the_same_person(human):
     again = SeatedHuman.from_recipe(human.recipe())
     np.testing.assert_array_equal(again.model.settled["qpos"], human.model.settled["qpos"])
     np.testing.assert_array_equal(again.linear_model().A, human.linear_model().A)
+
+
+def test_the_default_number_of_processes_follows_the_drive_and_the_machine(monkeypatch):
+    from ehm.routes import parallel
+
+    monkeypatch.setattr(parallel, "worker_limit", lambda: (16, "16 cores"))
+    assert parallel.default_workers(parallel.DEFAULT_SEGMENTS_FROM_S - 1) == 1  # a short drive: one process
+    assert parallel.default_workers(parallel.DEFAULT_SEGMENTS_FROM_S) == parallel.MAX_DEFAULT_WORKERS
+    monkeypatch.setattr(parallel, "worker_limit", lambda: (2, "2 cores"))
+    assert parallel.default_workers(600.0) == 2
+    monkeypatch.setattr(parallel, "worker_limit", lambda: (1, "1 core"))
+    assert parallel.default_workers(600.0) == 1
+
+
+def _in_a_child_process(queue):
+    from ehm.routes import parallel
+
+    queue.put(parallel.default_workers(3600.0))
+
+
+def test_inside_a_worker_process_a_long_drive_stays_in_that_process():
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("spawn")
+    queue = ctx.Queue()
+    p = ctx.Process(target=_in_a_child_process, args=(queue,))
+    p.start()
+    got = queue.get(timeout=120)
+    p.join(30)
+    assert got == 1
+
+
+@pytest.mark.parametrize("method, workers, expected", [
+    ("nonlinear", None, 2),  # a long drive: the machine's cores
+    ("nonlinear", 1, None),  # workers=1: one process
+    ("auto", None, 2),       # the hybrid route's drive that runs nonlinear from its start: the same
+    ("auto", 1, None),
+])
+def test_a_long_drive_goes_on_the_cores_unless_told_otherwise(human, monkeypatch, method, workers, expected):
+    from ehm.routes import hybrid, nonlinear, parallel, registry
+
+    calls = []
+
+    def spy(person, motion, workers=2, chunk_s=10.0, progress=None, pose_rate_hz=None, **kw):
+        calls.append(workers)  # then the continuous run, so that no process is started here
+        return nonlinear.stream_span(person, motion, chunk_s=chunk_s, pose_rate_hz=pose_rate_hz)
+
+    monkeypatch.setattr(parallel, "DEFAULT_SEGMENTS_FROM_S", 10.0)
+    monkeypatch.setattr(parallel, "worker_limit", lambda: (2, "2 cores"))
+    monkeypatch.setattr(registry.parallel, "stream_parallel", spy)
+    monkeypatch.setattr(hybrid, "stream_parallel", spy)
+    from dataclasses import replace
+
+    # SYNTHETIC; its manoeuvres send the hybrid route nonlinear from the start (the seat's turns left out)
+    drive = replace(ehm.city_drive(20.0, seed=0), angvel_radps=None)
+    run = human.simulate(drive, method=method, workers=workers)
+    assert calls == ([] if expected is None else [expected])
+    assert run.time_s[-1] == pytest.approx(20.0, abs=0.002)
+    if method == "auto":
+        assert run.extra["route"]["nonlinear_from_start"]
+        assert ("in segments on 2 processes" in run.extra["route"]["fallback"]) == (expected is not None)

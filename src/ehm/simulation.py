@@ -224,7 +224,14 @@ class SeatedHuman:
         ``method`` names a route of :mod:`ehm.routes.registry`: ``"auto"`` (or ``"hybrid"``, the same route),
         ``"linear"``, ``"nonlinear"``, or ``"parallel"``, the nonlinear route in segments on several processes or a
         Dask cluster (:mod:`ehm.routes.parallel`), whose ``options`` are ``workers``, ``client``, ``lead_in_s`` and
-        ``segment_s`` (``workers`` other than 1 or a ``client`` with ``"nonlinear"`` runs it too).
+        ``segment_s`` (``workers`` of 2 or more or a ``client`` with ``"nonlinear"`` runs it too).
+
+        The machine's cores by default: a drive of three minutes or more
+        (:data:`ehm.routes.parallel.DEFAULT_SEGMENTS_FROM_S`) that runs on the nonlinear model from its start
+        (``"nonlinear"``, or ``"auto"`` when its manoeuvres hold the contacts at their limits) runs in segments on the
+        machine's cores, up to :data:`ehm.routes.parallel.MAX_DEFAULT_WORKERS` processes
+        (:func:`ehm.routes.parallel.default_workers`; comfort and sickness figures within 1 % of one continuous run);
+        ``workers=1`` keeps one process, ``workers=N`` asks for N.
         """
         return concatenate_runs(list(self.stream(motion, progress=progress, method=method, tolerance=tolerance,
                                                  pose_rate_hz=pose_rate_hz, **options)))
@@ -232,7 +239,8 @@ class SeatedHuman:
     def simulate_to(self, out_dir: Path | str, motion: SeatMotion, output_rate_hz: float | None = None,
                     formats: str | tuple | list = ("csv",), pose_rate_hz: float | None = 25.0,
                     progress: Callable | None = None, chunk_s: float = 10.0, plot=None, method: str = "auto",
-                    tolerance: float | None = None, chunks: Iterable | None = None) -> dict:
+                    tolerance: float | None = None, chunks: Iterable | None = None,
+                    workers: int | None = None) -> dict:
         """Run a seat motion and write its run folder while it runs; returns the summary.
 
         Chunks of ``chunk_s`` go to disk as they are computed (:mod:`ehm.outputs.runfiles`), so memory does not grow
@@ -241,8 +249,8 @@ class SeatedHuman:
         ``output_rate_hz`` thins the time series (it must divide the model's rate; default
         :data:`ehm.outputs.runfiles.DEFAULT_OUTPUT_RATE_HZ`, or the nearest whole fraction of the model's rate above
         it);
-        ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method`` and ``tolerance`` as for :meth:`simulate` (every
-        route records poses at ``pose_rate_hz``).
+        ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method``, ``tolerance`` and ``workers`` as for
+        :meth:`simulate` (every route records poses at ``pose_rate_hz``).
 
         ``plot`` draws figures into the folder before it is put in place: a callable ``plot(preview, folder)``
         that gets a :class:`RunResult` of at most :data:`ehm.outputs.runfiles.PREVIEW_ROWS` evenly spread rows and the
@@ -277,7 +285,7 @@ class SeatedHuman:
         with RunFolder(out_dir) as tmp:
             if chunks is None:
                 chunks = self.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz,
-                                     method=method, tolerance=tolerance)
+                                     method=method, tolerance=tolerance, workers=workers)
             summary, pieces = write_run(tmp, chunks, output_every=every, formats=formats,
                                         preview_rows=PREVIEW_ROWS if plot else 0, n_steps=n_steps)
             if plot and pieces:

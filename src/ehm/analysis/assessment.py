@@ -397,7 +397,7 @@ def needs_rotating_seat(motion: SeatMotion, method: str) -> bool:
 
 @checked
 def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress: Callable | None = None,
-           method: str = "auto", tolerance: float | None = None, workers: int = 1, client=None,
+           method: str = "auto", tolerance: float | None = None, workers: int | None = None, client=None,
            lead_in_s: float | None = None, exposure: SpineExposure | None = None,
            sickness_params: MiscParameters | None = None) -> Assessment:
     """Assess a drive at the seat and through the body (see the module docstring).
@@ -429,8 +429,10 @@ def assess(motion: SeatMotion, human=None, chunk_s: float = 10.0, progress: Call
         The nonlinear route in segments on ``workers`` local processes or a Dask ``client``'s cluster, each
         segment after a lead-in of ``lead_in_s``: the options of the parallel route, passed through to
         :meth:`ehm.SeatedHuman.stream` (:mod:`ehm.routes.registry`, :func:`ehm.routes.parallel.stream_parallel`; the
-        comfort and sickness figures within 1 % of the continuous run with the default lead-in).  ``workers=1`` and
-        no client: the continuous run.
+        comfort and sickness figures within 1 % of the continuous run with the default lead-in).  ``workers=None``
+        (the default): a drive of three minutes or more that runs on the nonlinear model from its start goes in
+        segments on the machine's cores (:func:`ehm.routes.parallel.default_workers`); ``workers=1`` and no client:
+        the continuous run.
     exposure : SpineExposure, optional
         The daily exposure and the person of the ISO 2631-5 dose (default ``SpineExposure()``: 8 h a day, the
         standard's Annex C example's man).

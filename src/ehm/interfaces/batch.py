@@ -460,7 +460,8 @@ def _run_point(spec: RunSpec) -> dict:
                 from ..standards.sickness import read_sickness_params
 
                 misc = read_sickness_params(inp["sickness_params"])
-            result = assess(motion, human, method=route, sickness_params=misc)
+            # one process per drive: the study shares the cores out by drive
+            result = assess(motion, human, method=route, sickness_params=misc, workers=1)
             record["simulated_s"] += motion.duration_s
             summary = result.summary()
             for loc, v in summary["locations"].items():

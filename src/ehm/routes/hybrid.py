@@ -67,6 +67,7 @@ from .linear import (
     state_of,
 )
 from .nonlinear import chunk_result, stream_span
+from .parallel import default_workers, stream_parallel
 from .poses import PoseGrid
 
 #: A contact whose tangential force in the linear model passes this share of its Coulomb limit (mu times its
@@ -254,10 +255,17 @@ def _nonlinear_from_start(human, motion, report: RouteReport):
     return motion if turns or motion.angvel_radps is None else replace(motion, angvel_radps=None)
 
 
-def _stream_nonlinear(human, motion, report: RouteReport, chunk_s: float, progress, pose_rate_hz):
-    """The whole drive on the nonlinear route; the last chunk carries ``report``."""
+def _stream_nonlinear(human, motion, report: RouteReport, chunk_s: float, progress, pose_rate_hz, workers: int = 1):
+    """The whole drive on the nonlinear route (in segments on ``workers`` processes when more than one,
+    :mod:`ehm.routes.parallel`); the last chunk carries ``report``."""
     held = None
-    for piece in stream_span(human, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz):
+    if workers > 1:
+        report.fallback += f"; in segments on {workers} processes"
+        pieces = stream_parallel(human, motion, workers=workers, chunk_s=chunk_s, progress=progress,
+                                 pose_rate_hz=pose_rate_hz)
+    else:
+        pieces = stream_span(human, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
+    for piece in pieces:
         if held is not None:
             yield held
         held = piece
@@ -350,7 +358,7 @@ class _Drive:
 
 
 def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, progress=None,
-                   tolerance: float = TOLERANCE, pose_rate_hz: float | None = None):
+                   tolerance: float = TOLERANCE, pose_rate_hz: float | None = None, workers: int | None = None):
     """Run ``motion`` on the hybrid route (``method="auto"``) or the checked linear route (``"linear"``), chunk
     by chunk, as :meth:`ehm.SeatedHuman.stream` does (see the module docstring).
 
@@ -358,6 +366,8 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     :class:`RouteReport` as plain data (:meth:`RouteReport.as_dict`) in ``extra["route"]``.  ``tolerance``:
     share of rms the linear route's discrepancy may reach (``method="linear"`` warns above it).  ``pose_rate_hz``:
     record the segments' poses at about this rate (:mod:`ehm.routes.poses`), as the nonlinear route does.
+    ``workers``: processes for a drive the hybrid route runs on the nonlinear model from its start
+    (:func:`ehm.routes.parallel.default_workers` when None: a long drive in segments on the machine's cores).
     """
     if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
         raise InputError(f"tolerance must be a share of rms between 0 and 1, not {tolerance!r}.")
@@ -368,7 +378,8 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     # motion does not turn it runs the translation's, the windows on the rotating seat held level)
     early = _nonlinear_from_start(human, motion, report) if method == "auto" else None
     if early is not None:
-        yield from _stream_nonlinear(human, early, report, chunk_s, progress, pose_rate_hz)
+        n = default_workers(early.duration_s) if workers is None else workers
+        yield from _stream_nonlinear(human, early, report, chunk_s, progress, pose_rate_hz, n)
         return
     rotates = motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))
     description = motion.description

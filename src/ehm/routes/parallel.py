@@ -96,15 +96,24 @@ from ..errors import InputError, checked, describe
 from ..inputs.motion import SeatMotion, require_motion
 from ..inputs.resampling import Resampler
 from ..outputs.results import RunResult, concatenate_runs
-from ..processes import ONE_THREAD, capped_workers, environ_default, ignore_sigint, sigint_ignored
+from ..processes import ONE_THREAD, capped_workers, environ_default, ignore_sigint, sigint_ignored, worker_limit
 from .built import BuiltPerson, built_of
 from .nonlinear import stream as stream_nonlinear
 from .nonlinear import stream_span
 
-__all__ = ["DEFAULT_LEAD_IN_S", "Span", "plan_segments", "simulate_parallel", "stream_parallel"]
+__all__ = ["DEFAULT_LEAD_IN_S", "DEFAULT_SEGMENTS_FROM_S", "MAX_DEFAULT_WORKERS", "Span", "default_workers",
+           "plan_segments", "simulate_parallel", "stream_parallel"]
 
 #: Lead-in of every segment but the first [s], chosen by measurement (module docstring).
 DEFAULT_LEAD_IN_S = 10.0
+#: A drive at least this long [s] runs its nonlinear stretch from the start in segments on the machine's cores
+#: unless told otherwise (``workers=None``, the default; ``workers=1``, ``--workers 1``: one process).  Three minutes:
+#: at two segments the lead-in (10 s) and a worker's start-up (1.5 s) are then under a tenth of the work, and the
+#: comfort and sickness figures of the drives measured stay within 0.5 % of the continuous run (module docstring).
+DEFAULT_SEGMENTS_FROM_S = 180.0
+#: At most this many processes by default (a machine with more cores gains less per process: every segment but
+#: the first runs its lead-in, and each process holds about 0.4 GB); ``workers=N`` asks for more.
+MAX_DEFAULT_WORKERS = 8
 #: Wall time a local worker process costs before its segment [s]: spawning it, with Python, NumPy, SciPy, MuJoCo
 #: and ehm imported and the person built (1.2-1.3 s measured, ``benchmarks/bench_parallel.py``), and a margin for
 #: handing its result back; the first segment, run in this process meanwhile, is made longer by what this
@@ -138,6 +147,18 @@ class Span:
     def work_steps(self) -> int:
         """Steps the segment's worker runs (lead-in included)."""
         return self.stop - self.first + self.lead_steps
+
+
+def default_workers(duration_s: float) -> int:
+    """How many processes a nonlinear run of a drive of ``duration_s`` [s] uses when the caller does not say
+    (``workers=None``): the machine's (:func:`ehm.processes.worker_limit`: its usable cores and its memory, at most
+    :data:`MAX_DEFAULT_WORKERS`) for a drive of :data:`DEFAULT_SEGMENTS_FROM_S` or more, else 1; always 1 inside a
+    worker process (a batch study's, a Dask worker's: those already share the cores out)."""
+    import multiprocessing
+
+    if duration_s < DEFAULT_SEGMENTS_FROM_S or multiprocessing.parent_process() is not None:
+        return 1
+    return max(1, min(worker_limit()[0], MAX_DEFAULT_WORKERS))
 
 
 def plan_segments(n_steps: int, n_segments: int, lead_steps: int, align_steps: int = 1,

@@ -3,18 +3,22 @@
 =============  =====================================================================  ===========================
 name           route                                                                  options
 =============  =====================================================================  ===========================
-``nonlinear``  the MuJoCo model stepped throughout (:mod:`ehm.routes.nonlinear`)       none
+``nonlinear``  the MuJoCo model stepped throughout (:mod:`ehm.routes.nonlinear`); a    ``workers``
+               long drive in segments on the machine's cores (:mod:`.parallel`)
 ``linear``     the linearised person, checked against the nonlinear model where a     ``tolerance``
                contact reaches its friction limit (:mod:`ehm.routes.hybrid`)
-``auto``,      the linear model where the contacts hold, the nonlinear one where      ``tolerance``
-``hybrid``     they slide or lift off (:mod:`ehm.routes.hybrid`; the default)
+``auto``,      the linear model where the contacts hold, the nonlinear one where      ``tolerance``,
+``hybrid``     they slide or lift off (:mod:`ehm.routes.hybrid`; the default); a      ``workers``
+               long drive it runs nonlinear from the start in segments
 ``parallel``   the nonlinear route in segments on several processes or a Dask         ``workers``, ``client``,
                cluster (:mod:`ehm.routes.parallel`)                                   ``lead_in_s``, ``segment_s``
 =============  =====================================================================  ===========================
 
 Every route takes the person as built (:class:`ehm.routes.built.BuiltPerson`) and the drive as data, and yields
-the run's chunks (:class:`ehm.outputs.results.RunResult`, absolute times) one at a time.  ``workers`` other than 1 or a
-``client`` with ``nonlinear`` is the ``parallel`` route (:func:`choose`).
+the run's chunks (:class:`ehm.outputs.results.RunResult`, absolute times) one at a time.  ``workers`` of 2 or more or a
+``client`` with ``nonlinear`` is the ``parallel`` route (:func:`choose`).  ``workers=None`` (the default) runs a drive
+of :data:`ehm.routes.parallel.DEFAULT_SEGMENTS_FROM_S` or more that goes to the nonlinear model from its start in
+segments on the machine's cores (:func:`ehm.routes.parallel.default_workers`); ``workers=1`` keeps one process.
 """
 
 from __future__ import annotations
@@ -44,29 +48,43 @@ class Route:
 
 def _checked(method: str):
     def run(person, motion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
-            tolerance: float | None = None):
+            tolerance: float | None = None, workers: int | None = None):
         # on the model's step, resampled as the nonlinear route resamples (the same input either way)
         try:
             yield from hybrid.stream_checked(person, motion, method=method, chunk_s=chunk_s, progress=progress,
                                              tolerance=hybrid.TOLERANCE if tolerance is None else tolerance,
-                                             pose_rate_hz=pose_rate_hz)
+                                             pose_rate_hz=pose_rate_hz, workers=workers)
         except DivergenceError as exc:
             raise nonlinear.with_input_cause(exc, motion, motion.duration_s) from None
     return run
 
 
+def _nonlinear(person, motion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
+               workers: int | None = None):
+    """The nonlinear route; a long drive (:func:`ehm.routes.parallel.default_workers`) in segments on the machine's
+    cores unless ``workers`` says otherwise."""
+    n = parallel.default_workers(motion.duration_s) if workers is None else workers
+    if n > 1:
+        yield from parallel.stream_parallel(person, motion, workers=n, chunk_s=chunk_s, progress=progress,
+                                            pose_rate_hz=pose_rate_hz)
+    else:
+        yield from nonlinear.stream(person, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
+
+
 def _parallel(person, motion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
-              workers: int = 1, client=None, lead_in_s: float | None = None, segment_s: float | None = None):
-    yield from parallel.stream_parallel(person, motion, workers=workers, segment_s=segment_s, lead_in_s=lead_in_s,
+              workers: int | None = None, client=None, lead_in_s: float | None = None, segment_s: float | None = None):
+    n = max(2, parallel.default_workers(motion.duration_s)) if workers is None else workers
+    yield from parallel.stream_parallel(person, motion, workers=n, segment_s=segment_s, lead_in_s=lead_in_s,
                                         client=client, progress=progress, chunk_s=chunk_s,
                                         pose_rate_hz=pose_rate_hz)
 
 
-_HYBRID = Route("auto", _checked("auto"), ("tolerance",),
+_HYBRID = Route("auto", _checked("auto"), ("tolerance", "workers"),
                 "the linear model where the contacts hold, the nonlinear one where they slide or lift off")
 #: The routes by name.
 ROUTES: dict[str, Route] = {
-    "nonlinear": Route("nonlinear", nonlinear.stream, (), "the MuJoCo model throughout"),
+    "nonlinear": Route("nonlinear", _nonlinear, ("workers",), "the MuJoCo model throughout (a long drive in segments "
+                       "on the machine's cores)"),
     "linear": Route("linear", _checked("linear"), ("tolerance",),
                     "the linearised person throughout, checked against the nonlinear model"),
     "auto": _HYBRID,
@@ -87,15 +105,21 @@ def route(name: str) -> Route:
 OPTIONS = ("tolerance", "workers", "client", "lead_in_s", "segment_s")
 
 
-def choose(method: str = "auto", tolerance: float | None = None, workers: int = 1, client=None,
+def choose(method: str = "auto", tolerance: float | None = None, workers: int | None = None, client=None,
            lead_in_s: float | None = None, segment_s: float | None = None) -> tuple[Route, dict]:
-    """The route asked for and the options it takes: ``method`` by name, except that ``workers`` other than 1 or a
-    ``client`` turn ``nonlinear`` into ``parallel`` (and are refused with the linear and hybrid routes, which run in
-    one process); options a route does not take are left out."""
-    if workers != 1 or client is not None:
-        if method not in ("nonlinear", "parallel"):
-            raise InputError(f"workers and client split the nonlinear route into segments; pass method='nonlinear' "
-                             f"(the {method} route runs in one process).")
+    """The route asked for and the options it takes: ``method`` by name, except that a ``client`` or ``workers`` of 2
+    or more turn ``nonlinear`` into ``parallel`` (a ``client`` is
+    refused with the linear and hybrid routes, which run in one process; their ``workers`` count where the hybrid
+    route runs the nonlinear model from a drive's start); options a route does not take are left out.
+    ``workers=None`` (the default) leaves it to the drive's length (:func:`ehm.routes.parallel.default_workers`);
+    ``workers=1`` keeps one process."""
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise InputError(f"workers must be a whole number of processes, 1 or more (or None: as the drive's length "
+                         f"says), not {workers!r}.")
+    if client is not None and method not in ("nonlinear", "parallel"):
+        raise InputError(f"a Dask client runs the nonlinear route in segments; pass method='nonlinear' (the {method} "
+                         "route runs in one process).")
+    if method == "nonlinear" and ((workers or 1) > 1 or client is not None):
         method = "parallel"
     chosen = route(method)
     given = {"tolerance": tolerance, "workers": workers, "client": client, "lead_in_s": lead_in_s,

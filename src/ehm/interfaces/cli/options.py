@@ -140,10 +140,12 @@ def progress_options(p: argparse.ArgumentParser) -> None:
 def parallel_options(p: argparse.ArgumentParser) -> None:
     """--workers, --scheduler, --lead-in: the nonlinear route in segments on several cores (ehm.routes.parallel)."""
     p.add_argument("--workers", type=int, metavar="N",
-                   help="run the nonlinear route in N segments on N local processes, each after a lead-in (default: "
-                        "one continuous run in this process; at most what the machine holds: its cores, and its "
-                        "memory at about 0.4 GB per worker, with a warning); see 'Long runs on several cores' in the "
-                        "user guide for how close to the continuous run this comes")
+                   help="run the nonlinear route in N segments on N local processes, each after a lead-in (default: a "
+                        "drive of 3 minutes or more that runs on the nonlinear model from its start goes in segments "
+                        "on the machine's cores, up to 8; anything else runs in this process; --workers 1: always one "
+                        "process; at most what the machine holds: its cores, and its memory at about 0.4 GB per "
+                        "worker, with a warning); see 'Long runs on several cores' in the user guide for how close to "
+                        "the continuous run this comes")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
                    help="run the segments on this Dask scheduler's workers instead (one segment per worker)")
     p.add_argument("--lead-in", type=float, metavar="S",

@@ -108,14 +108,16 @@ def cmd_simulate(args) -> int:
         show = progress_bar("simulate", args.quiet)
         chunks = None if parallel is None else parallel(human, motion, progress=show, chunk_s=10.0, pose_rate_hz=25.0)
         s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats, progress=show,
-                              plot=draw, method=args.method, tolerance=_tolerance(args), chunks=chunks)
+                              plot=draw, method=args.method, tolerance=_tolerance(args), chunks=chunks,
+                              workers=args.workers if parallel is None else None)
     files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json, poses.npz" + \
         (", time_histories.png" if args.plot else "")
-    if parallel is None:
+    wall = time.perf_counter() - t0
+    if parallel is None and s["wall_s"] <= wall:
         speed = f"in {s['wall_s']:.2f} s ({s['realtime_factor']:.0f}x real time)"
     else:  # the stepping's time summed over the processes is not the time it took
-        wall = time.perf_counter() - t0
-        speed = (f"in {wall:.2f} s on {parallel.describe()} ({s['duration_s'] / wall:.0f}x real time, files "
+        where = "several processes" if parallel is None else parallel.describe()
+        speed = (f"in {wall:.2f} s on {where} ({s['duration_s'] / wall:.0f}x real time, files "
                  f"included; {s['wall_s']:.2f} s of stepping in all)")
     print(f"simulated {s['duration_s']:.3g} s of '{s['input']}' {speed}; wrote {out}/ ({files}; "
           f"{s['output_rate_hz']:g} rows per s)")
@@ -147,19 +149,22 @@ def _segments(args):
     """None for one continuous run, else a :class:`_Parallel` (with a Dask client for --scheduler, closed on
     leaving); --workers, --scheduler and --lead-in checked, one sentence each."""
     workers, scheduler, lead = args.workers, args.scheduler, args.lead_in
-    if workers is None and scheduler is None:
-        if lead is not None:
-            raise InputError("--lead-in is for a run in segments: give --workers N or --scheduler too.")
-        yield None
-        return
     if workers is not None and workers < 1:
         raise InputError(f"--workers {workers}: use 1 or more worker processes.")
+    if scheduler is None and (workers is None or args.method != "nonlinear"):
+        # the route's own choice: a long drive it runs on the nonlinear model from its start goes in segments on
+        # the machine's cores unless --workers says otherwise (ehm.routes.parallel.default_workers)
+        if lead is not None:
+            raise InputError("--lead-in is for a run in segments: give --method nonlinear with --workers N, or "
+                             "--scheduler, too.")
+        yield None
+        return
     if workers is not None and scheduler is not None:
         raise InputError("give --workers (local processes) or --scheduler (a Dask cluster's workers), not both.")
     if args.method != "nonlinear":
-        raise InputError(f"--workers and --scheduler split the nonlinear route into segments; add --method nonlinear "
-                         f"(the {args.method} route, {'the default, ' if args.method == 'auto' else ''}runs in one "
-                         "process).")
+        which = "the auto route, the default," if args.method == "auto" else f"the {args.method} route"
+        raise InputError(f"--scheduler runs the nonlinear route in segments on a Dask cluster; add --method nonlinear "
+                         f"({which} runs in one process).")
     if lead is not None and not (math.isfinite(lead) and lead >= 0):
         raise InputError(f"--lead-in {lead}: give the lead-in in seconds, 0 or more.")
     if scheduler is None:
@@ -311,8 +316,9 @@ def cmd_assess(args) -> int:
         motion = read_motion_file(args)
         human = human_from_args(args, rotating_seat=needs_rotating_seat(motion, args.method))
         with _segments(args) as parallel:
-            kw = {} if parallel is None else {"workers": parallel.workers, "client": parallel.client,
-                                              "lead_in_s": parallel.lead_in_s}
+            kw = {"workers": args.workers} if parallel is None else {"workers": parallel.workers,
+                                                                     "client": parallel.client,
+                                                                     "lead_in_s": parallel.lead_in_s}
             result = assess(motion, human, progress=progress_bar("assess", args.quiet), method=args.method,
                             tolerance=_tolerance(args), exposure=exposure, sickness_params=misc_params, **kw)
     if args.sickness_params:
