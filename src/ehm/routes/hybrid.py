@@ -23,7 +23,8 @@ route by its effect:
 4. ``method="auto"`` (the hybrid route) keeps the nonlinear answer in the windows and hands the nonlinear
    state back to the linear model at each window's end (``ehm.engine.deviation_of``,
    :func:`ehm.routes.linear.carry_of`), so both pieces join without a jump; once the windows cover more than
-   :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`), it runs the rest of the drive on
+   :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`, or a third of a shorter drive), it
+   runs the rest of the drive on
    the nonlinear model.  A drive whose manoeuvres hold the seat's horizontal acceleration above the back pads'
    friction limit for much of its length (:func:`sustained_share` above ``SUSTAINED_SHARE``) runs on the
    nonlinear model from its start: the linear model is then neither built nor run.
@@ -84,8 +85,13 @@ LOOKAHEAD_S = 10.0
 #: The hybrid route runs the rest of a drive on the nonlinear model once its windows cover more than this share of
 #: the drive so far, after at least FALLBACK_AFTER_S.
 FALLBACK_SHARE = 0.5
-#: The rest of a drive goes to the nonlinear model no earlier than this far into it [s].
+#: The rest of a drive goes to the nonlinear model no earlier than this far into it [s], or than FALLBACK_AFTER_SHARE of
+#: a shorter drive: on a long drive a rough first stretch must not send an hour of smooth road to the nonlinear model
+#: (20 times slower), while on a short one a late decision costs more than a wrong one (35 s of three-axis vibration
+#: at 1 m/s^2, windows over 89 % of it, default person: deciding at 30 s left the hybrid route at 0.90 times the
+#: nonlinear route's speed).
 FALLBACK_AFTER_S = 30.0
+FALLBACK_AFTER_SHARE = 1 / 3
 #: The hybrid route runs a drive on the nonlinear model from its start when the seat's horizontal acceleration, in
 #: means over SUSTAINED_WINDOW_S, is above SUSTAINED_MPS2 for more than SUSTAINED_SHARE of the drive
 #: (:func:`sustained_share`).  Measured with the default person: a steady seat acceleration (a slow ramp) brings
@@ -441,7 +447,8 @@ class _Hybrid:
             pos = yield from self._chunk(pos, min(n, pos + self.per_chunk))
             self.report.discrepancy = self.sums.shares()
             done_s = pos * self.dt
-            if (self.method == "auto" and pos < n and done_s >= FALLBACK_AFTER_S
+            after_s = min(FALLBACK_AFTER_S, FALLBACK_AFTER_SHARE * n * self.dt)
+            if (self.method == "auto" and pos < n and done_s >= after_s
                     and self.report.nonlinear_s > FALLBACK_SHARE * done_s):
                 yield from self._rest_nonlinear(pos)
                 break
