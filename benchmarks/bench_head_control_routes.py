@@ -1,0 +1,94 @@
+"""The head-in-space control on the default (hybrid) route against the nonlinear route: accuracy and speed, and the
+speed with the control as a share of the speed without it.  Inputs are SYNTHETIC (ehm.random_vibration, the
+SYNTHETIC city drive ehm.city_drive).
+
+    python benchmarks/bench_head_control_routes.py     # about two minutes on one core
+
+For each drive, the default person with the control (``head_control=True``) and without, on ``method="auto"`` and
+``method="nonlinear"``:
+
+* wall time [s] and real-time factor (drive length over wall time), the person settled and linearised beforehand;
+* the route: the linear model's share of the drive and why the nonlinear model ran (the route's report);
+* with the control, auto against nonlinear: the worst point acceleration's rms difference as a share of its rms
+  (channels whose rms is below 1e-4 of the largest, round-off under the drive, against the largest: as the route's
+  own discrepancy measure), the head's pitch and roll (rotation relative to the seat) rms difference as a share of
+  their rms, and the route's own discrepancy;
+* the speed with the control as a ratio of the speed without it, on the same drive and route.
+
+Then the accuracy these figures hold at: ``ehm check-step``'s worst path at 1 ms against dt/8 for the person with the
+control (and without).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+import ehm
+from ehm.analysis.assessment import needs_rotating_seat
+from ehm.analysis.convergence import check_step
+from ehm.routes.linear import linear_model
+
+POINTS = ("pelvis", "trunk", "head", "lumbar")
+DRIVES = {"three-axis 60 s at 0.3 m/s^2 rms": lambda: ehm.random_vibration("xyz", 60.0, 0.3, seed=0),
+          "city drive 120 s": lambda: ehm.city_drive()}
+
+
+def rms(x, axis=0):
+    return np.sqrt(np.mean(np.asarray(x) ** 2, axis=axis))
+
+
+def worst_acc_share(a_run, b_run) -> tuple[str, float]:
+    """The worst point acceleration's rms difference over the reference ``b_run``'s rms (channels without content
+    against the largest rms)."""
+    ref = np.array([rms(b_run.point(p).acc_mps2 - b_run.point(p).acc_mps2.mean(axis=0)) for p in POINTS])
+    diff = np.array([rms(a_run.point(p).acc_mps2 - b_run.point(p).acc_mps2) for p in POINTS])
+    share = diff / np.maximum(ref, 1e-4 * ref.max())
+    i, k = np.unravel_index(int(np.argmax(share)), share.shape)
+    return f"{POINTS[i]} {'xyz'[k]}", float(share[i, k])
+
+
+def timed(human, motion, method):
+    t0 = time.perf_counter()
+    run = human.simulate(motion, method=method)
+    return run, time.perf_counter() - t0
+
+
+def main() -> None:
+    for label, make in DRIVES.items():
+        motion = make()
+        print(f"{label} ({motion.description})")
+        runs = {}
+        for hc in (False, True):
+            human = ehm.SeatedHuman(head_control=hc, rotating_seat=needs_rotating_seat(motion, "auto"))
+            person = human.built.for_motion(motion)
+            person.settle()
+            linear_model(person)  # the linearisation is kept with the person: not timed below
+            for method in ("auto", "nonlinear"):
+                run, wall = timed(human, motion, method)
+                runs[hc, method] = run, wall
+                route = run.extra.get("route", {})
+                how = (f"linear share {route['linear_share']:.1%}" + (f", {route['fallback']}" if route.get(
+                    "fallback") else "")) if route else "nonlinear route"
+                print(f"  head control {'on ' if hc else 'off'} {method:9s}: {wall:6.2f} s, "
+                      f"{motion.duration_s / wall:5.0f}x real time; {how}")
+        auto, nl = runs[True, "auto"][0], runs[True, "nonlinear"][0]
+        where, share = worst_acc_share(auto, nl)
+        rot = [rms(auto.point("head").rot_rad[:, k] - nl.point("head").rot_rad[:, k])
+               / rms(nl.point("head").rot_rad[:, k] - nl.point("head").rot_rad[:, k].mean()) for k in (0, 1)]
+        route = auto.extra["route"]
+        print(f"  with the control, auto against nonlinear: worst point acceleration {share:.2%} of rms ({where}); "
+              f"head pitch {rot[1]:.2%}, head roll {rot[0]:.2%} of rms; the route's own discrepancy "
+              f"{route['largest_discrepancy']['share_of_rms']:.2%}")
+        for method in ("auto", "nonlinear"):
+            ratio = runs[False, method][1] / runs[True, method][1]
+            print(f"  speed with the control / without, {method}: {ratio:.2f}")
+    for hc in (True, False):
+        path, err = check_step(ehm.Person(head_control=hc), dt_s=0.001, ratios=(8,)).worst(8)
+        print(f"check-step at 1 ms, head control {'on' if hc else 'off'}: worst path {path}, {err:.2%} of its peak "
+              "against dt/8")
+
+
+if __name__ == "__main__":
+    main()
