@@ -14,7 +14,11 @@ route by its effect:
    integral actions: :func:`ehm.routes.linear.state_of`, ``ehm.engine.data_at_deviation``), so it needs no
    settling lead-in.  Where a window leaves the body (where it sits and turns on the seat, the preload of a pad
    that stuck while its segment moved: directions the seat's acceleration does not drive, which the linear
-   time run leaves out) is carried on as a constant offset of the linear model's state and outputs.
+   time run leaves out) is carried on as a constant offset of the linear model's state and outputs.  A person with
+   the head-in-space control carries its delay across: the law's torques of the last N samples (from the linear
+   model's sensed outputs, or the nonlinear model's sensors) fill the nonlinear model's delay line at a window's
+   start (``ehm.engine.load_line``), and at its end the linear model's Padé states are those the window's torques
+   leave them in (``ehm.engine.pade_steps``), started from the linear model's at the window's start.
 3. Over every window the linear and the nonlinear answers are compared: the *discrepancy* of a point's
    acceleration is the rms of their difference over the windows, counted over the whole drive, as a share
    of that acceleration's rms over the drive (what the linear answer alone would be off by); a channel with no
@@ -26,7 +30,9 @@ route by its effect:
    :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`), it runs the rest of the drive on
    the nonlinear model.  A drive whose manoeuvres hold the seat's horizontal acceleration above the back pads'
    friction limit for much of its length (:func:`sustained_share` above ``SUSTAINED_SHARE``) runs on the
-   nonlinear model from its start: the linear model is then neither built nor run.
+   nonlinear model from its start: the linear model is then neither built nor run; so does a drive that turns the
+   seat of a person with the head-in-space control (the linear model of a turning seat senses the head on the seat,
+   not in space).
    ``method="linear"`` keeps the linear answer everywhere, the windows only checking it, and warns
    (:class:`LinearRouteWarning`, one sentence with the figure) when the discrepancy exceeds the tolerance.
 
