@@ -144,13 +144,21 @@ def after_step(control: HeadControl, d: mujoco.MjData) -> None:
     is the torque of N steps before on average, whatever the step: the delay converges with the step as the rest
     of the model does (the oldest torque alone would be half a step late, 2.4 % of the peak of seat z -> head pitch
     at 1 ms against 0.125 ms)."""
-    tau = torque(control, d)
-    line = d.userdata[LINE_START:]  # the torques of the last N - 1 states, oldest first
+    # torque(control, d) written out on Python floats (the same operations, half the time: 4 us a step of 20)
+    s, userdata = d.sensordata, d.userdata
+    u = np.empty(3)
+    mujoco.mju_rotVecQuat(u, userdata[REFERENCE], s[control.quat_adr:control.quat_adr + 4])
+    w0, w1, w2 = s[control.angvel_adr:control.angvel_adr + 3].tolist()
+    u0, u1, _ = u.tolist()
+    kp, kd = control.tilt_stiffness_Nm_per_rad, control.tilt_damping_Nms_per_rad
+    tau = (kp * u1 - kd * w0, -kp * u0 - kd * w1, -control.yaw_damping_Nms_per_rad * w2)
+    line = userdata[LINE_START:]  # the torques of the last N - 1 states, oldest first
     applied = 0.5 * (line[:3] + (line[3:6] if line.size > 3 else tau))
     line[:-3] = line[3:]
     line[-3:] = tau
-    d.xfrc_applied[control.head_body, 3:] = applied
-    d.xfrc_applied[control.torso_body, 3:] = -applied
+    xfrc = d.xfrc_applied
+    xfrc[control.head_body, 3:] = applied
+    xfrc[control.torso_body, 3:] = -applied
 
 
 # --- the delay line handed between the models -----------------------------------------------------------------------

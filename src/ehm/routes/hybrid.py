@@ -580,7 +580,7 @@ class _Hybrid:
         y = self._linear(inputs, carry) if y is None else y  # advances carry to b
         m, n_y = b - a, u.shape[0]
         if counted and self.control is not None:  # the linear model carries on from here: its torques
-            self._remember(head_sensed(y, m) @ self.gains.T)
+            self._remember(head_sensed(y, m, max(0, m - self.history.shape[0])) @ self.gains.T)
         check = None
         if seat is not None:
             check = left_out(y, m, seat if m == n_y else _first(seat, m))
