@@ -113,7 +113,8 @@ def test_the_hybrid_route_with_head_control_agrees_with_the_nonlinear_route(brak
     # "figures within 1 % of the nonlinear route": the hybrid route now runs the controlled person on the linear model
     # where the contacts hold, with the delay handed over at each window's start and end.  Measured: windows
     # 5.26-6.41 s and 10.67-11.45 s (linear share 84 %); every point acceleration within 0.96 % of its rms over the
-    # drive (head y; with an empty delay line at the windows' starts 1.88 %), within 0.19 % inside the windows
+    # drive (head y; with an empty delay line at the windows' starts 1.88 %, with the Padé states zeroed at their
+    # ends 1.59 %), within 0.19 % inside the windows
     # (counted over the whole drive, as the route counts its discrepancy; 1.73 % with the empty line); the head's
     # pitch within 0.56 % and its roll within 0.55 % of their rms.
     motion, nl, hy = braking
