@@ -24,7 +24,9 @@ Map of the package (each module one idea; underscore names are private to the pa
 * :mod:`.stepper`: :func:`step`, :func:`run` (a :class:`RawRun`), the point accelerations of the
   integrated motion, and the drawn bodies' poses in a linear model's states (:func:`deviation_poses`).
 * :mod:`.control`: the head-in-space control as the engine applies it (:class:`HeadControl`, after every step), and
-  :mod:`.control_linear` its linear model (:func:`feedback`, the delay as Padé states) and :func:`close_loop`.
+  :mod:`.control_linear` its linear model (:func:`feedback`, the delay as Padé states) and :func:`close_loop`; the
+  delay handed between the models: the engine's line of torques (:func:`line_torques`, :func:`load_line`, the torques
+  of recorded states :func:`control_torques`) and the Padé states a torque history leaves (:func:`pade_steps`).
 * :mod:`.linearisation`: :func:`linearize` into a :class:`LinearModel`, optionally with the seat rotation's
   fictitious loads about :func:`seat_pivot` as inputs (:func:`rotation_loads`).
 * :mod:`.export`: the compiled model as an MJB file, the MuJoCo C library (both for the native FMU) and the
@@ -66,8 +68,19 @@ the tests):
 """
 
 from .builder import build
-from .control import HeadControl
-from .control_linear import CONTROL_INPUTS, Feedback, close_loop, closed_linear_model, delay_line, feedback
+from .control import HeadControl, line_torques, load_line
+from .control import torques_of as control_torques
+from .control_linear import (
+                             CONTROL_INPUTS,
+                             Feedback,
+                             PadeSteps,
+                             close_loop,
+                             closed_linear_model,
+                             delay_line,
+                             feedback,
+                             pade_steps,
+)
+from .control_linear import gains as control_gains
 from .diagnostics import CHECK_EVERY, DIVERGED_M, captured_warnings, dof_name, take_warnings
 from .export import c_library, drawing_geometry, save_binary
 from .inertia import PAD_INERTIA_KGM2, ImpossibleInertia, inertia_problem, segment_mass_properties
@@ -114,7 +127,8 @@ from .stepper import RawRun, deviation_poses, evaluate_velocities, point_acceler
 
 __all__ = [
     "CHECK_EVERY", "CONTROL_INPUTS", "DIVERGED_M", "Feedback", "HeadControl", "close_loop", "closed_linear_model",
-    "delay_line", "feedback", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS",
+    "control_gains", "control_torques", "delay_line", "feedback", "line_torques", "load_line", "PadeSteps",
+    "pade_steps", "FIELD_INPUTS", "FRICTION_SOFTNESS", "G0", "OUTPUT_DOFS", "ROTATION_INPUTS",
     "S_ENTRIES", "PAD_INERTIA_KGM2", "POINT_JOINTS", "POINTS",
     "SEAT_DOFS", "SEAT_INERTIA_KGM2", "SENSOR_KINDS", "SUPPORT_GROUPS", "TRAPEZOIDAL_JOINTS",
     "ImpossibleInertia", "LinearModel", "Model", "NativeStepWarning", "RawRun", "SeatGeometry",

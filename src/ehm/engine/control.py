@@ -144,10 +144,58 @@ def after_step(control: HeadControl, d: mujoco.MjData) -> None:
     is the torque of N steps before on average, whatever the step: the delay converges with the step as the rest
     of the model does (the oldest torque alone would be half a step late, 2.4 % of the peak of seat z -> head pitch
     at 1 ms against 0.125 ms)."""
-    tau = torque(control, d)
-    line = d.userdata[LINE_START:]  # the torques of the last N - 1 states, oldest first
+    # torque(control, d) written out on Python floats (the same operations, half the time: 4 us a step of 20)
+    s, userdata = d.sensordata, d.userdata
+    u = np.empty(3)
+    mujoco.mju_rotVecQuat(u, userdata[REFERENCE], s[control.quat_adr:control.quat_adr + 4])
+    w0, w1, w2 = s[control.angvel_adr:control.angvel_adr + 3].tolist()
+    u0, u1, _ = u.tolist()
+    kp, kd = control.tilt_stiffness_Nm_per_rad, control.tilt_damping_Nms_per_rad
+    tau = (kp * u1 - kd * w0, -kp * u0 - kd * w1, -control.yaw_damping_Nms_per_rad * w2)
+    line = userdata[LINE_START:]  # the torques of the last N - 1 states, oldest first
     applied = 0.5 * (line[:3] + (line[3:6] if line.size > 3 else tau))
     line[:-3] = line[3:]
     line[-3:] = tau
+    xfrc = d.xfrc_applied
+    xfrc[control.head_body, 3:] = applied
+    xfrc[control.torso_body, 3:] = -applied
+
+
+# --- the delay line handed between the models -----------------------------------------------------------------------
+
+
+def torques_of(control: HeadControl, d: mujoco.MjData, quat: np.ndarray, angvel: np.ndarray) -> np.ndarray:
+    """The law's torques [N m] (n, 3) of recorded states: the head's orientation ``quat`` (n, 4, w x y z) and its
+    angular velocity ``angvel`` (n, 3, world axes) as the sensors read them (a :class:`ehm.engine.RawRun`'s
+    ``head_framequat`` and ``head_frameangvel``), with the reference up of ``d`` (the run's data): what
+    :func:`torque` gave in each of them."""
+    ref = d.userdata[REFERENCE]
+    w, v = quat[:, :1], quat[:, 1:]
+    t = 2.0 * np.cross(v, ref)  # u = R(q) ref = ref + w t + v x t
+    u = ref + w * t + np.cross(v, t)
+    kp, kd = control.tilt_stiffness_Nm_per_rad, control.tilt_damping_Nms_per_rad
+    return np.column_stack([kp * u[:, 1] - kd * angvel[:, 0], -kp * u[:, 0] - kd * angvel[:, 1],
+                            -control.yaw_damping_Nms_per_rad * angvel[:, 2]])
+
+
+def line_torques(control: HeadControl, d: mujoco.MjData) -> np.ndarray:
+    """The torques (N, 3) of the N states before the one ``d`` holds, oldest first, as the law keeps them between
+    steps: the oldest from the torque applied over the next step (the mean of the two oldest), the others from the
+    delay line.  The inverse of :func:`load_line`."""
+    line = d.userdata[LINE_START:].reshape(-1, 3)
+    oldest = 2.0 * d.xfrc_applied[control.head_body, 3:] - line[0]
+    return np.vstack([oldest, line])
+
+
+def load_line(control: HeadControl, d: mujoco.MjData, torques: np.ndarray) -> None:
+    """Put the torques (N, 3) of the N states before the one ``d`` holds (oldest first) into the law's delay line and
+    onto head and upper torso for the next step, as :func:`after_step` would have left them had the law run through
+    those states: a run continues another's delay (the hybrid route's hand-over from the linear model,
+    :mod:`ehm.routes.hybrid`)."""
+    torques = np.asarray(torques, dtype=float)
+    if torques.shape != (control.delay_steps, 3):
+        raise ValueError(f"the delay line takes {control.delay_steps} torques, not an array of shape {torques.shape}")
+    d.userdata[LINE_START:] = torques[1:].ravel()
+    applied = 0.5 * (torques[0] + torques[1])
     d.xfrc_applied[control.head_body, 3:] = applied
     d.xfrc_applied[control.torso_body, 3:] = -applied

@@ -39,6 +39,14 @@ class Feedback:
     drives: tuple
 
 
+def gains(control) -> np.ndarray:
+    """The law's gains (3, 5): its torque (world axes, on the head) from what it senses (:data:`SENSED`), for small
+    tilts."""
+    kp, kd = control.tilt_stiffness_Nm_per_rad, control.tilt_damping_Nms_per_rad
+    ky = control.yaw_damping_Nms_per_rad
+    return -np.array([[kp, 0, kd, 0, 0], [0, kp, 0, kd, 0], [0, 0, 0, 0, ky]], dtype=float)
+
+
 def control_loads(model: Model) -> np.ndarray:
     """The control's torque per unit input (3, n_body, 6), as ``MjData.xfrc_applied``: on the head, and its reaction
     on the upper torso."""
@@ -67,8 +75,7 @@ def feedback(model: Model, delay_s: float | None = None, order: int = PADE_ORDER
     ``delay_s`` says otherwise (a study of the delay margin)."""
     c = model.head_control
     T = c.delay_s if delay_s is None else float(delay_s)
-    kp, kd, ky = c.tilt_stiffness_Nm_per_rad, c.tilt_damping_Nms_per_rad, c.yaw_damping_Nms_per_rad
-    K = -np.array([[kp, 0, kd, 0, 0], [0, kp, 0, kd, 0], [0, 0, 0, 0, ky]], dtype=float)
+    K = gains(c)
     Ap, Bp, Cp, Dp = pade(T, order)
     blocks = [linalg.block_diag(*[m] * 3) for m in (Ap, Bp, Cp, Dp)]
     return Feedback(A=blocks[0], B=blocks[1] @ K, C=blocks[2], D=blocks[3] @ K, sensed=SENSED, drives=CONTROL_INPUTS)
@@ -104,8 +111,7 @@ def delay_line(model: Model, step_s: float | None = None) -> Feedback:
     N = int(round(c.delay_s / h))
     if N < 2 or abs(N * h - c.delay_s) > 1e-6 * h:
         raise ValueError(f"the control's delay {c.delay_s:g} s is not a whole number of steps of {h:g} s")
-    kp, kd, ky = c.tilt_stiffness_Nm_per_rad, c.tilt_damping_Nms_per_rad, c.yaw_damping_Nms_per_rad
-    K = -np.array([[kp, 0, kd, 0, 0], [0, kp, 0, kd, 0], [0, 0, 0, 0, ky]], dtype=float)
+    K = gains(c)
     A = np.eye(3 * N, k=-3)  # newest first: the line shifts by one torque per step
     B = np.zeros((3 * N, 5))
     B[:3] = K
@@ -231,3 +237,52 @@ def check_stability(model: Model, lm) -> None:
     raise InputError(f"head_control.delay_s = {c.delay_s:g} s leaves no stability margin: with {gains} this "
                      f"person's head control stays stable only up to a delay of about {margin:.2f} s (beyond it "
                      f"{mode}); use a delay below {margin:.2f} s or lower the gains ({how}).")
+
+
+# --- the Padé states handed over from the engine's delay line ---------------------------------------------------------
+
+#: The Padé states of :func:`feedback` forget a torque history after this many delays: their slowest pole decays by
+#: exp(-3.6) per delay at order 3 (below 1e-15 after 10), so only the last HISTORY_DELAYS delays of torques count.
+HISTORY_DELAYS = 10
+
+
+@dataclass(frozen=True)
+class PadeSteps:
+    """The Padé states of the model's control (:func:`feedback`: 3 x order states, axis by axis, the last states of
+    a closed linear model) over steps of ``step_s``, driven by the law's undelayed torque linear between samples
+    (first-order hold): z[k+1] = phi z[k] + g0 tau[k] + g1 tau[k+1]."""
+
+    step_s: float
+    phi: np.ndarray
+    g0: np.ndarray
+    g1: np.ndarray
+    powers: np.ndarray  #: (H + 1, n, n) phi^j, j = 0 ... H, H = HISTORY_DELAYS delays in steps
+
+    def after(self, z0: np.ndarray, torques: np.ndarray) -> np.ndarray:
+        """The Padé states after the torques (n + 1, 3) of n + 1 samples (the first the state ``z0``'s, the last the
+        state sought's): exact for the filter on that history, the torques more than ``H`` steps back dropped
+        (their share is below round-off)."""
+        n, H = torques.shape[0] - 1, self.powers.shape[0]
+        z = self.powers[n] @ z0 if n < H else np.zeros_like(z0)
+        m = min(n, H)
+        if m:
+            e = torques[n - m:n] @ self.g0.T + torques[n - m + 1:] @ self.g1.T  # (m, states)
+            z += np.einsum("kij,kj->i", self.powers[m - 1::-1], e)
+        return z
+
+
+def pade_steps(model: Model, step_s: float, order: int = PADE_ORDER) -> PadeSteps:
+    """The model's :class:`PadeSteps` at ``step_s`` (the control's own delay)."""
+    Ap, Bp, _, _ = pade(model.head_control.delay_s, order)
+    A, B = linalg.block_diag(*[Ap] * 3), linalg.block_diag(*[Bp] * 3)
+    n, h = A.shape[0], float(step_s)
+    aug = np.zeros((n + 6, n + 6))  # [z, tau, tau' h]: z' = A z + B tau, tau' = (tau[k+1] - tau[k]) / h
+    aug[:n, :n], aug[:n, n:n + 3], aug[n:n + 3, n + 3:] = A * h, B * h, np.eye(3)
+    E = linalg.expm(aug)
+    phi, ga, gb = E[:n, :n], E[:n, n:n + 3], E[:n, n + 3:]
+    H = max(2, int(math.ceil(HISTORY_DELAYS * model.head_control.delay_s / h)))
+    powers = np.empty((H + 1, n, n))
+    powers[0] = np.eye(n)
+    for j in range(1, H + 1):
+        powers[j] = phi @ powers[j - 1]
+    return PadeSteps(step_s=h, phi=phi, g0=ga - gb, g1=gb, powers=powers)

@@ -194,6 +194,8 @@ def rotating_data_at(rotating: Model, static: Model, x: np.ndarray, seat_R: np.n
     r, q = ds.qpos[a:a + 3], ds.qpos[a + 3:a + 7]
     d.qvel[kv + b:kv + b + 3] = seat_R @ (ds.qvel[b:b + 3] + np.cross(seat_w_radps, r - p))
     d.qvel[kv + b + 3:kv + b + 6] = ds.qvel[b + 3:b + 6] + _quat_mat(q).T @ seat_w_radps
+    if rotating.head_control is not None:  # the law's reference up, the rotating model's own, its line empty
+        d.userdata[:] = settled_data(rotating).userdata
     d.time = time_s
     mujoco.mj_forward(rotating.mj, d)
     return d

@@ -14,7 +14,11 @@ route by its effect:
    integral actions: :func:`ehm.routes.linear.state_of`, ``ehm.engine.data_at_deviation``), so it needs no
    settling lead-in.  Where a window leaves the body (where it sits and turns on the seat, the preload of a pad
    that stuck while its segment moved: directions the seat's acceleration does not drive, which the linear
-   time run leaves out) is carried on as a constant offset of the linear model's state and outputs.
+   time run leaves out) is carried on as a constant offset of the linear model's state and outputs.  A person with
+   the head-in-space control carries its delay across: the law's torques of the last N samples (from the linear
+   model's sensed outputs, or the nonlinear model's sensors) fill the nonlinear model's delay line at a window's
+   start (``ehm.engine.load_line``), and at its end the linear model's Padé states are those the window's torques
+   leave them in (``ehm.engine.pade_steps``), started from the linear model's at the window's start.
 3. Over every window the linear and the nonlinear answers are compared: the *discrepancy* of a point's
    acceleration is the rms of their difference over the windows, counted over the whole drive, as a share
    of that acceleration's rms over the drive (what the linear answer alone would be off by); a channel with no
@@ -27,7 +31,9 @@ route by its effect:
    runs the rest of the drive on
    the nonlinear model.  A drive whose manoeuvres hold the seat's horizontal acceleration above the back pads'
    friction limit for much of its length (:func:`sustained_share` above ``SUSTAINED_SHARE``) runs on the
-   nonlinear model from its start: the linear model is then neither built nor run.
+   nonlinear model from its start: the linear model is then neither built nor run; so does a drive that turns the
+   seat of a person with the head-in-space control (the linear model of a turning seat senses the head on the seat,
+   not in space).
    ``method="linear"`` keeps the linear answer everywhere, the windows only checking it, and warns
    (:class:`LinearRouteWarning`, one sentence with the figure) when the discrepancy exceeds the tolerance.
 
@@ -56,6 +62,7 @@ from .linear import (
     block_form,
     carry_of,
     contact_rows,
+    head_sensed,
     in_time_order,
     initial_state,
     left_out,
@@ -243,12 +250,12 @@ def _nonlinear_from_start(human, motion, report: RouteReport):
     zero), with the reason in ``report``, when its level says the nonlinear model would carry most of it and the
     person can run it; else None."""
     turns = motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))
-    if human.model.head_control is not None:  # the hand-over of states does not carry the control's delay line
+    if human.model.head_control is not None and turns:  # the control senses the head in space, not on the seat
         human.check_nonlinear_motion(motion)
         report.from_start = True
-        report.fallback = ("from the start: the person's head-in-space control runs on the nonlinear model (the "
-                           "hybrid route's hand-over between the models does not carry its delay line)")
-        return motion if turns or motion.angvel_radps is None else replace(motion, angvel_radps=None)
+        report.fallback = ("from the start: the person's head-in-space control senses the head in space, which the "
+                           "linear model of a turning seat does not carry (it senses the head on the seat)")
+        return motion
     if turns and human.model.seat is None:  # the windows say what is needed, as they do today
         return None
     share = sustained_share(motion)
@@ -439,6 +446,16 @@ class _Hybrid:
         self.offset = np.zeros(ss.A.shape[0])
         self.shift = None
         self.x_end = None  # the linear state after the last nonlinear window
+        self.end_at = -1  # ... at this sample
+        # The head-in-space control's delay: the law's torques of the last N samples, whichever model gave them
+        # (the linear model's sensed outputs, the nonlinear model's sensors), go into the delay line of the
+        # nonlinear model at a window's start; the window's torques give the linear model's Padé states at its end.
+        control = human.model.head_control
+        self.control = control
+        if control is not None:
+            self.gains = engine.control_gains(control)
+            self.pade = engine.pade_steps(human.model, self.dt)
+            self.history = np.zeros((control.delay_steps, 3))
 
     def pieces(self):
         """The drive's pieces in time order; the report filled in as they come."""
@@ -497,8 +514,10 @@ class _Hybrid:
         the answer kept (nonlinear for auto, linear for linear) and the state handed back."""
         given = self.drive.at(w0, w1)
         x0 = state_of(self.ss, self.blk, self.carry, given[1][0]) + self.offset
-        nonlinear, self.x_end = self.models.window(x0, given, w0, self.dt, self.description,
-                                                   posed=self.method == "auto")
+        line = None if self.control is None else self.history
+        nonlinear, x1, torques = self.models.window(x0, given, w0, self.dt, self.description,
+                                                    posed=self.method == "auto", line=line)
+        self.x_end, self.end_at = self._with_pade(x0, x1, torques), w1
         lin_carry = self.carry.copy()
         # auto: the linear answer is only compared here, so what it leaves out of a turning seat does not count
         linear = self._linear_piece(w0, w1, lin_carry, given, posed=self.method != "auto",
@@ -511,8 +530,25 @@ class _Hybrid:
             self.carry = lin_carry
             return
         yield self._answer(nonlinear)
+        if torques is not None:
+            self._remember(torques)
         if w1 < self.drive.n:
             self._hand_back(self.x_end, self.drive.at(w1, w1 + 1)[1][0])
+
+    def _remember(self, torques: np.ndarray) -> None:
+        """The head-in-space control's torques of the samples just run join the history (the last N kept)."""
+        N = self.history.shape[0]
+        self.history = np.concatenate([self.history, torques[-N:]])[-N:]
+
+    def _with_pade(self, x0: np.ndarray, x1: np.ndarray, torques: np.ndarray | None) -> np.ndarray:
+        """The linear state after a window: the nonlinear model's ``x1`` and, with the head-in-space control, the
+        Padé states its torques leave the linear model's (from those of the window's start ``x0``, driven by the
+        window's torques; the last sample's, whose state the window ends in, extrapolated linearly)."""
+        if torques is None:
+            return x1
+        last = 2 * torques[-1] - torques[-2] if len(torques) > 1 else torques[-1]
+        z = self.pade.after(x0[x1.size:], np.vstack([torques, last]))
+        return np.concatenate([x1, z])
 
     def _hand_back(self, x: np.ndarray, u: np.ndarray) -> None:
         """The linear model continues from the nonlinear state ``x`` (input ``u`` at that sample); its share in
@@ -528,9 +564,14 @@ class _Hybrid:
                                 f"{self.report.nonlinear_s / done_s:.0%} of the drive so far, more than "
                                 f"{FALLBACK_SHARE:.0%}")
         x = self.x_end
+        if self.end_at != pos:  # a linear stretch came after the last window: its state here
+            x = state_of(self.ss, self.blk, self.carry, self.drive.at(pos, pos + 1)[1][0]) + self.offset
         for a in range(pos, n, self.per_chunk):
             b = min(n, a + self.per_chunk)
-            nonlinear, x = self.models.window(x, self.drive.at(a, b), a, dt, self.description)
+            line = None if self.control is None else self.history
+            nonlinear, x, torques = self.models.window(x, self.drive.at(a, b), a, dt, self.description, line=line)
+            if torques is not None:
+                self._remember(torques)
             self.report.nonlinear_s += (b - a) * dt
             yield self._answer(nonlinear)
         self.report.windows_s.append([done_s, n * dt])
@@ -556,6 +597,8 @@ class _Hybrid:
         poses = self.poses.linear(a, b, carry, inputs[:b - a], self.offset) if self.poses and posed else None
         y = self._linear(inputs, carry) if y is None else y  # advances carry to b
         m, n_y = b - a, u.shape[0]
+        if counted and self.control is not None:  # the linear model carries on from here: its torques
+            self._remember(head_sensed(y, m, max(0, m - self.history.shape[0])) @ self.gains.T)
         check = None
         if seat is not None:
             check = left_out(y, m, seat if m == n_y else _first(seat, m))
@@ -600,10 +643,13 @@ class _Models:
         angles, rates, accs = self.kin.at(t)
         return angles, rates, accs, seat_body_rates(angles, rates, accs)[0]
 
-    def window(self, x0: np.ndarray, given, a: int, dt: float, description: str, posed: bool = True):
+    def window(self, x0: np.ndarray, given, a: int, dt: float, description: str, posed: bool = True,
+               line: np.ndarray | None = None):
         """The nonlinear model over the samples of ``given`` (from :meth:`_Drive.at`, starting at sample ``a``)
-        from the linear state ``x0``; returns the piece (with poses if asked for and ``posed``) and the linear
-        state after its last sample."""
+        from the linear state ``x0`` (the head-in-space control's delay line filled with ``line``, the law's torques
+        of the N samples before); returns the piece (with poses if asked for and ``posed``), the linear state after
+        its last sample (the body's: without the control's Padé states) and the law's torques of the window's
+        samples (None without the control)."""
         grid = self.grid if posed else None
         u = given[0]
         b = a + u.shape[0]
@@ -621,6 +667,9 @@ class _Models:
         else:
             d = engine.data_at_deviation(model, x0, time_s=a * dt)
             R, angles, acc, rotation = None, None, u, None
+        control = model.head_control
+        if control is not None and line is not None:
+            engine.load_line(control, d, line)
         t0 = time.perf_counter()
         with engine.captured_warnings():
             raw = engine.run(model, acc, d=d, seat_rotation=rotation, pose_every=grid.every if grid else None,
@@ -634,5 +683,7 @@ class _Models:
             x1 = engine.static_deviation_of(model, self.static, d, seat_rotation_matrices(angles1)[0], w1[0])
         else:
             x1 = engine.deviation_of(model, d)
-        return piece, x1
+        torques = None if control is None else engine.control_torques(
+            control, d, raw.sensors["head_framequat"], raw.sensors["head_frameangvel"])
+        return piece, x1, torques
 

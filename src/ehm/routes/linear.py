@@ -327,6 +327,16 @@ def _kind(y: np.ndarray, k: int) -> np.ndarray:
     return y[_PER_KIND * k:_PER_KIND * (k + 1)]
 
 
+def head_sensed(y: np.ndarray, n: int, first: int = 0) -> np.ndarray:
+    """What the head-in-space control senses (``ehm.engine.control_linear.SENSED``: the head's roll and pitch, its
+    rotation vector's horizontal components, and its angular velocity, seat axes) at the samples ``first`` ... n - 1
+    of a time run's outputs ``y`` (as ``block_chunk`` returns them), (n - first, 5) in time order."""
+    i = list(engine.POINTS).index("head")
+    b0 = first // BLOCK  # only the blocks that hold those samples
+    rot, w = _kind(y, _ROTVEC)[3 * i:3 * i + 2, :, b0:], _kind(y, _ANGVEL)[3 * i:3 * i + 3, :, b0:]
+    return in_time_order(np.concatenate([rot, w]))[:, first - b0 * BLOCK:n - b0 * BLOCK].T
+
+
 def output_layout(ss: StateSpace) -> np.ndarray:
     """Output indices in the order a time run computes them: per kind of :data:`_KINDS` the points'
     three axes, then the support groups' x, y, z, (for a model of the seat's rotation the points' velocities,
