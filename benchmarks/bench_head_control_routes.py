@@ -18,27 +18,20 @@ For each drive, the default person with the control (``head_control=True``) and 
 Then the accuracy these figures hold at: ``ehm check-step``'s worst path at 1 ms against dt/8 for the person with the
 control (and without).
 
-One core: unless the environment says otherwise, the BLAS library is limited to one thread (set before numpy is
-imported), as in bench_linear.py: threads that wait on each other over the linear route's small products make its
-timings vary several-fold on a shared machine.
+BLAS as installed: the routes keep their small matrix products on one BLAS thread themselves (threadpoolctl).
 """
 
 from __future__ import annotations
 
-import os
+import time
 
-for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ.setdefault(_var, "1")
+import numpy as np
 
-import time  # noqa: E402
-
-import numpy as np  # noqa: E402
-
-import ehm  # noqa: E402
-from ehm.analysis.assessment import needs_rotating_seat  # noqa: E402
-from ehm.analysis.convergence import check_step  # noqa: E402
-from ehm.inputs.motion import SeatMotion  # noqa: E402
-from ehm.routes.linear import linear_model  # noqa: E402
+import ehm
+from ehm.analysis.assessment import needs_rotating_seat
+from ehm.analysis.convergence import check_step
+from ehm.inputs.motion import SeatMotion
+from ehm.routes.linear import linear_model
 
 POINTS = ("pelvis", "trunk", "head", "lumbar")
 def braking_drive():
