@@ -151,7 +151,7 @@ class Span:
 
 def default_workers(duration_s: float) -> int:
     """How many processes a nonlinear run of a drive of ``duration_s`` [s] uses when the caller does not say
-    (``workers=None``): the machine's (:func:`ehm.processes.worker_limit`: its usable cores and its memory, at most
+    (``workers=None``): the machine's (``ehm.processes.worker_limit``: its usable cores and its memory, at most
     :data:`MAX_DEFAULT_WORKERS`) for a drive of :data:`DEFAULT_SEGMENTS_FROM_S` or more, else 1; always 1 inside a
     worker process (a batch study's, a Dask worker's: those already share the cores out)."""
     import multiprocessing
