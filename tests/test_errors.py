@@ -835,3 +835,38 @@ def test_a_person_thrown_off_the_seat_is_told_as_a_fall_not_blamed_on_the_step()
     assert text.startswith("the person fell off the seat at t = ") and getattr(exc.value, "fell", False)
     assert "backward" in text and "m/s: a body leaving its seat at a physical speed" in text
     assert "back support none" in text and "--back-support" in text and "try a smaller time step" not in text
+
+
+def test_a_person_tipped_over_on_the_seat_is_told_as_a_fall_when_it_tips():
+    # SYNTHETIC: a sustained 0.35 g to the left tips the erect person without back support over to the right; the
+    # pelvis rolls past 45 deg from its seated orientation well before it has moved 0.5 m, and that is the fall
+    import ehm
+    from ehm.engine.diagnostics import FALL_TILT_DEG
+    from ehm.errors import DivergenceError
+
+    t = np.arange(0.0, 6.0, 0.001)
+    acc = np.zeros((t.size, 3))
+    acc[:, 1] = 3.5 * np.clip((t - 0.2) / 1.0, 0.0, 1.0)
+    motion = ehm.SeatMotion(t, acc, "SYNTHETIC sustained 3.5 m/s^2 to the left")
+    with pytest.raises(DivergenceError) as exc:
+        ehm.SeatedHuman(back_support="none").simulate(motion, method="nonlinear")
+    text = str(exc.value)
+    assert text.startswith("the person fell off the seat at t = ") and getattr(exc.value, "fell", False)
+    assert "the pelvis tilted" in text and f"beyond {FALL_TILT_DEG:g} deg" in text and "rolling" in text
+    assert exc.value.time_s < 6.0
+
+
+def test_a_tilt_is_measured_on_the_seat_not_in_the_world():
+    # the pelvis turned with a rotating seat has not tilted on it
+    import mujoco
+
+    import ehm
+    from ehm.engine import diagnostics
+    from ehm.routes.built import built_of
+
+    model = built_of(ehm.SeatedHuman(rotating_seat=True)).model
+    d = ehm.engine.settled_data(model)
+    assert diagnostics._tilt_deg(model, d) < 0.01  # (arccos near 1: about 1e-4 deg of round-off)
+    d.qpos[model.seat["qpos"][1]] = 0.8  # the seat pitched by 0.8 rad about its hinge, the pelvis not
+    mujoco.mj_kinematics(model.mj, d)
+    assert diagnostics._tilt_deg(model, d) == pytest.approx(np.degrees(0.8), abs=0.5)

@@ -18,6 +18,11 @@ DIVERGED_M = 0.5  #: A point further than this from its settled position means t
 FALL_SPEED_MPS = 5.0
 #: ... and with no degree of freedom faster than this [m/s or rad/s] (a blow-up shakes some joint or pad far faster).
 FALL_DOF_SPEED = 20.0
+#: A pelvis tilted further than this [deg] from its seated orientation (relative to the seat) has fallen over, even
+#: where it has not moved :data:`DIVERGED_M` yet: the erect person without back support tipped over sideways in the
+#: SYNTHETIC city drive's first corner (2.9 m/s^2) at 11-12 s and lay on the seat, rolled 170 deg, until its pelvis
+#: passed 0.5 m at 48 s.  Seated people's pelvis turns by a few degrees in hard manoeuvres.
+FALL_TILT_DEG = 45.0
 CHECK_EVERY = 100  #: Steps between divergence checks (0.1 s at the default step).
 
 
@@ -92,13 +97,43 @@ def instability(model: Model, d: mujoco.MjData) -> str | None:
     if not np.isfinite(d.qpos).all() or not np.isfinite(d.qvel).all():
         return "the state became infinite or NaN"
     pelvis = d.qpos[model.pelvis_qpos:model.pelvis_qpos + 3]
-    if np.abs(pelvis).max() > DIVERGED_M:
-        why = f"the pelvis moved {np.linalg.norm(pelvis):.3g} m from its seated position"
+    tilt = _tilt_deg(model, d)
+    if np.abs(pelvis).max() > DIVERGED_M or tilt > FALL_TILT_DEG:
+        why = (f"the pelvis moved {np.linalg.norm(pelvis):.3g} m from its seated position"
+               if np.abs(pelvis).max() > DIVERGED_M
+               else f"the pelvis tilted {tilt:.0f} deg from its seated orientation, beyond {FALL_TILT_DEG:g} deg")
         speed = float(np.linalg.norm(d.qvel[model.pelvis_qpos:model.pelvis_qpos + 3]))
         if speed < FALL_SPEED_MPS and np.abs(d.qvel).max() < FALL_DOF_SPEED and not _warnings:
-            return Fall(f"{why}, {_direction(pelvis)}, {_tilt(model, d)}, at {speed:.2g} m/s")
+            way = _direction(pelvis)
+            return Fall(", ".join([why] + ([way] if way != "away" else []) + [_tilt(model, d), f"at {speed:.2g} m/s"]))
         return why
     return None
+
+
+def _pelvis_on_seat(model: Model, d: mujoco.MjData) -> tuple[np.ndarray, np.ndarray] | None:
+    """The pelvis's orientation now and settled, as rotation matrices in seat axes (a rotating seat's own turning
+    taken out), or None before the person has settled."""
+    q0 = (model.settled or {}).get("qpos")
+    if q0 is None:
+        return None
+    a = model.pelvis_qpos + 3
+    R0 = np.empty(9)
+    mujoco.mju_quat2Mat(R0, q0[a:a + 4])  # settled on the level seat: world axes are seat axes
+    R = np.empty(9)
+    mujoco.mju_quat2Mat(R, d.qpos[a:a + 4])
+    R = R.reshape(3, 3)
+    if model.seat is not None:
+        R = d.xmat[model.seat["body"]].reshape(3, 3).T @ R
+    return R, R0.reshape(3, 3)
+
+
+def _tilt_deg(model: Model, d: mujoco.MjData) -> float:
+    """Angle [deg] between the pelvis's up axis now and settled, in seat axes (0 before the person has settled)."""
+    both = _pelvis_on_seat(model, d)
+    if both is None:
+        return 0.0
+    R, R0 = both
+    return float(np.degrees(np.arccos(np.clip(R[:, 2] @ R0[:, 2], -1.0, 1.0))))
 
 
 class Fall(str):
@@ -115,12 +150,13 @@ def _direction(offset: np.ndarray) -> str:
 
 def _tilt(model: Model, d: mujoco.MjData) -> str:
     """How far the pelvis turned from its settled orientation, in words (degrees, for people)."""
-    q0 = (model.settled or {}).get("qpos")
-    a = model.pelvis_qpos + 3
-    if q0 is None:
+    both = _pelvis_on_seat(model, d)
+    if both is None:
         return "turning"
-    dq = np.zeros(3)
-    mujoco.mju_subQuat(dq, d.qpos[a:a + 4], q0[a:a + 4])
+    R, R0 = both
+    quat, dq = np.empty(4), np.empty(3)
+    mujoco.mju_mat2Quat(quat, (R @ R0.T).ravel())  # the turn from the settled orientation, seat axes
+    mujoco.mju_quat2Vel(dq, quat, 1.0)
     k = int(np.argmax(np.abs(dq)))
     how = (("rolling", "rolling"), ("pitching back", "pitching forward"), ("turning", "turning"))[k][int(dq[k] > 0)]
     return f"{how} {np.degrees(abs(dq[k])):.0f} deg"
