@@ -11,6 +11,7 @@ axis, the rms of three differences as a share of the nonlinear route's accelerat
   it does not depend on the step and scales with the input (try --rms 0.03).
 
     python benchmarks/linear_second_order.py [--rms 0.3] [--duration 35] [--steps 0.001 0.0005 0.00025 0.000125]
+        [--head-control]
 """
 
 from __future__ import annotations
@@ -35,16 +36,19 @@ def main() -> None:
                     help="vibration level the person is built at [m/s^2 rms], the same for every --rms")
     ap.add_argument("--steps", nargs="+", type=float, default=[0.001, 0.0005, 0.00025, 0.000125],
                     help="the nonlinear route's time steps [s]")
+    ap.add_argument("--head-control", action="store_true", help="the person with head-in-space control")
     a = ap.parse_args()
     if a.rms <= 0 or a.duration < 1.0 or a.level <= 0 or min(a.steps) <= 0:
         ap.error("--rms and --level must be positive, --duration at least 1 s, --steps positive.")
     motion = ehm.random_vibration("xyz", a.duration, a.rms, seed=0, dt_s=0.001)
     reverse = ehm.SeatMotion(motion.time_s, -motion.acc_mps2, f"{motion.description}, reversed")
-    print(f"SYNTHETIC {motion.description}; person at {a.level:g} m/s^2 rms; rms of each difference as a share of "
+    print(f"SYNTHETIC {motion.description}; person at {a.level:g} m/s^2 rms"
+          f"{', with head control' if a.head_control else ''}; rms of each difference as a share of "
           "the nonlinear route's acceleration rms, x / y / z")
     n = motion.time_s.size
     for dt in a.steps:
-        human = ehm.SeatedHuman(ehm.Person(dt_s=dt, vibration_rms_mps2=a.level))
+        human = ehm.SeatedHuman(ehm.Person(dt_s=dt, vibration_rms_mps2=a.level,
+                                             head_control=a.head_control or None))
         up, down = human.simulate(motion, method="nonlinear"), human.simulate(reverse, method="nonlinear")
         lin = human.simulate(motion, method="linear")
         every = int(round(0.001 / dt))  # the common 1 ms grid
