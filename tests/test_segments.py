@@ -14,6 +14,7 @@ from ehm.interfaces.cli import main
 from ehm.outputs.results import concatenate_runs
 from ehm.routes import parallel as segments
 from ehm.routes.parallel import Span, plan_segments, simulate_parallel, stream_parallel
+from ehm.standards.comfort import total_value
 
 POINTS = tuple(ehm.engine.POINTS)
 
@@ -209,3 +210,47 @@ def test_a_long_drive_goes_on_the_cores_unless_told_otherwise(human, monkeypatch
     if method == "auto":
         assert run.extra["route"]["nonlinear_from_start"]
         assert ("in segments on 2 processes" in run.extra["route"]["fallback"]) == (expected is not None)
+
+
+def test_the_hybrid_routes_rest_of_a_drive_goes_on_the_cores(human, monkeypatch):
+    # 1 m/s^2 on three axes: the windows cover most of the drive, and after a third of it the rest goes to the
+    # nonlinear model; asked for two processes, this one goes on from its state and a worker takes the last part
+    monkeypatch.setattr(segments, "WORKER_START_S", 0.0)  # segments of equal work, so that there are two here
+    motion = ehm.random_vibration("xyz", 45.0, 1.0, seed=0, dt_s=0.001)  # SYNTHETIC
+    one = human.simulate(motion, workers=1)
+    two = human.simulate(motion, workers=2)
+    assert "in segments on 2 processes" in two.extra["route"]["fallback"]
+    assert "in segments" not in one.extra["route"]["fallback"]
+    np.testing.assert_array_equal(one.time_s, two.time_s)
+    assert two.extra["route"]["nonlinear_s"] == pytest.approx(one.extra["route"]["nonlinear_s"], abs=0.002)
+    for p in POINTS:
+        assert total_value(*two.point(p).acc_mps2.T, 1000.0) == pytest.approx(
+            total_value(*one.point(p).acc_mps2.T, 1000.0), rel=0.01), p
+
+
+_SCRIPT = """
+import ehm
+from ehm.routes import parallel
+parallel.worker_limit = lambda: (2, "2 cores")
+parallel.DEFAULT_SEGMENTS_FROM_S = 1.0
+{body}
+"""
+
+
+@pytest.mark.parametrize("guarded", [False, True])
+def test_a_script_without_a_main_guard_keeps_one_process_and_says_why(tmp_path, guarded):
+    import subprocess
+    import sys
+
+    body = "print('workers', parallel.default_workers(5.0))"
+    if guarded:
+        body = "if __name__ == '__main__':\n    " + body
+    script = tmp_path / "drive.py"
+    script.write_text(_SCRIPT.format(body=body))
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    if guarded:
+        assert "workers 2" in done.stdout and "EhmWarning" not in done.stderr
+    else:
+        assert "workers 1" in done.stdout
+        assert "calls ehm at its top level (line 6 of" in done.stderr and "if __name__ == " in done.stderr

@@ -9,10 +9,12 @@ processes); a leaf module, importing nothing of ehm.
 
 from __future__ import annotations
 
+import ast
 import contextlib
 import functools
 import os
 import signal
+import sys
 import threading
 import warnings
 
@@ -146,3 +148,41 @@ def on_one_blas_thread(chunks):
             except StopIteration:
                 return
         yield chunk
+
+
+def _guarded_lines(path: str) -> list[tuple[int, int]]:
+    """The line ranges of a script's ``if __name__ == "__main__":`` blocks."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            tree = ast.parse(f.read(), filename=path)
+    except (OSError, SyntaxError, UnicodeDecodeError, ValueError):
+        return []
+    out = []
+    for node in tree.body:
+        if isinstance(node, ast.If) and isinstance(node.test, ast.Compare):
+            names = [node.test.left, *node.test.comparators]
+            if (any(isinstance(n, ast.Name) and n.id == "__name__" for n in names)
+                    and any(isinstance(n, ast.Constant) and n.value == "__main__" for n in names)):
+                out.append((node.lineno, node.end_lineno or node.lineno))
+    return out
+
+
+def unguarded_script_line() -> int | None:
+    """The line of the ``__main__`` script's top-level code that is running now, when it runs outside an ``if
+    __name__ == "__main__":`` block (else None: an interactive session, a notebook, a guarded call, a test runner).
+
+    Worker processes are spawned: each imports the ``__main__`` script again, and so runs that line again (and
+    whatever it starts) before doing its work.  ehm starts workers of its own accord only where that cannot happen."""
+    main = sys.modules.get("__main__")
+    path = getattr(main, "__file__", None)
+    if not path or main is None:
+        return None
+    frame = sys._getframe(1)
+    while frame is not None:
+        if frame.f_globals is vars(main) and frame.f_code.co_name == "<module>":
+            line = frame.f_lineno
+            if any(lo <= line <= hi for lo, hi in _guarded_lines(path)):
+                return None
+            return line
+        frame = frame.f_back
+    return None

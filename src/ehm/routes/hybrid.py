@@ -28,8 +28,8 @@ route by its effect:
    state back to the linear model at each window's end (``ehm.engine.deviation_of``,
    :func:`ehm.routes.linear.carry_of`), so both pieces join without a jump; once the windows cover more than
    :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`, or a third of a shorter drive), it
-   runs the rest of the drive on
-   the nonlinear model.  A drive whose manoeuvres hold the seat's horizontal acceleration above the back pads'
+   runs the rest of the drive on the nonlinear model (a long rest in segments on the machine's cores,
+   :func:`ehm.routes.parallel.stream_rest`).  A drive whose manoeuvres hold the seat's horizontal acceleration above the back pads'
    friction limit for much of its length (:func:`sustained_share` above ``SUSTAINED_SHARE``) runs on the
    nonlinear model from its start: the linear model is then neither built nor run; so does a drive that turns the
    seat of a person with the head-in-space control (the linear model of a turning seat senses the head on the seat,
@@ -75,7 +75,7 @@ from .linear import (
     state_of,
 )
 from .nonlinear import chunk_result, stream_span
-from .parallel import default_workers, stream_parallel
+from .parallel import default_workers, stream_parallel, stream_rest
 from .poses import PoseGrid
 
 #: A contact whose tangential force in the linear model passes this share of its Coulomb limit (mu times its
@@ -401,7 +401,8 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     drive = _Drive(motion, dt, rotates)
     per_chunk = max(1, int(round(chunk_s / dt)))
     poses = PoseGrid(human, ss, blk, dt, pose_rate_hz, drive.kin) if pose_rate_hz else None
-    pieces = _Hybrid(human, ss, blk, drive, per_chunk, method, report, description, poses).pieces()
+    pieces = _Hybrid(human, ss, blk, drive, per_chunk, method, report, description, poses,
+                     rest=(motion, chunk_s, workers)).pieces()
     held = None
     for piece in pieces:
         if held is not None:
@@ -426,8 +427,9 @@ class _Hybrid:
     stretches and nonlinear windows in time order (see the module docstring)."""
 
     def __init__(self, human, ss, blk, drive: _Drive, per_chunk: int, method: str, report: RouteReport,
-                 description: str, poses: PoseGrid | None = None):
+                 description: str, poses: PoseGrid | None = None, rest: tuple | None = None):
         self.human, self.ss, self.blk, self.drive, self.method, self.report = human, ss, blk, drive, method, report
+        self.rest = rest  # (motion, chunk_s, workers): for a long rest of the drive in segments on the cores
         self.poses = poses  # the segments' poses for pictures, when asked for
         self.dt = drive.dt
         self.per_chunk = per_chunk
@@ -558,7 +560,10 @@ class _Hybrid:
         self.shift = self.ss.C[output_layout(self.ss)] @ self.offset
 
     def _rest_nonlinear(self, pos: int):
-        """The rest of the drive on the nonlinear model, chunk by chunk, from the state the last window left."""
+        """The rest of the drive on the nonlinear model, chunk by chunk, from the state the last window left; a long
+        rest (:func:`ehm.routes.parallel.default_workers`, or the ``workers`` asked for) in segments on the machine's
+        cores, this process going on from that state (:func:`ehm.routes.parallel.stream_rest`; not when poses are
+        recorded)."""
         n, dt, done_s = self.drive.n, self.dt, pos * self.dt
         self.report.fallback = (f"from t = {done_s:.1f} s on: contacts reached their friction limit over "
                                 f"{self.report.nonlinear_s / done_s:.0%} of the drive so far, more than "
@@ -566,14 +571,29 @@ class _Hybrid:
         x = self.x_end
         if self.end_at != pos:  # a linear stretch came after the last window: its state here
             x = state_of(self.ss, self.blk, self.carry, self.drive.at(pos, pos + 1)[1][0]) + self.offset
-        for a in range(pos, n, self.per_chunk):
-            b = min(n, a + self.per_chunk)
-            line = None if self.control is None else self.history
-            nonlinear, x, torques = self.models.window(x, self.drive.at(a, b), a, dt, self.description, line=line)
-            if torques is not None:
-                self._remember(torques)
-            self.report.nonlinear_s += (b - a) * dt
-            yield self._answer(nonlinear)
+
+        def here(stop: int):
+            nonlocal x
+            for a in range(pos, stop, self.per_chunk):
+                b = min(stop, a + self.per_chunk)
+                line = None if self.control is None else self.history
+                piece, x, torques = self.models.window(x, self.drive.at(a, b), a, dt, self.description, line=line)
+                if torques is not None:
+                    self._remember(torques)
+                yield piece
+
+        workers = 1
+        if self.rest is not None and self.poses is None:
+            motion, chunk_s, asked = self.rest
+            workers = default_workers((n - pos) * dt) if asked is None else asked
+        if workers > 1:
+            pieces = stream_rest(self.human, motion, pos, workers, chunk_s, here)
+            self.report.fallback += f"; in segments on {workers} processes"
+        else:
+            pieces = here(n)
+        for piece in pieces:
+            self.report.nonlinear_s += piece.time_s.size * dt
+            yield self._answer(piece)
         self.report.windows_s.append([done_s, n * dt])
 
     def _answer(self, piece):

@@ -85,24 +85,34 @@ longer one costs little on a long drive (``lead_in_s``, ``--lead-in``) but does 
 from __future__ import annotations
 
 import math
+import sys
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from numbers import Integral, Real
 
 import numpy as np
 
-from ..errors import InputError, checked, describe
+from ..errors import EhmWarning, InputError, checked, describe
 from ..inputs.motion import SeatMotion, require_motion
 from ..inputs.resampling import Resampler
 from ..outputs.results import RunResult, concatenate_runs
-from ..processes import ONE_THREAD, capped_workers, environ_default, ignore_sigint, sigint_ignored, worker_limit
+from ..processes import (
+    ONE_THREAD,
+    capped_workers,
+    environ_default,
+    ignore_sigint,
+    sigint_ignored,
+    unguarded_script_line,
+    worker_limit,
+)
 from .built import BuiltPerson, built_of
 from .nonlinear import stream as stream_nonlinear
 from .nonlinear import stream_span
 
 __all__ = ["DEFAULT_LEAD_IN_S", "DEFAULT_SEGMENTS_FROM_S", "MAX_DEFAULT_WORKERS", "Span", "default_workers",
-           "plan_segments", "simulate_parallel", "stream_parallel"]
+           "plan_segments", "simulate_parallel", "stream_parallel", "stream_rest"]
 
 #: Lead-in of every segment but the first [s], chosen by measurement (module docstring).
 DEFAULT_LEAD_IN_S = 10.0
@@ -158,7 +168,21 @@ def default_workers(duration_s: float) -> int:
 
     if duration_s < DEFAULT_SEGMENTS_FROM_S or multiprocessing.parent_process() is not None:
         return 1
-    return max(1, min(worker_limit()[0], MAX_DEFAULT_WORKERS))
+    n = max(1, min(worker_limit()[0], MAX_DEFAULT_WORKERS))
+    line = unguarded_script_line() if n > 1 else None
+    if line is not None:  # every worker would run the script again from its top
+        if not _unguarded_told:
+            _unguarded_told.append(line)
+            warnings.warn(f"a drive of {duration_s:.0f} s runs in one process, not on the machine's {n} cores: your "
+                          f"script calls ehm at its top level (line {line} of {sys.modules['__main__'].__file__}), "
+                          "which every worker process would run again; put that call under "
+                          "'if __name__ == \"__main__\":' (or pass workers=1 to say one process is meant).",
+                          EhmWarning, stacklevel=2)
+        return 1
+    return n
+
+
+_unguarded_told: list[int] = []
 
 
 def plan_segments(n_steps: int, n_segments: int, lead_steps: int, align_steps: int = 1,
@@ -348,6 +372,35 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
                 yield from human.recorded([pieces.pop(0)])
             if progress:
                 progress(min(done_s, motion.duration_s), motion.duration_s)
+
+
+def stream_rest(human, motion: SeatMotion, start: int, workers: int, chunk_s: float, here):
+    """Grid steps ``start`` ... the end of ``motion`` on the nonlinear model in segments on ``workers`` processes,
+    the first going on in this process from where the caller's run stands: ``here(stop)`` yields its chunks up to grid
+    step ``stop``; every other segment runs on a worker from the settled rest after a lead-in of
+    :data:`DEFAULT_LEAD_IN_S`, as :func:`stream_parallel`'s do.  Yields the chunks in order, every ``chunk_s`` from
+    ``start``.  (The hybrid route's rest of a drive, once its windows cover most of it.)"""
+    human = built_of(human)
+    dt = float(human.model.mj.opt.timestep)
+    n_steps = Resampler.of_motion(motion, dt).n_samples
+    per_chunk = max(1, int(round(chunk_s / dt)))
+    lead = int(round(DEFAULT_LEAD_IN_S / dt))
+    workers = capped_workers(int(workers))
+    start_up = int(WORKER_START_S * STEPS_PER_WALL_S[human.model.seat is not None])
+    spans = [Span(s.first + start, s.stop + start, 0 if s.first == 0 else min(lead, s.first + start))
+             for s in plan_segments(n_steps - start, workers, lead, per_chunk, first_extra_steps=start_up)]
+    if len(spans) == 1 or workers == 1:
+        yield from here(n_steps)
+        return
+    if human.model.settled is None:
+        human.settle()
+    with _Runner(None, min(workers - 1, len(spans) - 1)) as runner:
+        futures = runner.submit_all(human.recipe(), motion, spans[1:], (chunk_s, None, False))
+        yield from here(spans[0].stop)
+        for fut in futures:
+            pieces, _ = runner.result(fut)
+            while pieces:  # the segment's chunks, each let go once it is passed on
+                yield pieces.pop(0)
 
 
 @checked(only=("progress", "pose_rate_hz"))  # stream_parallel checks the rest itself, in its own words
