@@ -30,10 +30,10 @@ route by its effect:
    :data:`FALLBACK_SHARE` of the drive so far (after :data:`FALLBACK_AFTER_S`, or a third of a shorter drive), it
    runs the rest of the drive on the nonlinear model (a long rest in segments on the machine's cores,
    :func:`ehm.routes.parallel.stream_rest`).  A drive whose manoeuvres hold the seat's horizontal acceleration
-   above the back pads' friction limit for much of its length (:func:`sustained_share` above ``SUSTAINED_SHARE``) runs on the
-   nonlinear model from its start: the linear model is then neither built nor run; so does a drive that turns the
-   seat of a person with the head-in-space control (the linear model of a turning seat senses the head on the seat,
-   not in space).
+   above the back pads' friction limit for much of its length (:func:`sustained_share` above
+   ``SUSTAINED_SHARE``) runs on the nonlinear model from its start: the linear model is then neither built nor run;
+   so does a drive that turns the seat of a person with the head-in-space control (the linear model of a turning
+   seat senses the head on the seat, not in space).
    ``method="linear"`` keeps the linear answer everywhere, the windows only checking it, and warns
    (:class:`LinearRouteWarning`, one sentence with the figure) when the discrepancy exceeds the tolerance.
 
