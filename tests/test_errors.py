@@ -870,3 +870,11 @@ def test_a_tilt_is_measured_on_the_seat_not_in_the_world():
     d.qpos[model.seat["qpos"][1]] = 0.8  # the seat pitched by 0.8 rad about its hinge, the pelvis not
     mujoco.mj_kinematics(model.mj, d)
     assert diagnostics._tilt_deg(model, d) == pytest.approx(np.degrees(0.8), abs=0.5)
+    a = model.pelvis_qpos + 3  # now the pelvis pitched with it, about the same axis: no tilt on the seat
+    turn = np.empty(4)
+    mujoco.mju_axisAngle2Quat(turn, np.array([0.0, 1.0, 0.0]), 0.8)
+    q = np.empty(4)
+    mujoco.mju_mulQuat(q, turn, d.qpos[a:a + 4].copy())
+    d.qpos[a:a + 4] = q
+    mujoco.mj_kinematics(model.mj, d)
+    assert diagnostics._tilt_deg(model, d) < 0.5

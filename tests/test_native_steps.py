@@ -15,10 +15,20 @@ from ehm.outputs.results import concatenate_runs
 
 
 def _run_both(human, motion, monkeypatch):
-    """The nonlinear route with the compiled loop and with the Python loop."""
+    """The nonlinear route with the compiled loop (checked to be the one that ran) and with the Python loop."""
     native._loaded.cache_clear()
     assert native.available(), "the compiled loop should build on a machine with a C compiler"
+    given = []
+    original = native.advancer
+
+    def spy(*args, **kwargs):
+        given.append(original(*args, **kwargs))
+        return given[-1]
+
+    monkeypatch.setattr(native, "advancer", spy)
     compiled = human.simulate(motion, method="nonlinear")
+    monkeypatch.setattr(native, "advancer", original)
+    assert given and all(a is not None for a in given)  # every block of the run went through the compiled loop
     monkeypatch.setenv(native.SWITCH, "0")
     native._loaded.cache_clear()
     assert not native.available()
@@ -111,3 +121,46 @@ def test_the_cache_is_built_once(tmp_path, monkeypatch):
         assert built[0].stat().st_mtime_ns == stamp
     finally:
         native._loaded.cache_clear()
+
+
+def test_a_mujoco_error_in_the_loop_is_raised_as_the_bindings_raise_it():
+    # SYNTHETIC: a model whose arena is too small for its contacts; MuJoCo's own handler would end the process
+    import mujoco
+
+    xml = ('<mujoco><size memory="6K"/><worldbody><geom type="plane" size="1 1 .1"/>'
+           + "".join(f'<body pos="{0.05 * i} 0 .1"><freejoint/><geom type="box" size=".05 .05 .05"/></body>'
+                     for i in range(6)) + "</worldbody></mujoco>")
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    n = 500
+    gravity = np.tile(np.array([0.0, 0.0, -9.81]), (n, 1))
+    advance = native.advancer(m, d, gravity, np.empty((n, m.nsensordata)), None, None)
+    assert advance is not None
+    with pytest.raises(mujoco.FatalError, match="out of memory"):
+        advance(0, n)
+    # and the loop runs on afterwards, with MuJoCo's handlers and clock as they were
+    human = ehm.SeatedHuman()
+    run = human.simulate(ehm.random_vibration("z", 0.5, 0.3, seed=7), method="nonlinear")  # SYNTHETIC
+    assert np.isfinite(run.points["head"].acc_mps2).all()
+
+
+def test_two_threads_in_the_loop_leave_mujocos_clock_as_it_was():
+    import ctypes
+    import threading
+
+    lib = ctypes.CDLL(str(ehm.engine.c_library()["library"]))
+    clock = ctypes.c_void_p.in_dll(lib, "mjcb_time").value
+    people = [ehm.SeatedHuman(), ehm.SeatedHuman()]
+    motion = ehm.random_vibration("z", 3.0, 0.3, seed=8)  # SYNTHETIC
+    runs = [None, None]
+
+    def go(k):
+        runs[k] = people[k].simulate(motion, method="nonlinear")
+
+    threads = [threading.Thread(target=go, args=(k,)) for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(120)
+    assert ctypes.c_void_p.in_dll(lib, "mjcb_time").value == clock
+    np.testing.assert_array_equal(runs[0].points["head"].acc_mps2, runs[1].points["head"].acc_mps2)

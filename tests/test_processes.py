@@ -81,6 +81,27 @@ def test_simulate_computes_on_one_blas_thread(human, monkeypatch):
         seen.append(_blas_threads())
         return original(*args, **kwargs)
 
+    from threadpoolctl import threadpool_limits
+
     monkeypatch.setattr(hybrid, "block_chunk", watched)  # the linear model's time run
-    human.simulate(ehm.random_vibration("z", 2.0, 0.3, seed=1), method="linear")  # SYNTHETIC
+    with threadpool_limits(limits=2, user_api="blas"):  # two threads as the caller's setting, whatever the machine
+        human.simulate(ehm.random_vibration("z", 2.0, 0.3, seed=1), method="linear")  # SYNTHETIC
+        after = _blas_threads()
     assert seen and set(seen) == {1}
+    assert after == 2 or after == max(1, _blas_threads())  # the caller's setting back (a 1-thread BLAS stays 1)
+
+
+def test_overlapping_uses_leave_the_blas_as_it_was():
+    # two runs (two threads' chunks) whose uses overlap and end out of order: the first to leave must not give the
+    # BLAS its threads back while the other is inside, and the last to leave gives back the caller's setting
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=2, user_api="blas"):
+        before = _blas_threads()
+        first, second = processes.one_blas_thread(), processes.one_blas_thread()
+        first.__enter__()
+        second.__enter__()
+        first.__exit__(None, None, None)
+        assert _blas_threads() == 1
+        second.__exit__(None, None, None)
+        assert _blas_threads() == before

@@ -118,7 +118,8 @@ def test_wrong_motion_or_seat_is_refused(human):
 
 @pytest.mark.parametrize("extra, words", [
     (["--workers", "0"], "--workers 0: use 1 or more"),
-    (["--lead-in", "5"], "--lead-in is for a run in segments"),
+    (["--lead-in", "5", "--method", "linear"], "the linear route runs in one process"),
+    (["--workers", "2", "--method", "linear"], "the linear route runs in one process"),
     (["--scheduler", "tcp://127.0.0.1:1", "--method", "linear"], "add --method nonlinear (the linear route runs"),
     (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
     (["--workers", "2", "--method", "nonlinear", "--lead-in", "-1"], "--lead-in -1.0: give the lead-in in seconds"),
@@ -254,3 +255,26 @@ def test_a_script_without_a_main_guard_keeps_one_process_and_says_why(tmp_path, 
     else:
         assert "workers 1" in done.stdout
         assert "calls ehm at its top level (line 6 of" in done.stderr and "if __name__ == " in done.stderr
+
+
+def test_the_environment_caps_the_default_and_a_bad_value_is_one_sentence(monkeypatch):
+    monkeypatch.setattr(segments, "worker_limit", lambda: (16, "16 cores"))
+    monkeypatch.setenv("EHM_WORKERS", "3")
+    assert segments.default_workers(3600.0) == 3
+    monkeypatch.setenv("EHM_WORKERS", "1")
+    assert segments.default_workers(3600.0) == 1
+    monkeypatch.setenv("EHM_WORKERS", "many")
+    with pytest.raises(InputError, match=r"EHM_WORKERS='many' in the environment: give the most processes"):
+        segments.default_workers(3600.0)
+
+
+def test_workers_as_numpy_integers_and_the_linear_routes_refusal():
+    from ehm.routes.registry import choose
+
+    route, options = choose("nonlinear", workers=np.int64(2))
+    assert route.name == "parallel" and options["workers"] == 2
+    with pytest.raises(InputError, match="the linear route runs in one process"):
+        choose("linear", workers=2)
+    with pytest.raises(InputError, match="the linear route runs in one process"):
+        choose("linear", lead_in_s=5.0)
+    assert choose("auto", lead_in_s=5.0)[1]["lead_in_s"] == 5.0

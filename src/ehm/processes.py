@@ -126,15 +126,30 @@ def _blas_controller() -> ThreadpoolController:
     return ThreadpoolController()
 
 
+_blas_lock = threading.Lock()
+_blas_users = [0, None]  # how many are inside one_blas_thread, and the limiter that restores the BLAS on leaving
+
+
 @contextlib.contextmanager
 def one_blas_thread():
-    """The BLAS libraries (numpy's and scipy's OpenBLAS, MKL, ...) on one thread while inside, as they were on
-    leaving (threadpoolctl).  The routes multiply small matrices (a linear model of about 60 states by a block of a
-    few hundred samples), which a threaded BLAS spreads over threads that wait on each other and on whatever else
-    runs: on this project's 2-core machine, 35 s of three-axis vibration on the linear route took 29.6 ms (median of
-    10) on one thread and 187 ms on two with the other core busy."""
-    with _blas_controller().limit(limits=1, user_api="blas"):
+    """The BLAS libraries (numpy's and scipy's OpenBLAS, MKL, ...) on one thread while inside, as they were once the
+    last thread inside has left (threadpoolctl; the setting is the whole process's, so overlapping uses from
+    several threads are counted).  The routes multiply small matrices (a linear model of about 60 states by a block
+    of a few hundred samples), which a threaded BLAS spreads over threads that wait on each other and on whatever
+    else runs: on this project's 2-core machine, 35 s of three-axis vibration on the linear route took 29.6 ms
+    (median of 10) on one thread and 187 ms on two with the other core busy."""
+    with _blas_lock:
+        if _blas_users[0] == 0:
+            _blas_users[1] = _blas_controller().limit(limits=1, user_api="blas")
+        _blas_users[0] += 1
+    try:
         yield
+    finally:
+        with _blas_lock:
+            _blas_users[0] -= 1
+            if _blas_users[0] == 0:
+                _blas_users[1].restore_original_limits()
+                _blas_users[1] = None
 
 
 def on_one_blas_thread(chunks):

@@ -240,7 +240,7 @@ class SeatedHuman:
                     formats: str | tuple | list = ("csv",), pose_rate_hz: float | None = 25.0,
                     progress: Callable | None = None, chunk_s: float = 10.0, plot=None, method: str = "auto",
                     tolerance: float | None = None, chunks: Iterable | None = None,
-                    workers: int | None = None) -> dict:
+                    workers: int | None = None, lead_in_s: float | None = None) -> dict:
         """Run a seat motion and write its run folder while it runs; returns the summary.
 
         Chunks of ``chunk_s`` go to disk as they are computed (:mod:`ehm.outputs.runfiles`), so memory does not grow
@@ -249,7 +249,7 @@ class SeatedHuman:
         ``output_rate_hz`` thins the time series (it must divide the model's rate; default
         :data:`ehm.outputs.runfiles.DEFAULT_OUTPUT_RATE_HZ`, or the nearest whole fraction of the model's rate above
         it);
-        ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method``, ``tolerance`` and ``workers`` as for
+        ``formats``: ``"csv"`` and/or ``"parquet"``.  ``method``, ``tolerance``, ``workers`` and ``lead_in_s`` as for
         :meth:`simulate` (every route records poses at ``pose_rate_hz``).
 
         ``plot`` draws figures into the folder before it is put in place: a callable ``plot(preview, folder)``
@@ -285,7 +285,7 @@ class SeatedHuman:
         with RunFolder(out_dir) as tmp:
             if chunks is None:
                 chunks = self.stream(motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz,
-                                     method=method, tolerance=tolerance, workers=workers)
+                                     method=method, tolerance=tolerance, workers=workers, lead_in_s=lead_in_s)
             summary, pieces = write_run(tmp, chunks, output_every=every, formats=formats,
                                         preview_rows=PREVIEW_ROWS if plot else 0, n_steps=n_steps)
             if plot and pieces:

@@ -8,9 +8,11 @@ The C file is compiled at first use with the system C compiler (``$CC``, else ``
 the headers and the library of the installed ``mujoco`` wheel, and kept in a cache folder (``$EHM_CACHE_DIR``, else
 ``$XDG_CACHE_HOME/ehm`` or ``~/.cache/ehm``) under a name that holds a hash of the source, the MuJoCo version and the
 platform, so that a new version compiles anew and concurrent processes never see a half-written file.  Where no
-compiler is found, or the build or the loading fails, the Python loop runs (the same numbers, about a tenth slower)
-after one :class:`NativeStepWarning` per process naming why.  ``EHM_NATIVE_STEPS=0`` in the environment keeps the
-Python loop without a warning (for comparisons).
+compiler is found, or the build or the loading fails, the Python loop runs (the same numbers, about 6 % slower)
+after one :class:`NativeStepWarning` per process naming why; a cache folder that cannot be written gives a build for
+the process alone.  Linux only: elsewhere the Python loop runs without a warning.  ``EHM_NATIVE_STEPS=0`` in the
+environment keeps the Python loop without a warning (for comparisons).  A MuJoCo error inside the loop is raised as
+:class:`mujoco.FatalError`, as the Python loop's ``mj_step`` raises it.
 """
 
 from __future__ import annotations
@@ -81,17 +83,21 @@ def _build(cc: list[str], source: bytes, shared: bytes, out: Path) -> None:
         src, built = Path(tmp) / SOURCE, Path(tmp) / out.name
         src.write_bytes(source)
         (Path(tmp) / SHARED).write_bytes(shared)
-        cmd = [*cc, "-std=c11", "-O2", "-fPIC", "-shared", "-I", str(lib["include_dir"]), str(src), "-o", str(built),
-               str(lib["library"]), f"-Wl,-rpath,{lib['library'].parent}"]
+        cmd = [*cc, "-std=c11", "-O2", "-fPIC", "-shared", "-pthread", "-I", str(lib["include_dir"]), str(src), "-o",
+               str(built), str(lib["library"]), f"-Wl,-rpath,{lib['library'].parent}"]
         try:
             done = subprocess.run(cmd, capture_output=True, text=True, timeout=COMPILE_TIMEOUT_S)
         except (OSError, subprocess.TimeoutExpired) as exc:
-            raise OSError(f"the C compiler {cc[0]} could not be run ({exc})") from None
+            raise _BuildFailed(f"the C compiler {cc[0]} could not be run ({exc})") from None
         if done.returncode != 0 or not built.is_file():
             text = (done.stderr or done.stdout or "no message").strip().splitlines()
             first = next((ln for ln in text if "error" in ln.lower()), text[0] if text else "no message")
-            raise OSError(f"the C compiler {cc[0]} could not build it: {first.strip()}")
+            raise _BuildFailed(f"the C compiler {cc[0]} could not build it: {first.strip()}")
         os.replace(built, out)
+
+
+#: Why the compiled loop is not used where that is by design, not a fault to tell about (no warning).
+_QUIET = ("EHM_NATIVE_STEPS=0", "not built on")
 
 
 @functools.lru_cache(maxsize=1)
@@ -100,32 +106,60 @@ def _loaded() -> tuple[ctypes.CDLL | None, str]:
     and why not."""
     if os.environ.get(SWITCH, "").strip() == "0":
         return None, f"{SWITCH}=0"
-    if not (sys.platform.startswith("linux") or sys.platform == "darwin"):
-        return None, f"the compiled loop is built on Linux and macOS, not {sys.platform}"
+    if not sys.platform.startswith("linux"):
+        return None, f"not built on {sys.platform} (Linux only)"
     folder = resources.files("ehm").joinpath("native")
     source, shared = folder.joinpath(SOURCE).read_bytes(), folder.joinpath(SHARED).read_bytes()
     key = hashlib.sha256(source + shared + mujoco.mj_versionString().encode() + sys.platform.encode()
                          + platform.machine().encode() + str(Path(mujoco.__file__).resolve()).encode()).hexdigest()
-    suffix = ".dylib" if sys.platform == "darwin" else ".so"
-    out = cache_dir() / f"ehm_steps-{key[:16]}{suffix}"
+    out = cache_dir() / f"ehm_steps-{key[:16]}.so"
     try:
-        if not out.is_file():
+        if out.is_file():
+            lib = ctypes.CDLL(str(out))
+        else:
             cc, why = compiler_command()
             if cc is None:
-                return None, why
-            try:
-                _build(cc, source, shared, out)
-            except PermissionError:  # the cache is not writable: build for this process only
-                out = Path(tempfile.mkdtemp(prefix="ehm_steps_")) / out.name
-                _build(cc, source, shared, out)
-        lib = ctypes.CDLL(str(out))
-    except Exception as exc:  # noqa: BLE001 - whatever keeps it from building or loading, the Python loop runs
-        return None, str(exc)
+                return None, f"{why}: install one (e.g. 'apt install gcc')"
+            lib = _built_and_loaded(cc, source, shared, out)
+    except _BuildFailed as exc:
+        return None, f"{exc}: set CC to a working C compiler"
+    except Exception as exc:  # noqa: BLE001 - whatever keeps it from loading, the Python loop runs
+        return None, f"it could not be loaded ({exc})"
     fn = lib.ehm_advance
     fn.restype = ctypes.c_long
     fn.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long, ctypes.c_long,
                    ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p]
+    lib.ehm_last_error.restype = ctypes.c_char_p
+    lib.ehm_last_error.argtypes = []
     return lib, ""
+
+
+class _BuildFailed(OSError):
+    """The compiler ran and failed (not: the cache could not be written)."""
+
+
+def _built_and_loaded(cc: list[str], source: bytes, shared: bytes, out: Path) -> ctypes.CDLL:
+    """Build into the cache ``out`` and load it; where the cache folder cannot be written (read-only, not a folder),
+    build in a temporary folder, load, and remove it (a loaded library needs no file)."""
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        probe = tempfile.NamedTemporaryFile(dir=out.parent, prefix=".ehm_probe_", delete=True)
+        probe.close()
+        writable = True
+    except OSError:
+        writable = False
+    if writable:
+        try:
+            _build(cc, source, shared, out)
+            return ctypes.CDLL(str(out))
+        except _BuildFailed:
+            raise
+        except OSError:
+            pass  # the cache went away or filled up meanwhile: as if it could not be written
+    with tempfile.TemporaryDirectory(prefix="ehm_steps_") as tmp:
+        here = Path(tmp) / out.name
+        _build(cc, source, shared, here)
+        return ctypes.CDLL(str(here))
 
 
 def available() -> bool:
@@ -137,12 +171,12 @@ _warned: list[str] = []
 
 
 def _note(why: str) -> None:
-    """One warning per process that the Python loop runs, and why."""
-    if why and not why.startswith(SWITCH) and not _warned:
+    """One warning per process that the Python loop runs, and why (none where that is by design)."""
+    if why and not why.startswith(_QUIET) and not _warned:
         _warned.append(why)
-        warn(f"the compiled stepping loop is not available ({why}); the nonlinear route runs its Python loop, "
-             f"with the same results about a tenth slower (install a C compiler, or set {SWITCH}=0 to silence "
-             "this).", NativeStepWarning, stacklevel=4)
+        warn(f"the compiled stepping loop is not available ({why}; or set {SWITCH}=0 to run the Python loop "
+             "without this warning); the nonlinear route runs its Python loop, with the same results about 6 % "
+             "slower.", NativeStepWarning, stacklevel=4)
 
 
 def _address(a: np.ndarray | None) -> int | None:
@@ -169,7 +203,11 @@ def advancer(mj: mujoco.MjModel, d: mujoco.MjData, gravity: np.ndarray, sens: np
     if sens.shape[1] != mj.nsensordata:
         raise ValueError("the sensor record's width is not the model's nsensordata")
     fn = lib.ehm_advance
-    m_adr, d_adr = mj._address, d._address
+    try:  # the bindings' own structures, by address (the same library: the mujoco wheel's)
+        m_adr, d_adr = int(mj._address), int(d._address)
+    except (AttributeError, TypeError):
+        _note(f"this mujoco {mujoco.__version__} gives no addresses of its model and data")
+        return None
     g_adr, s_adr = _address(gravity), _address(sens)
     if drive is not None:
         c_adr, f_adr = _address(drive["ctrl"]), _address(drive["ff"])
@@ -177,9 +215,10 @@ def advancer(mj: mujoco.MjModel, d: mujoco.MjData, gravity: np.ndarray, sens: np
     else:
         c_adr, f_adr, c_first, f_first = None, None, 0, 0
     k_adr = _address(control_constants)
-    held = (gravity, sens, drive, control_constants)  # kept alive with the closure
+    held = (mj, d, gravity, sens, drive, control_constants)  # what the addresses point into, kept alive
 
-    def advance(lo: int, hi: int, _arrays=held) -> None:  # the default argument keeps the arrays alive
-        fn(m_adr, d_adr, g_adr, s_adr, lo, hi, c_adr, c_first, f_adr, f_first, k_adr)
+    def advance(lo: int, hi: int, _held=held) -> None:  # the default argument keeps them alive with the closure
+        if fn(m_adr, d_adr, g_adr, s_adr, lo, hi, c_adr, c_first, f_adr, f_first, k_adr) < 0:
+            raise mujoco.FatalError(lib.ehm_last_error().decode(errors="replace"))  # as the bindings' mj_step
 
     return advance

@@ -268,14 +268,15 @@ def _nonlinear_from_start(human, motion, report: RouteReport):
     return motion if turns or motion.angvel_radps is None else replace(motion, angvel_radps=None)
 
 
-def _stream_nonlinear(human, motion, report: RouteReport, chunk_s: float, progress, pose_rate_hz, workers: int = 1):
+def _stream_nonlinear(human, motion, report: RouteReport, chunk_s: float, progress, pose_rate_hz, workers: int = 1,
+                      lead_in_s: float | None = None):
     """The whole drive on the nonlinear route (in segments on ``workers`` processes when more than one,
     :mod:`ehm.routes.parallel`); the last chunk carries ``report``."""
     held = None
     if workers > 1:
         report.fallback += f"; in segments on {workers} processes"
         pieces = stream_parallel(human, motion, workers=workers, chunk_s=chunk_s, progress=progress,
-                                 pose_rate_hz=pose_rate_hz)
+                                 pose_rate_hz=pose_rate_hz, lead_in_s=lead_in_s)
     else:
         pieces = stream_span(human, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
     for piece in pieces:
@@ -371,7 +372,8 @@ class _Drive:
 
 
 def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, progress=None,
-                   tolerance: float = TOLERANCE, pose_rate_hz: float | None = None, workers: int | None = None):
+                   tolerance: float = TOLERANCE, pose_rate_hz: float | None = None, workers: int | None = None,
+                   lead_in_s: float | None = None):
     """Run ``motion`` on the hybrid route (``method="auto"``) or the checked linear route (``"linear"``), chunk
     by chunk, as :meth:`ehm.SeatedHuman.stream` does (see the module docstring).
 
@@ -380,7 +382,9 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     share of rms the linear route's discrepancy may reach (``method="linear"`` warns above it).  ``pose_rate_hz``:
     record the segments' poses at about this rate (:mod:`ehm.routes.poses`), as the nonlinear route does.
     ``workers``: processes for a drive the hybrid route runs on the nonlinear model from its start
-    (:func:`ehm.routes.parallel.default_workers` when None: a long drive in segments on the machine's cores).
+    (:func:`ehm.routes.parallel.default_workers` when None: a long drive in segments on the machine's cores), and
+    for the long rest of a drive it hands to the nonlinear model; ``lead_in_s``: those segments' lead-in (default
+    :data:`ehm.routes.parallel.DEFAULT_LEAD_IN_S`).
     """
     if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
         raise InputError(f"tolerance must be a share of rms between 0 and 1, not {tolerance!r}.")
@@ -392,7 +396,7 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     early = _nonlinear_from_start(human, motion, report) if method == "auto" else None
     if early is not None:
         n = default_workers(early.duration_s) if workers is None else workers
-        yield from _stream_nonlinear(human, early, report, chunk_s, progress, pose_rate_hz, n)
+        yield from _stream_nonlinear(human, early, report, chunk_s, progress, pose_rate_hz, n, lead_in_s)
         return
     rotates = motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))
     description = motion.description
@@ -402,7 +406,7 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     per_chunk = max(1, int(round(chunk_s / dt)))
     poses = PoseGrid(human, ss, blk, dt, pose_rate_hz, drive.kin) if pose_rate_hz else None
     pieces = _Hybrid(human, ss, blk, drive, per_chunk, method, report, description, poses,
-                     rest=(motion, chunk_s, workers)).pieces()
+                     rest=(motion, chunk_s, workers, lead_in_s)).pieces()
     held = None
     for piece in pieces:
         if held is not None:
@@ -429,7 +433,7 @@ class _Hybrid:
     def __init__(self, human, ss, blk, drive: _Drive, per_chunk: int, method: str, report: RouteReport,
                  description: str, poses: PoseGrid | None = None, rest: tuple | None = None):
         self.human, self.ss, self.blk, self.drive, self.method, self.report = human, ss, blk, drive, method, report
-        self.rest = rest  # (motion, chunk_s, workers): for a long rest of the drive in segments on the cores
+        self.rest = rest  # (motion, chunk_s, workers, lead_in_s): for a long rest of the drive in segments
         self.poses = poses  # the segments' poses for pictures, when asked for
         self.dt = drive.dt
         self.per_chunk = per_chunk
@@ -584,10 +588,10 @@ class _Hybrid:
 
         workers = 1
         if self.rest is not None and self.poses is None:
-            motion, chunk_s, asked = self.rest
+            motion, chunk_s, asked, lead_in_s = self.rest
             workers = default_workers((n - pos) * dt) if asked is None else asked
         if workers > 1:
-            pieces = stream_rest(self.human, motion, pos, workers, chunk_s, here)
+            pieces = stream_rest(self.human, motion, pos, workers, chunk_s, here, lead_in_s=lead_in_s)
             self.report.fallback += f"; in segments on {workers} processes"
         else:
             pieces = here(n)

@@ -124,6 +124,9 @@ DEFAULT_SEGMENTS_FROM_S = 180.0
 #: At most this many processes by default (a machine with more cores gains less per process: every segment but
 #: the first runs its lead-in, and each process holds about 0.4 GB); ``workers=N`` asks for more.
 MAX_DEFAULT_WORKERS = 8
+#: Environment variable with the most processes a long drive uses by default (``1``: one process, e.g. for jobs that
+#: share a machine by threads or a job scheduler's tasks).
+WORKERS_VARIABLE = "EHM_WORKERS"
 #: Wall time a local worker process costs before its segment [s]: spawning it, with Python, NumPy, SciPy, MuJoCo
 #: and ehm imported and the person built (1.2-1.3 s measured, ``benchmarks/bench_parallel.py``), and a margin for
 #: handing its result back; the first segment, run in this process meanwhile, is made longer by what this
@@ -162,13 +165,27 @@ class Span:
 def default_workers(duration_s: float) -> int:
     """How many processes a nonlinear run of a drive of ``duration_s`` [s] uses when the caller does not say
     (``workers=None``): the machine's (``ehm.processes.worker_limit``: its usable cores and its memory, at most
-    :data:`MAX_DEFAULT_WORKERS`) for a drive of :data:`DEFAULT_SEGMENTS_FROM_S` or more, else 1; always 1 inside a
-    worker process (a batch study's, a Dask worker's: those already share the cores out)."""
+    :data:`MAX_DEFAULT_WORKERS`, or at most ``$EHM_WORKERS``) for a drive of :data:`DEFAULT_SEGMENTS_FROM_S` or more,
+    else 1; always 1 inside a worker process (a batch study's, a Dask worker's: those already share the cores out)
+    and for a script that calls ehm at its top level outside ``if __name__ == "__main__":`` (with a warning).
+    Jobs that share a machine in other ways (threads, a job scheduler's tasks) say ``EHM_WORKERS=1``."""
     import multiprocessing
+    import os
 
-    if duration_s < DEFAULT_SEGMENTS_FROM_S or multiprocessing.parent_process() is not None:
+    if duration_s < DEFAULT_SEGMENTS_FROM_S:
         return 1
-    n = max(1, min(worker_limit()[0], MAX_DEFAULT_WORKERS))
+    if multiprocessing.parent_process() is not None or multiprocessing.current_process().name != "MainProcess":
+        return 1  # (a spawned child has its name before it imports the script again; its parent only after)
+    most = MAX_DEFAULT_WORKERS
+    if os.environ.get(WORKERS_VARIABLE, "").strip():
+        try:
+            most = int(os.environ[WORKERS_VARIABLE])
+        except ValueError:
+            raise InputError(f"{WORKERS_VARIABLE}={os.environ[WORKERS_VARIABLE]!r} in the environment: give the most "
+                             "processes a long drive may use by default, a whole number (1: one process).") from None
+        if most < 1:
+            raise InputError(f"{WORKERS_VARIABLE}={most} in the environment: use 1 or more.")
+    n = max(1, min(worker_limit()[0], most))
     line = unguarded_script_line() if n > 1 else None
     if line is not None:  # every worker would run the script again from its top
         if not _unguarded_told:
@@ -374,17 +391,18 @@ def stream_parallel(human, motion: SeatMotion, workers: int = 2, segment_s: floa
                 progress(min(done_s, motion.duration_s), motion.duration_s)
 
 
-def stream_rest(human, motion: SeatMotion, start: int, workers: int, chunk_s: float, here):
+def stream_rest(human, motion: SeatMotion, start: int, workers: int, chunk_s: float, here,
+                lead_in_s: float | None = None):
     """Grid steps ``start`` ... the end of ``motion`` on the nonlinear model in segments on ``workers`` processes,
     the first going on in this process from where the caller's run stands: ``here(stop)`` yields its chunks up to grid
-    step ``stop``; every other segment runs on a worker from the settled rest after a lead-in of
-    :data:`DEFAULT_LEAD_IN_S`, as :func:`stream_parallel`'s do.  Yields the chunks in order, every ``chunk_s`` from
-    ``start``.  (The hybrid route's rest of a drive, once its windows cover most of it.)"""
+    step ``stop``; every other segment runs on a worker from the settled rest after a lead-in of ``lead_in_s``
+    (default :data:`DEFAULT_LEAD_IN_S`), as :func:`stream_parallel`'s do.  Yields the chunks in order, every
+    ``chunk_s`` from ``start``.  (The hybrid route's rest of a drive, once its windows cover most of it.)"""
     human = built_of(human)
     dt = float(human.model.mj.opt.timestep)
     n_steps = Resampler.of_motion(motion, dt).n_samples
     per_chunk = max(1, int(round(chunk_s / dt)))
-    lead = int(round(DEFAULT_LEAD_IN_S / dt))
+    lead = int(round((DEFAULT_LEAD_IN_S if lead_in_s is None else float(lead_in_s)) / dt))
     workers = capped_workers(int(workers))
     start_up = int(WORKER_START_S * STEPS_PER_WALL_S[human.model.seat is not None])
     spans = [Span(s.first + start, s.stop + start, 0 if s.first == 0 else min(lead, s.first + start))

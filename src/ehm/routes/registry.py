@@ -25,6 +25,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from numbers import Integral
 
 from ..errors import DivergenceError, InputError
 from ..inputs.motion import require_motion
@@ -48,25 +49,25 @@ class Route:
 
 def _checked(method: str):
     def run(person, motion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
-            tolerance: float | None = None, workers: int | None = None):
+            tolerance: float | None = None, workers: int | None = None, lead_in_s: float | None = None):
         # on the model's step, resampled as the nonlinear route resamples (the same input either way)
         try:
             yield from hybrid.stream_checked(person, motion, method=method, chunk_s=chunk_s, progress=progress,
                                              tolerance=hybrid.TOLERANCE if tolerance is None else tolerance,
-                                             pose_rate_hz=pose_rate_hz, workers=workers)
+                                             pose_rate_hz=pose_rate_hz, workers=workers, lead_in_s=lead_in_s)
         except DivergenceError as exc:
             raise nonlinear.with_input_cause(exc, motion, motion.duration_s) from None
     return run
 
 
 def _nonlinear(person, motion, chunk_s: float = 10.0, progress=None, pose_rate_hz: float | None = None,
-               workers: int | None = None):
+               workers: int | None = None, lead_in_s: float | None = None):
     """The nonlinear route; a long drive (:func:`ehm.routes.parallel.default_workers`) in segments on the machine's
-    cores unless ``workers`` says otherwise."""
+    cores, each after ``lead_in_s``, unless ``workers`` says otherwise."""
     n = parallel.default_workers(motion.duration_s) if workers is None else workers
     if n > 1:
         yield from parallel.stream_parallel(person, motion, workers=n, chunk_s=chunk_s, progress=progress,
-                                            pose_rate_hz=pose_rate_hz)
+                                            pose_rate_hz=pose_rate_hz, lead_in_s=lead_in_s)
     else:
         yield from nonlinear.stream(person, motion, chunk_s=chunk_s, progress=progress, pose_rate_hz=pose_rate_hz)
 
@@ -79,11 +80,12 @@ def _parallel(person, motion, chunk_s: float = 10.0, progress=None, pose_rate_hz
                                         pose_rate_hz=pose_rate_hz)
 
 
-_HYBRID = Route("auto", _checked("auto"), ("tolerance", "workers"),
+_HYBRID = Route("auto", _checked("auto"), ("tolerance", "workers", "lead_in_s"),
                 "the linear model where the contacts hold, the nonlinear one where they slide or lift off")
 #: The routes by name.
 ROUTES: dict[str, Route] = {
-    "nonlinear": Route("nonlinear", _nonlinear, ("workers",), "the MuJoCo model throughout (a long drive in segments "
+    "nonlinear": Route("nonlinear", _nonlinear, ("workers", "lead_in_s"), "the MuJoCo model throughout (a long drive "
+                       "in segments "
                        "on the machine's cores)"),
     "linear": Route("linear", _checked("linear"), ("tolerance",),
                     "the linearised person throughout, checked against the nonlinear model"),
@@ -113,12 +115,16 @@ def choose(method: str = "auto", tolerance: float | None = None, workers: int | 
     route runs the nonlinear model from a drive's start); options a route does not take are left out.
     ``workers=None`` (the default) leaves it to the drive's length (:func:`ehm.routes.parallel.default_workers`);
     ``workers=1`` keeps one process."""
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, Integral) or workers < 1):
         raise InputError(f"workers must be a whole number of processes, 1 or more (or None: as the drive's length "
                          f"says), not {workers!r}.")
+    workers = None if workers is None else int(workers)
     if client is not None and method not in ("nonlinear", "parallel"):
         raise InputError(f"a Dask client runs the nonlinear route in segments; pass method='nonlinear' (the {method} "
                          "route runs in one process).")
+    if method == "linear" and ((workers or 1) > 1 or lead_in_s is not None):
+        raise InputError("workers and lead_in_s split the nonlinear model's runs into segments; the linear route runs "
+                         "in one process: leave them out, or pass method='nonlinear' or 'auto'.")
     if method == "nonlinear" and ((workers or 1) > 1 or client is not None):
         method = "parallel"
     chosen = route(method)

@@ -109,7 +109,8 @@ def cmd_simulate(args) -> int:
         chunks = None if parallel is None else parallel(human, motion, progress=show, chunk_s=10.0, pose_rate_hz=25.0)
         s = human.simulate_to(out, motion, output_rate_hz=args.output_rate, formats=formats, progress=show,
                               plot=draw, method=args.method, tolerance=_tolerance(args), chunks=chunks,
-                              workers=args.workers if parallel is None else None)
+                              workers=args.workers if parallel is None else None,
+                              lead_in_s=args.lead_in if parallel is None else None)
     files = ", ".join(f"timeseries.{f}" for f in formats) + ", summary.json, poses.npz" + \
         (", time_histories.png" if args.plot else "")
     wall = time.perf_counter() - t0
@@ -151,25 +152,25 @@ def _segments(args):
     workers, scheduler, lead = args.workers, args.scheduler, args.lead_in
     if workers is not None and workers < 1:
         raise InputError(f"--workers {workers}: use 1 or more worker processes.")
-    if scheduler is None and (workers is None or args.method != "nonlinear"):
-        # the route's own choice: a long drive it runs on the nonlinear model from its start goes in segments on
-        # the machine's cores unless --workers says otherwise (ehm.routes.parallel.default_workers)
-        if lead is not None:
-            raise InputError("--lead-in is for a run in segments: give --method nonlinear with --workers N, or "
-                             "--scheduler, too.")
-        yield None
-        return
+    if lead is not None and not (math.isfinite(lead) and lead >= 0):
+        raise InputError(f"--lead-in {lead}: give the lead-in in seconds, 0 or more.")
     if workers is not None and scheduler is not None:
         raise InputError("give --workers (local processes) or --scheduler (a Dask cluster's workers), not both.")
+    if scheduler is None:
+        if args.method == "linear" and ((workers or 1) > 1 or lead is not None):
+            raise InputError("--workers and --lead-in split the nonlinear model's runs into segments; the linear route "
+                             "runs in one process: leave them out, or use --method nonlinear or auto.")
+        if args.method == "nonlinear" and (workers or 1) > 1:
+            yield _Parallel(workers, None, lead)
+            return
+        # the route's own choice (--workers and --lead-in passed on): a long drive it runs on the nonlinear model goes
+        # in segments on the machine's cores unless --workers says otherwise (ehm.routes.parallel.default_workers)
+        yield None
+        return
     if args.method != "nonlinear":
         which = "the auto route, the default," if args.method == "auto" else f"the {args.method} route"
         raise InputError(f"--scheduler runs the nonlinear route in segments on a Dask cluster; add --method nonlinear "
                          f"({which} runs in one process).")
-    if lead is not None and not (math.isfinite(lead) and lead >= 0):
-        raise InputError(f"--lead-in {lead}: give the lead-in in seconds, 0 or more.")
-    if scheduler is None:
-        yield _Parallel(workers, None, lead)
-        return
     from ..cluster import check_scheduler, dask_client
 
     with dask_client(check_scheduler(scheduler), None) as client:
@@ -316,9 +317,8 @@ def cmd_assess(args) -> int:
         motion = read_motion_file(args)
         human = human_from_args(args, rotating_seat=needs_rotating_seat(motion, args.method))
         with _segments(args) as parallel:
-            kw = {"workers": args.workers} if parallel is None else {"workers": parallel.workers,
-                                                                     "client": parallel.client,
-                                                                     "lead_in_s": parallel.lead_in_s}
+            kw = ({"workers": args.workers, "lead_in_s": args.lead_in} if parallel is None else
+                  {"workers": parallel.workers, "client": parallel.client, "lead_in_s": parallel.lead_in_s})
             result = assess(motion, human, progress=progress_bar("assess", args.quiet), method=args.method,
                             tolerance=_tolerance(args), exposure=exposure, sickness_params=misc_params, **kw)
     if args.sickness_params:
