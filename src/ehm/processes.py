@@ -12,6 +12,7 @@ from __future__ import annotations
 import ast
 import contextlib
 import functools
+import inspect
 import os
 import signal
 import sys
@@ -192,7 +193,7 @@ def unguarded_script_line() -> int | None:
     path = getattr(main, "__file__", None)
     if not path or main is None:
         return None
-    frame = sys._getframe(1)
+    frame = inspect.currentframe()
     while frame is not None:
         if frame.f_globals is vars(main) and frame.f_code.co_name == "<module>":
             line = frame.f_lineno
