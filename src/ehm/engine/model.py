@@ -3,6 +3,7 @@ output points, the support groups)."""
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass, field
 
 import mujoco
@@ -53,6 +54,9 @@ class Model:
     settled: dict | None = field(default=None, repr=False)
     #: Head-in-space control (:class:`ehm.engine.control.HeadControl`), None when off.
     head_control: object | None = None
+    #: Held while a run steps the model (:func:`ehm.engine.run`, :func:`ehm.engine.step`): a run writes the seat's
+    #: load into the model's gravity at every step, so two threads stepping one person take turns.
+    busy: object = field(default_factory=threading.RLock, repr=False, compare=False)
 
     @property
     def dof(self) -> int:

@@ -65,11 +65,12 @@ def step(model: Model, d: mujoco.MjData, seat_acc_mps2: np.ndarray, check: bool 
     divergence sentence (MuJoCo's own clock restarts when it resets the state).
     """
     g = model.mj.opt.gravity
-    g[:] = G0 - seat_acc_mps2
-    try:
-        mujoco.mj_step(model.mj, d)
-    finally:
-        g[:] = G0
+    with model.busy:  # the seat's load goes into the model's gravity: one thread at a time
+        g[:] = G0 - seat_acc_mps2
+        try:
+            mujoco.mj_step(model.mj, d)
+        finally:
+            g[:] = G0
     if model.head_control is not None:
         after_step(model.head_control, d)
     start = d.sensordata.copy()
@@ -146,10 +147,11 @@ def run(model: Model, seat_acc_mps2: np.ndarray, d: mujoco.MjData | None = None,
                               None if control is None else np.array(control.numeric(), dtype=float))
     if advance is None:
         advance = _advancer(mj, d, gravity, sens, drive, control)
-    try:
-        _run_blocks(model, d, n, advance, poses)
-    finally:
-        mj.opt.gravity[:] = G0
+    with model.busy:  # the seat's load goes into the model's gravity at every step: one thread at a time
+        try:
+            _run_blocks(model, d, n, advance, poses)
+        finally:
+            mj.opt.gravity[:] = G0
     return _raw_run(model, d, sens, acc, poses)
 
 
