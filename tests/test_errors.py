@@ -818,21 +818,27 @@ def test_the_checks_read_unions_pairs_classes_and_leave_the_rest():
                                   "data": None, "free": None}
 
 
+def _fall_under(axis: int, acc_mps2: float, ramp_s: float, duration_s: float, what: str):
+    """The error of the person without back support under a SYNTHETIC seat acceleration on one axis, ramped up from
+    0.2 s over ``ramp_s`` and held, on the nonlinear route; asserts it is told as a fall."""
+    import ehm
+    from ehm.errors import DivergenceError
+
+    t = np.arange(0.0, duration_s, 0.001)
+    acc = np.zeros((t.size, 3))
+    acc[:, axis] = acc_mps2 * np.clip((t - 0.2) / ramp_s, 0.0, 1.0)
+    motion = ehm.SeatMotion(t, acc, f"SYNTHETIC sustained {acc_mps2:g} m/s^2 {what}")
+    with pytest.raises(DivergenceError) as exc:
+        ehm.SeatedHuman(back_support="none").simulate(motion, method="nonlinear")
+    assert str(exc.value).startswith("the person fell off the seat at t = ") and getattr(exc.value, "fell", False)
+    return exc.value
+
+
 def test_a_person_thrown_off_the_seat_is_told_as_a_fall_not_blamed_on_the_step():
     # SYNTHETIC: 0.6 g forward, sustained, beyond the pan's friction (0.5): the person without back support slides
     # off backwards at a physical speed; the sentence says so, names the way and the remedy, and does not ask for
     # a smaller step
-    import ehm
-    from ehm.errors import DivergenceError
-
-    t = np.arange(0.0, 3.0, 0.001)
-    acc = np.zeros((t.size, 3))
-    acc[:, 0] = 6.0 * np.clip((t - 0.2) / 0.3, 0.0, 1.0)
-    motion = ehm.SeatMotion(t, acc, "SYNTHETIC sustained 6 m/s^2 forward")
-    with pytest.raises(DivergenceError) as exc:
-        ehm.SeatedHuman(back_support="none").simulate(motion, method="nonlinear")
-    text = str(exc.value)
-    assert text.startswith("the person fell off the seat at t = ") and getattr(exc.value, "fell", False)
+    text = str(_fall_under(0, 6.0, 0.3, 3.0, "forward"))
     assert "backward" in text and "m/s: a body leaving its seat at a physical speed" in text
     assert "back support none" in text and "--back-support" in text and "try a smaller time step" not in text
 
@@ -840,20 +846,12 @@ def test_a_person_thrown_off_the_seat_is_told_as_a_fall_not_blamed_on_the_step()
 def test_a_person_tipped_over_on_the_seat_is_told_as_a_fall_when_it_tips():
     # SYNTHETIC: a sustained 0.35 g to the left tips the erect person without back support over to the right; the
     # pelvis rolls past 45 deg from its seated orientation well before it has moved 0.5 m, and that is the fall
-    import ehm
     from ehm.engine.diagnostics import FALL_TILT_DEG
-    from ehm.errors import DivergenceError
 
-    t = np.arange(0.0, 6.0, 0.001)
-    acc = np.zeros((t.size, 3))
-    acc[:, 1] = 3.5 * np.clip((t - 0.2) / 1.0, 0.0, 1.0)
-    motion = ehm.SeatMotion(t, acc, "SYNTHETIC sustained 3.5 m/s^2 to the left")
-    with pytest.raises(DivergenceError) as exc:
-        ehm.SeatedHuman(back_support="none").simulate(motion, method="nonlinear")
-    text = str(exc.value)
-    assert text.startswith("the person fell off the seat at t = ") and getattr(exc.value, "fell", False)
+    err = _fall_under(1, 3.5, 1.0, 6.0, "to the left")
+    text = str(err)
     assert "the pelvis tilted" in text and f"beyond {FALL_TILT_DEG:g} deg" in text and "rolling" in text
-    assert exc.value.time_s < 6.0
+    assert err.time_s < 6.0
 
 
 def test_a_tilt_is_measured_on_the_seat_not_in_the_world():

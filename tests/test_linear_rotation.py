@@ -127,15 +127,20 @@ def _turn_tilt(cls, kin, t_s, acc):
     return seat
 
 
-def test_a_steady_yaw_carries_the_centripetal_field(human, monkeypatch):
-    # SYNTHETIC: the seat spins up to 0.6 rad/s about its vertical in 1 s and keeps turning (a tight, fast turn;
-    # the city drive's yaw rates are too small to show the centripetal term).  Trunk and head (off the yaw axis)
-    # follow the nonlinear route; without the centripetal inputs, or with their sign turned, they do not.
+def _spin_up() -> SeatMotion:
+    """SYNTHETIC: the seat spins up to 0.6 rad/s about its vertical in 1 s (a smoothstep) and keeps turning, 3 s."""
     t = np.arange(0.0, 3.0 + 1e-9, 0.002)
     s = np.clip(t, 0.0, 1.0)
     w = np.zeros((t.size, 3))
     w[:, 2] = 0.6 * s * s * (3 - 2 * s)
-    spin = SeatMotion(t, np.zeros((t.size, 3)), "SYNTHETIC yaw spin-up to 0.6 rad/s", angvel_radps=w)
+    return SeatMotion(t, np.zeros((t.size, 3)), "SYNTHETIC yaw spin-up to 0.6 rad/s", angvel_radps=w)
+
+
+def test_a_steady_yaw_carries_the_centripetal_field(human, monkeypatch):
+    # SYNTHETIC: the seat spins up to 0.6 rad/s about its vertical in 1 s and keeps turning (a tight, fast turn;
+    # the city drive's yaw rates are too small to show the centripetal term).  Trunk and head (off the yaw axis)
+    # follow the nonlinear route; without the centripetal inputs, or with their sign turned, they do not.
+    spin = _spin_up()
     nl = human.simulate(spin, method="nonlinear")
     lin = human.simulate(spin, method="linear")
     ok = _errors(nl, lin)
@@ -162,11 +167,7 @@ def test_the_estimate_of_what_is_left_out_covers_a_steady_yaw(human):
     # The spin-up above: the route's estimate of what it leaves out (0.39 % trunk, 1.09 % head) was above its
     # actual distance from the nonlinear route on the earlier person (0.4 % against 0.8 %, 1.5 % against 2.6 %);
     # on the identified one it is not (1.52 %, 3.82 %).  Strict: once it covers it again this passes and must go.
-    t = np.arange(0.0, 3.0 + 1e-9, 0.002)
-    s = np.clip(t, 0.0, 1.0)
-    w = np.zeros((t.size, 3))
-    w[:, 2] = 0.6 * s * s * (3 - 2 * s)
-    spin = SeatMotion(t, np.zeros((t.size, 3)), "SYNTHETIC yaw spin-up to 0.6 rad/s", angvel_radps=w)
+    spin = _spin_up()
     lin = human.simulate(spin, method="linear")
     ok = _errors(human.simulate(spin, method="nonlinear"), lin)
     for p in ("trunk", "head"):

@@ -85,10 +85,13 @@ def test_simulate_computes_on_one_blas_thread(human, monkeypatch):
 
     monkeypatch.setattr(hybrid, "block_chunk", watched)  # the linear model's time run
     with threadpool_limits(limits=2, user_api="blas"):  # two threads as the caller's setting, whatever the machine
+        caller = _blas_threads()
+        if caller < 2:
+            pytest.skip("this machine's BLAS runs one thread at most: nothing to limit")
         human.simulate(ehm.random_vibration("z", 2.0, 0.3, seed=1), method="linear")  # SYNTHETIC
         after = _blas_threads()
     assert seen and set(seen) == {1}
-    assert after == 2 or after == max(1, _blas_threads())  # the caller's setting back (a 1-thread BLAS stays 1)
+    assert after == caller  # the caller's setting back
 
 
 def test_overlapping_uses_leave_the_blas_as_it_was():

@@ -97,10 +97,9 @@ def instability(model: Model, d: mujoco.MjData) -> str | None:
     if not np.isfinite(d.qpos).all() or not np.isfinite(d.qvel).all():
         return "the state became infinite or NaN"
     pelvis = d.qpos[model.pelvis_qpos:model.pelvis_qpos + 3]
-    tilt = _tilt_deg(model, d)
-    if np.abs(pelvis).max() > DIVERGED_M or tilt > FALL_TILT_DEG:
-        why = (f"the pelvis moved {np.linalg.norm(pelvis):.3g} m from its seated position"
-               if np.abs(pelvis).max() > DIVERGED_M
+    moved, tilt = bool(np.abs(pelvis).max() > DIVERGED_M), _tilt_deg(model, d)
+    if moved or tilt > FALL_TILT_DEG:
+        why = (f"the pelvis moved {np.linalg.norm(pelvis):.3g} m from its seated position" if moved
                else f"the pelvis tilted {tilt:.0f} deg from its seated orientation, beyond {FALL_TILT_DEG:g} deg")
         speed = float(np.linalg.norm(d.qvel[model.pelvis_qpos:model.pelvis_qpos + 3]))
         if speed < FALL_SPEED_MPS and np.abs(d.qvel).max() < FALL_DOF_SPEED and not _warnings:

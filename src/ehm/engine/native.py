@@ -73,10 +73,14 @@ def cache_dir() -> Path:
     return Path(base) / "ehm"
 
 
+class _BuildFailed(OSError):
+    """The compiler ran and failed (not: the cache could not be written)."""
+
+
 def _build(cc: list[str], source: bytes, shared: bytes, out: Path) -> None:
     """Compile ``source`` (including the header ``shared``) into the shared library ``out`` (written whole: built
-    beside it, then renamed), linked to the wheel's MuJoCo library; raises OSError with the compiler's first error
-    line."""
+    beside it, then renamed), linked to the wheel's MuJoCo library; raises :class:`_BuildFailed` with the compiler's
+    first error line, and OSError where ``out``'s folder cannot be written."""
     lib = c_library()
     out.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="ehm_steps_", dir=out.parent) as tmp:
@@ -134,28 +138,16 @@ def _loaded() -> tuple[ctypes.CDLL | None, str]:
     return lib, ""
 
 
-class _BuildFailed(OSError):
-    """The compiler ran and failed (not: the cache could not be written)."""
-
-
 def _built_and_loaded(cc: list[str], source: bytes, shared: bytes, out: Path) -> ctypes.CDLL:
-    """Build into the cache ``out`` and load it; where the cache folder cannot be written (read-only, not a folder),
-    build in a temporary folder, load, and remove it (a loaded library needs no file)."""
+    """Build into the cache ``out`` and load it; where the cache folder cannot be written (read-only, not a folder,
+    full), build in a temporary folder, load, and remove it (a loaded library needs no file)."""
     try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        probe = tempfile.NamedTemporaryFile(dir=out.parent, prefix=".ehm_probe_", delete=True)
-        probe.close()
-        writable = True
+        _build(cc, source, shared, out)
+        return ctypes.CDLL(str(out))
+    except _BuildFailed:
+        raise
     except OSError:
-        writable = False
-    if writable:
-        try:
-            _build(cc, source, shared, out)
-            return ctypes.CDLL(str(out))
-        except _BuildFailed:
-            raise
-        except OSError:
-            pass  # the cache went away or filled up meanwhile: as if it could not be written
+        pass  # the cache could not be written: a build for this process alone
     with tempfile.TemporaryDirectory(prefix="ehm_steps_") as tmp:
         here = Path(tmp) / out.name
         _build(cc, source, shared, here)

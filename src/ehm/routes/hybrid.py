@@ -395,8 +395,8 @@ def stream_checked(human, motion, method: str = "auto", chunk_s: float = 10.0, p
     # motion does not turn it runs the translation's, the windows on the rotating seat held level)
     early = _nonlinear_from_start(human, motion, report) if method == "auto" else None
     if early is not None:
-        n = default_workers(early.duration_s) if workers is None else workers
-        yield from _stream_nonlinear(human, early, report, chunk_s, progress, pose_rate_hz, n, lead_in_s)
+        yield from _stream_nonlinear(human, early, report, chunk_s, progress, pose_rate_hz,
+                                     default_workers(early.duration_s, workers), lead_in_s)
         return
     rotates = motion.angvel_radps is not None and bool(np.any(motion.angvel_radps != 0))
     description = motion.description
@@ -589,7 +589,7 @@ class _Hybrid:
         workers = 1
         if self.rest is not None and self.poses is None:
             motion, chunk_s, asked, lead_in_s = self.rest
-            workers = default_workers((n - pos) * dt) if asked is None else asked
+            workers = default_workers((n - pos) * dt, asked)
         if workers > 1:
             pieces = stream_rest(self.human, motion, pos, workers, chunk_s, here, lead_in_s=lead_in_s)
             self.report.fallback += f"; in segments on {workers} processes"

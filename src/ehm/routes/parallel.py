@@ -85,6 +85,8 @@ longer one costs little on a long drive (``lead_in_s``, ``--lead-in``) but does 
 from __future__ import annotations
 
 import math
+import multiprocessing
+import os
 import sys
 import time
 import warnings
@@ -162,16 +164,15 @@ class Span:
         return self.stop - self.first + self.lead_steps
 
 
-def default_workers(duration_s: float) -> int:
-    """How many processes a nonlinear run of a drive of ``duration_s`` [s] uses when the caller does not say
-    (``workers=None``): the machine's (``ehm.processes.worker_limit``: its usable cores and its memory, at most
+def default_workers(duration_s: float, asked: int | None = None) -> int:
+    """How many processes a nonlinear run of a drive of ``duration_s`` [s] uses: ``asked`` where the caller says,
+    else (``workers=None``) the machine's (``ehm.processes.worker_limit``: its usable cores and its memory, at most
     :data:`MAX_DEFAULT_WORKERS`, or at most ``$EHM_WORKERS``) for a drive of :data:`DEFAULT_SEGMENTS_FROM_S` or more,
     else 1; always 1 inside a worker process (a batch study's, a Dask worker's: those already share the cores out)
     and for a script that calls ehm at its top level outside ``if __name__ == "__main__":`` (with a warning).
     Jobs that share a machine in other ways (threads, a job scheduler's tasks) say ``EHM_WORKERS=1``."""
-    import multiprocessing
-    import os
-
+    if asked is not None:
+        return int(asked)
     if duration_s < DEFAULT_SEGMENTS_FROM_S:
         return 1
     if multiprocessing.parent_process() is not None or multiprocessing.current_process().name != "MainProcess":
@@ -245,7 +246,6 @@ def _to_file(obj, folder: str) -> dict:
     """``obj`` pickled with its arrays' data out of band, into one file in ``folder``: a segment's result passed
     through a pipe came at about 130 MB/s here (2.6 s for 10 min of run), through a file in memory (/dev/shm)
     at the speed of copying memory."""
-    import os
     import pickle
     import tempfile
 
@@ -264,7 +264,6 @@ def _to_file(obj, folder: str) -> dict:
 def _from_file(handed: dict):
     """The object of :func:`_to_file`, its arrays mapped from the file (copy on write), the file removed."""
     import mmap
-    import os
     import pickle
 
     try:
@@ -452,8 +451,6 @@ class _Runner:
             self.futures = [self.client.submit(_run_segment, recipe_f, motion_f, s, *args, pure=False)
                             for s in segments]
             return self.futures
-        import multiprocessing
-        import os
         import tempfile
         from concurrent.futures import ProcessPoolExecutor
 

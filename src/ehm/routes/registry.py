@@ -64,7 +64,7 @@ def _nonlinear(person, motion, chunk_s: float = 10.0, progress=None, pose_rate_h
                workers: int | None = None, lead_in_s: float | None = None):
     """The nonlinear route; a long drive (:func:`ehm.routes.parallel.default_workers`) in segments on the machine's
     cores, each after ``lead_in_s``, unless ``workers`` says otherwise."""
-    n = parallel.default_workers(motion.duration_s) if workers is None else workers
+    n = parallel.default_workers(motion.duration_s, workers)
     if n > 1:
         yield from parallel.stream_parallel(person, motion, workers=n, chunk_s=chunk_s, progress=progress,
                                             pose_rate_hz=pose_rate_hz, lead_in_s=lead_in_s)
@@ -84,9 +84,8 @@ _HYBRID = Route("auto", _checked("auto"), ("tolerance", "workers", "lead_in_s"),
                 "the linear model where the contacts hold, the nonlinear one where they slide or lift off")
 #: The routes by name.
 ROUTES: dict[str, Route] = {
-    "nonlinear": Route("nonlinear", _nonlinear, ("workers", "lead_in_s"), "the MuJoCo model throughout (a long drive "
-                       "in segments "
-                       "on the machine's cores)"),
+    "nonlinear": Route("nonlinear", _nonlinear, ("workers", "lead_in_s"),
+                       "the MuJoCo model throughout (a long drive in segments on the machine's cores)"),
     "linear": Route("linear", _checked("linear"), ("tolerance",),
                     "the linearised person throughout, checked against the nonlinear model"),
     "auto": _HYBRID,
@@ -110,9 +109,9 @@ OPTIONS = ("tolerance", "workers", "client", "lead_in_s", "segment_s")
 def choose(method: str = "auto", tolerance: float | None = None, workers: int | None = None, client=None,
            lead_in_s: float | None = None, segment_s: float | None = None) -> tuple[Route, dict]:
     """The route asked for and the options it takes: ``method`` by name, except that a ``client`` or ``workers`` of 2
-    or more turn ``nonlinear`` into ``parallel`` (a ``client`` is
-    refused with the linear and hybrid routes, which run in one process; their ``workers`` count where the hybrid
-    route runs the nonlinear model from a drive's start); options a route does not take are left out.
+    or more turn ``nonlinear`` into ``parallel``.  A ``client`` is refused with the linear and hybrid routes, which
+    run in one process, and ``workers`` or ``lead_in_s`` with the linear route; the hybrid route's count where it runs
+    the nonlinear model (from a drive's start, or for its long rest).  Options a route does not take are left out.
     ``workers=None`` (the default) leaves it to the drive's length (:func:`ehm.routes.parallel.default_workers`);
     ``workers=1`` keeps one process."""
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, Integral) or workers < 1):
